@@ -1,0 +1,40 @@
+"""Aerodynamic coefficients and forces of one configuration (paper eqs. 32/33, 46/47).
+
+Forces use the airspeed V of the air-relative state (the paper's ``V_r = V - V_w`` would count
+the wind twice, DESIGN.md section 4.3).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .definitions.aircraft import AeroParams
+
+
+def lift_coefficient(alpha: Any, aero: AeroParams) -> Any:
+    """C_L = C_L0 + C_La alpha (linear; the optimiser bounds it by ``CLmax``)."""
+    return aero.CL0 + aero.CLalpha * alpha
+
+
+def drag_coefficient(alpha: Any, aero: AeroParams) -> Any:
+    """C_D = C_D0 + C_Da1 alpha + C_Da2 alpha^2."""
+    return aero.CD0 + aero.CDalpha1 * alpha + aero.CDalpha2 * alpha * alpha
+
+
+def lift_drag(V: Any, alpha: Any, aero: AeroParams, rho: float, cd_extra: Any = 0.0) -> tuple[Any, Any]:
+    """Lift and drag [N] at airspeed ``V`` [m/s] and angle of attack ``alpha`` [rad].
+
+    ``cd_extra`` is an additional drag coefficient on the same reference area (e.g. the
+    equivalent tether drag, :func:`tether_drag_coefficient`).
+    """
+    q_s = 0.5 * rho * V * V * aero.S
+    return q_s * lift_coefficient(alpha, aero), q_s * (drag_coefficient(alpha, aero) + cd_extra)
+
+
+def tether_drag_coefficient(length: Any, diameter: float, cd_perp: float, S: float) -> Any:
+    """Equivalent tether drag coefficient on the wing area: ``C_D,t = C_D_perp d l / (4 S)``.
+
+    A straight line whose normal velocity grows linearly from winch to glider produces a drag
+    whose moment about the winch equals that of a quarter of its drag applied at the glider.
+    """
+    return cd_perp * diameter * length / (4.0 * S)

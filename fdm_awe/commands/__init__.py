@@ -1,0 +1,1 @@
+"""One module per ``fdm-awe`` subcommand (``add_arguments`` + ``run``)."""
