@@ -88,3 +88,11 @@ def test_malformed_xml_and_missing_file(tmp_path):
 def test_definitions_live_in_the_repository():
     assert (ROOT / "aircraft" / "glider_unfolded" / "glider_unfolded.xml").is_file()
     assert (ROOT / "aircraft" / "glider_folded" / "glider_folded.xml").is_file()
+
+
+def test_product_of_inertia_conventions_agree(tmp_path):
+    """negated_crossproduct_inertia="false" with the product (+0.001454) gives Table 2's matrix."""
+    p = _mutated(tmp_path, r'negated_crossproduct_inertia="true"', 'negated_crossproduct_inertia="false"')
+    text = re.sub(r"(<ixz[^>]*>)\s*-0\.001454\s*(</ixz>)", r"\g<1>0.001454\g<2>", p.read_text())
+    p.write_text(text)
+    np.testing.assert_allclose(load_airframe_file(p).mass.inertia_matrix, TABLE2["unfolded"], atol=1e-12)

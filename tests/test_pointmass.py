@@ -84,7 +84,7 @@ def test_free_glider_drifts_with_the_wind(glider):
     a = solve_ivp(lambda t, x: still.f(x, u), (0, 40), x0, rtol=1e-11, atol=1e-11)
     b = solve_ivp(lambda t, x: windy.f(x, u), (0, 40), x0, rtol=1e-11, atol=1e-11)
     np.testing.assert_allclose(b.y[:, -1] - a.y[:, -1], [40 * vw[0], 40 * vw[1], 0, 0, 0, 0], atol=1e-6)
-    assert vw[0] < 0 and vw[1] < 0  # blowing towards the north-west
+    assert vw[0] > 0 and vw[1] < 0  # blowing towards the north-west (north +x, west -y)
 
 
 def test_wind_from_south_blows_north():

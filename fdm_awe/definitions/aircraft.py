@@ -114,8 +114,13 @@ def _mass(doc: XmlDoc) -> MassParams:
     ixy = doc.number("mass_balance/ixy", default=0.0)
     ixz = doc.number("mass_balance/ixz", default=0.0)
     iyz = doc.number("mass_balance/iyz", default=0.0)
-    # JSBSim convention: <ixz> is the product of inertia; the matrix holds -ixz.
-    J = np.array([[ixx, -ixy, -ixz], [-ixy, iyy, -iyz], [-ixz, -iyz, izz]])
+    # JSBSim: with negated_crossproduct_inertia="true" (its default) the <ixy>/<ixz>/<iyz>
+    # values are the inertia matrix's off-diagonal ELEMENTS in the structural frame; with
+    # "false" they are the products of inertia, i.e. the elements negated. Into body axes
+    # (x and z opposite to the structural frame's) the xy and yz elements flip sign, xz not.
+    if mb.attrib.get("negated_crossproduct_inertia", "true").strip().lower() != "true":
+        ixy, ixz, iyz = -ixy, -ixz, -iyz
+    J = np.array([[ixx, -ixy, ixz], [-ixy, iyy, -iyz], [ixz, -iyz, izz]])
     masses = [(m_e, cg_e, J)]
     for i, pm in enumerate(mb.findall("pointmass")):
         what = f"mass_balance/pointmass[{i}]"
