@@ -92,7 +92,7 @@ def test_definitions_live_in_the_repository():
 
 def test_product_of_inertia_conventions_agree(tmp_path):
     """negated_crossproduct_inertia="false" with the product (+0.001454) gives Table 2's matrix."""
-    p = _mutated(tmp_path, r'negated_crossproduct_inertia="true"', 'negated_crossproduct_inertia="false"')
+    p = _mutated(tmp_path, r'<mass_balance negated_crossproduct_inertia="true"', '<mass_balance negated_crossproduct_inertia="false"')
     text = re.sub(r"(<ixz[^>]*>)\s*-0\.001454\s*(</ixz>)", r"\g<1>0.001454\g<2>", p.read_text())
     p.write_text(text)
     np.testing.assert_allclose(load_airframe_file(p).mass.inertia_matrix, TABLE2["unfolded"], atol=1e-12)
