@@ -1,0 +1,32 @@
+"""Ground station: tether, winch, DC machine behind an asymmetric half-bridge, PI speed loop.
+
+Paper section II-C (eqs. 14-19, Table 1) with DESIGN.md's corrections (Coulomb friction once).
+Modules, one job each:
+
+- :mod:`.definitions` -- ``tether/ground_station.xml`` -> typed SI dataclasses
+- :mod:`.tether` -- line geometry, elastic tension, drag and weight shares on the glider
+- :mod:`.winch` -- drum equation (eq. 14) with implicit set-valued Coulomb friction
+- :mod:`.machine` -- armature equation (eqs. 15, 16, 18, 19) and the eq. 17 mode rule
+- :mod:`.converter` -- averaged asymmetric half-bridge (generator: rectifier/boost; motor: PWM)
+- :mod:`.controller` -- PI of the T1 duty with limits and anti-windup
+- :mod:`.drivetrain` -- the coupled implicit sub-step integrator
+- :mod:`.ledger` -- energy ledger
+- :mod:`.station` -- ``GroundStation.step`` co-simulation interface
+- :mod:`.steady` -- steady-state relations for NumPy and CasADi (OCP)
+"""
+
+from .definitions import GroundStationParams, load_ground_station
+from .ledger import EnergyLedger
+from .station import GroundStation, GroundStationOutput, WinchCommand
+from .steady import generator_steady, motor_steady
+
+__all__ = [
+    "EnergyLedger",
+    "GroundStation",
+    "GroundStationOutput",
+    "GroundStationParams",
+    "WinchCommand",
+    "generator_steady",
+    "load_ground_station",
+    "motor_steady",
+]

@@ -1,0 +1,271 @@
+"""Coupled line + drum + DC machine + converter + PI integrator of the ground station.
+
+One flight step ``dt`` is split into ``n = ceil(dt / max_substep)`` equal sub-steps ``h``. Each
+sub-step is backward Euler for all states at once -- unstretched line length ``l``, drum speed
+``omega``, armature current ``i``, link voltage ``u_L`` -- solved exactly (no iteration):
+
+1. PI controller sample (motor mode) -> T1 duty (:mod:`.controller`).
+2. Converter averaged terms (:mod:`.converter`): source voltage, link coupling; link voltage
+   ``u1 = p + q i1``.
+3. Armature (:mod:`.machine`): ``i1 = max(0, alpha + beta omega1)`` (diodes block reverse current).
+4. Line (:mod:`.tether`): ``T1 = max(0, tA - tB omega1)`` with the glider distance at the end of
+   the sub-step (glider position advanced linearly with its velocity inside the flight step) and
+   ``l1 = l0 + h r_w omega1``; or a prescribed tension at the drum (tests, quasi-static use).
+5. Drum (:mod:`.winch`): the piecewise-linear, monotone scalar equation for ``omega1`` with the
+   set-valued Coulomb friction, solved exactly (stick-slip without chattering).
+
+Backward Euler is L-stable, so the fast electrical modes (L_a/R ~ 0.4 ms, R_L C ~ 1.5 ms) and a
+stiff short line never constrain the flight step; steady states are exact. The integrator's own
+dissipation is booked in the ledger (``numerical``) so that the energy balance closes to
+round-off and the size of the numerical error is visible.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .controller import pi_update
+from .converter import GENERATOR, MOTOR
+from .definitions import GroundStationParams
+from .ledger import EnergyLedger
+from .winch import solve_drum_speed
+
+
+class Drivetrain:
+    """Line, drum, machine, converter and PI controller with their states (SI, plain floats)."""
+
+    def __init__(self, params: GroundStationParams) -> None:
+        self.params = params
+        tp, wp, mp, cp = params.tether, params.winch, params.machine, params.converter
+        self._const = (wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia,
+                       tp.mass_per_length, tp.axial_stiffness, tp.breaking_load, tp.min_length,
+                       tp.max_length, mp.k, mp.resistance, mp.inductance,
+                       2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance)
+        self.ledger = EnergyLedger()
+        self.reset(length=100.0, omega=0.0, mode=GENERATOR)
+
+    # -- state -------------------------------------------------------------------------
+    def reset(self, length: float, omega: float, mode: str = GENERATOR,
+              load_resistance: float | None = None, boost_duty: float | None = None) -> None:
+        """Set the line length (m), drum speed (rad/s) and converter mode; electrical states
+        start at their quasi-steady values for that speed; the ledger is cleared."""
+        p = self.params
+        self.length = float(length)
+        self.omega = float(omega)
+        self.mode = mode
+        RL = p.converter.load_resistance if load_resistance is None else load_resistance
+        d2 = p.converter.boost_duty if boost_duty is None else boost_duty
+        if mode == GENERATOR:
+            s = 1.0 - d2
+            i = (p.machine.k * self.omega - 2.0 * p.converter.device_drop) / (p.machine.resistance + s * s * RL)
+            self.current = i if i > 0.0 else 0.0
+            self.u_link = s * self.current * RL
+        else:
+            self.current = 0.0
+            self.u_link = 0.0
+        self.integ = 0.0
+        self.duty = 0.0
+        self.broken = False
+        self.at_stop = False
+        self.stretch = 0.0  # d - l at the end of the last sub-step (elastic energy bookkeeping)
+        self.ledger.clear(stored=self.stored())
+
+    def stiffness(self) -> float:
+        return 0.0 if self.broken else self.params.tether.axial_stiffness / self.length
+
+    def stored(self) -> dict[str, float]:
+        """Stored energies (J): kinetic (drum + paid-out line), inductor, capacitor, elastic."""
+        p = self.params
+        r = p.winch.radius
+        J = p.winch.inertia + p.tether.mass_per_length * self.length * r * r
+        s = self.stretch if self.stretch > 0.0 else 0.0
+        return {
+            "kinetic": 0.5 * J * self.omega * self.omega,
+            "inductor": 0.5 * p.machine.inductance * self.current * self.current,
+            "capacitor": 0.5 * p.converter.link_capacitance * self.u_link * self.u_link,
+            "elastic": 0.5 * self.stiffness() * s * s,
+        }
+
+    # -- integration -------------------------------------------------------------------
+    def advance(
+        self, dt: float, n: int,
+        x: float, y: float, z: float, vx: float, vy: float, vz: float,
+        mode: str, omega_ref: float, duty_cmd: float | None, boost_duty: float, RL: float,
+        fixed_tension: float | None = None,
+    ) -> tuple[float, float, float, str | None]:
+        """Advance ``dt`` s in ``n`` sub-steps with the glider at ``(x, y, z) + (vx, vy, vz) t``.
+
+        With ``fixed_tension`` (N) the line is replaced by that tension at the drum.
+        Returns ``(mean tension N, mean load power W, mean supply power W, event)``.
+
+        The line stiffness EA/l and the paid-out line inertia mu l r_w^2 are evaluated at the
+        start of the flight step (they change by ~1e-4 relative per step); the ledger books the
+        change at the step end (``strain_payout``, ``wound_line_kinetic``).
+        """
+        (r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax, K, R, L, two_ud, Va, C) = self._const
+        ctrl = self.params.controller
+        h = dt / n
+        motor = mode == MOTOR
+        if mode != self.mode:
+            if motor:
+                self.integ = 0.0
+            self.mode = mode
+        # converter / armature coefficients, constant over the step (converter, machine modules)
+        s_cpl = 0.0 if motor else 1.0 - boost_duty
+        cden = C + h / RL
+        q = h * s_cpl / cden          # u1 = cu u0 + q i1
+        cu = C / cden
+        D = L + h * R + h * s_cpl * q  # i1 = (L i0 + h (v_src - 2U_d - s cu u0)) / D + iB w1
+        aL, aH, aS = L / D, h / D, h * s_cpl * cu / D
+        iB = h * K / D
+        # drum (winch module): backward Euler with set-valued Coulomb friction
+        l_start = self.length
+        J = Jw + mu * l_start * r * r
+        Jb = J + h * B
+        hr, hK, hM = h * r, h * K, h * Mc
+
+        l0, w0, i0, u0 = l_start, self.omega, self.current, self.u_link
+        integ, duty, broken = self.integ, self.duty, self.broken
+        event = None
+        e_glider = e_supply = e_stop = e_brk = e_numel = 0.0
+        S_u2 = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
+        t_sum = 0.0
+        fixed = fixed_tension is not None
+        k = 0.0 if broken else EA / l_start
+        tB = 0.0 if (fixed or broken) else k * hr
+        if fixed or broken:
+            s0 = d0 = 0.0
+            if not broken and self.stretch > 0.0:  # line replaced by a prescribed tension
+                e_glider -= 0.5 * k * self.stretch * self.stretch
+        else:
+            d0 = math.sqrt(x * x + y * y + z * z)
+            s0 = d0 - l0
+            # the glider's real position differs from the last prediction: work at the line end
+            a_ = s0 if s0 > 0.0 else 0.0
+            b_ = self.stretch if self.stretch > 0.0 else 0.0
+            e_glider += 0.5 * k * (a_ * a_ - b_ * b_)
+        v_src = 0.0
+        if not motor:
+            duty = boost_duty
+        t_on = i_on = True
+        px, py, pz = x, y, z
+        hvx, hvy, hvz = h * vx, h * vy, h * vz
+        sqrt = math.sqrt
+        for _ in range(n):
+            if motor:  # controller module: PI sample on the measured drum speed
+                if duty_cmd is None:
+                    duty, integ = pi_update(ctrl, w0 - omega_ref, integ, h)
+                else:
+                    duty = duty_cmd
+                v_src = duty * Va
+            iA = aL * i0 + aH * (v_src - two_ud) - aS * u0
+            if broken:
+                tA = 0.0
+            elif fixed:
+                tA = fixed_tension
+            else:
+                px += hvx
+                py += hvy
+                pz += hvz
+                d1 = sqrt(px * px + py * py + pz * pz)
+                tA = k * (d1 - l0)
+            # fast path: keep the friction sign of w0 and the active tension/current pieces
+            ok = False
+            if w0 != 0.0:
+                sg = 1.0 if w0 > 0.0 else -1.0
+                a_ = -J * w0
+                b_ = Jb
+                if t_on:
+                    a_ -= hr * tA
+                    b_ += hr * tB
+                if i_on:
+                    a_ += hK * iA
+                    b_ += hK * iB
+                w1 = (-sg * hM - a_) / b_
+                ok = (w1 * sg > 0.0 and (tA - tB * w1 > 0.0) == t_on and (iA + iB * w1 > 0.0) == i_on)
+                mf = sg * Mc
+            if not ok:
+                w1, mf = solve_drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
+            l1 = l0 + hr * w1
+            if (l1 < lmin and w1 < 0.0) or (l1 > lmax and w1 > 0.0):  # drum end stops
+                w1 = ((lmin if w1 < 0.0 else lmax) - l0) / hr
+                if w1 * (l1 - l0) <= 0.0:
+                    w1 = 0.0
+                l1 = l0 + hr * w1
+                mf = Mc if w1 > 0.0 else (-Mc if w1 < 0.0 else 0.0)
+                if not self.at_stop:
+                    event = "tether_fully_reeled_in" if l1 < 0.5 * (lmin + lmax) else "tether_fully_paid_out"
+                self.at_stop = True
+                i1 = iA + iB * w1
+                T1 = tA - tB * w1
+                tau_stop = J * (w1 - w0) / h - (r * (T1 if T1 > 0.0 else 0.0) - K * (i1 if i1 > 0.0 else 0.0) - B * w1 - mf)
+                e_stop += -h * tau_stop * w1 + 0.5 * J * (w1 - w0) ** 2
+                S_dw2 -= (w1 - w0) ** 2  # booked as end-stop loss, not integrator dissipation
+            elif self.at_stop:
+                self.at_stop = False
+            i1 = iA + iB * w1
+            i_on = i1 > 0.0
+            if not i_on:
+                i1 = 0.0
+            u1 = cu * u0 + q * i1
+            T1 = tA - tB * w1
+            t_on = T1 > 0.0
+            if not t_on:
+                T1 = 0.0
+            # ledger sums (end-of-sub-step powers, backward-Euler consistent)
+            S_u2 += u1 * u1
+            S_i2 += i1 * i1
+            S_i += i1
+            S_iw += i1 * w1
+            S_fw += mf * w1
+            S_w2 += w1 * w1
+            S_Tw += T1 * w1
+            dw = w1 - w0
+            di = i1 - i0
+            du = u1 - u0
+            S_dw2 += dw * dw
+            S_di2 += di * di
+            S_du2 += du * du
+            if motor:
+                e_supply += v_src * i1
+            if fixed:
+                e_glider += T1 * hr * w1
+            elif not broken:
+                s1 = d1 - l1
+                e_glider += T1 * (d1 - d0)
+                s1p = s1 if s1 > 0.0 else 0.0
+                s0p = s0 if s0 > 0.0 else 0.0
+                e_numel += T1 * (s1 - s0) - 0.5 * k * (s1p * s1p - s0p * s0p)
+                if T1 > Tbreak:  # the line breaks at the end of this sub-step
+                    broken = True
+                    event = "tether_break"
+                    e_brk += 0.5 * k * s1p * s1p
+                    s1 = 0.0
+                    k = tB = 0.0
+                d0, s0 = d1, s1
+            t_sum += T1
+            l0, w0, i0, u0 = l1, w1, i1, u1
+
+        self.length, self.omega, self.current, self.u_link = l0, w0, i0, u0
+        self.integ, self.duty, self.broken = integ, duty, broken
+        self.stretch = s0 if not (fixed or broken) else 0.0
+        lg = self.ledger
+        lg.glider_work += e_glider
+        lg.supply += h * e_supply
+        J_end = Jw + mu * l0 * r * r
+        lg.wound_line_kinetic += 0.5 * (J_end - J) * w0 * w0
+        sp = self.stretch if self.stretch > 0.0 else 0.0
+        k_end = 0.0 if broken else EA / l0
+        lg.strain_payout += 0.5 * (k_end - k) * sp * sp
+        lg.load += h * S_u2 / RL
+        lg.copper += h * R * S_i2
+        lg.semiconductor += h * two_ud * S_i
+        lg.coulomb += h * S_fw
+        lg.viscous += h * B * S_w2
+        lg.end_stop += e_stop
+        lg.break_release += e_brk
+        lg.numerical += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
+        lg.drum_work += h * r * S_Tw
+        lg.airgap += h * K * S_iw
+        lg.set_stored(0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp)
+        return t_sum / n, S_u2 / (RL * n), e_supply / n, event

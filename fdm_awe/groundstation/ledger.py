@@ -1,0 +1,94 @@
+"""Energy ledger of the ground station: every joule between the glider end of the line and the
+electrical terminals, accumulated by the implicit integrator.
+
+Balance (all terms in J, closes to round-off by construction of the discrete powers)::
+
+    glider_work + supply + wound_line_kinetic + strain_payout
+      = load + copper + semiconductor + coulomb + viscous + end_stop + break_release + numerical
+        + delta(kinetic + inductor + capacitor + elastic)
+
+Inputs
+    ``glider_work``  work done by the glider on the line end, ``int T d(d)`` (> 0 generating).
+    ``supply``       energy drawn from the DC supply V_a (motor mode), ``int d1 V_a i dt``.
+    ``wound_line_kinetic``  kinetic energy handed to / taken from the line as it leaves / returns
+                     to the drum (the drum inertia J is constant, the paid-out line's axial mass
+                     ``mu l r_w^2`` is not), ``sum 0.5 (J_eff,1 - J_eff,0) omega^2``.
+    ``strain_payout`` change of the strain energy 0.5 (EA/l) s^2 caused by the change of the
+                     unstretched length l at a given stretch s, ``sum 0.5 (EA/l_1 - EA/l_0) s^2``
+                     (< 0 while paying out: strained line leaves the drum; order strain x work).
+Outputs / losses
+    ``load`` into R_L; ``copper`` R i^2; ``semiconductor`` 2 U_d i (diodes and switches);
+    ``coulomb`` M_c |omega|; ``viscous`` B omega^2; ``end_stop`` absorbed by the drum's end stops;
+    ``break_release`` strain energy lost when the line breaks; ``numerical`` the backward-Euler
+    integrator's own dissipation ``0.5 J dw^2 + 0.5 L di^2 + 0.5 C du^2 + (T ds - dE_el)`` (>= 0,
+    reported so its size is visible; small at the default sub-step).
+Stored
+    ``kinetic`` 0.5 (J + mu l r_w^2) omega^2, ``inductor`` 0.5 L i^2, ``capacitor`` 0.5 C u_L^2,
+    ``elastic`` 0.5 (EA/l) (d - l)^2 when taut.
+Interface flows (not part of the balance; they cancel inside it)
+    ``drum_work`` = int r_w T omega dt (mechanical energy into the drum, > 0 reel-out under load),
+    ``airgap`` = int K i omega dt (mechanical -> electrical in the machine, > 0 generating).
+Glider-side line forces (work done ON the glider by the line drag/weight shares; these forces
+act on the glider, not on the station, and are listed for a whole-system balance)
+    ``line_drag_work_on_glider``, ``line_weight_work_on_glider``.
+"""
+
+from __future__ import annotations
+
+INPUTS = ("glider_work", "supply", "wound_line_kinetic", "strain_payout")
+LOSSES = ("load", "copper", "semiconductor", "coulomb", "viscous", "end_stop", "break_release", "numerical")
+STORES = ("kinetic", "inductor", "capacitor", "elastic")
+INTERFACE = ("drum_work", "airgap", "line_drag_work_on_glider", "line_weight_work_on_glider")
+
+
+class EnergyLedger:
+    """Accumulated energy terms (J) since the last :meth:`clear`."""
+
+    __slots__ = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
+
+    def __init__(self) -> None:
+        self.clear()
+
+    def clear(self, stored: dict[str, float] | None = None) -> None:
+        """Zero all flows; ``stored`` (kinetic, inductor, capacitor, elastic) sets the start state."""
+        for k in INPUTS + LOSSES + INTERFACE:
+            setattr(self, k, 0.0)
+        for s in STORES:
+            v = (stored or {}).get(s, 0.0)
+            setattr(self, "stored0_" + s, v)
+            setattr(self, "stored_" + s, v)
+
+    def set_stored(self, kinetic: float, inductor: float, capacitor: float, elastic: float) -> None:
+        self.stored_kinetic = kinetic
+        self.stored_inductor = inductor
+        self.stored_capacitor = capacitor
+        self.stored_elastic = elastic
+
+    def delta_stored(self) -> float:
+        """Change of the stored energy since :meth:`clear`, J."""
+        return sum(getattr(self, "stored_" + s) - getattr(self, "stored0_" + s) for s in STORES)
+
+    def residual(self) -> float:
+        """Inputs - losses - change of stored energy, J (0 when every joule is accounted for)."""
+        return (sum(getattr(self, k) for k in INPUTS) - sum(getattr(self, k) for k in LOSSES)
+                - self.delta_stored())
+
+    def largest_term(self) -> float:
+        """Largest magnitude among the balance terms (flows and stored-energy changes), J."""
+        terms = [abs(getattr(self, k)) for k in INPUTS + LOSSES]
+        terms += [abs(getattr(self, "stored_" + s) - getattr(self, "stored0_" + s)) for s in STORES]
+        return max(terms) if terms else 0.0
+
+    def relative_residual(self) -> float:
+        """|residual| / largest term (0 when nothing happened)."""
+        big = self.largest_term()
+        return abs(self.residual()) / big if big > 0.0 else 0.0
+
+    def as_dict(self) -> dict[str, float]:
+        """All terms (J) plus ``delta_<store>``, ``residual`` and ``relative_residual``."""
+        d = {k: getattr(self, k) for k in INPUTS + LOSSES + INTERFACE}
+        for s in STORES:
+            d["delta_" + s] = getattr(self, "stored_" + s) - getattr(self, "stored0_" + s)
+        d["residual"] = self.residual()
+        d["relative_residual"] = self.relative_residual()
+        return d

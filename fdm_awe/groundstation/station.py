@@ -1,0 +1,201 @@
+"""The ground station as a co-simulation block: ``GroundStation.step(dt, pos, vel, cmd)``.
+
+Wires the line (:mod:`.tether`), drum (:mod:`.winch`), DC machine (:mod:`.machine`), converter
+(:mod:`.converter`) and PI speed controller (:mod:`.controller`) through the implicit
+sub-stepping of :mod:`.drivetrain`, and returns the force the line exerts on the glider.
+
+Coupling with the flight model: the glider position/velocity at the start of the flight step
+are given; inside the step the glider is advanced linearly with that velocity; the returned
+force is the line tension averaged over the step (to be applied during the coming flight
+step), along the line at the start position, plus the glider's shares of line drag and line
+weight (:mod:`.tether`).
+"""
+
+from __future__ import annotations
+
+import math
+from math import isfinite
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from .converter import GENERATOR, MODES, MOTOR
+from .definitions import GroundStationParams, load_ground_station
+from .drivetrain import Drivetrain
+from .ledger import EnergyLedger
+from .machine import machine_mode
+from .tether import line_drag_share, line_weight_share
+
+
+def _finite(name: str, v: float, lo: float | None = None, hi: float | None = None,
+            lo_open: bool = False) -> float:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: not a number: {v!r}") from None
+    if not math.isfinite(f):
+        raise InputError(f"{name}: must be finite, got {f!r}")
+    if lo is not None and (f <= lo if lo_open else f < lo):
+        raise InputError(f"{name}: {f:g} out of range (allowed {'>' if lo_open else '>='} {lo:g}"
+                         + (f" and <= {hi:g})" if hi is not None else ")"))
+    if hi is not None and f > hi:
+        raise InputError(f"{name}: {f:g} out of range (allowed <= {hi:g})")
+    return f
+
+
+@dataclass(frozen=True)
+class WinchCommand:
+    """Ground-station command for one flight step.
+
+    ``mode``: ``"generator"`` (T1 off: passive rectifier into R_L, or boost with ``boost_duty``)
+    or ``"motor"`` (T2 on, T1 PWM from the PI speed controller, or open loop with ``duty``).
+    ``reel_speed_ref`` m/s (reel-out positive; reel-in negative), used by the PI in motor mode.
+    ``load_resistance`` ohm (None = definition default). ``duty`` (None = PI) T1 duty in [0, 1].
+    ``boost_duty`` (None = definition default) T2 duty in generator mode, in [0, 1].
+    """
+
+    mode: str = GENERATOR
+    reel_speed_ref: float = 0.0
+    load_resistance: float | None = None
+    duty: float | None = None
+    boost_duty: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise InputError(f"WinchCommand.mode: {self.mode!r} not one of {', '.join(MODES)}")
+        _finite("WinchCommand.reel_speed_ref", self.reel_speed_ref)
+        if self.load_resistance is not None:
+            _finite("WinchCommand.load_resistance", self.load_resistance, lo=0.0, lo_open=True)
+        if self.duty is not None:
+            _finite("WinchCommand.duty", self.duty, lo=0.0, hi=1.0)
+        if self.boost_duty is not None:
+            _finite("WinchCommand.boost_duty", self.boost_duty, lo=0.0, hi=1.0)
+
+
+@dataclass(slots=True)
+class GroundStationOutput:
+    """Ground-station output of one step (SI). Tension/powers are means over the step;
+    speeds, current and voltages are end-of-step values."""
+
+    force_on_glider_ned: np.ndarray  #: N, line force acting ON the glider (tension + drag/weight shares)
+    tension: float  #: N, mean line tension over the step
+    length: float  #: m, unstretched paid-out length
+    reel_speed: float  #: m/s, > 0 reel-out
+    omega: float  #: rad/s, drum speed (> 0 reel-out)
+    current: float  #: A, armature current (>= 0)
+    duty: float  #: T1 duty in motor mode, T2 (boost) duty in generator mode
+    mode: str  #: converter mode in effect ("generator" / "motor")
+    u_link: float  #: V, DC-link (load) capacitor voltage
+    p_electrical: float  #: W, mean (load power - supply power): > 0 delivered out of the station
+    event: str | None  #: None, "tether_break", "tether_fully_reeled_in", "tether_fully_paid_out"
+    machine_mode: str = "idle"  #: eq. 17 sign rule: "generator", "motor" or "idle"
+    p_mechanical: float = 0.0  #: W, mean tension x end reel speed at the drum
+    distance: float = 0.0  #: m, winch-glider distance at the start of the step
+    slack: bool = False  #: line slack (d <= l) at the end of the step
+    broken: bool = False  #: line broken (no force from now on)
+
+
+class GroundStation:
+    """Tether + winch + DC machine + half-bridge converter + PI, steppable with a flight model.
+
+    ``wind_ned`` (m/s, NED) is only used for the line drag share (air-relative glider velocity).
+    """
+
+    def __init__(self, params: GroundStationParams | None = None,
+                 wind_ned: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+        self.params = params if params is not None else load_ground_station()
+        self.drivetrain = Drivetrain(self.params)
+        self.set_wind(wind_ned)
+        self._dt = -1.0
+        self._n = 1
+        self._last_cmd: WinchCommand | None = None
+
+    def set_wind(self, wind_ned: Sequence[float]) -> None:
+        """Wind used for the line drag, NED m/s."""
+        w = [_finite(f"wind_ned[{k}]", v) for k, v in enumerate(wind_ned)]
+        if len(w) != 3:
+            raise InputError("wind_ned: need 3 components (N, E, D)")
+        self.wind = (w[0], w[1], w[2])
+
+    @property
+    def ledger(self) -> EnergyLedger:
+        """Energy ledger since the last :meth:`reset` (see :mod:`.ledger`)."""
+        return self.drivetrain.ledger
+
+    def reset(self, tether_length: float = 200.0, reel_speed: float = 0.0, mode: str = GENERATOR,
+              load_resistance: float | None = None) -> None:
+        """Start state: paid-out length (m), reel speed (m/s, > 0 reel-out), converter mode.
+
+        Electrical states start quasi-steady for that speed; the ledger is cleared.
+        """
+        tp = self.params.tether
+        _finite("tether_length", tether_length, lo=tp.min_length, hi=tp.max_length)
+        _finite("reel_speed", reel_speed)
+        if mode not in MODES:
+            raise InputError(f"mode: {mode!r} not one of {', '.join(MODES)}")
+        if load_resistance is not None:
+            _finite("load_resistance", load_resistance, lo=0.0, lo_open=True)
+        self.drivetrain.reset(tether_length, reel_speed / self.params.winch.radius, mode, load_resistance)
+
+    def step(self, dt: float, pos_ned: Sequence[float], vel_ned: Sequence[float],
+             cmd: WinchCommand) -> GroundStationOutput:
+        """Advance the ground station by ``dt`` s with the glider's tether attachment point at
+        ``pos_ned`` (m, winch at the origin) moving with ``vel_ned`` (m/s, ground-relative)."""
+        if not (0.0 < dt <= 1.0):
+            raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
+        x, y, z = pos_ned.tolist() if type(pos_ned) is np.ndarray else map(float, pos_ned)
+        vx, vy, vz = vel_ned.tolist() if type(vel_ned) is np.ndarray else map(float, vel_ned)
+        if not (isfinite(x + y + z) and isfinite(vx + vy + vz)):
+            raise InputError(f"glider position/velocity must be finite, got pos={tuple(pos_ned)!r} vel={tuple(vel_ned)!r}")
+        if cmd is not self._last_cmd and not isinstance(cmd, WinchCommand):
+            raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
+        self._last_cmd = cmd
+        if dt != self._dt:
+            self._dt = dt
+            self._n = max(1, math.ceil(dt / self.params.integration.max_substep - 1e-9))
+        cp = self.params.converter
+        RL = cp.load_resistance if cmd.load_resistance is None else cmd.load_resistance
+        d2 = cp.boost_duty if cmd.boost_duty is None else cmd.boost_duty
+        dtr = self.drivetrain
+        r = self.params.winch.radius
+        l_start = dtr.length
+        tmean, pload, psup, event = dtr.advance(
+            dt, self._n, x, y, z, vx, vy, vz, cmd.mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
+        # force on the glider: mean tension along the line, plus drag and weight shares
+        d = math.sqrt(x * x + y * y + z * z)
+        lg = dtr.ledger
+        if dtr.broken and event != "tether_break":
+            fx = fy = fz = 0.0
+        else:
+            wx, wy, wz = self.wind
+            tp = self.params.tether
+            fx, fy, fz = line_drag_share(tp, l_start, x, y, z, vx - wx, vy - wy, vz - wz)
+            lg.line_drag_work_on_glider += (fx * vx + fy * vy + fz * vz) * dt
+            fw = line_weight_share(tp, l_start)
+            lg.line_weight_work_on_glider += fw * vz * dt
+            fz += fw
+            if d > 0.0 and tmean > 0.0:
+                c = -tmean / d
+                fx += c * x
+                fy += c * y
+                fz += c * z
+        return GroundStationOutput(
+            force_on_glider_ned=np.array((fx, fy, fz)),
+            tension=tmean,
+            length=dtr.length,
+            reel_speed=r * dtr.omega,
+            omega=dtr.omega,
+            current=dtr.current,
+            duty=dtr.duty,
+            mode=cmd.mode,
+            u_link=dtr.u_link,
+            p_electrical=pload - psup,
+            event=event,
+            machine_mode=machine_mode(dtr.omega, dtr.current, tmean, self.params.machine.k, r),
+            p_mechanical=tmean * r * dtr.omega,
+            distance=d,
+            slack=dtr.stretch <= 0.0,
+            broken=dtr.broken,
+        )

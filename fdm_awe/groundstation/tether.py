@@ -1,0 +1,77 @@
+"""Tether line: geometry, elastic tension, and the line forces the glider carries.
+
+Model (straight line from the winch at the NED origin to the glider attachment point):
+
+- ``length`` l is the unstretched paid-out length, integrated from the drum
+  (``l_dot = r_w omega``, see :mod:`fdm_awe.groundstation.drivetrain`).
+- Elastic when taut, slack otherwise: ``T = EA (d - l) / l`` for ``d > l``, else ``0``
+  (d = |P| the winch-glider distance). Stored energy ``E = 0.5 (EA / l) (d - l)^2`` when taut.
+- Line drag (DESIGN.md section 5, ``C_D_perp``, diameter ``d_t``): the glider carries the share
+  ``drag_share`` (default 1/4) of ``0.5 rho C_D_perp d_t l |v_perp| v_perp`` with ``v_perp`` the
+  glider's air velocity normal to the line. For a straight line whose velocity grows linearly
+  from 0 at the winch to ``v_perp`` at the glider, 1/4 is exact both for the moment about the
+  winch and for the dissipated power (``int_0^l (s/l)^3 ds = l/4``); this is the usual
+  ``C_D,t = C_D_perp d_t l / (4 S)`` of AWE point-mass models.
+- Line weight: the glider carries ``weight_share`` (default 1/2) of ``mu l g`` (straight line,
+  moment balance about the winch), acting down (+z NED).
+- The axial mass of the paid-out line ``mu l`` moves with the drum surface and is added to the
+  drum inertia (``mu l r_w^2``, :func:`fdm_awe.groundstation.winch.effective_inertia`).
+
+All functions take and return plain floats (SI), for a cheap hot path.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .definitions import TetherParams
+
+
+def distance(x: float, y: float, z: float) -> float:
+    """Winch-glider distance d = |P|, m."""
+    return math.sqrt(x * x + y * y + z * z)
+
+
+def stiffness(p: TetherParams, length: float) -> float:
+    """Axial spring constant EA / l of the paid-out line, N/m."""
+    return p.axial_stiffness / length
+
+
+def elastic_tension(p: TetherParams, dist: float, length: float) -> float:
+    """Tension of the straight elastic line, N (0 when slack, d <= l)."""
+    s = dist - length
+    return p.axial_stiffness * s / length if s > 0.0 else 0.0
+
+
+def elastic_energy(p: TetherParams, dist: float, length: float) -> float:
+    """Strain energy stored in the line, J (0 when slack)."""
+    s = dist - length
+    return 0.5 * p.axial_stiffness * s * s / length if s > 0.0 else 0.0
+
+
+def line_drag_share(
+    p: TetherParams,
+    length: float,
+    x: float, y: float, z: float,
+    vax: float, vay: float, vaz: float,
+) -> tuple[float, float, float]:
+    """Share of the line drag acting on the glider, NED, N.
+
+    ``(x, y, z)`` glider position (winch at the origin), ``(vax, vay, vaz)`` glider velocity
+    relative to the air (ground velocity minus wind), m/s. Only the component normal to the
+    line counts: ``F = -share 0.5 rho C_D_perp d_t l |v_perp| v_perp``.
+    """
+    d = math.sqrt(x * x + y * y + z * z)
+    if d <= 0.0 or p.drag_share <= 0.0:
+        return 0.0, 0.0, 0.0
+    ux, uy, uz = x / d, y / d, z / d
+    vr = vax * ux + vay * uy + vaz * uz
+    px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
+    vp = math.sqrt(px * px + py * py + pz * pz)
+    c = -0.5 * p.drag_share * p.air_density * p.cd_perpendicular * p.diameter * length * vp
+    return c * px, c * py, c * pz
+
+
+def line_weight_share(p: TetherParams, length: float) -> float:
+    """Share of the line weight acting on the glider, N, pointing down (+z NED)."""
+    return p.weight_share * p.mass_per_length * length * p.gravity
