@@ -1,0 +1,134 @@
+"""Outer loop: track the reference path by point-mass force inversion.
+
+The commanded acceleration ``a_cmd = a_ref + Kp e_p + Kd e_v + Ki int(e_p)`` (errors in NED,
+saturated) is turned into the force the air must provide,
+``F = m (a_cmd - g) - F_tether`` (the tether force is measured at the ground station and
+fed forward), and split along the air velocity (thrust minus drag) and across it (lift).
+The lift vector's size gives the lift coefficient and so the angle of attack; its direction
+about the air velocity gives the wind-axis bank. The desired body attitude follows from the
+air velocity, alpha and bank (no sideslip), and the inner loops fly it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..definitions.aircraft import AeroParams
+from .reference import RefPoint
+
+
+@dataclass(frozen=True)
+class GuidanceGains:
+    """Outer-loop gains and limits (definition file ``autopilot.xml``)."""
+
+    kp: float  #: position gain [1/s^2]
+    kd: float  #: velocity gain [1/s]
+    ki: float  #: position integral gain [1/s^3]
+    a_max: float  #: correction acceleration limit [m/s^2]
+    int_max: float  #: integral state limit [m s]
+    alpha_min: float  #: [rad]
+    alpha_max: float  #: [rad] (also limited by CLmax)
+    phi_max: float  #: wind-axis bank limit [rad]
+    thrust_max: float  #: [N]
+
+
+@dataclass(frozen=True)
+class GuidanceCommand:
+    alpha: float  #: angle of attack [rad]
+    mu: float  #: wind-axis bank [rad]
+    thrust: float  #: [N]
+    roll: float  #: desired body roll (Euler phi) [rad]
+    pitch: float  #: desired body pitch (Euler theta) [rad]
+    yaw: float  #: desired body heading (Euler psi) [rad]
+    lift_coefficient: float
+    pos_error: float  #: |p_ref - p| [m]
+
+
+def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> tuple[float, float, float, float, float, float]:
+    """Area-weighted polar of the morphing wing at fold state ``fold`` (0 unfolded .. 1 folded),
+    on the unfolded reference area: (S, CL0, CLalpha, CLmax, CD0, CDa1, CDa2)-like tuple of
+    ``S*coefficient`` values: (S_CL0, S_CLa, S_CLmax, S_CD0, S_CDa1, S_CDa2)."""
+    w_u, w_f = (1.0 - fold) * aero_u.S, fold * aero_f.S
+    return (
+        w_u * aero_u.CL0 + w_f * aero_f.CL0,
+        w_u * aero_u.CLalpha + w_f * aero_f.CLalpha,
+        w_u * aero_u.CLmax + w_f * aero_f.CLmax,
+        w_u * aero_u.CD0 + w_f * aero_f.CD0,
+        w_u * aero_u.CDalpha1 + w_f * aero_f.CDalpha1,
+        w_u * aero_u.CDalpha2 + w_f * aero_f.CDalpha2,
+    )
+
+
+class Guidance:
+    """Stateful outer loop (holds the position-error integral)."""
+
+    def __init__(self, gains: GuidanceGains, mass: float, aero_u: AeroParams, aero_f: AeroParams, rho: float = 1.225, g: float = 9.81) -> None:
+        self.k = gains
+        self.m = mass
+        self.aero_u, self.aero_f = aero_u, aero_f
+        self.rho, self.g = rho, g
+        self.integral = np.zeros(3)
+
+    def reset(self) -> None:
+        self.integral[:] = 0.0
+
+    def update(
+        self,
+        ref: RefPoint,
+        pos: np.ndarray,
+        vel: np.ndarray,
+        wind: np.ndarray,
+        tether_force: np.ndarray,
+        fold: float,
+        dt: float,
+    ) -> GuidanceCommand:
+        k = self.k
+        e_p = ref.pos - pos
+        e_v = ref.vel - vel
+        self.integral = np.clip(self.integral + e_p * dt, -k.int_max, k.int_max)
+        corr = k.kp * e_p + k.kd * e_v + k.ki * self.integral
+        n = float(np.linalg.norm(corr))
+        if n > k.a_max:
+            corr *= k.a_max / n
+        a_cmd = ref.acc + corr
+        F = self.m * (a_cmd - np.array([0.0, 0.0, self.g])) - tether_force
+        va = vel - wind
+        V = max(float(np.linalg.norm(va)), 1.0)
+        e1 = va / V
+        F_par = float(F @ e1)
+        F_perp = F - F_par * e1
+        L = float(np.linalg.norm(F_perp))
+        qS_cl0, qS_cla, qS_clmax, qS_cd0, qS_cd1, qS_cd2 = blended_polar(self.aero_u, self.aero_f, fold)
+        q = 0.5 * self.rho * V * V
+        # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
+        alpha = (L / q - qS_cl0) / qS_cla
+        alpha_stall = (qS_clmax - qS_cl0) / qS_cla
+        alpha = min(max(alpha, k.alpha_min), min(k.alpha_max, alpha_stall))
+        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+        thrust = min(max(F_par + drag, 0.0), k.thrust_max)
+        # bank about the air velocity: lift direction relative to the unbanked "up"
+        horiz = math.hypot(e1[0], e1[1])
+        if horiz > 1e-6:
+            right0 = np.array([-e1[1], e1[0], 0.0]) / horiz
+        else:  # vertical flight: any horizontal axis
+            right0 = np.array([0.0, 1.0, 0.0])
+        up0 = np.cross(right0, e1)  # = -c3 at zero bank (points up in level flight)
+        if L > 1e-6:
+            eL = F_perp / L
+            mu = math.atan2(float(eL @ right0), float(eL @ up0))
+        else:
+            eL, mu = up0, 0.0
+        mu = min(max(mu, -k.phi_max), k.phi_max)
+        eL = math.cos(mu) * up0 + math.sin(mu) * right0
+        # body axes: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL
+        ca, sa = math.cos(alpha), math.sin(alpha)
+        xb = ca * e1 + sa * eL
+        zb = sa * e1 - ca * eL
+        yb = np.cross(zb, xb)
+        pitch = -math.asin(max(-1.0, min(1.0, float(xb[2]))))
+        roll = math.atan2(float(yb[2]), float(zb[2]))
+        yaw = math.atan2(float(xb[1]), float(xb[0]))
+        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, (qS_cl0 + qS_cla * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S), float(np.linalg.norm(e_p)))
