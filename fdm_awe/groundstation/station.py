@@ -139,6 +139,38 @@ class GroundStation:
             _finite("load_resistance", load_resistance, lo=0.0, lo_open=True)
         self.drivetrain.reset(tether_length, reel_speed / self.params.winch.radius, mode, load_resistance)
 
+    def _substeps(self, dt: float) -> int:
+        if dt != self._dt:
+            self._dt = dt
+            self._n = max(1, math.ceil(dt / self.params.integration.max_substep - 1e-9))
+        return self._n
+
+    def step_with_tension(self, dt: float, tension: float, cmd: WinchCommand) -> GroundStationOutput:
+        """Advance ``dt`` s with a prescribed line tension (N) at the drum instead of the line.
+
+        For winch-only studies and tests (constant load, quasi-static checks); the returned
+        force is zero (there is no glider).
+        """
+        if not (0.0 < dt <= 1.0):
+            raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
+        _finite("tension", tension, lo=0.0)
+        if not isinstance(cmd, WinchCommand):
+            raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
+        n = self._substeps(dt)
+        cp = self.params.converter
+        RL = cp.load_resistance if cmd.load_resistance is None else cmd.load_resistance
+        d2 = cp.boost_duty if cmd.boost_duty is None else cmd.boost_duty
+        dtr = self.drivetrain
+        r = self.params.winch.radius
+        tmean, pload, psup, event = dtr.advance(
+            dt, n, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, cmd.mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL,
+            fixed_tension=float(tension))
+        return GroundStationOutput(
+            np.zeros(3), tmean, dtr.length, r * dtr.omega, dtr.omega, dtr.current, dtr.duty,
+            cmd.mode, dtr.u_link, pload - psup, event,
+            machine_mode(dtr.omega, dtr.current, tmean, self.params.machine.k, r),
+            tmean * r * dtr.omega, 0.0, False, dtr.broken)
+
     def step(self, dt: float, pos_ned: Sequence[float], vel_ned: Sequence[float],
              cmd: WinchCommand) -> GroundStationOutput:
         """Advance the ground station by ``dt`` s with the glider's tether attachment point at
@@ -152,9 +184,7 @@ class GroundStation:
         if cmd is not self._last_cmd and not isinstance(cmd, WinchCommand):
             raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
         self._last_cmd = cmd
-        if dt != self._dt:
-            self._dt = dt
-            self._n = max(1, math.ceil(dt / self.params.integration.max_substep - 1e-9))
+        n = self._n if dt == self._dt else self._substeps(dt)
         cp = self.params.converter
         RL = cp.load_resistance if cmd.load_resistance is None else cmd.load_resistance
         d2 = cp.boost_duty if cmd.boost_duty is None else cmd.boost_duty
@@ -162,7 +192,7 @@ class GroundStation:
         r = self.params.winch.radius
         l_start = dtr.length
         tmean, pload, psup, event = dtr.advance(
-            dt, self._n, x, y, z, vx, vy, vz, cmd.mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
+            dt, n, x, y, z, vx, vy, vz, cmd.mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
         # force on the glider: mean tension along the line, plus drag and weight shares
         d = math.sqrt(x * x + y * y + z * z)
         lg = dtr.ledger

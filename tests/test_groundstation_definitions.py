@@ -1,0 +1,97 @@
+"""Ground-station definition file: Table 1 values, units, and one-line errors on bad files."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+from fdm_awe import ROOT
+from fdm_awe.errors import DefinitionError
+from fdm_awe.groundstation import load_ground_station
+
+XML = ROOT / "tether" / "ground_station.xml"
+
+
+def test_table1_values_in_si():
+    p = load_ground_station()
+    # Table 1 entries, converted by hand (exact decimal values, so compare to 1e-12)
+    assert p.winch.radius == pytest.approx(0.03, rel=1e-12)
+    assert p.winch.inertia == pytest.approx(0.000192, rel=1e-12)
+    assert p.winch.viscous_friction == pytest.approx(0.0002, rel=1e-12)
+    assert p.winch.coulomb_friction == pytest.approx(0.11337, rel=1e-12)
+    assert p.winch.mass == pytest.approx(0.066, rel=1e-12)
+    assert p.tether.mass_per_length == pytest.approx(0.0004, rel=1e-12)
+    # 0.013 V/rpm -> V s/rad
+    assert p.machine.k == pytest.approx(0.013 * 60.0 / (2.0 * math.pi), rel=1e-12)
+    # DESIGN.md section 5 estimates
+    assert p.machine.resistance == 0.7 and p.machine.inductance == pytest.approx(3e-4)
+    assert p.converter.device_drop == 0.5 and p.converter.supply_voltage == 24.0
+    assert p.converter.link_capacitance == pytest.approx(1e-3) and p.converter.load_resistance == 1.5
+    assert p.tether.diameter == pytest.approx(0.72e-3) and p.tether.cd_perpendicular == 1.1
+    assert p.tether.axial_stiffness == pytest.approx(22.6e3)
+
+
+def test_pi_gains_follow_pole_zero_cancellation_at_20_rad_s():
+    # The file documents Kp, Ki as pole-zero cancellation with a 20 rad/s crossover on the
+    # motor plant (K V_a/R)/(J s + B + K^2/R); recompute from Table 1 + DESIGN.md 5.
+    p = load_ground_station()
+    K, R, Va, J, B = p.machine.k, p.machine.resistance, p.converter.supply_voltage, p.winch.inertia, p.winch.viscous_friction
+    kp = 20.0 * J * R / (K * Va)
+    ki = kp * (B + K * K / R) / J
+    assert p.controller.kp == pytest.approx(kp, rel=2e-3)  # file holds 3-4 significant digits
+    assert p.controller.ki == pytest.approx(ki, rel=2e-3)
+
+
+def test_every_value_has_unit_and_basis_comment():
+    text = XML.read_text()
+    for m in re.finditer(r"<(\w+)( unit=\"[^\"]+\")?>\s*([-+0-9.eE]+)\s*</\1>", text):
+        assert m.group(2), f"<{m.group(1)}> has no unit attribute"
+        before = text[: m.start()].rstrip()
+        assert before.endswith("-->"), f"<{m.group(1)}> not preceded by a basis comment"
+        comment = before[before.rfind("<!--"):]
+        assert ("Table 1" in comment) or ("estimate" in comment) or ("Derived" in comment) or ("PI of" in comment), m.group(1)
+
+
+def _bad(tmp_path: Path, old: str, new: str) -> Path:
+    text = XML.read_text()
+    assert old in text
+    f = tmp_path / "gs.xml"
+    f.write_text(text.replace(old, new, 1))
+    return f
+
+
+@pytest.mark.parametrize(
+    "old,new,element,words",
+    [
+        ('<radius unit="M"> 0.03 </radius>', '<radius unit="M"> 0.0 </radius>', "winch/radius", "> 0"),
+        ('<armature_resistance unit="OHM"> 0.7 </armature_resistance>',
+         '<armature_resistance unit="OHM"> -0.7 </armature_resistance>', "dc_machine/armature_resistance", "> 0"),
+        ('<load_resistance unit="OHM"> 1.5 </load_resistance>',
+         '<load_resistance unit="OHM"> nan </load_resistance>', "converter/load_resistance", "finite"),
+        ('<boost_duty unit="ND"> 0.0 </boost_duty>', '<boost_duty unit="ND"> 1.5 </boost_duty>',
+         "converter/boost_duty", "<= 1"),
+        ('<inertia unit="KG*M2"> 0.000192 </inertia>', '<inertia> 0.000192 </inertia>', "winch/inertia", "unit"),
+        ('<armature_inductance unit="H"> 0.0003 </armature_inductance>',
+         '<armature_inductance unit="MH"> 0.3 </armature_inductance>', "dc_machine/armature_inductance", "unit"),
+        ('<radius unit="M"> 0.03 </radius>', '<radius unit="KG"> 0.03 </radius>', "winch/radius", "unit"),
+        ('<kp unit="S/RAD"> 0.000902 </kp>', '', "speed_controller/kp", "missing"),
+    ],
+)
+def test_bad_file_gives_one_line_error(tmp_path, old, new, element, words):
+    with pytest.raises(DefinitionError) as ei:
+        load_ground_station(_bad(tmp_path, old, new))
+    msg = str(ei.value)
+    assert "\n" not in msg and "gs.xml" in msg and element in msg and words in msg, msg
+
+
+def test_english_length_unit_is_converted(tmp_path):
+    p = load_ground_station(_bad(tmp_path, '<radius unit="M"> 0.03 </radius>', '<radius unit="FT"> 0.1 </radius>'))
+    assert p.winch.radius == pytest.approx(0.03048)
+
+
+def test_missing_file_is_definition_error(tmp_path):
+    with pytest.raises(DefinitionError, match="not found"):
+        load_ground_station(tmp_path / "nope.xml")
