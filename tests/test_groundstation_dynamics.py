@@ -359,3 +359,31 @@ def test_bad_inputs_raise_clear_errors(make, match):
     with pytest.raises(InputError, match=match) as ei:
         make(gs)
     assert "\n" not in str(ei.value)
+
+
+def test_boost_stage_matches_reflected_load_closed_form():
+    # Averaged T2 duty d2 in generator mode: steady armature loop sees (1 - d2)^2 R_L
+    # (closed form written out here, independent of steady.py).
+    d2, RL, G = 0.4, 1.5, 30.0
+    rw, Mc, Ud, R, B, K = 0.03, 0.11337, 0.5, 0.7, 2e-4, P.machine.k
+    Rs = R + (1 - d2) ** 2 * RL
+    w = (rw * G - Mc + 2 * Ud * K / Rs) / (B + K * K / Rs)
+    i = (K * w - 2 * Ud) / Rs
+    gs = GroundStation(P)
+    gs.reset(200.0, 0.0, "generator")
+    for _ in range(360):
+        out = gs.step_with_tension(1 / 120, G, WinchCommand("generator", boost_duty=d2))
+    assert out.omega == pytest.approx(w, rel=1e-6) and out.current == pytest.approx(i, rel=1e-6)
+    assert out.u_link == pytest.approx((1 - d2) * i * RL, rel=1e-6)
+    assert out.p_electrical == pytest.approx((1 - d2) ** 2 * i * i * RL, rel=1e-6)
+
+
+def test_eq17_sign_rule():
+    from fdm_awe.groundstation.machine import load_torques
+
+    # generation: reel-out, current flowing, line pulling -> T_e < 0 and T_L < 0
+    te, tl = load_torques(100.0, 6.0, 30.0, P.machine.k, 0.03)
+    assert te < 0 and tl < 0
+    # reel-in: rotation reversed, motor pulling against the line -> T_e > 0 and T_L > 0
+    te, tl = load_torques(-100.0, 3.0, 5.0, P.machine.k, 0.03)
+    assert te > 0 and tl > 0

@@ -37,6 +37,8 @@ class Drivetrain:
     def __init__(self, params: GroundStationParams) -> None:
         self.params = params
         tp, wp, mp, cp = params.tether, params.winch, params.machine, params.converter
+        self._coef_key: tuple = ()
+        self._coef: tuple = ()
         self._const = (wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia,
                        tp.mass_per_length, tp.axial_stiffness, tp.breaking_load, tp.min_length,
                        tp.max_length, mp.k, mp.resistance, mp.inductance,
@@ -110,19 +112,22 @@ class Drivetrain:
             if motor:
                 self.integ = 0.0
             self.mode = mode
-        # converter / armature coefficients, constant over the step (converter, machine modules)
+        # converter / armature / drum coefficients, constant while h, R_L and the mode are
         s_cpl = 0.0 if motor else 1.0 - boost_duty
-        cden = C + h / RL
-        q = h * s_cpl / cden          # u1 = cu u0 + q i1
-        cu = C / cden
-        D = L + h * R + h * s_cpl * q  # i1 = (L i0 + h (v_src - 2U_d - s cu u0)) / D + iB w1
-        aL, aH, aS = L / D, h / D, h * s_cpl * cu / D
-        iB = h * K / D
+        key = (h, RL, s_cpl)
+        if key != self._coef_key:
+            cden = C + h / RL
+            q = h * s_cpl / cden          # link (converter module): u1 = cu u0 + q i1
+            cu = C / cden
+            D = L + h * R + h * s_cpl * q  # armature (machine module):
+            # i1 = aL i0 + aH (v_src - 2 U_d) - aS u0 + iB w1
+            self._coef = (q, cu, L / D, h / D, h * s_cpl * cu / D, h * K / D, h * r, h * K, h * Mc, h * B)
+            self._coef_key = key
+        q, cu, aL, aH, aS, iB, hr, hK, hM, hB = self._coef
         # drum (winch module): backward Euler with set-valued Coulomb friction
         l_start = self.length
         J = Jw + mu * l_start * r * r
-        Jb = J + h * B
-        hr, hK, hM = h * r, h * K, h * Mc
+        Jb = J + hB
 
         l0, w0, i0, u0 = l_start, self.omega, self.current, self.u_link
         integ, duty, broken = self.integ, self.duty, self.broken

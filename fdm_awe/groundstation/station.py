@@ -111,6 +111,7 @@ class GroundStation:
         self._dt = -1.0
         self._n = 1
         self._last_cmd: WinchCommand | None = None
+        self._k = self.params.machine.k
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -211,21 +212,8 @@ class GroundStation:
                 fx += c * x
                 fy += c * y
                 fz += c * z
+        w = dtr.omega
         return GroundStationOutput(
-            force_on_glider_ned=np.array((fx, fy, fz)),
-            tension=tmean,
-            length=dtr.length,
-            reel_speed=r * dtr.omega,
-            omega=dtr.omega,
-            current=dtr.current,
-            duty=dtr.duty,
-            mode=cmd.mode,
-            u_link=dtr.u_link,
-            p_electrical=pload - psup,
-            event=event,
-            machine_mode=machine_mode(dtr.omega, dtr.current, tmean, self.params.machine.k, r),
-            p_mechanical=tmean * r * dtr.omega,
-            distance=d,
-            slack=dtr.stretch <= 0.0,
-            broken=dtr.broken,
-        )
+            np.array((fx, fy, fz)), tmean, dtr.length, r * w, w, dtr.current, dtr.duty, cmd.mode,
+            dtr.u_link, pload - psup, event, machine_mode(w, dtr.current, tmean, self._k, r),
+            tmean * r * w, d, dtr.stretch <= 0.0, dtr.broken)
