@@ -387,3 +387,13 @@ def test_eq17_sign_rule():
     # reel-in: rotation reversed, motor pulling against the line -> T_e > 0 and T_L > 0
     te, tl = load_torques(-100.0, 3.0, 5.0, P.machine.k, 0.03)
     assert te > 0 and tl > 0
+
+
+def test_unstretched_length_gives_requested_initial_tension():
+    gs = GroundStation(P)
+    d = 200.0
+    l0 = gs.unstretched_length(d, 30.0)
+    assert P.tether.axial_stiffness * (d - l0) / l0 == pytest.approx(30.0, rel=1e-12)
+    gs.reset(l0, 0.0, "generator")
+    out = gs.step(1 / 1000, d * U, (0, 0, 0), GEN)  # 1 ms: the drum barely starts to turn
+    assert out.tension == pytest.approx(30.0, rel=0.01)

@@ -129,7 +129,10 @@ class GroundStation:
               load_resistance: float | None = None) -> None:
         """Start state: paid-out length (m), reel speed (m/s, > 0 reel-out), converter mode.
 
-        Electrical states start quasi-steady for that speed; the ledger is cleared.
+        ``tether_length`` is the UNSTRETCHED paid-out length: a glider farther away than that
+        stretches the line at once (EA/l ~ 113 N/m at 200 m). To start with a given tension use
+        :meth:`unstretched_length`. Electrical states start quasi-steady for the reel speed;
+        the PI integrator at zero; the ledger is cleared.
         """
         tp = self.params.tether
         _finite("tether_length", tether_length, lo=tp.min_length, hi=tp.max_length)
@@ -139,6 +142,12 @@ class GroundStation:
         if load_resistance is not None:
             _finite("load_resistance", load_resistance, lo=0.0, lo_open=True)
         self.drivetrain.reset(tether_length, reel_speed / self.params.winch.radius, mode, load_resistance)
+
+    def unstretched_length(self, distance: float, tension: float = 0.0) -> float:
+        """Unstretched length (m) that carries ``tension`` (N) at winch-glider ``distance`` (m)."""
+        _finite("distance", distance, lo=0.0, lo_open=True)
+        _finite("tension", tension, lo=0.0)
+        return distance / (1.0 + tension / self.params.tether.axial_stiffness)
 
     def _substeps(self, dt: float) -> int:
         if dt != self._dt:
