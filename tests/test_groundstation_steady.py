@@ -7,7 +7,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from fdm_awe.groundstation import generator_steady, load_ground_station, motor_steady
+from fdm_awe.groundstation import generator_at_speed, generator_steady, load_ground_station, motor_steady
 
 P = load_ground_station()
 
@@ -72,3 +72,13 @@ def test_numpy_arrays_and_casadi_symbols():
     ms = motor_steady(v, Gs, P)
     fm = ca.Function("m", [v, Gs], [ms.p_supply])
     assert float(fm(3.0, 5.0)) == pytest.approx(motor_steady(3.0, 5.0, P).p_supply, rel=1e-12)
+
+
+def test_generator_at_speed_inverts_generator_steady():
+    for G in (10.0, 30.0, 45.0):
+        g = generator_steady(G, P, 1.5)
+        a = generator_at_speed(g.reel_speed, P, 1.5)
+        assert a.tension == pytest.approx(G, rel=1e-12) and a.p_load == pytest.approx(g.p_load, rel=1e-12)
+    v = ca.SX.sym("v")
+    f = ca.Function("f", [v], [generator_at_speed(v, P, 1.5).tension])
+    assert float(f(DESIGN6["reel_speed"])) == pytest.approx(30.0, rel=1e-4)  # DESIGN.md rounding

@@ -18,7 +18,7 @@ Modules, one job each:
 from .definitions import GroundStationParams, load_ground_station
 from .ledger import EnergyLedger
 from .station import GroundStation, GroundStationOutput, WinchCommand
-from .steady import generator_steady, motor_steady
+from .steady import generator_at_speed, generator_steady, motor_steady
 
 __all__ = [
     "EnergyLedger",
@@ -26,6 +26,7 @@ __all__ = [
     "GroundStationOutput",
     "GroundStationParams",
     "WinchCommand",
+    "generator_at_speed",
     "generator_steady",
     "load_ground_station",
     "motor_steady",

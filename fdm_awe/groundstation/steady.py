@@ -40,6 +40,14 @@ class GeneratorSteady(NamedTuple):
     efficiency: Any  #: p_load / p_mech, -
 
 
+class GeneratorAtSpeed(NamedTuple):
+    tension: Any  #: line tension that holds the drum at that speed, N
+    current: Any  #: armature current, A
+    p_load: Any  #: power into R_L, W
+    p_mech: Any  #: mechanical power of the line at the drum, W
+    efficiency: Any  #: p_load / p_mech, -
+
+
 class MotorSteady(NamedTuple):
     current: Any  #: armature current, A
     duty: Any  #: T1 duty (must lie in [0, 1]), -
@@ -63,6 +71,25 @@ def generator_steady(tension: Any, params: GroundStationParams, R_L: Any = None,
     p_load = r_eff * i * i
     p_mech = tension * w.radius * omega
     return GeneratorSteady(omega, w.radius * omega, i, p_load, p_mech, p_load / p_mech)
+
+
+def generator_at_speed(reel_speed: Any, params: GroundStationParams, R_L: Any = None,
+                       boost_duty: Any = 0.0) -> GeneratorAtSpeed:
+    """Inverse of :func:`generator_steady`: the tension (N) that holds reel-out ``reel_speed`` (m/s).
+
+    Handy when the OCP carries the reel speed and needs the tension it implies. Valid while
+    ``K_e omega > 2 U_d`` (current flows).
+    """
+    w, m, c = params.winch, params.machine, params.converter
+    RL = c.load_resistance if R_L is None else R_L
+    s = 1.0 - boost_duty
+    r_eff = s * s * RL
+    omega = reel_speed / w.radius
+    i = (m.k * omega - 2.0 * c.device_drop) / (m.resistance + r_eff)
+    tension = (w.coulomb_friction + w.viscous_friction * omega + m.k * i) / w.radius
+    p_load = r_eff * i * i
+    p_mech = tension * reel_speed
+    return GeneratorAtSpeed(tension, i, p_load, p_mech, p_load / p_mech)
 
 
 def motor_steady(reel_in_speed: Any, tension: Any, params: GroundStationParams) -> MotorSteady:
