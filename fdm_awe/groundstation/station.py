@@ -112,6 +112,10 @@ class GroundStation:
         self._n = 1
         self._last_cmd: WinchCommand | None = None
         self._k = self.params.machine.k
+        self._r = self.params.winch.radius
+        self._tp = self.params.tether
+        self._RL = self.params.converter.load_resistance
+        self._d2 = self.params.converter.boost_duty
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -195,11 +199,10 @@ class GroundStation:
             raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
         self._last_cmd = cmd
         n = self._n if dt == self._dt else self._substeps(dt)
-        cp = self.params.converter
-        RL = cp.load_resistance if cmd.load_resistance is None else cmd.load_resistance
-        d2 = cp.boost_duty if cmd.boost_duty is None else cmd.boost_duty
+        RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
+        d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         dtr = self.drivetrain
-        r = self.params.winch.radius
+        r = self._r
         l_start = dtr.length
         tmean, pload, psup, event = dtr.advance(
             dt, n, x, y, z, vx, vy, vz, cmd.mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
@@ -210,7 +213,7 @@ class GroundStation:
             fx = fy = fz = 0.0
         else:
             wx, wy, wz = self.wind
-            tp = self.params.tether
+            tp = self._tp
             fx, fy, fz = line_drag_share(tp, l_start, x, y, z, vx - wx, vy - wy, vz - wz)
             lg.line_drag_work_on_glider += (fx * vx + fy * vy + fz * vz) * dt
             fw = line_weight_share(tp, l_start)
