@@ -20,6 +20,21 @@ import pytest
 from mavlink_helpers import StandInVehicle, free_udp_port, telemetry_at
 
 from fdm_awe.mavlink.endpoint import MavlinkEndpoint
+from fdm_awe.mavlink.geo import GeoFrame
+
+# a path to upload, written here in the QGC WPL 110 text format MAVProxy loads
+# (index, current, frame 6 = GLOBAL_RELATIVE_ALT_INT, command 16 = NAV_WAYPOINT, p1-p4,
+# lat, lon, alt, autocontinue)
+UPLOAD_NED = [(110.0 + 12.0 * k, -20.0 + 8.0 * k, -55.0 - 4.0 * k) for k in range(6)]
+
+
+def _write_wpl(path):
+    geo = GeoFrame()
+    lines = ["QGC WPL 110"]
+    for i, (n, e, d) in enumerate(UPLOAD_NED):
+        lat, lon, _ = geo.to_geodetic(n, e, d)
+        lines.append(f"{i}\t0\t6\t16\t0\t0\t0\t0\t{lat:.8f}\t{lon:.8f}\t{-d:.3f}\t1")
+    path.write_text("\n".join(lines) + "\n")
 
 pytestmark = pytest.mark.skipif(importlib.util.find_spec("MAVProxy") is None,
                                 reason="MAVProxy not installed (pip install 'fdm-awe[dev]')")
@@ -42,8 +57,12 @@ def test_mavproxy_shows_vehicle_parameters_and_mission(tmp_path):
 
     th = threading.Thread(target=loop, daemon=True)
     th.start()
+    wpl = tmp_path / "upload.txt"
+    _write_wpl(wpl)
     cmds = "; ".join([
         "repeat add 4 wp list",
+        f"repeat add 7 wp load {wpl}",
+        "repeat add 5 long MISSION_START",
         "repeat add 5 param show AP_*",
         "repeat add 3 mode AUTO",
         "repeat add 3 arm throttle",
@@ -80,3 +99,10 @@ def test_mavproxy_shows_vehicle_parameters_and_mission(tmp_path):
     assert "DO_SET_MODE: ACCEPTED" in out and v.mode == "AUTO"
     assert "COMPONENT_ARM_DISARM: ACCEPTED" in out and v.armed
     assert v.params["WINCH_PI_KP"] == pytest.approx(0.006)
+    assert "MISSION_START: ACCEPTED" in out and v.cycling
+    # upload from MAVProxy's file reached the vehicle (8 decimals in the file ~ 1 mm)
+    assert "Sent all 6 waypoints" in out and "MISSION_ACK: TYPE_MISSION: ACCEPTED" in out
+    got = v.received_missions[-1]
+    assert len(got) == 6
+    for w, (n, e, d) in zip(got, UPLOAD_NED):
+        assert (w.north, w.east, w.down) == pytest.approx((n, e, d), abs=0.02)
