@@ -397,3 +397,31 @@ def test_unstretched_length_gives_requested_initial_tension():
     gs.reset(l0, 0.0, "generator")
     out = gs.step(1 / 1000, d * U, (0, 0, 0), GEN)  # 1 ms: the drum barely starts to turn
     assert out.tension == pytest.approx(30.0, rel=0.01)
+
+
+@pytest.mark.parametrize("l0", [10.0, 200.0])
+@pytest.mark.parametrize("dt", [1 / 120, 1 / 60])
+def test_explicit_coupling_with_a_pulled_point_mass_is_stable(l0, dt):
+    # A 0.738 kg mass pulled outward by a constant 35 N, integrated by the caller with the
+    # returned force (explicit hand-off, as a flight model does). Short line = stiff spring
+    # (EA/l = 2.3 kN/m at 10 m: mass-spring period 0.11 s, only ~7 steps at 1/60 s).
+    # Steady state: tension = 35 N and the generator speed of steady.py's closed form, here
+    # typed out independently. Line weight share off so that 35 N is the exact balance.
+    params = dataclasses.replace(P, tether=dataclasses.replace(P.tether, weight_share=0.0))
+    rw, Mc, Ud, R, RL, B, K = 0.03, 0.11337, 0.5, 0.7, 1.5, 2e-4, P.machine.k
+    Rs = R + RL
+    v_ref = rw * (rw * 35.0 - Mc + 2 * Ud * K / Rs) / (B + K * K / Rs)
+    gs = GroundStation(params)
+    gs.reset(l0, 0.0, "generator")
+    m, p, v, F = 0.738, U * l0, np.zeros(3), 35.0 * U
+    tens = []
+    for _ in range(int(6.0 / dt)):
+        out = gs.step(dt, p, v, GEN)
+        v = v + (F + out.force_on_glider_ned) / m * dt
+        p = p + v * dt
+        tens.append(out.tension)
+    tens = np.array(tens)
+    assert out.tension == pytest.approx(35.0, rel=1e-3)
+    assert out.reel_speed == pytest.approx(v_ref, rel=1e-3)
+    assert tens.max() < 1.1 * 35.0  # no growing oscillation from the explicit hand-off
+    assert np.std(tens[-int(1.0 / dt):]) < 0.01
