@@ -425,3 +425,13 @@ def test_explicit_coupling_with_a_pulled_point_mass_is_stable(l0, dt):
     assert out.reel_speed == pytest.approx(v_ref, rel=1e-3)
     assert tens.max() < 1.1 * 35.0  # no growing oscillation from the explicit hand-off
     assert np.std(tens[-int(1.0 / dt):]) < 0.01
+
+
+def test_motor_reset_at_speed_is_bumpless():
+    # reset at -3 m/s reel-in in motor mode: the PI starts at the no-load duty of the armature
+    # equation, so with a slack line the speed holds from the first step.
+    gs = GroundStation(P)
+    gs.reset(150.0, -3.0, "motor")
+    cmd = WinchCommand("motor", reel_speed_ref=-3.0)
+    vs = [gs.step(1 / 120, (1.0, 0.0, -1.0), (0, 0, 0), cmd).reel_speed for _ in range(60)]
+    assert np.max(np.abs(np.array(vs) + 3.0)) < 1e-6

@@ -49,8 +49,9 @@ class Drivetrain:
     # -- state -------------------------------------------------------------------------
     def reset(self, length: float, omega: float, mode: str = GENERATOR,
               load_resistance: float | None = None, boost_duty: float | None = None) -> None:
-        """Set the line length (m), drum speed (rad/s) and converter mode; electrical states
-        start at their quasi-steady values for that speed; the ledger is cleared."""
+        """Set the line length (m), drum speed (rad/s) and converter mode; the electrical states
+        (and in motor mode the PI integrator) start at their quasi-steady values for that speed
+        with no line load; the ledger is cleared."""
         p = self.params
         self.length = float(length)
         self.omega = float(omega)
@@ -62,11 +63,23 @@ class Drivetrain:
             i = (p.machine.k * self.omega - 2.0 * p.converter.device_drop) / (p.machine.resistance + s * s * RL)
             self.current = i if i > 0.0 else 0.0
             self.u_link = s * self.current * RL
+            self.integ = self.duty = 0.0
         else:
-            self.current = 0.0
+            # reel-in at this speed with no line load: friction current, PI integrator holding
+            # the duty that drives it (bumpless start of the speed loop)
             self.u_link = 0.0
-        self.integ = 0.0
-        self.duty = 0.0
+            w = -self.omega
+            if w > 0.0:
+                m, c, wp = p.machine, p.converter, p.winch
+                i = (wp.coulomb_friction + wp.viscous_friction * w) / m.k
+                d = (m.k * w + m.resistance * i + 2.0 * c.device_drop) / c.supply_voltage
+                ctrl = p.controller
+                d = min(max(d, ctrl.duty_min), ctrl.duty_max)
+                self.current = i if d < ctrl.duty_max else 0.0
+                self.integ = self.duty = d
+            else:
+                self.current = 0.0
+                self.integ = self.duty = 0.0
         self.broken = False
         self.at_stop = False
         self.stretch = 0.0  # d - l at the end of the last sub-step (elastic energy bookkeeping)

@@ -135,8 +135,9 @@ class GroundStation:
 
         ``tether_length`` is the UNSTRETCHED paid-out length: a glider farther away than that
         stretches the line at once (EA/l ~ 113 N/m at 200 m). To start with a given tension use
-        :meth:`unstretched_length`. Electrical states start quasi-steady for the reel speed;
-        the PI integrator at zero; the ledger is cleared.
+        :meth:`unstretched_length`. Electrical states start quasi-steady for the reel speed
+        with no line load (motor mode: the PI integrator holds that duty, for a bumpless start
+        of the speed loop); the ledger is cleared.
         """
         tp = self.params.tether
         _finite("tether_length", tether_length, lo=tp.min_length, hi=tp.max_length)
