@@ -435,3 +435,21 @@ def test_motor_reset_at_speed_is_bumpless():
     cmd = WinchCommand("motor", reel_speed_ref=-3.0)
     vs = [gs.step(1 / 120, (1.0, 0.0, -1.0), (0, 0, 0), cmd).reel_speed for _ in range(60)]
     assert np.max(np.abs(np.array(vs) + 3.0)) < 1e-6
+
+
+def test_line_held_by_stiction_carries_hookes_law_tension():
+    # Glider 1 cm beyond the unstretched 100 m: T = EA 0.01 / 100 = 2.26 N, r T = 0.068 N m
+    # below M_c, so the drum sticks and the line is a static spring (Hooke, typed out here).
+    from fdm_awe.groundstation.tether import elastic_energy, elastic_tension
+
+    gs = GroundStation(P)
+    gs.reset(100.0, 0.0, "generator")
+    d = 100.01
+    for _ in range(10):
+        out = gs.step(1 / 120, d * U, (0, 0, 0), GEN)
+    T = 22600.0 * 0.01 / 100.0
+    assert out.omega == 0.0 and out.length == 100.0
+    assert out.tension == pytest.approx(T, rel=1e-9)
+    assert elastic_tension(P.tether, d, 100.0) == pytest.approx(T, rel=1e-9)
+    assert gs.ledger.stored_elastic == pytest.approx(0.5 * T * 0.01, rel=1e-9)
+    assert elastic_energy(P.tether, d, 100.0) == pytest.approx(0.5 * T * 0.01, rel=1e-9)

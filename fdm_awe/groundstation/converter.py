@@ -14,7 +14,8 @@ Motor mode (T2 on, T1 PWM with duty ``d1``), fed from the supply ``V_a``:
   Averaged: source ``d1 V_a``; the supply delivers ``d1 V_a i``. The link capacitor stays on
   ``R_L`` and discharges into it.
 
-:func:`link_terms` returns the quantities of one backward-Euler sub-step.
+:func:`link_coefficients` and :func:`source_and_coupling` give the terms of one backward-Euler
+sub-step.
 """
 
 from __future__ import annotations
@@ -24,13 +25,14 @@ MOTOR = "motor"
 MODES = (GENERATOR, MOTOR)
 
 
-def link_terms(C: float, RL: float, h: float, u0: float, s: float) -> tuple[float, float]:
-    """Backward-Euler DC-link voltage as ``u1 = p + q i1``.
+def link_coefficients(C: float, RL: float, h: float, s: float) -> tuple[float, float]:
+    """Backward-Euler DC-link voltage over one sub-step ``h`` (s) as ``u1 = cu u0 + q i1``.
 
-    ``C (u1 - u0) = h (s i1 - u1 / R_L)`` -> ``p = C u0 / (C + h/R_L)``, ``q = h s / (C + h/R_L)``.
+    ``C (u1 - u0) = h (s i1 - u1 / R_L)`` -> ``cu = C / (C + h/R_L)``, ``q = h s / (C + h/R_L)``.
+    ``C`` F, ``RL`` ohm, ``s`` link coupling (-). Returns ``(cu [-], q [V/A])``.
     """
     den = C + h / RL
-    return C * u0 / den, h * s / den
+    return C / den, h * s / den
 
 
 def source_and_coupling(mode: str, duty_t1: float, duty_t2: float, Va: float) -> tuple[float, float]:

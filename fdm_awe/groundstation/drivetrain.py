@@ -25,7 +25,8 @@ from __future__ import annotations
 import math
 
 from .controller import pi_update
-from .converter import GENERATOR, MOTOR
+from .converter import GENERATOR, MOTOR, link_coefficients, source_and_coupling
+from .machine import armature_coefficients
 from .definitions import GroundStationParams
 from .ledger import EnergyLedger
 from .winch import solve_drum_speed
@@ -126,15 +127,13 @@ class Drivetrain:
                 self.integ = 0.0
             self.mode = mode
         # converter / armature / drum coefficients, constant while h, R_L and the mode are
-        s_cpl = 0.0 if motor else 1.0 - boost_duty
+        _, s_cpl = source_and_coupling(mode, 0.0, boost_duty, Va)  # v_src = duty V_a in the loop
         key = (h, RL, s_cpl)
         if key != self._coef_key:
-            cden = C + h / RL
-            q = h * s_cpl / cden          # link (converter module): u1 = cu u0 + q i1
-            cu = C / cden
-            D = L + h * R + h * s_cpl * q  # armature (machine module):
-            # i1 = aL i0 + aH (v_src - 2 U_d) - aS u0 + iB w1
-            self._coef = (q, cu, L / D, h / D, h * s_cpl * cu / D, h * K / D, h * r, h * K, h * Mc, h * B)
+            cu, q = link_coefficients(C, RL, h, s_cpl)  # u1 = cu u0 + q i1
+            aL, aH, iB = armature_coefficients(L, R, K, h, s_cpl, q)
+            # i1 = aL i0 + aH (v_src - 2 U_d) - aS u0 + iB w1   (p = cu u0)
+            self._coef = (q, cu, aL, aH, aH * s_cpl * cu, iB, h * r, h * K, h * Mc, h * B)
             self._coef_key = key
         q, cu, aL, aH, aS, iB, hr, hK, hM, hB = self._coef
         # drum (winch module): backward Euler with set-valued Coulomb friction

@@ -21,18 +21,31 @@ lets the drum, line and armature be solved together without iteration.
 from __future__ import annotations
 
 
+def armature_coefficients(L: float, R: float, K: float, h: float, s: float, q: float) -> tuple[float, float, float]:
+    """Coefficients of the backward-Euler armature current over one sub-step ``h`` (s)::
+
+        i1 = aL i0 + aH (v_src - 2 U_d - s p) + beta omega1     (before the i >= 0 clamp)
+
+    from ``L (i1 - i0) = h (v_src + K omega1 - R i1 - 2 U_d - s u1)`` with the link voltage at the
+    end of the sub-step ``u1 = p + q i1`` (:func:`fdm_awe.groundstation.converter.link_coefficients`).
+    ``L`` H, ``R`` ohm, ``K`` V s/rad, ``s`` link coupling (-). Returns ``(aL [-], aH [A/V],
+    beta [A s/rad])``.
+    """
+    D = L + h * R + h * s * q
+    return L / D, h / D, h * K / D
+
+
 def armature_affine(
     L: float, R: float, K: float, h: float, i0: float,
     v_src: float, two_ud: float, s: float, p: float, q: float,
 ) -> tuple[float, float]:
     """Backward-Euler armature current as ``i1 = alpha + beta omega1`` (before the i >= 0 clamp).
 
-    ``L`` H, ``R`` ohm, ``K`` V s/rad, ``h`` s, ``i0`` A, ``v_src`` V, ``two_ud`` = 2 U_d V,
-    ``s`` link coupling (-), and the link voltage at the end of the step ``u1 = p + q i1``.
-    Returns ``(alpha [A], beta [A s/rad])``.
+    ``i0`` A, ``v_src`` V, ``two_ud`` = 2 U_d V, other arguments as in
+    :func:`armature_coefficients`. Returns ``(alpha [A], beta [A s/rad])``.
     """
-    D = L + h * R + h * s * q
-    return (L * i0 + h * (v_src - two_ud - s * p)) / D, h * K / D
+    aL, aH, beta = armature_coefficients(L, R, K, h, s, q)
+    return aL * i0 + aH * (v_src - two_ud - s * p), beta
 
 
 def machine_mode(omega: float, current: float, tension: float, K: float, r: float) -> str:

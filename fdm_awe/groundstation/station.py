@@ -15,13 +15,13 @@ from __future__ import annotations
 
 import math
 from math import isfinite
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
 
 from ..errors import InputError
-from .converter import GENERATOR, MODES, MOTOR
+from .converter import GENERATOR, MODES
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
