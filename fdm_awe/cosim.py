@@ -1,0 +1,310 @@
+"""Fixed-step lock-step co-simulation: 6-DOF glider (JSBSim) + ground station + controller.
+
+One step of length ``dt`` (120 Hz by default), in this order:
+
+1. ``controller.update(t, glider_state, gs_output)`` -> ``(Surfaces, WinchCommand)`` -- the
+   controller sees the glider state at ``t`` and the ground-station output of the previous step
+   (None on the first step);
+2. ``ground_station.step(dt, hook_pos, hook_vel, winch_cmd)`` with the tether attachment point at
+   ``t``; it returns the line force to apply over ``[t, t + dt]`` (it may sub-step internally);
+3. the force goes on the JSBSim tether hook, the surfaces on the FCS, JSBSim advances ``dt``;
+4. the new state is logged and checked for events.
+
+Events end the run cleanly: ``ground_contact`` (a contact touches the ground after the glider
+was airborne), ``tether_break`` (reported by the ground station), ``nonfinite`` (state or line
+force not finite), ``airspeed_limit``, ``load_limit`` (line tension or load factor), and
+``interrupted`` (KeyboardInterrupt). Other ground-station events (e.g.
+``tether_fully_reeled_in``) end the run with that name as the status. The result always holds
+the data up to and including the step that raised the event.
+
+This module wires blocks; it holds no physics.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any, Callable, Protocol, Sequence
+
+import numpy as np
+
+from .errors import InputError
+from .sixdof.adapter import JSBSimGlider
+from .sixdof.state import SixDofState, Surfaces
+
+STATUSES = ("ok", "ground_contact", "tether_break", "nonfinite", "airspeed_limit", "load_limit", "interrupted")
+
+
+class Controller(Protocol):
+    """Anything with ``update(t, glider_state, gs_output) -> (Surfaces, WinchCommand)``.
+
+    An optional attribute ``phase`` (str) is recorded every step."""
+
+    def update(self, t: float, glider_state: SixDofState, gs_output: Any) -> tuple[Surfaces, Any]: ...
+
+
+class GroundStationLike(Protocol):
+    def step(self, dt: float, pos_ned: Sequence[float], vel_ned: Sequence[float], cmd: Any) -> Any: ...
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Event thresholds (None disables a check). Speeds m/s, tension N, load factor in g."""
+
+    airspeed_min: float | None = None
+    airspeed_max: float | None = 40.0
+    max_tension: float | None = 150.0
+    max_load_factor: float | None = 12.0
+    ground_contact: bool = True
+    grace_s: float = 0.0  #: s from the start during which the airspeed limits are not checked
+
+    def __post_init__(self) -> None:
+        for name in ("airspeed_min", "airspeed_max", "max_tension", "max_load_factor"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v >= 0.0):
+                raise InputError(f"Limits.{name}: {v!r} out of range (allowed >= 0 or None)")
+        if not (self.grace_s >= 0.0):
+            raise InputError(f"Limits.grace_s: {self.grace_s!r} out of range (allowed >= 0)")
+
+
+@dataclass(frozen=True)
+class Event:
+    """What ended a run: ``kind`` (one of the statuses), time s, one-line message."""
+
+    kind: str
+    t: float
+    message: str
+
+
+# Logged columns, in order (SI units; angles rad).
+COLUMNS: tuple[str, ...] = (
+    "t", "x", "y", "z", "vn", "ve", "vd", "qw", "qx", "qy", "qz", "phi", "theta", "psi", "p", "q", "r",
+    "airspeed", "alpha", "beta", "fold", "thrust", "p_prop", "load_factor",
+    "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec",
+    "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd", "phase",
+)
+_C = {name: i for i, name in enumerate(COLUMNS)}
+
+
+@dataclass
+class FlightResult:
+    """A co-simulation run: ``status`` (see :data:`STATUSES`), the ending ``event`` (None when
+    the run reached ``t_end``), and the logged time series (one row per step plus the initial
+    row; SI units). Named arrays: ``t``, ``pos`` (n,3), ``vel`` (n,3), ``quat`` (n,4),
+    ``euler`` (n,3), ``omega_body`` (n,3), ``airspeed``, ``alpha``, ``beta``, ``fold``,
+    ``thrust``, ``p_prop``, ``load_factor``, ``tension``, ``length``, ``reel_speed``,
+    ``omega`` (drum), ``current``, ``duty``, ``p_elec``, ``tether_force`` (n,3), ``controls``
+    (n,5: aileron, elevator, rudder, throttle, fold_cmd), ``phase`` (labels per row).
+    Ground-station columns of the initial row are NaN (no step yet)."""
+
+    status: str
+    event: Event | None
+    data: np.ndarray
+    phase_labels: list[str]
+    dt: float
+    wall_s: float
+    steps: int
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name in _C and "data" in self.__dict__:
+            return self.__dict__["data"][:, _C[name]]
+        raise AttributeError(name)
+
+    @property
+    def pos(self) -> np.ndarray:
+        return self.data[:, 1:4]
+
+    @property
+    def vel(self) -> np.ndarray:
+        return self.data[:, 4:7]
+
+    @property
+    def quat(self) -> np.ndarray:
+        return self.data[:, 7:11]
+
+    @property
+    def euler(self) -> np.ndarray:
+        return self.data[:, 11:14]
+
+    @property
+    def omega_body(self) -> np.ndarray:
+        return self.data[:, 14:17]
+
+    @property
+    def tether_force(self) -> np.ndarray:
+        return self.data[:, 31:34]
+
+    @property
+    def controls(self) -> np.ndarray:
+        return self.data[:, 34:39]
+
+    @property
+    def phase(self) -> list[str]:
+        codes = self.data[:, _C["phase"]]
+        return [self.phase_labels[int(c)] if c == c else "" for c in codes]
+
+    @property
+    def sim_time_s(self) -> float:
+        return float(self.data[-1, 0] - self.data[0, 0]) if len(self.data) else 0.0
+
+    @property
+    def realtime_factor(self) -> float:
+        return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
+
+
+class CoSim:
+    """Lock-step loop of ``glider`` (:class:`JSBSimGlider`), ``ground_station`` (anything with the
+    ground-station ``step`` signature) and ``controller`` (:class:`Controller`).
+
+    The glider must have been reset; ``dt`` must equal the glider's step.
+    """
+
+    def __init__(self, glider: JSBSimGlider, ground_station: GroundStationLike, controller: Controller,
+                 dt: float | None = None, limits: Limits | None = None) -> None:
+        dt = glider.dt if dt is None else float(dt)
+        if abs(dt - glider.dt) > 1e-12:
+            raise InputError(f"dt: {dt!r} differs from the glider's JSBSim step {glider.dt!r}")
+        self.glider = glider
+        self.gs = ground_station
+        self.controller = controller
+        self.dt = dt
+        self.limits = limits or Limits()
+        self.last_gs_output: Any = None
+
+    def run(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None = None) -> FlightResult:
+        """Run for ``t_end`` s of simulated time (or until an event); ``on_step(k, state, gs_out)``
+        is called after every step when given."""
+        if not (t_end > 0.0 and math.isfinite(t_end)):
+            raise InputError(f"t_end: {t_end!r} out of range (allowed > 0 s)")
+        g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
+        n = int(round(t_end / dt))
+        # per-step records: raw JSBSim rows, ground-station tuples, commands (converted at the end)
+        raws: list[list[float]] = []
+        gsrec: list[tuple] = []
+        ctl: list[Surfaces] = []
+        phases: list[int] = []
+        labels: list[str] = []
+        codes: dict[str, int] = {}
+        s = g.state()
+        t0 = s.t
+        nan7 = (math.nan,) * 10
+        raws.append(g.raw())
+        gsrec.append(nan7)
+        ctl.append(g.controls)
+        phases.append(self._phase_code(ctrl, labels, codes))
+        airborne = not s.on_ground
+        gs_out = self.last_gs_output
+        event: Event | None = None
+        k = 0
+        v_min = lim.airspeed_min
+        v_max = lim.airspeed_max
+        t_max = lim.max_tension
+        n_max = lim.max_load_factor
+        set_controls, set_force, step, state, finite, hook = (
+            g.set_controls, g.set_tether_force, g.step, g.state, g.raw_finite, g.hook_kinematics)
+        has_phase = hasattr(ctrl, "phase")
+        wall0 = time.perf_counter()
+        try:
+            while k < n:
+                surf, wcmd = ctrl.update(s.t, s, gs_out)
+                set_controls(surf)
+                hp, hv = hook()
+                try:
+                    gs_out = gs.step(dt, hp, hv, wcmd)
+                except InputError as exc:
+                    event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
+                    break
+                f = gs_out.force_on_glider_ned
+                fx, fy, fz = f[0], f[1], f[2]
+                if not math.isfinite(fx + fy + fz):
+                    event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")
+                    break
+                set_force(f)
+                step()
+                k += 1
+                s = state()
+                raws.append(s._r)
+                gsrec.append((gs_out.tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
+                              gs_out.duty, gs_out.p_electrical, fx, fy, fz))
+                ctl.append(surf)
+                if has_phase:
+                    phases.append(self._phase_code(ctrl, labels, codes))
+                if on_step is not None:
+                    on_step(k, s, gs_out)
+                # ---- events
+                if not finite():
+                    event = Event("nonfinite", s.t, "non-finite glider state")
+                    break
+                gev = gs_out.event
+                if gev is not None:
+                    kind = "tether_break" if gev == "tether_break" else str(gev)
+                    event = Event(kind, s.t, f"ground station event: {gev}")
+                    break
+                if s.on_ground:
+                    if airborne and lim.ground_contact:
+                        event = Event("ground_contact", s.t, f"ground contact at x={s.x:.1f} m, y={s.y:.1f} m, "
+                                      f"{s.airspeed:.1f} m/s")
+                        break
+                else:
+                    airborne = True
+                if s.t - t0 >= lim.grace_s:
+                    v = s.airspeed
+                    if v_max is not None and v > v_max:
+                        event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s above {v_max:g} m/s")
+                        break
+                    if v_min is not None and v < v_min:
+                        event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s below {v_min:g} m/s")
+                        break
+                if t_max is not None and gs_out.tension > t_max:
+                    event = Event("load_limit", s.t, f"tether tension {gs_out.tension:.1f} N above {t_max:g} N")
+                    break
+                if n_max is not None and abs(s.load_factor) > n_max:
+                    event = Event("load_limit", s.t, f"load factor {s.load_factor:.2f} g beyond {n_max:g} g")
+                    break
+        except KeyboardInterrupt:
+            event = Event("interrupted", s.t, "interrupted by the user")
+        wall = time.perf_counter() - wall0
+        self.last_gs_output = gs_out
+        m = min(len(raws), len(gsrec), len(ctl))
+        data = self._assemble(raws[:m], gsrec[:m], ctl[:m], phases if has_phase else None)
+        status = "ok" if event is None else event.kind
+        return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
+                            steps=m - 1)
+
+    @staticmethod
+    def _phase_code(ctrl: Any, labels: list[str], codes: dict[str, int]) -> int:
+        ph = getattr(ctrl, "phase", None)
+        if ph is None:
+            return -1
+        code = codes.get(ph)
+        if code is None:
+            code = codes[ph] = len(labels)
+            labels.append(str(ph))
+        return code
+
+    def _assemble(self, raws: list, gsrec: list, ctl: list, phases: list | None) -> np.ndarray:
+        n = len(raws)
+        data = np.full((n, len(COLUMNS)), np.nan)
+        if n == 0:
+            return data
+        si = self.glider.convert_raw(np.array(raws, dtype=float))
+        data[:, 0] = si["t"]
+        data[:, 1:4] = si["pos_ned"]
+        data[:, 4:7] = si["vel_ned"]
+        data[:, 7:11] = si["quat"]
+        data[:, 11:14] = si["euler"]
+        data[:, 14:17] = si["omega_body"]
+        for col, key in ((17, "airspeed"), (18, "alpha"), (19, "beta"), (20, "fold"), (21, "thrust_N"),
+                         (22, "prop_power_W"), (23, "load_factor")):
+            data[:, col] = si[key]
+        data[:, 24:34] = np.array(gsrec, dtype=float)
+        data[:, 34:39] = np.array([(c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd) for c in ctl])
+        if phases is not None:
+            ph = np.array(phases[:n], dtype=float)
+            ph[ph < 0] = np.nan
+            data[: len(ph), 39] = ph
+        return data
+
+
+__all__ = ["COLUMNS", "STATUSES", "CoSim", "Controller", "Event", "FlightResult", "Limits"]

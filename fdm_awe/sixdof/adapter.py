@@ -1,0 +1,447 @@
+"""JSBSim adapter: the glider as a 6-DOF block in SI units, NED frame with the winch at the origin.
+
+The one place where the flight model meets JSBSim's English units (constants from
+:mod:`fdm_awe.units`). Aircraft and engines load from the repository's ``aircraft/`` and
+``engine/`` folders. Per-step reads and writes go through JSBSim property nodes (bound get/set
+methods) rather than string look-ups.
+
+Ground frame. The winch stands on the ground (terrain elevation 0) at geodetic latitude
+``home_lat_deg``, longitude 0. NED positions map to geodetic coordinates linearly:
+north = (lat - lat0) (M0 + 0), east = lon N0 cos(lat0), down = -h, with the WGS84 meridian and
+prime-vertical radii M0, N0 at the winch. Down follows the local vertical (gravity), so the
+frame departs from a tangent plane by d^2/(2R): 7 mm at 300 m.
+
+Tether hook. ``set_tether_force(F_ned)`` writes the NED force (N -> lbf) into the aircraft's
+``external_reactions/tether`` force (frame LOCAL, magnitude 1); JSBSim applies it at the hook
+point during the next :meth:`JSBSimGlider.step`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from .. import ROOT
+from ..definitions.xmlutil import XmlDoc
+from ..errors import DefinitionError, InputError
+from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
+from .state import SixDofState, Surfaces, dcm_body_to_ned, euler_to_quat
+
+_WGS84_A = 6378137.0
+_WGS84_F = 1.0 / 298.257223563
+_WGS84_E2 = _WGS84_F * (2.0 - _WGS84_F)
+_HP_W = 745.69987158227022
+
+#: Turbulence levels: (JSBSim MIL-F-8785C severity index, wind speed at 20 ft in knots)
+TURBULENCE_LEVELS: dict[str, tuple[int, float]] = {"light": (3, 15.0), "moderate": (4, 30.0), "severe": (6, 45.0)}
+
+# Properties read after every step, in this order (units converted in _convert).
+_READ = (
+    "simulation/sim-time-sec",
+    "position/lat-geod-rad", "position/long-gc-rad", "position/h-sl-ft",
+    "velocities/v-north-fps", "velocities/v-east-fps", "velocities/v-down-fps",
+    "attitude/phi-rad", "attitude/theta-rad", "attitude/psi-rad",
+    "velocities/p-rad_sec", "velocities/q-rad_sec", "velocities/r-rad_sec",
+    "velocities/vt-fps", "aero/alpha-rad", "aero/beta-rad",
+    "atmosphere/total-wind-north-fps", "atmosphere/total-wind-east-fps", "atmosphere/total-wind-down-fps",
+    "forces/fbx-total-lbs", "forces/fby-total-lbs", "forces/fbz-total-lbs",
+    "inertia/mass-slugs", "aero/qbar-psf", "atmosphere/rho-slugs_ft3",
+    "propulsion/engine[0]/thrust-lbs", "propulsion/engine[0]/power-hp",
+    "propulsion/engine[0]/current-amperes", "fcs/throttle-pos-norm[0]", "gear/wow",
+)
+
+
+class JSBSimGlider:
+    """One JSBSim aircraft from ``aircraft/NAME`` as a steppable 6-DOF block.
+
+    ``dt`` s (fixed), ``wind_ned`` steady wind m/s (NED, "from the south at 3 m/s" = (3, 0, 0)),
+    ``turbulence`` None or ``(level, seed)`` with level "light" | "moderate" | "severe"
+    (JSBSim's MIL-F-8785C/Tustin model, seeded).
+    """
+
+    def __init__(self, name: str = "glider_foldable", dt: float = 1.0 / 120.0,
+                 wind_ned: Sequence[float] = (0.0, 0.0, 0.0),
+                 turbulence: tuple[str, int] | None = None,
+                 root: str | Path = ROOT, home_lat_deg: float = 0.0) -> None:
+        os.environ.setdefault("JSBSIM_DEBUG", "0")  # silence the banner (read at import)
+        import jsbsim  # lazy: keeps ``import fdm_awe`` light
+
+        if not (0.0 < dt <= 0.1):
+            raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 0.1 s)")
+        if not (-80.0 <= home_lat_deg <= 80.0):
+            raise InputError(f"home_lat_deg: {home_lat_deg!r} out of range (allowed -80 .. 80)")
+        self.name = name
+        self.root = Path(root)
+        self.dt = float(dt)
+        xml = self.root / "aircraft" / name / f"{name}.xml"
+        if not xml.is_file():
+            raise InputError(f"aircraft {name!r}: no definition {xml}")
+        self._doc = XmlDoc.load(xml)
+        fdm = jsbsim.FGFDMExec(str(self.root))
+        fdm.set_debug_level(0)
+        if not fdm.load_model(name):
+            raise DefinitionError(xml, "fdm_config", "JSBSim could not load the aircraft")
+        fdm.set_dt(self.dt)
+        self.fdm = fdm
+        pm = fdm.get_property_manager()
+        self._pm = pm
+
+        def node(prop: str):
+            n = pm.get_node(prop, False)
+            if n is None:
+                raise DefinitionError(xml, prop, "property missing in the loaded aircraft")
+            return n
+
+        self._node = node
+        self._get = [node(p).get_double_value for p in _READ]
+        self._foldable = pm.hasNode("fcs/wing-fold-norm") if hasattr(pm, "hasNode") else self._has("fcs/wing-fold-norm")
+        self._fold_get = node("fcs/wing-fold-norm").get_double_value if self._foldable else (lambda: 0.0)
+        self._get.append(self._fold_get)  # raw[30]: fold state
+        self._set_tx = node("external_reactions/tether/x").set_double_value
+        self._set_ty = node("external_reactions/tether/y").set_double_value
+        self._set_tz = node("external_reactions/tether/z").set_double_value
+        self._set_tmag = node("external_reactions/tether/magnitude").set_double_value
+        self._set_ail = node("fcs/aileron-cmd-norm").set_double_value
+        self._set_elev = node("fcs/elevator-cmd-norm").set_double_value
+        self._set_rud = node("fcs/rudder-cmd-norm").set_double_value
+        self._set_thr = node("fcs/throttle-cmd-norm[0]").set_double_value
+        self._set_fold = node("fcs/wing-fold-cmd-norm").set_double_value if self._foldable else (lambda v: None)
+        self._maxvolts = self._motor_volts()
+        # hook offset from the CG in body axes (m); the CG does not move (fold keeps it fixed)
+        mb = fdm.get_mass_balance()
+        fdm["ic/h-agl-ft"] = 1000.0
+        fdm.run_ic()
+        cg = np.asarray(mb.get_xyz_cg()).ravel() * IN
+        hook = np.array([fdm["external_reactions/tether/location-x-in"], fdm["external_reactions/tether/location-y-in"],
+                         fdm["external_reactions/tether/location-z-in"]]) * IN
+        d = hook - cg
+        self.hook_offset_body = np.array([-d[0], d[1], -d[2]])  # structural (x aft, z up) -> body
+        self._hook_off = tuple(float(v) for v in self.hook_offset_body)
+        # surface deflection per unit command (rad), from the aircraft's own FCS
+        for cmd in ("fcs/elevator-cmd-norm", "fcs/aileron-cmd-norm", "fcs/rudder-cmd-norm"):
+            fdm[cmd] = 1.0
+        fdm.run_ic()
+        self.surface_limits_rad = {"elevator": fdm["fcs/pitch-cmd-rad"], "aileron": fdm["fcs/roll-cmd-rad"],
+                                   "rudder": fdm["fcs/yaw-cmd-rad"]}
+        for cmd in ("fcs/elevator-cmd-norm", "fcs/aileron-cmd-norm", "fcs/rudder-cmd-norm"):
+            fdm[cmd] = 0.0
+        self.fold_time_s = fdm["fcs/wing-fold-time-s"] if self._foldable else 0.0
+        # ground frame
+        lat0 = math.radians(home_lat_deg)
+        s2 = math.sin(lat0) ** 2
+        self._lat0 = lat0
+        self._M0 = _WGS84_A * (1 - _WGS84_E2) / (1 - _WGS84_E2 * s2) ** 1.5
+        self._N0cos = _WGS84_A / math.sqrt(1 - _WGS84_E2 * s2) * math.cos(lat0)
+        # raw JSBSim values -> SI: v = raw * scale + offset (order of _READ)
+        scale = np.ones(len(self._get))
+        offset = np.zeros(len(self._get))
+        scale[1], offset[1] = self._M0, -self._lat0 * self._M0
+        scale[2] = self._N0cos
+        scale[3] = -FT
+        scale[4:7] = FT
+        scale[13] = FT
+        scale[16:19] = FT
+        scale[19:22] = LBF
+        scale[22] = SLUG
+        scale[23] = PSF
+        scale[24] = SLUG / FT**3
+        scale[25] = LBF
+        scale[26] = _HP_W
+        self._scale, self._offset = scale, offset
+        self._scale_l, self._offset_l = scale.tolist(), offset.tolist()
+        self._hook: tuple = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        self.wind_ned = (0.0, 0.0, 0.0)
+        self.set_wind(wind_ned)
+        self.turbulence = None
+        self.set_turbulence(turbulence)
+        self._force = [0.0, 0.0, 0.0]
+        self._raw: list[float] | None = None
+        self._state: SixDofState | None = None
+        self._controls = Surfaces()
+
+    # ------------------------------------------------------------------ setup helpers
+    def _has(self, prop: str) -> bool:
+        return self._pm.get_node(prop, False) is not None
+
+    def _motor_volts(self) -> float:
+        eng = self._doc.root.find("propulsion/engine")
+        if eng is None or "file" not in eng.attrib:
+            raise DefinitionError(self._doc.path, "propulsion/engine", "missing engine file attribute")
+        edoc = XmlDoc.load(self.root / "engine" / f"{eng.attrib['file']}.xml")
+        el = edoc.find("maxvolts")
+        try:
+            volts = float((el.text or "").strip())  # volts are SI already (unit="VOLTS")
+        except ValueError:
+            volts = float("nan")
+        if not (volts > 0.0 and math.isfinite(volts)):
+            raise DefinitionError(edoc.path, "maxvolts", f"value {el.text!r} out of range (allowed > 0 V)")
+        return volts
+
+    @property
+    def foldable(self) -> bool:
+        """True for the morphing aircraft (has a fold actuator)."""
+        return self._foldable
+
+    def set_wind(self, wind_ned: Sequence[float]) -> None:
+        """Steady wind, NED m/s (the air moves with this velocity)."""
+        w = [float(v) for v in wind_ned]
+        if len(w) != 3 or not all(math.isfinite(v) for v in w):
+            raise InputError(f"wind_ned: need 3 finite components (N, E, D), got {wind_ned!r}")
+        self.wind_ned = (w[0], w[1], w[2])
+        f = self.fdm
+        f["atmosphere/wind-north-fps"] = w[0] / FT
+        f["atmosphere/wind-east-fps"] = w[1] / FT
+        f["atmosphere/wind-down-fps"] = w[2] / FT
+
+    def set_turbulence(self, turbulence: tuple[str, int] | None) -> None:
+        """``None`` (off) or ``(level, seed)``; level "light" | "moderate" | "severe"."""
+        f = self.fdm
+        if turbulence is None:
+            f["atmosphere/turb-type"] = 0
+            self.turbulence = None
+            return
+        try:
+            level, seed = turbulence
+        except (TypeError, ValueError):
+            raise InputError(f"turbulence: expected (level, seed), got {turbulence!r}") from None
+        if level not in TURBULENCE_LEVELS:
+            raise InputError(f"turbulence level: {level!r} not one of {', '.join(TURBULENCE_LEVELS)}")
+        sev, w20_kt = TURBULENCE_LEVELS[level]
+        f["atmosphere/randomseed"] = int(seed)
+        f["simulation/randomseed"] = int(seed)
+        f["atmosphere/turb-type"] = 4  # Tustin form of the MIL-F-8785C spectra
+        f["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = w20_kt * 1852.0 / 3600.0 / FT
+        f["atmosphere/turbulence/milspec/severity"] = sev
+        self.turbulence = (level, int(seed))
+
+    # ------------------------------------------------------------------ frames
+    def ned_to_geodetic(self, pos_ned: Sequence[float]) -> tuple[float, float, float]:
+        """NED (m, winch origin) -> (geodetic latitude rad, longitude rad, height ft)."""
+        return (self._lat0 + pos_ned[0] / self._M0, pos_ned[1] / self._N0cos, -pos_ned[2] / FT)
+
+    # ------------------------------------------------------------------ coefficients
+    def coefficient(self, name: str) -> float:
+        """Current value of a JSBSim aerodynamic property, e.g. ``aero/coef/Cm_de`` (blended
+        with the fold state on the foldable aircraft)."""
+        return self.fdm[name]
+
+    def reference_geometry(self) -> tuple[float, float, float]:
+        """Wing area m^2, span m and chord m the JSBSim coefficients are normalised with."""
+        f = self.fdm
+        return f["metrics/Sw-sqft"] * FT * FT, f["metrics/bw-ft"] * FT, f["metrics/cbarw-ft"] * FT
+
+    def trim_alpha(self, airspeed: float, gamma: float = 0.0, phi: float = 0.0, rho: float | None = None) -> float:
+        """Angle of attack (rad) whose point-mass lift carries the weight in steady flight at
+        ``airspeed`` (m/s) on path angle ``gamma`` and bank ``phi`` (current fold state)."""
+        f = self.fdm
+        S, _, _ = self.reference_geometry()
+        m = f["inertia/mass-slugs"] * SLUG
+        g = f["accelerations/gravity-ft_sec2"] * FT
+        r = f["atmosphere/rho-slugs_ft3"] * SLUG / FT**3 if rho is None else rho
+        cl = m * g * math.cos(gamma) / (0.5 * r * airspeed * airspeed * S * max(math.cos(phi), 0.1))
+        return (cl - f["aero/pm/CL0"]) / f["aero/pm/CLalpha"]
+
+    def trim_elevator(self, alpha: float) -> float:
+        """Normalised elevator command that zeroes the static pitching moment at ``alpha``
+        (rad), q = 0 (current fold state)."""
+        f = self.fdm
+        de = -(f["aero/coef/Cm0"] + f["aero/coef/Cm_alpha"] * alpha) / f["aero/coef/Cm_de"]
+        return max(-1.0, min(1.0, de / self.surface_limits_rad["elevator"]))
+
+    # ------------------------------------------------------------------ reset / step
+    def reset(self, pos_ned: Sequence[float], airspeed: float, gamma: float = 0.0, psi: float = 0.0,
+              phi: float = 0.0, alpha: float | None = None, fold: float = 0.0,
+              throttle: float = 0.0) -> SixDofState:
+        """Start in flight: CG at ``pos_ned`` (m), air-relative speed ``airspeed`` (m/s) on air-path
+        angles ``gamma`` (climb > 0), ``psi`` (heading of the air velocity) and bank ``phi``, rad;
+        zero sideslip, zero body rates. ``alpha`` None: the steady-flight angle from
+        :meth:`trim_alpha`. ``fold`` in [0, 1] (foldable aircraft: actuator starts there).
+        The elevator command starts at :meth:`trim_elevator`; the tether force at zero."""
+        vals = [float(v) for v in pos_ned] + [float(airspeed), float(gamma), float(psi), float(phi)]
+        if len(vals) != 7 or not all(math.isfinite(v) for v in vals):
+            raise InputError(f"reset: non-finite or malformed input pos={pos_ned!r} airspeed={airspeed!r}")
+        if not (0.0 <= airspeed <= 100.0):
+            raise InputError(f"airspeed: {airspeed!r} out of range (allowed 0 .. 100 m/s)")
+        if not (0.0 <= fold <= 1.0):
+            raise InputError(f"fold: {fold!r} out of range (allowed 0 .. 1)")
+        if fold and not self._foldable:
+            raise InputError(f"fold: aircraft {self.name!r} has no fold actuator")
+        f = self.fdm
+        self._set_fold(fold)
+        self._set_thr(throttle)
+        self._set_ail(0.0)
+        self._set_rud(0.0)
+        self._set_tmag(0.0)
+        self._set_tx(0.0)
+        self._set_ty(0.0)
+        self._set_tz(0.0)
+        if alpha is None:
+            self._apply_ic(vals, 0.0)  # evaluates the blended coefficients for this fold state
+            alpha = self.trim_alpha(airspeed, gamma, phi)
+        self._set_elev(0.0)
+        self._apply_ic(vals, 0.0)
+        self._set_elev(self.trim_elevator(alpha))
+        self._apply_ic(vals, float(alpha))
+        self._force = [0.0, 0.0, 0.0]
+        self._set_tmag(1.0)
+        self._controls = Surfaces(elevator=self.trim_elevator(alpha), throttle=throttle, fold_cmd=fold)
+        self._read()
+        return self.state()
+
+    def _apply_ic(self, vals: list[float], alpha: float) -> None:
+        x, y, z, V, gam, psi, phi = vals
+        f = self.fdm
+        # body attitude: C_BN = R2(alpha) R1(phi) R2(gamma) R3(psi) (air-path frame, zero sideslip)
+        c_wn = _r1(phi) @ _r2(gam) @ _r3(psi)
+        c_bn = _r2(alpha) @ c_wn
+        theta = -math.asin(max(-1.0, min(1.0, c_bn[0, 2])))
+        phi_b = math.atan2(c_bn[1, 2], c_bn[2, 2])
+        psi_b = math.atan2(c_bn[0, 1], c_bn[0, 0])
+        lat, lon, h_ft = self.ned_to_geodetic((x, y, z))
+        w = self.wind_ned
+        v_air = (V * math.cos(gam) * math.cos(psi), V * math.cos(gam) * math.sin(psi), -V * math.sin(gam))
+        f["ic/terrain-elevation-ft"] = 0.0
+        f["ic/lat-geod-rad"] = lat
+        f["ic/long-gc-rad"] = lon
+        f["ic/h-sl-ft"] = h_ft
+        f["ic/phi-rad"] = phi_b
+        f["ic/theta-rad"] = theta
+        f["ic/psi-true-rad"] = psi_b
+        f["ic/p-rad_sec"] = 0.0
+        f["ic/q-rad_sec"] = 0.0
+        f["ic/r-rad_sec"] = 0.0
+        f["ic/vw-mag-fps"] = math.hypot(w[0], w[1]) / FT
+        f["ic/vw-dir-deg"] = math.degrees(math.atan2(w[1], w[0]))  # JSBSim: 0 = blowing north
+        f["ic/vn-fps"] = (v_air[0] + w[0]) / FT
+        f["ic/ve-fps"] = (v_air[1] + w[1]) / FT
+        f["ic/vd-fps"] = (v_air[2] + w[2]) / FT
+        if not f.run_ic():
+            raise InputError("reset: JSBSim rejected the initial condition")
+        self.set_wind(w)  # run_ic sets the wind from the IC (horizontal only): restore all three
+
+    def set_tether_force(self, force_ned: Sequence[float]) -> None:
+        """Tether force on the glider (N, NED) applied at the hook during the next step."""
+        fx, fy, fz = force_ned[0], force_ned[1], force_ned[2]
+        self._force = [fx, fy, fz]
+        self._set_tx(fx / LBF)
+        self._set_ty(fy / LBF)
+        self._set_tz(fz / LBF)
+
+    def set_controls(self, s: Surfaces) -> None:
+        """Surface, throttle and fold commands for the next step (see :class:`Surfaces`)."""
+        self._controls = s
+        self._set_ail(s.aileron)
+        self._set_elev(s.elevator)
+        self._set_rud(s.rudder)
+        self._set_thr(s.throttle)
+        self._set_fold(s.fold_cmd)
+
+    @property
+    def controls(self) -> Surfaces:
+        return self._controls
+
+    def step(self) -> None:
+        """Advance JSBSim by ``dt``."""
+        self.fdm.run()
+        self._read()
+
+    def _read(self) -> None:
+        self._raw = [g() for g in self._get]
+        self._state = None
+        self._hook = self._hook_kinematics()
+
+    def raw(self) -> list[float]:
+        """The property values of the last step in JSBSim units (order of ``_READ``)."""
+        return self._raw  # type: ignore[return-value]
+
+    def hook_kinematics(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """Tether attachment point position (m) and ground velocity (m/s), NED, as tuples."""
+        return self._hook
+
+    def _hook_kinematics(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        r = self._raw
+        lat, lon, h = r[1], r[2], r[3]
+        x = (lat - self._lat0) * self._M0
+        y = lon * self._N0cos
+        z = -h * FT
+        vx, vy, vz = r[4] * FT, r[5] * FT, r[6] * FT
+        ox, oy, oz = self._hook_off
+        if ox == 0.0 and oy == 0.0 and oz == 0.0:
+            return (x, y, z), (vx, vy, vz)
+        cf, sf = math.cos(r[7]), math.sin(r[7])
+        ct, st = math.cos(r[8]), math.sin(r[8])
+        cp, sp = math.cos(r[9]), math.sin(r[9])
+        p, q, rr = r[10], r[11], r[12]
+        # omega x offset (body), then both rotated to NED
+        wx, wy, wz = q * oz - rr * oy, rr * ox - p * oz, p * oy - q * ox
+        m00, m01, m02 = ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp
+        m10, m11, m12 = ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp
+        m20, m21, m22 = -st, sf * ct, cf * ct
+        return ((x + m00 * ox + m01 * oy + m02 * oz, y + m10 * ox + m11 * oy + m12 * oz, z + m20 * ox + m21 * oy + m22 * oz),
+                (vx + m00 * wx + m01 * wy + m02 * wz, vy + m10 * wx + m11 * wy + m12 * wz, vz + m20 * wx + m21 * wy + m22 * wz))
+
+    def state(self) -> SixDofState:
+        """State after the last step or reset (SI, NED, winch origin); see :class:`SixDofState`."""
+        st = self._state
+        if st is None:
+            if self._raw is None:
+                raise InputError("state: call reset() first")
+            f = self._force
+            st = self._state = SixDofState(self._raw, self._scale_l, self._offset_l, self._hook,
+                                           (f[0], f[1], f[2]), self._maxvolts)
+        return st
+
+    def convert_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
+        """SI time series from stacked raw rows (n x len(raw)), as :class:`SixDofState` names."""
+        raw = np.atleast_2d(np.asarray(raw, dtype=float))
+        v = raw * self._scale + self._offset
+        phi, th, psi = raw[:, 7], raw[:, 8], raw[:, 9]
+        cr, sr = np.cos(0.5 * phi), np.sin(0.5 * phi)
+        cp, sp = np.cos(0.5 * th), np.sin(0.5 * th)
+        cy, sy = np.cos(0.5 * psi), np.sin(0.5 * psi)
+        quat = np.stack((cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                         cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy), axis=1)
+        mass = v[:, 22]
+        return {
+            "t": raw[:, 0], "pos_ned": v[:, 1:4], "vel_ned": v[:, 4:7], "vel_air_ned": v[:, 4:7] - v[:, 16:19],
+            "quat": quat, "euler": raw[:, 7:10], "omega_body": raw[:, 10:13], "airspeed": v[:, 13],
+            "alpha": raw[:, 14], "beta": raw[:, 15], "fold": raw[:, 30], "thrust_N": v[:, 25],
+            "prop_power_W": raw[:, 28] * self._maxvolts * raw[:, 27], "shaft_power_W": v[:, 26],
+            "current_A": raw[:, 27], "accel_body": v[:, 19:22] / mass[:, None],
+            "load_factor": -v[:, 21] / mass / 9.80665, "mass": mass, "qbar": v[:, 23], "rho": v[:, 24],
+            "on_ground": raw[:, 29] > 0.5,
+        }
+
+    def raw_finite(self) -> bool:
+        """True when the position, velocity, attitude and rates of the last step are finite."""
+        return math.isfinite(math.fsum(self._raw[1:16]))  # type: ignore[index]
+
+    def inertia(self) -> np.ndarray:
+        """Current inertia matrix about the CG in body axes, kg m^2 (Table 2 layout)."""
+        return np.array(np.asarray(self.fdm.get_mass_balance().get_J()), dtype=float) * SLUG_FT2
+
+    def cg_structural(self) -> np.ndarray:
+        """CG in the aircraft's structural frame (x aft, y right, z up), m."""
+        return np.array(np.asarray(self.fdm.get_mass_balance().get_xyz_cg()), dtype=float).ravel() * IN
+
+
+def _r1(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])
+
+
+def _r2(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
+
+
+def _r3(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+__all__ = ["JSBSimGlider", "TURBULENCE_LEVELS", "dcm_body_to_ned"]

@@ -1,0 +1,259 @@
+"""Plain data exchanged with the 6-DOF glider: control surfaces in, state out (SI, NED)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+
+@dataclass(frozen=True, slots=True)
+class Surfaces:
+    """Normalised commands for one step.
+
+    ``aileron`` > 0 rolls right, ``elevator`` > 0 is trailing edge down (nose down), ``rudder``
+    > 0 is trailing edge left (nose left), each in [-1, 1] (full deflection: aileron and
+    elevator 20 deg, rudder 25 deg, set in the aircraft file). ``throttle`` in [0, 1] (motor
+    voltage fraction). ``fold_cmd`` in [0, 1]: 0 unfolded, 1 folded (only the foldable
+    aircraft has a fold actuator; the static forms ignore it).
+    """
+
+    aileron: float = 0.0
+    elevator: float = 0.0
+    rudder: float = 0.0
+    throttle: float = 0.0
+    fold_cmd: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, lo, hi in (("aileron", -1.0, 1.0), ("elevator", -1.0, 1.0), ("rudder", -1.0, 1.0),
+                             ("throttle", 0.0, 1.0), ("fold_cmd", 0.0, 1.0)):
+            v = getattr(self, name)
+            if not (lo <= v <= hi):  # also rejects NaN
+                raise InputError(f"Surfaces.{name}: {v!r} out of range (allowed {lo:g} .. {hi:g})")
+
+    def clipped(self) -> "Surfaces":
+        """A copy with every command saturated to its range (NaN becomes 0)."""
+        def c(v: float, lo: float, hi: float) -> float:
+            return lo if v < lo else hi if v > hi else (v if v == v else 0.0)
+        return Surfaces(c(self.aileron, -1, 1), c(self.elevator, -1, 1), c(self.rudder, -1, 1),
+                        c(self.throttle, 0, 1), c(self.fold_cmd, 0, 1))
+
+
+class SixDofState:
+    """Glider state after a step. Ground frame NED with the origin at the winch; SI units.
+
+    A light view on the values JSBSim reported for one step: each attribute is converted when
+    read (so a controller pays only for what it uses). Attributes:
+
+    ``t`` s; ``pos_ned`` CG position m; ``vel_ned`` ground velocity, ``vel_air_ned`` air-relative
+    velocity (ground velocity minus the total wind including turbulence), m/s; ``quat`` = (w, x,
+    y, z) rotating NED vectors into body axes; ``euler`` = (phi, theta, psi) rad (ZYX);
+    ``omega_body`` = (p, q, r) rad/s; ``airspeed`` m/s, ``alpha``, ``beta`` rad; ``fold`` in
+    [0, 1]; ``thrust_N``; ``prop_power_W`` electrical power into the motor, ``shaft_power_W``
+    its mechanical output, ``current_A``; ``accel_body`` specific force (accelerometer) m/s^2,
+    ``load_factor`` = -accel_body[2]/g0; ``mass`` kg; ``qbar`` Pa; ``rho`` kg/m^3;
+    ``on_ground`` a contact touches the ground; ``hook_pos_ned``/``hook_vel_ned`` the tether
+    attachment point; ``tether_force_ned`` the line force applied during the step just run (N).
+    Scalars ``x, y, z, phi, theta, psi, p, q, r, altitude`` avoid building arrays.
+    """
+
+    __slots__ = ("_r", "_k", "_o", "_hook", "_force", "_volts")
+
+    def __init__(self, raw: list, scale: list, offset: list, hook: tuple, force: tuple, volts: float) -> None:
+        self._r, self._k, self._o = raw, scale, offset
+        self._hook, self._force, self._volts = hook, force, volts
+
+    def _v(self, i: int) -> float:
+        return self._r[i] * self._k[i] + self._o[i]
+
+    # scalars -------------------------------------------------------------------------------
+    @property
+    def t(self) -> float:
+        return self._r[0]
+
+    @property
+    def x(self) -> float:
+        return self._r[1] * self._k[1] + self._o[1]
+
+    @property
+    def y(self) -> float:
+        return self._r[2] * self._k[2]
+
+    @property
+    def z(self) -> float:
+        return self._r[3] * self._k[3]
+
+    @property
+    def altitude(self) -> float:
+        """Height of the CG above the winch, m."""
+        return -self._r[3] * self._k[3]
+
+    @property
+    def phi(self) -> float:
+        return self._r[7]
+
+    @property
+    def theta(self) -> float:
+        return self._r[8]
+
+    @property
+    def psi(self) -> float:
+        return self._r[9]
+
+    @property
+    def p(self) -> float:
+        return self._r[10]
+
+    @property
+    def q(self) -> float:
+        return self._r[11]
+
+    @property
+    def r(self) -> float:
+        return self._r[12]
+
+    @property
+    def airspeed(self) -> float:
+        return self._r[13] * self._k[13]
+
+    @property
+    def alpha(self) -> float:
+        return self._r[14]
+
+    @property
+    def beta(self) -> float:
+        return self._r[15]
+
+    @property
+    def mass(self) -> float:
+        return self._r[22] * self._k[22]
+
+    @property
+    def qbar(self) -> float:
+        return self._r[23] * self._k[23]
+
+    @property
+    def rho(self) -> float:
+        return self._r[24] * self._k[24]
+
+    @property
+    def thrust_N(self) -> float:
+        return self._r[25] * self._k[25]
+
+    @property
+    def shaft_power_W(self) -> float:
+        return self._r[26] * self._k[26]
+
+    @property
+    def current_A(self) -> float:
+        return self._r[27]
+
+    @property
+    def prop_power_W(self) -> float:
+        return self._r[28] * self._volts * self._r[27]
+
+    @property
+    def on_ground(self) -> bool:
+        return self._r[29] > 0.5
+
+    @property
+    def fold(self) -> float:
+        return self._r[30]
+
+    @property
+    def load_factor(self) -> float:
+        return -self._r[21] * self._k[21] / (self._r[22] * self._k[22]) / 9.80665
+
+    # vectors -------------------------------------------------------------------------------
+    @property
+    def pos_ned(self) -> np.ndarray:
+        return np.array((self.x, self.y, self.z))
+
+    @property
+    def vel_ned(self) -> np.ndarray:
+        k = self._k[4]
+        r = self._r
+        return np.array((r[4] * k, r[5] * k, r[6] * k))
+
+    @property
+    def wind_ned(self) -> np.ndarray:
+        """Total wind at the glider (steady + turbulence), m/s."""
+        k = self._k[16]
+        r = self._r
+        return np.array((r[16] * k, r[17] * k, r[18] * k))
+
+    @property
+    def vel_air_ned(self) -> np.ndarray:
+        return self.vel_ned - self.wind_ned
+
+    @property
+    def euler(self) -> np.ndarray:
+        return np.array(self._r[7:10])
+
+    @property
+    def quat(self) -> np.ndarray:
+        r = self._r
+        return np.array(euler_to_quat(r[7], r[8], r[9]))
+
+    @property
+    def omega_body(self) -> np.ndarray:
+        return np.array(self._r[10:13])
+
+    @property
+    def accel_body(self) -> np.ndarray:
+        r, k = self._r, self._k
+        m = r[22] * k[22]
+        return np.array((r[19] * k[19] / m, r[20] * k[20] / m, r[21] * k[21] / m))
+
+    @property
+    def hook_pos_ned(self) -> np.ndarray:
+        return np.array(self._hook[0])
+
+    @property
+    def hook_vel_ned(self) -> np.ndarray:
+        return np.array(self._hook[1])
+
+    @property
+    def tether_force_ned(self) -> np.ndarray:
+        return np.array(self._force)
+
+    def is_finite(self) -> bool:
+        return math.isfinite(math.fsum(self._r[1:16]))
+
+    def as_dict(self) -> dict[str, object]:
+        """All attributes, converted (for printing and records)."""
+        names = ("t", "pos_ned", "vel_ned", "vel_air_ned", "quat", "euler", "omega_body", "airspeed", "alpha",
+                 "beta", "fold", "thrust_N", "prop_power_W", "shaft_power_W", "current_A", "accel_body",
+                 "load_factor", "mass", "qbar", "rho", "on_ground", "hook_pos_ned", "hook_vel_ned",
+                 "tether_force_ned")
+        return {n: getattr(self, n) for n in names}
+
+    def __repr__(self) -> str:
+        return (f"SixDofState(t={self.t:.3f}, pos_ned={self.pos_ned.round(3).tolist()}, "
+                f"airspeed={self.airspeed:.3f}, alpha={self.alpha:.4f}, fold={self.fold:.3f})")
+
+
+def euler_to_quat(phi: float, theta: float, psi: float) -> tuple[float, float, float, float]:
+    """ZYX Euler angles (rad) -> unit quaternion (w, x, y, z) of the NED -> body rotation."""
+    cr, sr = math.cos(0.5 * phi), math.sin(0.5 * phi)
+    cp, sp = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    cy, sy = math.cos(0.5 * psi), math.sin(0.5 * psi)
+    return (cr * cp * cy + sr * sp * sy,
+            sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy)
+
+
+def dcm_body_to_ned(phi: float, theta: float, psi: float) -> np.ndarray:
+    """Rotation matrix taking body-axis vectors to NED (ZYX Euler angles, rad)."""
+    cf, sf = math.cos(phi), math.sin(phi)
+    ct, st = math.cos(theta), math.sin(theta)
+    cp, sp = math.cos(psi), math.sin(psi)
+    return np.array([
+        [ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp],
+        [ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp],
+        [-st, sf * ct, cf * ct],
+    ])

@@ -1,0 +1,109 @@
+#!/usr/bin/env python
+"""Benchmark: bare JSBSim step of the glider vs one co-simulation step, measured in one run.
+
+- bare: ``fdm.run()`` of the same aircraft (glider_foldable) in the same flight condition;
+- co-simulation: JSBSim + tether hook + ground station (tether, winch, DC machine, converter,
+  PI; fdm_awe.groundstation) + the simple stabilising controller, through ``CoSim.run``;
+- real-time factor of a 30 s flight at 120 Hz (a kite hovering on 50 m of line in 14 m/s wind,
+  winch held by the PI speed loop at zero reel speed).
+
+Timings are the best of ``--repeat`` interleaved rounds (the machine is shared). Targets
+(design notes, section 9): ratio <= 3, real-time factor >= 500.
+
+Usage: python scripts/bench_cosim.py [--json bench_cosim.json] [--repeat 3] [--seconds 30]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import sys
+import time
+
+os.environ.setdefault("JSBSIM_DEBUG", "0")
+
+from fdm_awe.cosim import CoSim, Limits  # noqa: E402
+from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station  # noqa: E402
+from fdm_awe.sixdof import JSBSimGlider, Stabilizer  # noqa: E402
+
+WIND = 14.0  # m/s from the south
+LINE = 50.0  # m
+ELEVATION = math.radians(80.0)
+ALPHA = 0.10436  # rad, best glide ratio of the unfolded glider
+
+
+def make_glider() -> JSBSimGlider:
+    g = JSBSimGlider("glider_foldable", dt=1.0 / 120.0, wind_ned=(WIND, 0.0, 0.0))
+    g.reset((LINE * math.cos(ELEVATION), 0.0, -LINE * math.sin(ELEVATION)), WIND, gamma=0.0, psi=math.pi, alpha=ALPHA)
+    return g
+
+
+def bench_bare(seconds: float) -> float:
+    """Seconds per bare ``fdm.run()`` (tether force held constant, controls fixed)."""
+    g = make_glider()
+    fdm = g.fdm
+    n = int(round(seconds * 120))
+    t = time.perf_counter()
+    for _ in range(n):
+        fdm.run()
+    return (time.perf_counter() - t) / n
+
+
+def bench_cosim(seconds: float) -> tuple[float, float, str]:
+    """Seconds per co-simulation step, real-time factor, and the run's status."""
+    g = make_glider()
+    gs = GroundStation(load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
+    gs.reset(tether_length=LINE, reel_speed=0.0, mode="motor")
+    hold = WinchCommand(mode="motor", reel_speed_ref=0.0)
+    ctrl = Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=hold)
+    sim = CoSim(g, gs, ctrl, limits=Limits(max_tension=200.0))
+    res = sim.run(seconds)
+    return res.wall_s / max(res.steps, 1), res.realtime_factor, res.status
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", default="bench_cosim.json", help="output JSON file")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--seconds", type=float, default=30.0, help="simulated seconds per round")
+    a = ap.parse_args(argv)
+    bare, co, rtf, status = [], [], [], "ok"
+    for _ in range(max(1, a.repeat)):
+        bare.append(bench_bare(a.seconds))
+        c, r, status = bench_cosim(a.seconds)
+        co.append(c)
+        rtf.append(r)
+    b, c = min(bare), min(co)
+    out = {
+        "aircraft": "glider_foldable",
+        "rate_hz": 120,
+        "flight_s": a.seconds,
+        "bare_step_us": b * 1e6,
+        "cosim_step_us": c * 1e6,
+        "ratio": c / b,
+        "realtime_factor": max(rtf),
+        "flight_status": status,
+        "targets": {"ratio_max": 3.0, "realtime_factor_min": 500.0},
+        "ratio_ok": c / b <= 3.0,
+        "realtime_ok": max(rtf) >= 500.0,
+        "repeat": a.repeat,
+        "python": sys.version.split()[0],
+        "machine": platform.machine(),
+        "all_bare_us": [x * 1e6 for x in bare],
+        "all_cosim_us": [x * 1e6 for x in co],
+    }
+    print(f"bare JSBSim step      {out['bare_step_us']:8.2f} us")
+    print(f"co-simulation step    {out['cosim_step_us']:8.2f} us  (JSBSim + tether + ground station + controller)")
+    print(f"ratio                 {out['ratio']:8.2f}     (target <= 3)")
+    print(f"real-time factor      {out['realtime_factor']:8.0f} x   ({a.seconds:g} s flight at 120 Hz, target >= 500; status {status})")
+    with open(a.json, "w") as fh:
+        json.dump(out, fh, indent=2)
+    print(f"wrote {a.json}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
