@@ -612,3 +612,33 @@ def test_link_loss_is_reported_and_does_not_slow_the_flight():
     assert ss.drop_rate_comm == 0
     ep.close()
     gcs.close()
+
+
+def test_tcp_url_works_and_survives_client_disconnect():
+    """Any pymavlink URL: the vehicle listens on TCP, a ground station connects and leaves."""
+    port = free_udp_port()          # a free number; TCP and UDP port spaces are separate
+    v = StandInVehicle()
+    ep = MavlinkEndpoint(f"tcpin:127.0.0.1:{port}", v)
+    t = 0.0
+    ep.update(t, telemetry_at(t))
+    gcs = mavutil.mavlink_connection(f"tcp:127.0.0.1:{port}", source_system=GCS_SYSID)
+    got = Counter()
+    t_end = time.monotonic() + 5.0
+    sent = False
+    while time.monotonic() < t_end and not (got["HEARTBEAT"] >= 2 and v.armed):
+        t += 1 / 120
+        ep.update(t, lambda: telemetry_at(t, v))
+        m = gcs.recv_match(blocking=False)
+        if m is not None:
+            got[m.get_type()] += 1
+            if not sent:
+                gcs.mav.command_long_send(1, 1, mav.MAV_CMD_COMPONENT_ARM_DISARM, 0, 1, 0, 0, 0, 0, 0, 0)
+                sent = True
+        time.sleep(0.0005)
+    assert got["HEARTBEAT"] >= 2 and v.armed
+    gcs.close()
+    for _ in range(600):                 # the client is gone: the endpoint keeps running
+        t += 1 / 120
+        ep.update(t, lambda: telemetry_at(t, v))
+    assert ep.stats["handler_errors"] == 0
+    ep.close()

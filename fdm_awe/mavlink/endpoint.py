@@ -296,7 +296,9 @@ class MavlinkEndpoint:
         #: counters (messages sent per type, received, bad packets, failures, link losses)
         self.stats: dict[str, Any] = {"sent": {}, "received": 0, "bad_packets": 0,
                                       "handler_errors": 0, "send_errors": 0, "link_losses": 0,
-                                      "polls": 0, "datagrams": 0, "bad_time": 0}
+                                      "polls": 0, "datagrams": 0, "bad_time": 0,
+                                      "warnings_suppressed": 0}
+        self._warned: dict[str, float] = {}
         self._handlers: dict[str, Callable[[Any], None]] = {
             "HEARTBEAT": lambda m: None,
             "COMMAND_LONG": self._on_command_long, "COMMAND_INT": self._on_command_int,
@@ -445,7 +447,7 @@ class MavlinkEndpoint:
             self.link_up = False
             self.stats["link_losses"] += 1
             self._warn(f"MAVLink: ground-station link lost (no message for "
-                       f"{now - self._last_rx_wall:.1f} s); flight continues")
+                       f"{now - self._last_rx_wall:.1f} s); flight continues", limit=False)
         if self._upload is not None:
             self._check_upload_timeout(now)
 
@@ -1021,7 +1023,17 @@ class MavlinkEndpoint:
         else:
             lt(msg)
 
-    def _warn(self, msg: str) -> None:
+    def _warn(self, msg: str, limit: bool = True) -> None:
+        # the same warning at most once per 5 s of wall time (garbage can repeat it fast)
+        key = msg[:40]
+        now = self._clock()
+        last = self._warned.get(key)
+        if limit and last is not None and now - last < 5.0:
+            self.stats["warnings_suppressed"] += 1
+            return
+        if len(self._warned) > 256:
+            self._warned.clear()
+        self._warned[key] = now
         lt = self._log_target
         if isinstance(lt, logging.Logger):
             lt.warning(msg)
