@@ -197,3 +197,11 @@ def test_pacer_rejects_bad_factor():
     for f in (0.0, -1.0, math.inf, math.nan):
         with pytest.raises(InputError, match="realtime"):
             RealtimePacer(f)
+
+
+def test_stand_in_vehicle_satisfies_the_protocol():
+    from mavlink_helpers import StandInVehicle
+
+    from fdm_awe.mavlink.vehicle import VehicleInterface
+    assert isinstance(StandInVehicle(), VehicleInterface)
+    assert not isinstance(object(), VehicleInterface)
