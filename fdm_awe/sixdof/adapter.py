@@ -198,7 +198,8 @@ class JSBSimGlider:
         f["atmosphere/wind-down-fps"] = w[2] / FT
 
     def set_turbulence(self, turbulence: tuple[str, int] | None) -> None:
-        """``None`` (off) or ``(level, seed)``; level "light" | "moderate" | "severe"."""
+        """``None`` (off) or ``(level, seed)``; level "light" | "moderate" | "severe".
+        Applied at once; every :meth:`reset` re-seeds, so a run repeats for the same seed."""
         f = self.fdm
         if turbulence is None:
             f["atmosphere/turb-type"] = 0
@@ -319,9 +320,11 @@ class JSBSimGlider:
         f["ic/vn-fps"] = (v_air[0] + w[0]) / FT
         f["ic/ve-fps"] = (v_air[1] + w[1]) / FT
         f["ic/vd-fps"] = (v_air[2] + w[2]) / FT
+        f["atmosphere/turb-type"] = 0  # the Tustin filters give NaN when initialised at dt = 0
         if not f.run_ic():
             raise InputError("reset: JSBSim rejected the initial condition")
         self.set_wind(w)  # run_ic sets the wind from the IC (horizontal only): restore all three
+        self.set_turbulence(self.turbulence)  # re-seeded: every reset repeats the same gusts
 
     def set_tether_force(self, force_ned: Sequence[float]) -> None:
         """Tether force on the glider (N, NED) applied at the hook during the next step."""

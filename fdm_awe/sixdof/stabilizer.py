@@ -5,7 +5,8 @@ the aircraft's own current derivatives (read from JSBSim, so the gains follow th
 
 - pitch: elevator = trim(alpha_cmd) + moment demand for a second-order alpha response
   (``w_alpha`` rad/s, ``z_alpha``) plus integral action on the alpha error;
-- roll: aileron from a second-order bank response (``w_phi``, ``z_phi``); with ``psi_cmd`` set,
+- roll: aileron from a second-order bank response (``w_phi``, ``z_phi``) with integral action
+  (``ki_phi``, trims the propeller torque); with ``psi_cmd`` set,
   the bank command follows the heading error (``k_psi``, limited to ``phi_max``);
 - yaw: rudder damps the yaw rate about the coordinated-turn rate and nulls sideslip.
 
@@ -30,6 +31,7 @@ class StabilizerGains:
     ki_alpha: float = 0.0  #: 1/s, integral action on the alpha error (0: off; > ~0.3 couples with the phugoid)
     w_phi: float = 5.0  #: rad/s, bank loop bandwidth
     z_phi: float = 0.8
+    ki_phi: float = 1.0  #: 1/s, integral action on the bank error (trims propeller torque)
     w_r: float = 3.0  #: rad/s, yaw damper
     k_beta: float = 1.0  #: rudder per sideslip, in units of the weathercock stiffness
     k_psi: float = 1.0  #: bank command per heading error, rad/rad
@@ -52,6 +54,7 @@ class Stabilizer:
         self.gains = gains or StabilizerGains()
         self.phase = "hold"
         self._int = 0.0
+        self._int_phi = 0.0
         self._t_last: float | None = None
         self._coef_fold = -1.0
         S, b, c = glider.reference_geometry()
@@ -97,7 +100,9 @@ class Stabilizer:
         if self.psi_cmd is not None:
             e_psi = math.atan2(math.sin(self.psi_cmd - psi), math.cos(self.psi_cmd - psi))
             phi_c = max(-gn.phi_max, min(gn.phi_max, gn.k_psi * e_psi))
-        l_des = self._ixx * (gn.w_phi**2 * (phi_c - phi) - 2 * gn.z_phi * gn.w_phi * p)
+        e_phi = phi_c - phi
+        self._int_phi = max(-0.5, min(0.5, self._int_phi + e_phi * dt))
+        l_des = self._ixx * (gn.w_phi**2 * (e_phi + gn.ki_phi * self._int_phi) - 2 * gn.z_phi * gn.w_phi * p)
         da = l_des / (qbar * self._S * self._b * self._cl_da)
         # yaw: damp r about the coordinated-turn rate, null sideslip
         v = max(s.airspeed, 1.0)

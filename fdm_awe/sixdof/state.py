@@ -34,12 +34,13 @@ class Surfaces:
             if not (lo <= v <= hi):  # also rejects NaN
                 raise InputError(f"Surfaces.{name}: {v!r} out of range (allowed {lo:g} .. {hi:g})")
 
-    def clipped(self) -> "Surfaces":
-        """A copy with every command saturated to its range (NaN becomes 0)."""
+    @classmethod
+    def saturated(cls, aileron: float = 0.0, elevator: float = 0.0, rudder: float = 0.0,
+                  throttle: float = 0.0, fold_cmd: float = 0.0) -> "Surfaces":
+        """Commands saturated to their ranges (NaN becomes 0)."""
         def c(v: float, lo: float, hi: float) -> float:
             return lo if v < lo else hi if v > hi else (v if v == v else 0.0)
-        return Surfaces(c(self.aileron, -1, 1), c(self.elevator, -1, 1), c(self.rudder, -1, 1),
-                        c(self.throttle, 0, 1), c(self.fold_cmd, 0, 1))
+        return cls(c(aileron, -1, 1), c(elevator, -1, 1), c(rudder, -1, 1), c(throttle, 0, 1), c(fold_cmd, 0, 1))
 
 
 class SixDofState:
