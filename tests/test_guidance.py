@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from fdm_awe.autopilot.guidance import Guidance, GuidanceGains
-from fdm_awe.autopilot.reference import ReferenceTrajectory
+from fdm_awe.autopilot.tracking import TrackingReference
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.pointmass import Environment, PointMassModel
 
@@ -24,7 +24,7 @@ def _reference(model, T=30.0):
     ts = np.linspace(0, T, 601)
     X = sol.sol(ts).T
     U = np.array([u(t) for t in ts])
-    return ReferenceTrajectory.from_point_mass(ts, X, U, np.zeros(len(ts), int), np.full(len(ts), 150.0), np.zeros(len(ts)), {0: model}, T, 1e-3)
+    return TrackingReference.from_point_mass(ts, X, U, np.zeros(len(ts), int), np.full(len(ts), 150.0), np.zeros(len(ts)), {0: model}, T, 1e-3)
 
 
 def test_reference_acceleration_matches_finite_differences():
@@ -71,7 +71,7 @@ def test_periodic_sampling_and_phase():
     X = np.tile([100.0, 0, -50, 12, 0, 0], (11, 1))
     U = np.tile([0.1, 0, 0, 0], (11, 1))
     ph = (ts >= 6).astype(int)
-    ref = ReferenceTrajectory.from_point_mass(ts, X, U, ph, np.full(11, 200.0), np.zeros(11), {0: model, 1: model}, 6.0, 4.0)
+    ref = TrackingReference.from_point_mass(ts, X, U, ph, np.full(11, 200.0), np.zeros(11), {0: model, 1: model}, 6.0, 4.0)
     assert ref.sample(3.0).phase == 0 and ref.sample(7.0).phase == 1
     s = ref.sample(23.0)
     assert s.cycle == 2 and s.t_cycle == pytest.approx(3.0) and s.phase == 0

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..definitions.aircraft import AeroParams
-from .reference import RefPoint
+from .tracking import RefPoint
 
 
 @dataclass(frozen=True)
@@ -84,17 +84,31 @@ class Guidance:
         tether_force: np.ndarray,
         fold: float,
         dt: float,
+        taut: bool = False,
     ) -> GuidanceCommand:
+        """``taut``: the line is taut, so the radial motion is the winch's: the position loop
+        then acts only on the sphere's tangent plane, and the radial aerodynamic force is the
+        reference's (feeding the measured tension back would close a positive loop through
+        the line: more pull -> more tension -> more pull)."""
         k = self.k
         e_p = ref.pos - pos
         e_v = ref.vel - vel
+        g_vec = np.array([0.0, 0.0, self.g])
+        if taut:
+            e_r = pos / max(float(np.linalg.norm(pos)), 1e-6)
+            e_p = e_p - float(e_p @ e_r) * e_r
+            e_v = e_v - float(e_v @ e_r) * e_r
         self.integral = np.clip(self.integral + e_p * dt, -k.int_max, k.int_max)
         corr = k.kp * e_p + k.kd * e_v + k.ki * self.integral
         n = float(np.linalg.norm(corr))
         if n > k.a_max:
             corr *= k.a_max / n
         a_cmd = ref.acc + corr
-        F = self.m * (a_cmd - np.array([0.0, 0.0, self.g])) - tether_force
+        F = self.m * (a_cmd - g_vec) - tether_force
+        if taut:
+            e_rr = ref.pos / max(float(np.linalg.norm(ref.pos)), 1e-6)
+            F_r_ref = float(self.m * (ref.acc - g_vec) @ e_rr) + ref.tension
+            F = F - float(F @ e_r) * e_r + F_r_ref * e_r
         va = vel - wind
         V = max(float(np.linalg.norm(va)), 1.0)
         e1 = va / V

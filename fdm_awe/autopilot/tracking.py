@@ -38,7 +38,7 @@ class RefPoint:
 
 
 @dataclass
-class ReferenceTrajectory:
+class TrackingReference:
     """Samples of one cycle; ``t`` strictly increasing from 0, ``period`` = T1 + T2."""
 
     t: np.ndarray
@@ -125,7 +125,7 @@ class ReferenceTrajectory:
         T2: float,
         cd_extra: Sequence[float] | None = None,
         meta: dict | None = None,
-    ) -> "ReferenceTrajectory":
+    ) -> "TrackingReference":
         """From point-mass samples: ``states`` (N, 6) = (x, y, z, V, gamma, psi), ``controls``
         (N, 4) = (alpha, phi, T, G); ``models[phase]`` is the PointMassModel of each phase."""
         t = np.asarray(t, float)
@@ -152,4 +152,79 @@ class ReferenceTrajectory:
             alpha=U[:, 0].copy(), phi=U[:, 1].copy(), thrust=U[:, 2].copy(), tension=U[:, 3].copy(),
             length=np.asarray(length, float), reel_speed=np.asarray(reel_speed, float), T1=float(T1), T2=float(T2),
             meta=dict(meta or {}),
+        )
+
+    @classmethod
+    def from_ocp_file(cls, path: str) -> "TrackingReference":
+        """From a reference-trajectory file written by the optimiser (``fdm-awe optimize``)."""
+        from ..ocp.result import read_reference
+
+        return cls.from_ocp(read_reference(path))
+
+    @classmethod
+    def from_ocp(cls, ref: object) -> "TrackingReference":
+        """From an optimiser :class:`~fdm_awe.ocp.result.ReferenceTrajectory`.
+
+        Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata; the
+        acceleration is the time derivative of the velocity samples (second-order differences
+        within each phase, so the jump of the controls at the phase switch is not smeared).
+        """
+        c = ref.columns  # type: ignore[attr-defined]
+        meta = dict(ref.metadata)  # type: ignore[attr-defined]
+        t, ph = np.asarray(c["t"], float), np.asarray(c["phase"], int)
+        # the switch row appears twice (once per phase): keep strictly increasing times
+        keep = np.r_[True, np.diff(t) > 1e-9]
+        wind = np.asarray(meta.get("wind_ned_mps", (0.0, 0.0, 0.0)), float)
+        V, gam, psi = c["V"], c["gamma"], c["psi"]
+        vel = np.c_[V * np.cos(gam) * np.cos(psi), V * np.cos(gam) * np.sin(psi), -V * np.sin(gam)] + wind
+        acc = np.zeros_like(vel)
+        for p in (0, 1):
+            sel = np.flatnonzero(ph == p)
+            if len(sel) >= 3:
+                acc[sel] = np.gradient(vel[sel], t[sel], axis=0, edge_order=2)
+        pos = np.c_[c["x"], c["y"], c["z"]]
+        return cls(
+            t=t[keep], phase=ph[keep], pos=pos[keep], vel=vel[keep], acc=acc[keep], airspeed=np.asarray(V)[keep],
+            alpha=c["alpha"][keep], phi=c["phi"][keep], thrust=c["T"][keep], tension=c["tension"][keep],
+            length=c["tether_length"][keep], reel_speed=c["reel_speed"][keep],
+            T1=float(meta["T1_s"]), T2=float(meta["T2_s"]), meta=meta,
+        )
+
+    @classmethod
+    def from_waypoints(
+        cls, points: np.ndarray, times: np.ndarray | None, phases: np.ndarray | None, speed: float, T1: float | None = None
+    ) -> "TrackingReference":
+        """A closed path through NED ``points`` (N, 3) flown as one periodic cycle.
+
+        With ``times`` (cycle times of the points, strictly increasing from 0) the path keeps
+        that timing; otherwise the points are spaced by arc length at ground ``speed`` [m/s].
+        ``phases`` (0/1 per point) default to generation throughout. Velocities and
+        accelerations are periodic finite differences; the controls' feed-forward is left to
+        the guidance inversion (zeros), the tether length follows the distance to the winch.
+        """
+        P = np.asarray(points, float)
+        n = len(P)
+        seg = np.linalg.norm(np.roll(P, -1, axis=0) - P, axis=1)
+        if times is None:
+            t = np.r_[0.0, np.cumsum(seg[:-1])] / speed
+            period = float(np.sum(seg) / speed)
+        else:
+            t = np.asarray(times, float)
+            period = float(t[-1] + (t[-1] - t[-2]))
+        ph = np.zeros(n, int) if phases is None else np.asarray(phases, int)
+        # periodic central differences
+        tn, tp = np.roll(t, -1), np.roll(t, 1)
+        tn[-1] += period
+        tp[0] -= period
+        Pn, Pp = np.roll(P, -1, axis=0), np.roll(P, 1, axis=0)
+        vel = (Pn - Pp) / (tn - tp)[:, None]
+        acc = (np.roll(vel, -1, axis=0) - np.roll(vel, 1, axis=0)) / (tn - tp)[:, None]
+        d = np.linalg.norm(P, axis=1)
+        dd = np.einsum("ij,ij->i", P, vel) / np.maximum(d, 1e-9)
+        T1v = float(T1) if T1 is not None else (float(t[np.argmax(ph == 1)]) if np.any(ph == 1) else period - 1e-6)
+        zeros = np.zeros(n)
+        return cls(
+            t=t, phase=ph, pos=P, vel=vel, acc=acc, airspeed=np.linalg.norm(vel, axis=1), alpha=zeros, phi=zeros.copy(),
+            thrust=zeros.copy(), tension=zeros.copy(), length=d, reel_speed=dd, T1=T1v, T2=period - T1v,
+            meta={"source": "uploaded mission"},
         )

@@ -1,0 +1,310 @@
+"""The autopilot of the tethered glider, structured like a real one.
+
+guidance (:mod:`.guidance`, path tracking by point-mass force inversion)
+  -> attitude loops (angle of attack, bank, yaw damper: :class:`fdm_awe.sixdof.Stabilizer`)
+  -> thrust loop (throttle)                         -> surfaces, throttle, fold command
+phase logic (generation / recovery)                 -> winch command (machine mode, reel speed)
+
+Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`):
+
+- ``MANUAL``: surfaces and throttle held at :attr:`Autopilot.manual` (neutral by default);
+  the winch holds in generator mode.
+- ``FBWA``: wings level at the trim angle of attack for the current airspeed, no thrust.
+- ``AUTO``: with cycling started and a reference loaded, fly the pumping cycle: follow the
+  reference path; generation = unfolded wing, generator (passive rectifier into R_L, optionally
+  trimmed on the reel-speed error); recovery = folded wing (foldable configuration), motor
+  mode with the PI speed loop at the reference reel speed. Fold and machine switch at the
+  reference's phase boundaries (``FOLD_LEAD``/``UNFOLD_LEAD`` move the fold command earlier).
+  Without cycling or without a reference, AUTO holds FBWA.
+- ``RECOVER``: the safe mode. Unfold, no thrust, glide to a circle of ``REC_RADIUS`` about
+  the winch and descend on it at ``REC_AIRSPEED``; the winch reels in whatever line hangs
+  slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level and flare. Losing
+  the reference in AUTO (mission cleared) switches to RECOVER.
+
+Gains and limits come from the definition file ``aircraft/glider_foldable/autopilot.xml`` via a
+:class:`~fdm_awe.mavlink.params.ParamStore`; changes (e.g. MAVLink ``PARAM_SET``) take effect
+at the next step.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ..definitions.aircraft import Glider
+from ..groundstation import WinchCommand
+from ..mavlink.params import ParamStore
+from ..mavlink.vehicle import MODE_NUMBERS, Waypoint
+from ..sixdof.adapter import JSBSimGlider
+from ..sixdof.stabilizer import StabilizerGains
+from ..sixdof.state import SixDofState, Surfaces
+from .attitude import AttitudeLoops
+from .guidance import Guidance, GuidanceGains
+from .tracking import GENERATION, RECOVERY, TrackingReference
+
+MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
+CONFIGS = ("foldable", "nominal")
+
+_STAB_PARAMS = {"W_ALPHA": "w_alpha", "Z_ALPHA": "z_alpha", "KI_ALPHA": "ki_alpha", "W_PHI": "w_phi",
+                "Z_PHI": "z_phi", "W_R": "w_r", "K_BETA": "k_beta"}
+
+
+def _wrap(a: float) -> float:
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+class Autopilot:
+    """Controller for :class:`fdm_awe.cosim.CoSim` and :class:`VehicleInterface` for MAVLink.
+
+    ``config``: ``"foldable"`` folds for recovery, ``"nominal"`` never folds.
+    ``load_resistance``: the generator's R_L [ohm] (definition default of the ground station).
+    """
+
+    def __init__(
+        self,
+        glider: JSBSimGlider,
+        airframes: Glider,
+        params: ParamStore,
+        reference: TrackingReference | None = None,
+        config: str = "foldable",
+        load_resistance: float = 1.5,
+        rho: float = 1.225,
+        g: float = 9.81,
+    ) -> None:
+        if config not in CONFIGS:
+            raise ValueError(f"config {config!r} unknown (allowed: {', '.join(CONFIGS)})")
+        self.glider = glider
+        self.airframes = airframes
+        self.params = params
+        self.config = config
+        self.R_L = float(load_resistance)
+        self.g = g
+        self.reference = reference
+        self.mode = "AUTO" if reference is not None else "FBWA"
+        self.armed = True
+        self.cycling = reference is not None
+        self.t0 = 0.0  # flight time at which the reference's cycle time is zero
+        self.phase = "generation" if reference is not None else "ground"
+        self.manual = Surfaces()
+        self.log: list[tuple[float, str]] = []
+        self.ref_point = None
+        self.last_guidance = None
+        self.track_error = float("nan")
+        af = airframes.unfolded
+        self.guidance = Guidance(self._guidance_gains(), af.mass.mass, af.aero, airframes.folded.aero, rho, g)
+        self.att = AttitudeLoops(glider, StabilizerGains(**{v: params[k] for k, v in _STAB_PARAMS.items()}))
+        self._thr_int = 0.0
+        self._t_last: float | None = None
+        self._t_now = 0.0
+        self._thrust_max_static = af.propulsion.T_max
+        #: airspeed [m/s] at which the propeller gives zero thrust at full throttle (its
+        #: zero-thrust advance ratio times the tip speed scale); sets the throttle feed-forward
+        self._v_zero_thrust = params["THR_VZERO"]
+        for name in params.names():
+            params.on_change(name, self._on_param)
+
+    # ------------------------------------------------------------------ parameters
+    def _guidance_gains(self) -> GuidanceGains:
+        p = self.params
+        return GuidanceGains(
+            kp=p["GUID_KP"], kd=p["GUID_KD"], ki=p["GUID_KI"], a_max=p["GUID_AMAX"], int_max=p["GUID_IMAX"],
+            alpha_min=p["LIM_ALPHA_MIN"], alpha_max=p["LIM_ALPHA_MAX"], phi_max=p["LIM_BANK"], thrust_max=p["LIM_THRUST"],
+        )
+
+    def _on_param(self, name: str, value: float) -> None:
+        if name in _STAB_PARAMS:
+            setattr(self.att.gains, _STAB_PARAMS[name], float(value))
+        else:
+            self.guidance.k = self._guidance_gains()
+
+    def _note(self, text: str) -> None:
+        self.log.append((self._t_now, text))
+
+    # ------------------------------------------------------------------ VehicleInterface
+    @property
+    def modes(self) -> list[str]:
+        return [m for m in MODES if m in MODE_NUMBERS]
+
+    def set_mode(self, name: str) -> bool:
+        if name not in MODES:
+            return False
+        if name == "AUTO" and self.reference is None:
+            return False
+        if name != self.mode:
+            self._note(f"mode {self.mode} -> {name}")
+            if name == "RECOVER":
+                self.phase = "recovery"
+        self.mode = name
+        return True
+
+    def arm(self, on: bool) -> bool:
+        self.armed = bool(on)
+        self._note("armed" if on else "disarmed")
+        return True
+
+    def start_cycling(self) -> bool:
+        if self.reference is None:
+            return False
+        if not self.cycling:
+            # restart the cycle at the reference point nearest to where the glider is
+            self.t0 = self._t_now - self._nearest_cycle_time()
+            self.guidance.reset()
+            self._note("cycling started")
+        self.cycling = True
+        return True
+
+    def stop_cycling(self) -> bool:
+        if self.cycling:
+            self._note("cycling stopped")
+        self.cycling = False
+        return True
+
+    def mission(self) -> list[Waypoint]:
+        if self.reference is None:
+            return []
+        names = ("generation", "recovery")
+        return [Waypoint(n, e, d, t, names[p]) for n, e, d, t, p in self.reference.waypoints()]
+
+    def set_mission(self, wps: list[Waypoint]) -> tuple[bool, str]:
+        if len(wps) < 3:
+            return False, f"need at least 3 waypoints, got {len(wps)}"
+        P = np.array([[w.north, w.east, w.down] for w in wps], float)
+        if not np.all(np.isfinite(P)):
+            return False, "waypoint not finite"
+        if np.any(P[:, 2] > -5.0):
+            return False, "every waypoint must be at least 5 m above the winch"
+        if np.any(np.linalg.norm(P, axis=1) > 400.0):
+            return False, "waypoint beyond 400 m from the winch"
+        times = [w.time_s for w in wps]
+        phases = [w.phase for w in wps]
+        if all(t is not None for t in times) and np.all(np.diff(np.array(times, float)) > 0):
+            tt = np.array(times, float)
+            tt = tt - tt[0]
+        else:
+            tt = None
+        ph = np.array([1 if p == "recovery" else 0 for p in phases]) if any(p == "recovery" for p in phases) else None
+        speed = float(np.mean(self.reference.airspeed)) if self.reference is not None else 15.0
+        self.reference = TrackingReference.from_waypoints(P, tt, ph, speed)
+        self.guidance.reset()
+        self._note(f"mission of {len(wps)} waypoints loaded")
+        if self.cycling:
+            self.t0 = self._t_now - self._nearest_cycle_time()
+        return True, "accepted"
+
+    def clear_mission(self) -> None:
+        self.reference = None
+        self._note("mission cleared")
+        if self.mode == "AUTO":
+            self.set_mode("RECOVER")
+
+    # ------------------------------------------------------------------ helpers
+    def _nearest_cycle_time(self) -> float:
+        ref = self.reference
+        assert ref is not None
+        s = self.glider.state()
+        i = int(np.argmin(np.linalg.norm(ref.pos - s.pos_ned, axis=1)))
+        return float(ref.t[i])
+
+    def _throttle(self, thrust_cmd: float, thrust: float, airspeed: float, dt: float) -> float:
+        """Thrust loop: feed-forward plus PI on the measured thrust. Thrust 0 is flown as
+        zero thrust, not zero throttle: a stopped motor lets the propeller windmill, which
+        at 20 m/s costs ~2 N of drag."""
+        p = self.params
+        if not self.armed:
+            self._thr_int = 0.0
+            return 0.0
+        e = thrust_cmd - thrust
+        v0 = min(max(airspeed / self._v_zero_thrust, 0.0), 1.0)
+        ff = v0 + (1.0 - v0) * math.sqrt(min(max(thrust_cmd, 0.0) / self._thrust_max_static, 1.0))
+        self._thr_int = min(max(self._thr_int + p["THR_KI"] * e * dt, -1.0), 1.0)
+        u = ff + p["THR_KP"] * e + self._thr_int
+        if u > 1.0 or u < 0.0:  # anti-windup: undo the last integration when saturated
+            self._thr_int -= p["THR_KI"] * e * dt
+        return min(max(u, 0.0), 1.0)
+
+    def _hold(self, s: SixDofState, alpha: float, roll: float, fold: float, dt: float, throttle: float = 0.0) -> Surfaces:
+        a, e, r = self.att.update(s, alpha, roll, dt)
+        return Surfaces(a, e, r, throttle, fold)
+
+    # ------------------------------------------------------------------ controller
+    def update(self, t: float, s: SixDofState, gs: Any) -> tuple[Surfaces, WinchCommand]:
+        dt = 0.0 if self._t_last is None else max(0.0, t - self._t_last)
+        self._t_last = t
+        self._t_now = t
+        if self.mode == "MANUAL":
+            self.phase = "ground" if s.on_ground else self.phase
+            return self.manual, WinchCommand(mode="generator", load_resistance=self.R_L)
+        if self.mode == "RECOVER":
+            return self._recover(s, gs, dt)
+        if self.mode == "AUTO" and self.cycling and self.reference is not None:
+            return self._auto(t, s, gs, dt)
+        # FBWA (or AUTO without a path): wings level, trim alpha, no thrust
+        alpha = self.glider.trim_alpha(max(s.airspeed, 8.0))
+        return self._hold(s, min(alpha, self.params["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), WinchCommand(mode="generator", load_resistance=self.R_L)
+
+    def _auto(self, t: float, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
+        ref_traj = self.reference
+        assert ref_traj is not None
+        p = self.params
+        r = ref_traj.sample(t - self.t0)
+        self.ref_point = r
+        wind = s.vel_ned - s.vel_air_ned
+        f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
+        taut = gs is not None and not gs.slack and r.phase == GENERATION
+        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt, taut=taut)
+        self.track_error = cmd.pos_error
+        self.last_guidance = cmd
+        tc, T1, T = r.t_cycle, ref_traj.T1, ref_traj.period
+        # fold schedule
+        if self.config == "foldable":
+            folded = (T1 - p["FOLD_LEAD"]) <= tc < (T - p["UNFOLD_LEAD"])
+            fold_cmd = 1.0 if folded else 0.0
+        else:
+            fold_cmd = 0.0
+        phase = "generation" if r.phase == GENERATION else "recovery"
+        if phase != self.phase:
+            self._note(f"phase {self.phase} -> {phase} (cycle {r.cycle}, t_cycle {tc:.2f} s)")
+            self.phase = phase
+        # winch
+        if r.phase == GENERATION:
+            rl = self.R_L
+            if p["GEN_RL_KP"] > 0 and gs is not None:
+                # radial position is the winch's job: pay out faster (higher R_L, less
+                # braking) when the line is shorter than the reference, slower when longer
+                rl = min(max(self.R_L + p["GEN_RL_KP"] * (r.length - gs.length), 0.2), 20.0)
+            wcmd = WinchCommand(mode="generator", load_resistance=rl)
+        else:
+            wcmd = WinchCommand(mode="motor", reel_speed_ref=min(r.reel_speed, 0.0))
+        thr = self._throttle(cmd.thrust, s.thrust_N, s.airspeed, dt)
+        return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
+
+    def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
+        p = self.params
+        self.phase = "recovery"
+        h = -float(s.pos_ned[2])
+        # winch: take in slack line, never pull the glider (speed 0 holds the drum)
+        d = float(np.linalg.norm(s.hook_pos_ned))
+        slack = (gs.length - d) if gs is not None else 0.0
+        reel = -min(p["REC_REEL_SPD"], max(0.0, 0.5 * (slack - 2.0)))
+        wcmd = WinchCommand(mode="motor", reel_speed_ref=reel)
+        V = max(s.airspeed, 1.0)
+        if h < p["REC_FLARE_ALT"]:
+            return self._hold(s, min(0.15, p["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), wcmd
+        # lateral: vector field onto a clockwise circle about the winch
+        R = p["REC_RADIUS"]
+        x, y = float(s.pos_ned[0]), float(s.pos_ned[1])
+        rho = math.hypot(x, y)
+        theta = math.atan2(y, x)
+        chi_tan = theta + math.pi / 2  # clockwise seen from above (NED: increasing azimuth)
+        chi_d = chi_tan + math.atan(2.0 * (rho - R) / R)
+        vg = s.vel_ned
+        chi = math.atan2(float(vg[1]), float(vg[0]))
+        gs_h = max(math.hypot(float(vg[0]), float(vg[1])), 1.0)
+        bank_ff = math.atan(gs_h * gs_h / (self.g * max(rho, R))) if abs(rho - R) < R else 0.0
+        roll = max(-0.6, min(0.6, bank_ff + 1.2 * _wrap(chi_d - chi)))
+        # longitudinal: hold the recovery airspeed with the angle of attack
+        alpha = self.glider.trim_alpha(p["REC_AIRSPEED"], -0.07, roll) + 0.03 * (V - p["REC_AIRSPEED"])
+        alpha = min(max(alpha, 0.0), p["LIM_ALPHA_MAX"])
+        return self._hold(s, alpha, roll, 0.0, dt), wcmd

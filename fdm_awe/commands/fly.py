@@ -1,0 +1,181 @@
+"""``fdm-awe fly``: fly N pumping cycles of an optimised reference in 6-DOF co-simulation.
+
+The reference comes from ``--reference FILE`` (written by ``fdm-awe optimize``) or is optimised
+first from ``--scenario/--config/--wind``. Prints a per-cycle energy table, writes JSON per
+DESIGN.md section 1 (``--json``), a rerun recording (``--rrd``), and optionally speaks MAVLink
+(``--mavlink URL``) paced at real time (``--realtime [FACTOR]``).
+Exit code 0 when the flight completed without an event (or landed in RECOVER mode).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + autopilot)"
+
+
+def _turbulence(text: str) -> tuple[str, int]:
+    level, _, seed = text.partition(":")
+    if level not in ("light", "moderate", "severe"):
+        raise argparse.ArgumentTypeError(f"--turbulence level {level!r} unknown (allowed light, moderate, severe)")
+    try:
+        return level, int(seed or "1")
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--turbulence seed {seed!r} is not an integer") from None
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one now)")
+    p.add_argument("--scenario", choices=("physical", "paper"), default="physical", help="scenario of the reference to optimise (default physical)")
+    p.add_argument("--config", choices=("foldable", "nominal"), default="foldable", help="foldable folds for recovery, nominal never folds")
+    p.add_argument("--wind", type=float, default=8.0, metavar="M/S", help="wind speed for the optimised reference (default 8)")
+    p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG", help="wind direction, blowing from (default 180 = south)")
+    p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles (default 3)")
+    p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s (default 1/120)")
+    p.add_argument("--turbulence", type=_turbulence, metavar="LEVEL[:SEED]", help="JSBSim turbulence: light|moderate|severe, seeded")
+    p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: reel in and land)")
+    p.add_argument("--json", metavar="FILE", help="write the numbers as JSON")
+    p.add_argument("--rrd", metavar="FILE", help="write a rerun recording of the flight")
+    p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV and a markdown report into DIR")
+    p.add_argument("--mavlink", metavar="URL", nargs="?", const="udpout:127.0.0.1:14550",
+                   help="speak MAVLink 2 to a ground station (default URL udpout:127.0.0.1:14550)")
+    p.add_argument("--realtime", metavar="FACTOR", type=float, nargs="?", const=1.0, help="pace against the wall clock (default 1x)")
+    p.add_argument("--params", metavar="FILE", help="autopilot parameter file (PARAM_SET changes are saved there)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _check(args: argparse.Namespace) -> None:
+    from ..errors import InputError
+
+    if not (1 <= args.cycles <= 1000):
+        raise InputError(f"--cycles {args.cycles} out of range (allowed 1..1000)")
+    if not (1e-4 <= args.dt <= 0.05) or not math.isfinite(args.dt):
+        raise InputError(f"--dt {args.dt} out of range (allowed 0.0001..0.05 s)")
+    if not (0.0 <= args.wind <= 25.0):
+        raise InputError(f"--wind {args.wind} out of range (allowed 0..25 m/s)")
+    if args.realtime is not None and not (0.0 < args.realtime <= 1000.0):
+        raise InputError(f"--realtime {args.realtime} out of range (allowed > 0 and <= 1000)")
+
+
+def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
+    """The tracking reference of the run and the reference file it came from."""
+    from ..autopilot.tracking import TrackingReference
+    from ..errors import InputError
+
+    if args.reference:
+        return TrackingReference.from_ocp_file(args.reference), Path(args.reference)
+    from ..ocp.problem import CycleProblem
+    from ..ocp.result import write_reference
+    from ..ocp.solve import solve_cycle
+
+    print(f"optimising a {args.scenario} {args.config} cycle at {args.wind:g} m/s ...", file=sys.stderr)
+    res = solve_cycle(CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from))
+    if not res.ok:
+        raise InputError(f"the optimiser found no cycle: {res.status} ({getattr(res, 'reason', '')})")
+    path = (out_dir or Path(".")) / f"reference_{args.scenario}_{args.config}_{args.wind:g}.json"
+    write_reference(res, path)
+    return TrackingReference.from_ocp_file(str(path)), path
+
+
+def run(args: argparse.Namespace) -> int:
+    _check(args)
+    out_dir = Path(args.out) if args.out else None
+    if out_dir:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    ref, ref_path = load_or_optimise_reference(args, out_dir)
+    from ..autopilot.config import autopilot_params
+    from ..flight import fly
+    from ..mavlink.params import ParamStore
+
+    params = autopilot_params(store=ParamStore(args.params) if args.params else None)
+    endpoint = pacer = None
+    hooks = []
+    holder: dict = {}
+
+    def setup(ap, sim) -> None:
+        nonlocal endpoint, pacer
+        holder["ap"] = ap
+        if args.mode != "AUTO":
+            ap.set_mode(args.mode)
+        if args.mavlink:
+            from ..mavlink.endpoint import MavlinkEndpoint
+            from ..mavlink.bridge import telemetry_builder
+
+            endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap)
+            build = telemetry_builder(ap, sim)
+            def link(k, s, o) -> None:
+                build.integrate(s)
+                endpoint.update(s.t, lambda: build(s, o))
+
+            hooks.append(link)
+        if args.realtime:
+            from ..pacing import RealtimePacer
+
+            pacer = RealtimePacer(args.realtime)
+            hooks.append(lambda k, s, o: pacer.wait(s.t))
+
+    n_total = int(round(args.cycles * ref.period / args.dt))
+    bar = None
+    if not args.quiet and sys.stderr.isatty():
+        from tqdm import tqdm
+
+        bar = tqdm(total=n_total, unit="step", desc="flying", file=sys.stderr, mininterval=0.5)
+        hooks.append(lambda k, s, o: bar.update(600) if k % 600 == 0 else None)
+
+    def on_step(k, s, o) -> None:
+        for h in hooks:
+            h(k, s, o)
+
+    t0 = time.perf_counter()
+    report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
+                 on_step=on_step if hooks else None, params=params, setup=setup)
+    if bar is not None:
+        bar.close()
+    if endpoint is not None:
+        endpoint.close()
+    report.wall_s = time.perf_counter() - t0
+    _print_summary(report, ref_path)
+    doc = report.as_json()
+    doc["reference"] = str(ref_path)
+    outputs = _write_outputs(args, report, ref, out_dir)
+    doc.update(outputs)
+    if args.json:
+        Path(args.json).write_text(json.dumps(doc, indent=2, allow_nan=False, default=_nan_to_none) + "\n")
+    ok = report.status == "ok" or (args.mode == "RECOVER" and report.status == "landed")
+    return 0 if ok else 1
+
+
+def _nan_to_none(o):  # pragma: no cover - json default hook
+    return None
+
+
+def _write_outputs(args, report, ref, out_dir: Path | None) -> dict:
+    """Recording, plots, CSV and markdown where asked for (and where the modules exist)."""
+    written: dict[str, str] = {}
+    rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
+    try:
+        from .. import recording  # noqa: F401
+    except ImportError:
+        if rrd:
+            print("fly: recording module not available; no .rrd written", file=sys.stderr)
+        return written
+    from ..recording import flight_outputs
+
+    written.update(flight_outputs(report, ref, rrd=rrd, out_dir=out_dir))
+    return written
+
+
+def _print_summary(report, ref_path: Path) -> None:
+    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_path}")
+    print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
+          f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
+    print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
+    for c in report.cycles:
+        flag = "" if c.complete else "  (incomplete)"
+        print(f"{c.index + 1:>5} {c.T1_s:6.2f} {c.T2_s:6.2f} {c.E_generated_J:8.1f} {c.E_thrust_J:9.1f} {c.E_reel_in_J:9.1f} "
+              f"{c.E_net_J:8.1f} {c.track_rms_m:7.2f} {c.track_max_m:7.2f}{flag}")
