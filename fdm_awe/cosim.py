@@ -216,6 +216,8 @@ class CoSim:
                     event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
                     break
                 f = gs_out.force_on_glider_ned
+                if type(f) is np.ndarray:
+                    f = f.tolist()
                 fx, fy, fz = f[0], f[1], f[2]
                 if not math.isfinite(fx + fy + fz):
                     event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")

@@ -3,7 +3,8 @@
 
 - bare: ``fdm.run()`` of the same aircraft (glider_foldable) in the same flight condition;
 - co-simulation: JSBSim + tether hook + ground station (tether, winch, DC machine, converter,
-  PI; fdm_awe.groundstation) + the simple stabilising controller, through ``CoSim.run``;
+  PI; fdm_awe.groundstation) through ``CoSim.run``, once with fixed commands and once with the
+  simple stabilising controller;
 - real-time factor of a 30 s flight at 120 Hz (a kite hovering on 50 m of line in 14 m/s wind,
   winch held by the PI speed loop at zero reel speed).
 
@@ -52,13 +53,40 @@ def bench_bare(seconds: float) -> float:
     return (time.perf_counter() - t) / n
 
 
-def bench_cosim(seconds: float) -> tuple[float, float, str]:
+def bench_ground_station(seconds: float) -> float:
+    """Seconds per ``GroundStation.step`` alone, glider hook fixed at the start position."""
+    g = make_glider()
+    gs = GroundStation(load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
+    gs.reset(tether_length=LINE, reel_speed=0.0, mode="motor")
+    hold = WinchCommand(mode="motor", reel_speed_ref=0.0)
+    hp, hv = g.hook_kinematics()
+    n = int(round(seconds * 120))
+    t = time.perf_counter()
+    for _ in range(n):
+        gs.step(1.0 / 120.0, hp, hv, hold)
+    return (time.perf_counter() - t) / n
+
+
+class FixedCommands:
+    """Controller with constant commands (isolates JSBSim + tether + ground station)."""
+
+    def __init__(self, surfaces, winch):
+        self.out = (surfaces, winch)
+
+    def update(self, t, state, gs_output):
+        return self.out
+
+
+def bench_cosim(seconds: float, controller: str = "stabilizer") -> tuple[float, float, str]:
     """Seconds per co-simulation step, real-time factor, and the run's status."""
     g = make_glider()
     gs = GroundStation(load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
     gs.reset(tether_length=LINE, reel_speed=0.0, mode="motor")
     hold = WinchCommand(mode="motor", reel_speed_ref=0.0)
-    ctrl = Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=hold)
+    if controller == "stabilizer":
+        ctrl = Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=hold)
+    else:
+        ctrl = FixedCommands(g.controls, hold)
     sim = CoSim(g, gs, ctrl, limits=Limits(max_tension=200.0))
     res = sim.run(seconds)
     return res.wall_s / max(res.steps, 1), res.realtime_factor, res.status
@@ -70,13 +98,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--seconds", type=float, default=30.0, help="simulated seconds per round")
     a = ap.parse_args(argv)
-    bare, co, rtf, status = [], [], [], "ok"
+    bare, co, rtf, co0, rtf0, gst, status = [], [], [], [], [], [], "ok"
     for _ in range(max(1, a.repeat)):
         bare.append(bench_bare(a.seconds))
+        gst.append(bench_ground_station(a.seconds))
+        c, r, _ = bench_cosim(a.seconds, "fixed")
+        co0.append(c)
+        rtf0.append(r)
         c, r, status = bench_cosim(a.seconds)
         co.append(c)
         rtf.append(r)
-    b, c = min(bare), min(co)
+    b, c, c0 = min(bare), min(co), min(co0)
     out = {
         "aircraft": "glider_foldable",
         "rate_hz": 120,
@@ -85,6 +117,10 @@ def main(argv: list[str] | None = None) -> int:
         "cosim_step_us": c * 1e6,
         "ratio": c / b,
         "realtime_factor": max(rtf),
+        "ground_station_step_us": min(gst) * 1e6,
+        "cosim_fixed_commands_step_us": c0 * 1e6,
+        "ratio_fixed_commands": c0 / b,
+        "realtime_factor_fixed_commands": max(rtf0),
         "flight_status": status,
         "targets": {"ratio_max": 3.0, "realtime_factor_min": 500.0},
         "ratio_ok": c / b <= 3.0,
@@ -94,9 +130,13 @@ def main(argv: list[str] | None = None) -> int:
         "machine": platform.machine(),
         "all_bare_us": [x * 1e6 for x in bare],
         "all_cosim_us": [x * 1e6 for x in co],
+        "all_cosim_fixed_commands_us": [x * 1e6 for x in co0],
     }
     print(f"bare JSBSim step      {out['bare_step_us']:8.2f} us")
-    print(f"co-simulation step    {out['cosim_step_us']:8.2f} us  (JSBSim + tether + ground station + controller)")
+    print(f"ground station step   {out['ground_station_step_us']:8.2f} us  (alone)")
+    print(f"co-simulation step    {out['cosim_fixed_commands_step_us']:8.2f} us  (JSBSim + tether + ground station, fixed commands)"
+          f"  ratio {out['ratio_fixed_commands']:.2f}")
+    print(f"co-simulation step    {out['cosim_step_us']:8.2f} us  (JSBSim + tether + ground station + stabilising controller)")
     print(f"ratio                 {out['ratio']:8.2f}     (target <= 3)")
     print(f"real-time factor      {out['realtime_factor']:8.0f} x   ({a.seconds:g} s flight at 120 Hz, target >= 500; status {status})")
     with open(a.json, "w") as fh:

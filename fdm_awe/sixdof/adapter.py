@@ -328,6 +328,8 @@ class JSBSimGlider:
 
     def set_tether_force(self, force_ned: Sequence[float]) -> None:
         """Tether force on the glider (N, NED) applied at the hook during the next step."""
+        if isinstance(force_ned, np.ndarray):
+            force_ned = force_ned.tolist()  # Python floats: faster than numpy scalars below
         fx, fy, fz = force_ned[0], force_ned[1], force_ned[2]
         self._force = [fx, fy, fz]
         self._set_tx(fx / LBF)

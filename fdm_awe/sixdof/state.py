@@ -28,11 +28,14 @@ class Surfaces:
     fold_cmd: float = 0.0
 
     def __post_init__(self) -> None:
-        for name, lo, hi in (("aileron", -1.0, 1.0), ("elevator", -1.0, 1.0), ("rudder", -1.0, 1.0),
-                             ("throttle", 0.0, 1.0), ("fold_cmd", 0.0, 1.0)):
-            v = getattr(self, name)
-            if not (lo <= v <= hi):  # also rejects NaN
-                raise InputError(f"Surfaces.{name}: {v!r} out of range (allowed {lo:g} .. {hi:g})")
+        # written out (no loop): this runs every step; comparisons also reject NaN
+        if not (-1.0 <= self.aileron <= 1.0 and -1.0 <= self.elevator <= 1.0 and -1.0 <= self.rudder <= 1.0
+                and 0.0 <= self.throttle <= 1.0 and 0.0 <= self.fold_cmd <= 1.0):
+            for name, lo, hi in (("aileron", -1.0, 1.0), ("elevator", -1.0, 1.0), ("rudder", -1.0, 1.0),
+                                 ("throttle", 0.0, 1.0), ("fold_cmd", 0.0, 1.0)):
+                v = getattr(self, name)
+                if not (lo <= v <= hi):
+                    raise InputError(f"Surfaces.{name}: {v!r} out of range (allowed {lo:g} .. {hi:g})")
 
     @classmethod
     def saturated(cls, aileron: float = 0.0, elevator: float = 0.0, rudder: float = 0.0,
