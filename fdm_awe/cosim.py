@@ -223,7 +223,11 @@ class CoSim:
                     event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")
                     break
                 set_force(f)
-                step()
+                try:
+                    step()
+                except (RuntimeError, ValueError, ArithmeticError) as exc:  # JSBSim gave up on the state
+                    event = Event("nonfinite", s.t, f"JSBSim failed: {exc}")
+                    break
                 k += 1
                 s = state()
                 raws.append(s._r)
