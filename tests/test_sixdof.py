@@ -249,3 +249,19 @@ def test_turbulence_is_seeded_and_reproducible():
     assert np.abs(a - c).max() > 1e-3
     gust = -a[:, 3:] - np.array([5.0, 0.0, 0.0])  # total wind minus the steady wind
     assert np.abs(gust).max() > 0.05  # turbulence is on
+
+
+def test_reset_starts_the_actuators_at_their_commands():
+    g = JSBSimGlider("glider_foldable")
+    s = g.reset((0.0, 0.0, -100.0), 22.0, fold=1.0)
+    assert s.fold == 1.0  # no rate-limited travel from the previous state
+    np.testing.assert_allclose(g.inertia(), TABLE2["folded"], rtol=1e-3, atol=2e-6)
+    assert g.fdm["fcs/elevator-pos-rad"] == pytest.approx(g.controls.elevator * g.surface_limits_rad["elevator"])
+    # steady-flight alpha for the folded coefficients: lift = weight at 22 m/s
+    p = _pm("glider_folded")
+    rho, grav = _environment(g)
+    cl = p["m"] * grav / (0.5 * rho * 22.0**2 * p["S"])
+    assert s.alpha == pytest.approx((cl - p["CL0"]) / p["CLalpha"], rel=1e-6)
+    s = g.reset((0.0, 0.0, -100.0), 12.0, fold=0.0)
+    assert s.fold == 0.0
+    np.testing.assert_allclose(g.inertia(), TABLE2["unfolded"], rtol=1e-3, atol=2e-6)

@@ -321,7 +321,14 @@ class JSBSimGlider:
         f["ic/ve-fps"] = (v_air[1] + w[1]) / FT
         f["ic/vd-fps"] = (v_air[2] + w[2]) / FT
         f["atmosphere/turb-type"] = 0  # the Tustin filters give NaN when initialised at dt = 0
-        if not f.run_ic():
+        # with the trim flag set, JSBSim's actuators (servos, fold) start at their commands
+        # instead of rate-limiting from their previous positions
+        f.set_trim_status(True)
+        try:
+            ok = f.run_ic()
+        finally:
+            f.set_trim_status(False)
+        if not ok:
             raise InputError("reset: JSBSim rejected the initial condition")
         self.set_wind(w)  # run_ic sets the wind from the IC (horizontal only): restore all three
         self.set_turbulence(self.turbulence)  # re-seeded: every reset repeats the same gusts
