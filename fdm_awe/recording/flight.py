@@ -1,0 +1,194 @@
+"""Rerun recording of a flight (6-DOF co-simulation) and of an optimised cycle.
+
+``record_flight(report, reference, path)`` writes the 3D scene and the time series of a
+finished, failed or interrupted flight; it reads only the logged rows, so a run cut short by
+an event (or Ctrl-C, which the co-simulation turns into the ``interrupted`` event) is recorded
+up to its last step. ``record_cycle(reference, path)`` records an optimised cycle from a
+reference-trajectory file (or trajectory / CycleResult) the same way.
+
+Cost: the scalar series go out at full rate as columns; the 3D scene (pose, tether, reference
+marker) is decimated to ``scene_hz`` (30 Hz by default; the viewer interpolates nothing, it
+shows the latest pose).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .blueprint import cycle_blueprint, flight_blueprint
+from .rrd import RrdFile
+from .scene import REFERENCE_COLOR, scene_extent
+from .series import Series, cycle_series, flight_series, load_reference
+from .world import GLIDER_SCALE, log_glider, log_path, log_phase, log_point, log_static_scene, log_tether
+
+#: (entity, series name, display name) of a flight's plots
+FLIGHT_PLOTS: tuple[tuple[str, str, str], ...] = (
+    ("plots/airspeed", "airspeed", "airspeed"),
+    ("plots/altitude", "altitude", "altitude"),
+    ("plots/tension", "tension", "tension"),
+    ("plots/reel_speed", "reel_speed", "reel speed"),
+    ("plots/duty", "duty", "converter duty"),
+    ("plots/fold", "fold", "fold state"),
+    ("plots/power/winch_electrical", "p_electrical", "winch electrical (+ out)"),
+    ("plots/power/propeller", "prop_power", "propeller electrical"),
+    ("plots/energy/generated", "E_generated", "generated"),
+    ("plots/energy/thrust", "E_thrust", "thrust"),
+    ("plots/energy/reel_in", "E_reel_in", "reel-in"),
+    ("plots/energy/net", "E_net", "net"),
+    ("plots/tracking_error", "track_error", "tracking error"),
+)
+
+CYCLE_PLOTS: tuple[tuple[str, str, str], ...] = (
+    ("plots/airspeed", "airspeed", "airspeed"),
+    ("plots/altitude", "altitude", "altitude"),
+    ("plots/tension", "tension", "tension"),
+    ("plots/reel_speed", "reel_speed", "reel speed"),
+    ("plots/alpha", "alpha", "alpha"),
+    ("plots/bank", "bank", "bank"),
+    ("plots/thrust", "thrust", "thrust"),
+    ("plots/fold", "fold", "fold state"),
+    ("plots/power/generated", "p_generated", "generated"),
+    ("plots/power/thrust", "p_thrust", "thrust"),
+    ("plots/power/reel_in", "p_reel_in", "reel-in"),
+    ("plots/energy/generated", "E_generated", "generated"),
+    ("plots/energy/thrust", "E_thrust", "thrust"),
+    ("plots/energy/reel_in", "E_reel_in", "reel-in"),
+    ("plots/energy/net", "E_net", "net"),
+)
+
+_COLORS = {"generated": (44, 160, 44), "thrust": (214, 39, 40), "reel_in": (255, 127, 14), "net": (31, 119, 180),
+           "winch_electrical": (31, 119, 180), "propeller": (214, 39, 40)}
+
+
+def describe(meta: dict[str, Any], what: str) -> str:
+    """One-line title: what, scenario, configuration, wind, status."""
+    parts = [what]
+    if meta.get("scenario"):
+        parts.append(f"scenario {meta['scenario']}")
+    if meta.get("config"):
+        parts.append(f"config {meta['config']}")
+    w = meta.get("wind_mps")
+    if w is not None:
+        parts.append(f"wind {float(w):g} m/s")
+    if meta.get("status"):
+        parts.append(f"status {meta['status']}")
+    return ", ".join(parts)
+
+
+def _decimate(t: np.ndarray, hz: float) -> np.ndarray:
+    """Row indices at about ``hz`` (always the first and the last row)."""
+    n = len(t)
+    if n == 0:
+        return np.zeros(0, int)
+    dt = float(np.median(np.diff(t))) if n > 1 else 1.0
+    every = max(1, int(round(1.0 / (hz * dt)))) if dt > 0 else 1
+    idx = np.arange(0, n, every)
+    if idx[-1] != n - 1:
+        idx = np.r_[idx, n - 1]
+    return idx
+
+
+def _send_plots(rf: RrdFile, s: Series, plots: tuple[tuple[str, str, str], ...]) -> None:
+    for entity, key, label in plots:
+        if key in s:
+            color = _COLORS.get(entity.rsplit("/", 1)[-1])
+            rf.scalars(entity, s.t, s[key], name=f"{label} [{s.unit(key)}]", color=color)
+
+
+def _reference_points(reference: Any) -> tuple[np.ndarray, list[str], Any] | None:
+    """(points, phase labels, wind) of one cycle of a TrackingReference or reference file."""
+    if reference is None:
+        return None
+    if hasattr(reference, "pos") and hasattr(reference, "T1") and hasattr(reference, "sample"):
+        from ..autopilot.tracking import PHASE_NAMES
+
+        pts = np.asarray(reference.pos, float)
+        labels = [PHASE_NAMES[int(p)] if 0 <= int(p) < len(PHASE_NAMES) else str(p) for p in reference.phase]
+        pts = np.vstack([pts, pts[:1]])  # closed loop
+        labels = labels + labels[-1:]
+        return pts, labels, reference.meta.get("wind_ned_mps")
+    s = cycle_series(reference)
+    return s.pos, s.phase, load_reference(reference).metadata.get("wind_ned_mps")
+
+
+def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight.rrd", *, scene_hz: float = 30.0,
+                  glider_scale: float = GLIDER_SCALE, name: str | None = None) -> Path:
+    """Record a flight (FlightReport or FlightResult, complete or cut short) into ``path``.
+
+    ``reference``: the flown :class:`~fdm_awe.autopilot.tracking.TrackingReference`, a
+    reference-trajectory file or None. Returns the path of the finalised ``.rrd`` file.
+    """
+    s = flight_series(flight)
+    title = describe(s.meta, "flight")
+    ref = _reference_points(reference)
+    wind = ref[2] if ref is not None else None
+    with RrdFile(path, name=name or title, blueprint=flight_blueprint(title)) as rf:
+        log_static_scene(rf, scene_extent(s.pos, ref[0] if ref else None), wind)
+        if ref is not None:
+            log_path(rf, "world/reference", ref[0], ref[1], radius=0.4, reference=True)
+        log_path(rf, "world/flown", s.pos, s.phase, radius=0.7)
+        res = getattr(flight, "result", None) or flight
+        i = _decimate(s.t, scene_hz)
+        if len(i):
+            log_glider(rf, s.t[i], s.pos[i], np.asarray(res.quat, float)[i], s["fold"][i], scale=glider_scale)
+            log_tether(rf, s.t[i], s.pos[i], s["tension"][i])
+            refp = np.c_[s["ref_x"], s["ref_y"], s["ref_z"]][i]
+            log_point(rf, "world/reference_point", s.t[i], refp, REFERENCE_COLOR)
+        _send_plots(rf, s, FLIGHT_PLOTS)
+        log_phase(rf, s.t, s.phase)
+        _log_events(rf, flight, s)
+    return Path(path)
+
+
+def _log_events(rf: RrdFile, flight: Any, s: Series) -> None:
+    rr = rf.rr
+    t0 = float(getattr(getattr(flight, "result", None) or flight, "t")[0]) if len(s.t) else 0.0
+    for t, msg in getattr(flight, "autopilot_log", []) or []:
+        rf.at("events", float(t) - t0, rr.TextLog(str(msg), level="INFO"))
+    if len(s.t):
+        status = s.meta.get("status", "unknown")
+        msg = s.meta.get("message") or status
+        rf.at("events", float(s.t[-1]), rr.TextLog(f"end: {status}: {msg}", level="INFO" if status == "ok" else "WARN"))
+
+
+def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale: float = GLIDER_SCALE,
+                 name: str | None = None, samples_hz: float = 30.0) -> Path:
+    """Record an optimised cycle (reference-trajectory file, trajectory or CycleResult).
+
+    The collocation points are drawn as the path; the glider is posed along it at
+    ``samples_hz`` with attitude from the air-path angles and bank (wings level with the
+    air-path frame rotated by alpha: the point-mass model has no body attitude of its own).
+    """
+    s = cycle_series(reference)
+    tr = load_reference(reference)
+    title = describe(s.meta, "optimised cycle")
+    wind = tr.metadata.get("wind_ned_mps")
+    with RrdFile(path, name=name or title, blueprint=cycle_blueprint(title)) as rf:
+        log_static_scene(rf, scene_extent(s.pos), wind)
+        log_path(rf, "world/reference", s.pos, s.phase, radius=0.6)
+        T = float(s.t[-1]) if len(s.t) else 0.0
+        if T > 0:
+            tt = np.arange(0.0, T, 1.0 / samples_hz)
+            smp = [tr.sample(float(x)) for x in tt]
+            pos = np.array([[d["x"], d["y"], d["z"]] for d in smp])
+            quat = np.array([_air_path_quat(d["gamma"], d["psi"], d["phi"], d["alpha"]) for d in smp])
+            fold = np.array([d.get("fold", 0.0) for d in smp])
+            tens = np.array([d.get("tension", 0.0) for d in smp])
+            log_glider(rf, tt, pos, quat, fold, scale=glider_scale)
+            log_tether(rf, tt, pos, tens)
+        _send_plots(rf, s, CYCLE_PLOTS)
+        log_phase(rf, s.t, s.phase)
+    return Path(path)
+
+
+def _air_path_quat(gamma: float, psi: float, phi: float, alpha: float) -> tuple[float, float, float, float]:
+    """(w, x, y, z) attitude: heading psi, pitch gamma + alpha, bank phi (ZYX; sideslip 0)."""
+    from ..sixdof.state import euler_to_quat
+
+    return euler_to_quat(phi, gamma + alpha, psi)
+
+
+__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "describe", "record_cycle", "record_flight"]

@@ -1,0 +1,123 @@
+"""The 3D scene of a recording (NED, winch at the origin): ground, winch, wind, paths, glider.
+
+Entity layout (all under ``world``, whose view coordinates are FRD = north, east, down, so
+the viewer shows altitude upwards):
+
+- ``world/ground`` grid lines every 50 m; ``world/winch`` the winch; ``world/wind`` an arrow
+  showing where the wind blows to (length 10 m per m/s);
+- ``world/<path>/<phase>`` a path drawn as one line strip per phase run;
+- ``world/glider`` pose over time (translation + attitude quaternion), with
+  ``world/glider/airframe`` the wireframe drawn ``scale`` times enlarged (a 1.1 m glider is a
+  dot next to a 250 m line), its ``wing`` span following the fold state over time;
+- ``world/tether`` the straight line winch -> glider over time.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .rrd import RrdFile, segments_by_label
+from .scene import REFERENCE_COLOR, TETHER_COLOR, WIND_COLOR, glider_shape, ground_grid, phase_color
+
+#: default enlargement of the drawn glider
+GLIDER_SCALE = 10.0
+
+
+def log_static_scene(rf: RrdFile, extent: tuple[tuple[float, float], tuple[float, float]],
+                     wind_ned: Sequence[float] | None) -> None:
+    """View coordinates, ground grid, winch and wind arrow."""
+    rr = rf.rr
+    rf.static("world", rr.ViewCoordinates.FRD)
+    grid = ground_grid(*extent)
+    rf.static("world/ground", rr.LineStrips3D(grid, colors=[(170, 170, 170)], radii=[0.15]))
+    rf.static("world/winch", rr.Points3D([[0.0, 0.0, 0.0]], radii=[3.0], colors=[(0, 0, 0)], labels=["winch"]))
+    if wind_ned is not None:
+        w = np.asarray(wind_ned, float)
+        sp = float(np.linalg.norm(w))
+        if sp > 0:
+            origin = np.array([extent[0][0] + 20.0, extent[1][0] + 20.0, -2.0])
+            rf.static("world/wind", rr.Arrows3D(vectors=[10.0 * w], origins=[origin], colors=[WIND_COLOR],
+                                                radii=[1.0], labels=[f"wind {sp:.1f} m/s"]))
+
+
+def log_path(rf: RrdFile, entity: str, points: np.ndarray, labels: Sequence[str], *, radius: float = 0.6,
+             reference: bool = False) -> None:
+    """A static path, one line strip per phase run, coloured by phase (``reference``: lighter, thinner)."""
+    rr = rf.rr
+    runs: dict[str, list[np.ndarray]] = {}
+    for lab, seg in segments_by_label(points, labels):
+        runs.setdefault(lab, []).append(seg)
+    for lab, segs in runs.items():
+        c = np.array(phase_color(lab), float)
+        if reference:
+            c = 0.55 * c + 0.45 * np.array(REFERENCE_COLOR) + 0.0
+        rf.static(f"{entity}/{lab}", rr.LineStrips3D(segs, colors=[tuple(int(v) for v in c)], radii=[radius],
+                                                     labels=[f"{'reference ' if reference else ''}{lab}"]))
+
+
+def log_glider(rf: RrdFile, t: np.ndarray, pos: np.ndarray, quat_wxyz: np.ndarray, fold: np.ndarray | None,
+               *, scale: float = GLIDER_SCALE, fold_step: float = 0.01) -> None:
+    """Glider pose over time and its wireframe; the wing is re-sent only when the fold state
+    has moved by ``fold_step`` since the last sent shape (a handful of rows per fold)."""
+    rr = rf.rr
+    shape = glider_shape()
+    ok = np.all(np.isfinite(pos), axis=1) & np.all(np.isfinite(quat_wxyz), axis=1)
+    t, pos, q = t[ok], pos[ok], quat_wxyz[ok]
+    if not len(t):
+        return
+    xyzw = q[:, [1, 2, 3, 0]]
+    rf.columns("world/glider", t, rr.Transform3D.columns(translation=pos, quaternion=xyzw))
+    rf.static("world/glider/airframe", rr.Transform3D(scale=scale))
+    rf.static("world/glider/airframe/body", rr.LineStrips3D(shape.fixed_parts(), colors=[(30, 30, 30)], radii=[0.02]))
+    f = np.zeros(len(t)) if fold is None else np.nan_to_num(np.asarray(fold, float)[ok])
+    keep = [0]
+    last = f[0]
+    for i in range(1, len(f)):
+        if abs(f[i] - last) >= fold_step or (f[i] != last and i == len(f) - 1):
+            keep.append(i)
+            last = f[i]
+    wings = [shape.wing(f[i]) for i in keep]
+    cols = rr.LineStrips3D.columns(strips=wings, colors=[(20, 20, 20)] * len(keep), radii=[0.03] * len(keep))
+    rf.columns("world/glider/airframe/wing", t[keep], cols)
+
+
+def log_tether(rf: RrdFile, t: np.ndarray, pos: np.ndarray, tension: np.ndarray | None = None) -> None:
+    """Straight tether winch -> glider over time; thin and grey when slack, red when loaded."""
+    rr = rf.rr
+    ok = np.all(np.isfinite(pos), axis=1)
+    t, pos = t[ok], pos[ok]
+    if not len(t):
+        return
+    n = len(t)
+    strips = np.zeros((n, 2, 3))
+    strips[:, 1] = pos
+    tens = np.zeros(n) if tension is None else np.nan_to_num(np.asarray(tension, float)[ok])
+    taut = tens > 0.5
+    colors = np.where(taut[:, None], np.array(TETHER_COLOR), np.array((150, 150, 150))).astype(np.uint8)
+    radii = np.where(taut, 0.35, 0.15).astype(np.float32)
+    rf.columns("world/tether", t, rr.LineStrips3D.columns(strips=list(strips), colors=colors, radii=radii))
+
+
+def log_point(rf: RrdFile, entity: str, t: np.ndarray, pos: np.ndarray, color: Sequence[int], radius: float = 1.5) -> None:
+    """A moving marker (e.g. the current reference point); rows with NaN are skipped."""
+    rr = rf.rr
+    ok = np.all(np.isfinite(pos), axis=1)
+    if not ok.any():
+        return
+    n = int(ok.sum())
+    rf.columns(entity, t[ok], rr.Points3D.columns(positions=pos[ok], colors=[tuple(color)] * n, radii=[radius] * n))
+
+
+def log_phase(rf: RrdFile, t: np.ndarray, labels: Sequence[str]) -> None:
+    """Phase as a state lane: one state change per switch."""
+    rr = rf.rr
+    if not len(t):
+        return
+    idx = [0] + [i for i in range(1, len(labels)) if labels[i] != labels[i - 1]]
+    rf.static("phase", rr.StateConfiguration(values=sorted(set(labels)), colors=[phase_color(v) for v in sorted(set(labels))]))
+    rf.columns("phase", np.asarray(t)[idx], rr.StateChange.columns(state=[labels[i] for i in idx]))
+
+
+__all__ = ["GLIDER_SCALE", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether"]
