@@ -1,0 +1,285 @@
+"""PNG figures in the style of the paper's Fig. 7 (3D cycle) and Fig. 8 (time histories).
+
+- :func:`plot_flight` (a flight: FlightReport / FlightResult, optionally with its reference)
+  writes ``<prefix>_3d.png`` and ``<prefix>_time.png`` into a folder;
+- :func:`plot_cycle` does the same for an optimised cycle (reference-trajectory file,
+  trajectory or CycleResult);
+- :func:`plot_compare` overlays several optimised cycles (e.g. nominal vs foldable).
+
+Altitude is drawn upwards (h = -z of NED); positions relative to the winch; phases coloured
+(generation blue, recovery orange) in the paths and as shaded bands in the time histories.
+Matplotlib runs headless (Agg).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from .rrd import segments_by_label
+from .scene import WIND_COLOR, phase_color_float
+from .series import Series, cycle_series, flight_series, load_reference
+
+DEG = 180.0 / np.pi
+
+
+def _plt() -> Any:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _title(meta: dict[str, Any], what: str) -> str:
+    from .flight import describe
+
+    return describe(meta, what)
+
+
+def _reference_series(reference: Any) -> Series | None:
+    """A reference as a Series over one cycle (TrackingReference, file, trajectory or CycleResult)."""
+    if reference is None:
+        return None
+    if hasattr(reference, "T1") and hasattr(reference, "sample") and hasattr(reference, "pos"):
+        from ..autopilot.tracking import PHASE_NAMES
+
+        pos = np.asarray(reference.pos, float)
+        labels = [PHASE_NAMES[int(p)] if 0 <= int(p) < len(PHASE_NAMES) else str(p) for p in reference.phase]
+        pos = np.vstack([pos, pos[:1]])
+        labels = labels + labels[-1:]
+        t = np.r_[np.asarray(reference.t, float), reference.period]
+        cols = {"x": ("m", pos[:, 0]), "y": ("m", pos[:, 1]), "z": ("m", pos[:, 2])}
+        return Series(t=t, columns=cols, phase=labels, meta=dict(reference.meta))
+    return cycle_series(reference)
+
+
+def _wind(meta: dict[str, Any], reference: Any) -> np.ndarray | None:
+    for src in (meta, getattr(reference, "meta", None) or {}):
+        w = src.get("wind_ned_mps") if isinstance(src, dict) else None
+        if w is not None:
+            return np.asarray(w, float)
+    if reference is not None and not hasattr(reference, "T1"):
+        try:
+            w = load_reference(reference).metadata.get("wind_ned_mps")
+            return None if w is None else np.asarray(w, float)
+        except Exception:  # noqa: BLE001 - the arrow is decoration only
+            return None
+    w = meta.get("wind_mps")
+    return None if w is None else np.array([float(w), 0.0, 0.0])
+
+
+def _draw_path(ax: Any, pos: np.ndarray, labels: Sequence[str], *, ls: str = "-", lw: float = 1.8,
+               alpha: float = 1.0, prefix: str = "", seen: set | None = None) -> None:
+    seen = set() if seen is None else seen
+    for lab, seg in segments_by_label(pos, labels):
+        key = prefix + lab
+        ax.plot(seg[:, 0], seg[:, 1], -seg[:, 2], ls=ls, lw=lw, alpha=alpha, color=phase_color_float(lab),
+                label=None if key in seen else f"{prefix}{lab}")
+        seen.add(key)
+
+
+def figure_3d(paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], title: str, wind: np.ndarray | None,
+              out: str | Path, tether_from: np.ndarray | None = None) -> Path:
+    """3D figure of paths ``(name, pos (n, 3) NED, phase labels, linestyle)``; returns the PNG path."""
+    plt = _plt()
+    fig = plt.figure(figsize=(9.0, 7.0), dpi=110)
+    ax = fig.add_subplot(projection="3d")
+    allp = [np.zeros((1, 3))]
+    for name, pos, labels, ls in paths:
+        pos = np.asarray(pos, float)
+        allp.append(pos[np.all(np.isfinite(pos), axis=1)])
+        _draw_path(ax, pos, labels, ls=ls, lw=1.2 if ls != "-" else 2.0, alpha=0.75 if ls != "-" else 1.0,
+                   prefix=f"{name} " if name else "")
+    a = np.vstack(allp)
+    ax.scatter([0], [0], [0], marker="s", s=60, color="k", label="winch", depthshade=False)
+    if tether_from is not None and np.all(np.isfinite(tether_from)):
+        p = np.asarray(tether_from, float)
+        ax.plot([0, p[0]], [0, p[1]], [0, -p[2]], color="0.5", lw=0.8, ls=":", label="tether at start")
+    xmin, xmax = min(a[:, 0].min(), 0.0), a[:, 0].max()
+    ymin, ymax = a[:, 1].min(), a[:, 1].max()
+    hmax = max((-a[:, 2]).max(), 1.0)
+    span = max(xmax - xmin, ymax - ymin, hmax, 1.0)
+    if wind is not None and np.linalg.norm(wind[:2]) > 0:
+        w = np.asarray(wind, float)
+        L = 0.2 * span
+        d = w / np.linalg.norm(w)
+        x0, y0 = xmin, ymin
+        ax.quiver(x0, y0, 0.0, d[0] * L, d[1] * L, 0.0, color=np.array(WIND_COLOR) / 255.0, lw=2.5,
+                  arrow_length_ratio=0.25, label=f"wind {np.linalg.norm(w):.1f} m/s")
+    # ground shadow of the first path
+    if paths:
+        pos = np.asarray(paths[0][1], float)
+        ax.plot(pos[:, 0], pos[:, 1], np.zeros(len(pos)), color="0.8", lw=0.8, zorder=0)
+    ax.set_xlabel("north x [m]")
+    ax.set_ylabel("east y [m]")
+    ax.set_zlabel("altitude h [m]")
+    # true proportions, but no axis thinner than 40 % of the largest (keeps ticks readable)
+    ext = np.array([max(xmax - xmin, 1.0), max(ymax - ymin, 1.0), hmax * 1.05])
+    lo = 0.4 * ext.max()
+    for i, (a0, a1) in enumerate(((xmin, xmax), (ymin, ymax))):
+        if ext[i] < lo:
+            c = 0.5 * (a0 + a1)
+            (ax.set_xlim if i == 0 else ax.set_ylim)(c - 0.5 * lo, c + 0.5 * lo)
+            ext[i] = lo
+    ax.set_zlim(0.0, hmax * 1.05)
+    ext[2] = max(ext[2], lo)
+    ax.set_box_aspect(tuple(ext))
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(6))
+    ax.view_init(elev=22, azim=-125)
+    ax.set_title(title, fontsize=10)
+    ax.legend(loc="upper left", fontsize=8)
+    fig.tight_layout()
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+def _shade_phases(ax: Any, s: Series) -> None:
+    for lab, i0, i1 in s.phase_segments():
+        t1 = s.t[min(i1 + 1, len(s.t) - 1)]
+        ax.axvspan(s.t[i0], t1, color=phase_color_float(lab), alpha=0.08, lw=0)
+
+
+def _panels(s: Series, kind: str) -> list[tuple[str, list[tuple[str, str, float]]]]:
+    """(y label, [(series, legend, factor)]) per panel."""
+    P: list[tuple[str, list[tuple[str, str, float]]]] = [
+        ("altitude, distance [m]", [("altitude", "altitude h", 1.0), ("distance", "winch distance |P|", 1.0),
+                                    ("tether_length", "tether length l", 1.0)]),
+        ("airspeed [m/s]", [("airspeed", "airspeed V", 1.0)]),
+    ]
+    if kind == "flight":
+        P += [
+            ("attitude [deg]", [("alpha", "alpha", DEG), ("roll", "bank phi", DEG), ("pitch", "pitch theta", DEG)]),
+            ("surfaces, throttle, fold [-]", [("aileron", "aileron", 1.0), ("elevator", "elevator", 1.0),
+                                              ("rudder", "rudder", 1.0), ("throttle", "throttle", 1.0),
+                                              ("fold", "fold state", 1.0)]),
+        ]
+    else:
+        P += [
+            ("alpha, bank [deg]", [("alpha", "alpha", DEG), ("bank", "bank phi", DEG), ("gamma", "path angle gamma", DEG)]),
+            ("thrust [N], fold [-]", [("thrust", "thrust T [N]", 1.0), ("fold", "fold state [-]", 1.0)]),
+        ]
+    P += [
+        ("tether tension [N]", [("tension", "tension G", 1.0)]),
+        ("reel speed [m/s] (+ out)", [("reel_speed", "reel speed", 1.0)]),
+    ]
+    if kind == "flight":
+        P += [("power [W]", [("p_electrical", "winch electrical (+ out)", 1.0), ("prop_power", "propeller electrical", 1.0)])]
+    else:
+        P += [("power [W]", [("p_generated", "generated", 1.0), ("p_thrust", "thrust", 1.0), ("p_reel_in", "reel-in", 1.0)])]
+    P += [("cumulative energy [J]", [("E_generated", "generated", 1.0), ("E_thrust", "thrust", 1.0),
+                                     ("E_reel_in", "reel-in", 1.0), ("E_net", "net (gen - thrust - reel-in)", 1.0)])]
+    if kind == "flight" and "track_error" in s and np.isfinite(s["track_error"]).any():
+        P += [("tracking error [m]", [("track_error", "|p - p_ref|", 1.0)])]
+    return [(lab, [c for c in cols if c[0] in s]) for lab, cols in P if any(c[0] in s for c in cols)]
+
+
+def figure_time(s: Series, title: str, out: str | Path, kind: str = "flight") -> Path:
+    """Time histories (Fig. 8 style) of ``s``; returns the PNG path."""
+    plt = _plt()
+    from matplotlib.patches import Patch
+
+    panels = _panels(s, kind)
+    ncol = 2
+    nrow = int(np.ceil(len(panels) / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(13.0, 2.6 * nrow + 0.8), dpi=100, sharex=True, squeeze=False)
+    for ax, (ylab, cols) in zip(axes.flat, panels):
+        _shade_phases(ax, s)
+        for key, leg, f in cols:
+            ax.plot(s.t, s[key] * f, lw=1.2, label=leg)
+        ax.set_ylabel(ylab)
+        ax.grid(True, alpha=0.3)
+        if len(cols) > 1:
+            ax.legend(fontsize=7, loc="best")
+    for ax in axes.flat[len(panels):]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
+    for i in range(len(panels), nrow * ncol):  # the panel above a hidden one carries the time axis
+        above = axes.flat[i - ncol]
+        above.xaxis.set_tick_params(labelbottom=True)
+        above.set_xlabel("time [s]")
+    labs = [lab for lab, _, _ in s.phase_segments()]
+    handles = [Patch(color=phase_color_float(lab), alpha=0.3, label=lab) for lab in dict.fromkeys(labs)]
+    fig.legend(handles=handles, loc="upper right", fontsize=9, title="phase")
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout(rect=(0, 0, 0.92, 0.97))
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+def plot_flight(flight: Any, reference: Any = None, outdir: str | Path = ".", prefix: str = "flight") -> list[Path]:
+    """Fig. 7 / Fig. 8 style PNGs of a flight: ``<prefix>_3d.png``, ``<prefix>_time.png``."""
+    s = flight_series(flight)
+    rs = _reference_series(reference)
+    meta = dict(s.meta)
+    title = _title(meta, "flight")
+    paths = [("flown", s.pos, s.phase, "-")]
+    if rs is not None:
+        paths.append(("reference", rs.pos, rs.phase, "--"))
+    outdir = Path(outdir)
+    p3 = figure_3d(paths, title, _wind(meta, reference), outdir / f"{prefix}_3d.png",
+                   tether_from=s.pos[0] if len(s.pos) else None)
+    pt = figure_time(s, title, outdir / f"{prefix}_time.png", kind="flight")
+    return [p3, pt]
+
+
+def plot_cycle(reference: Any, outdir: str | Path = ".", prefix: str = "cycle") -> list[Path]:
+    """Fig. 7 / Fig. 8 style PNGs of an optimised cycle: ``<prefix>_3d.png``, ``<prefix>_time.png``."""
+    s = cycle_series(reference)
+    title = _title(s.meta, "optimised cycle")
+    outdir = Path(outdir)
+    p3 = figure_3d([("", s.pos, s.phase, "-")], title, _wind(s.meta, reference), outdir / f"{prefix}_3d.png",
+                   tether_from=s.pos[0])
+    pt = figure_time(s, title, outdir / f"{prefix}_time.png", kind="cycle")
+    return [p3, pt]
+
+
+def plot_compare(references: Sequence[Any], names: Sequence[str], outdir: str | Path = ".",
+                 prefix: str = "compare") -> list[Path]:
+    """Optimised cycles side by side: 3D paths overlaid (one line style each) and the main
+    time histories overlaid (``<prefix>_3d.png``, ``<prefix>_time.png``)."""
+    plt = _plt()
+    series = [cycle_series(r) for r in references]
+    styles = ["-", "--", ":", "-."]
+    meta = series[0].meta
+    base = {k: meta.get(k) for k in ("scenario", "wind_mps")}
+    title = _title(base, "optimised cycles: " + " vs ".join(names))
+    outdir = Path(outdir)
+    p3 = figure_3d([(n, s.pos, s.phase, styles[i % 4]) for i, (n, s) in enumerate(zip(names, series))], title,
+                   _wind(meta, references[0]), outdir / f"{prefix}_3d.png")
+    keys = [("altitude", "altitude [m]", 1.0), ("airspeed", "airspeed [m/s]", 1.0), ("tension", "tension [N]", 1.0),
+            ("reel_speed", "reel speed [m/s]", 1.0), ("thrust", "thrust [N]", 1.0), ("E_net", "net energy [J]", 1.0)]
+    fig, axes = plt.subplots(3, 2, figsize=(12.0, 9.0), dpi=100, sharex=False)
+    for ax, (key, ylab, f) in zip(axes.flat, keys):
+        for i, (n, s) in enumerate(zip(names, series)):
+            if key in s:
+                ax.plot(s.t, s[key] * f, ls=styles[i % 4], lw=1.4, label=n)
+                t1 = s.meta.get("T1_s")
+                if t1:
+                    ax.axvline(float(t1), ls=styles[i % 4], color="0.5", lw=0.8)
+        ax.set_ylabel(ylab)
+        ax.set_xlabel("cycle time [s]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(title + "  (grey lines: end of generation)", fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    pt = outdir / f"{prefix}_time.png"
+    fig.savefig(pt)
+    plt.close(fig)
+    return [p3, pt]
+
+
+__all__ = ["figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight"]
