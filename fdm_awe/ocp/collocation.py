@@ -1,0 +1,381 @@
+"""Direct collocation of the two-phase periodic cycle (Radau IIA, CasADi SX + IPOPT/MUMPS).
+
+Each phase ``p`` has ``N_p`` intervals of equal length ``h_p = T_p / N_p`` (free durations
+``T_1``, ``T_2``), Radau collocation of degree ``d`` (the last collocation point is the next
+mesh node), and piecewise-constant controls (one value per interval, so the optimal controls
+are exactly defined for re-integration). Decision variables are scaled (``value = scale *
+variable``); collocation residuals are divided by the state scales.
+
+Constraints (DESIGN.md section 4, Table 3):
+- variable bounds: airspeed, |gamma|, ground clearance (``z <= -h_min``), controls (alpha with
+  the stall limit, bank, thrust, tension, reel-in speed), phase durations;
+- path constraints at the phase start and every collocation point: ``ddot >= 0`` and, where
+  tension follows the generator, ``G <= G_max`` in generation; ``d <= l`` in recovery;
+- boundaries: start position fixed, ``d(T_1) = d_tf``, continuity between the phases
+  (position, airspeed, angles; tether length ``l = d_tf``), periodicity back to the start
+  (airspeed, flight-path angle, heading + ``2 pi k``; ``l = d0``), ``T_1 + T_2 <= t_max``.
+
+Objective: maximise the average net power ``(E_gen - E_thr - E_rw)/(T_1 + T_2)`` (energies by
+Radau quadrature), plus a small penalty on control changes between intervals that keeps the
+reference smooth for the autopilot (``REG_WEIGHT``; reported energies never include it).
+
+Parameters of the NLP (changeable without rebuilding): wind north/east [m/s], the tether-drag
+homotopy factor (0..1), the heading wrap count ``k`` and the recovery-aerodynamics morph
+(0 = unfolded, 1 = the configuration's recovery form; a homotopy path for the foldable glider).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from .model import GEN_STATES, REC_STATES, CycleModel
+from .problem import CycleProblem
+
+#: Weight of the control-smoothing penalty (per interval, on scaled control changes) relative
+#: to the scaled objective (average power / 10 W). Small enough to change P_avg by well
+#: under 1 %; checked by tests that compare it with the reported physics energies.
+REG_WEIGHT = 1e-3
+P_SCALE = 10.0  #: objective scale [W]
+
+STATE_SCALE = {"x": 100.0, "y": 100.0, "z": 100.0, "V": 10.0, "gamma": 1.0, "psi": 1.0, "l": 100.0}
+CONTROL_SCALE = {"alpha": 0.3, "phi": 1.0, "T": 5.0, "G": 30.0, "v_reel": 5.0}
+TIME_SCALE = 10.0
+NP = 5  #: number of NLP parameters
+
+
+def radau_coefficients(d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Radau points ``tau`` (with 0 prepended), derivative matrix ``C``, continuity ``D`` and
+    quadrature weights ``B`` of the Lagrange basis on [0, 1]."""
+    tau = np.append(0.0, ca.collocation_points(d, "radau"))
+    C = np.zeros((d + 1, d + 1))
+    D = np.zeros(d + 1)
+    B = np.zeros(d + 1)
+    for j in range(d + 1):
+        p = np.poly1d([1.0])
+        for r in range(d + 1):
+            if r != j:
+                p *= np.poly1d([1.0, -tau[r]]) / (tau[j] - tau[r])
+        D[j] = p(1.0)
+        dp = np.polyder(p)
+        for r in range(d + 1):
+            C[j, r] = dp(tau[r])
+        B[j] = np.polyint(p)(1.0)
+    return tau, C, D, B
+
+
+@dataclass
+class PhaseLayout:
+    """Where one phase's variables live in the decision vector."""
+
+    states: tuple[str, ...]
+    controls: tuple[str, ...]
+    n: int
+    X: list[list[Any]] = field(default_factory=list)  #: X[k][j] symbols (value units), j = 0..d
+    U: list[Any] = field(default_factory=list)  #: U[k] symbols (value units)
+    T: Any = None
+    idx_X: np.ndarray | None = None  #: (n, d+1, nx) indices into w (j = d of k is node k+1)
+    idx_U: np.ndarray | None = None  #: (n, nu)
+    idx_T: int = -1
+
+
+@dataclass
+class RawSolution:
+    """What IPOPT returned, unscaled and unpacked."""
+
+    status: str  #: "ok" or "failed"
+    reason: str  #: IPOPT return status text
+    iterations: int
+    solve_s: float
+    w: np.ndarray  #: scaled decision vector
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    objective: float
+    params: np.ndarray
+
+
+class CycleNLP:
+    """The transcribed NLP for one problem structure (scenario, configuration, mesh).
+
+    Build once, then :meth:`solve` with any wind, drag factor and heading wrap.
+    """
+
+    def __init__(self, problem: CycleProblem, model: CycleModel, ipopt_options: dict | None = None) -> None:
+        t0 = time.perf_counter()
+        self.problem = problem.validate()
+        self.model = model
+        mesh = problem.mesh
+        self.d = mesh.degree
+        self.tau, self.C, self.D, self.B = radau_coefficients(self.d)
+        self.phases = [
+            PhaseLayout(GEN_STATES, model.gen_controls, mesh.n_gen),
+            PhaseLayout(REC_STATES, model.rec_controls, mesh.n_rec),
+        ]
+        self._build()
+        self._extra = dict(ipopt_options or {})
+        self._solvers: dict[tuple, Any] = {}
+        self.solver = self._solver(None)
+        self.build_s = time.perf_counter() - t0
+
+    # ------------------------------------------------------------------ build
+    def _build(self) -> None:
+        pr, m = self.problem, self.model
+        bnd = pr.bounds
+        d, C, B = self.d, self.C, self.B
+        p_sym = ca.SX.sym("p", NP)  # wind north, wind east, tether-drag factor, heading wrap k, morph
+        wind = (p_sym[0], p_sym[1])
+        drag = p_sym[2]
+        kwrap = p_sym[3]
+
+        w_parts: list[Any] = []
+        lbw: list[float] = []
+        ubw: list[float] = []
+        g: list[Any] = []
+        lbg: list[float] = []
+        ubg: list[float] = []
+        self.g_names: list[str] = []
+        nw = 0
+
+        def new_var(name: str, scale: float, lo: float, hi: float) -> tuple[Any, int]:
+            nonlocal nw
+            v = ca.SX.sym(name)
+            w_parts.append(v)
+            lbw.append(lo / scale)
+            ubw.append(hi / scale)
+            nw += 1
+            return v * scale, nw - 1
+
+        def add(expr: Any, lo: float, hi: float, name: str) -> None:
+            g.append(expr)
+            lbg.append(lo)
+            ubg.append(hi)
+            self.g_names.append(name)
+
+        T_max = bnd.T_max if bnd.T_max is not None else m.gen_airframe.propulsion.T_max
+        v_in = bnd.reel_in_speed_max if bnd.reel_in_speed_max is not None else m.winch.reel_in_speed_max()
+        self.reel_in_speed_max = v_in
+        self.T_max = T_max
+        G_lo = bnd.G_min
+        state_bounds = {
+            "x": (-10 * pr.d_tf, 10 * pr.d_tf), "y": (-10 * pr.d_tf, 10 * pr.d_tf), "z": (-10 * pr.d_tf, -bnd.h_min),
+            "V": (bnd.V_min, bnd.V_max), "gamma": (-bnd.gamma_max, bnd.gamma_max), "psi": (-60.0, 60.0),
+            "l": (0.0, 10 * pr.d_tf),
+        }
+        P0 = pr.start_position
+        E_gen = E_thr = E_rw = 0.0
+        reg = 0.0
+        for ip, ph in enumerate(self.phases):
+            a_hi = m.alpha_upper(ip, bnd.alpha_max)
+            ctrl_bounds = {"alpha": (-bnd.alpha_max, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
+                           "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0)}
+            ph.T, ph.idx_T = new_var(f"T{ip + 1}", TIME_SCALE, bnd.T_phase_min, bnd.t_max)
+            nx, nu = len(ph.states), len(ph.controls)
+            ph.idx_X = np.zeros((ph.n, d + 1, nx), dtype=int)
+            ph.idx_U = np.zeros((ph.n, nu), dtype=int)
+            F = self._point_function(ip, nx, len(ph.controls))
+            h = ph.T / ph.n
+            xs = [STATE_SCALE[s] for s in ph.states]
+
+            def state_vars(tag: str) -> tuple[list[Any], list[int]]:
+                vals, ids = [], []
+                for s in ph.states:
+                    lo, hi = state_bounds[s]
+                    v, i = new_var(f"{s}_{tag}", STATE_SCALE[s], lo, hi)
+                    vals.append(v)
+                    ids.append(i)
+                return vals, ids
+
+            node, node_ids = state_vars(f"p{ip}_0")
+            ph.X = []
+            ph.U = []
+            prev_u = None
+            for k in range(ph.n):
+                u, u_ids = [], []
+                for c in ph.controls:
+                    lo, hi = ctrl_bounds[c]
+                    v, i = new_var(f"{c}_p{ip}_{k}", CONTROL_SCALE[c], lo, hi)
+                    u.append(v)
+                    u_ids.append(i)
+                ph.idx_U[k] = u_ids
+                ph.U.append(u)
+                pts = [node]
+                ph.idx_X[k, 0] = node_ids
+                for j in range(1, d + 1):
+                    vals, ids = state_vars(f"p{ip}_{k}_{j}")
+                    pts.append(vals)
+                    ph.idx_X[k, j] = ids
+                ph.X.append(pts)
+                # path constraints at the phase start
+                uv = ca.vertcat(*u)
+                if k == 0:
+                    out = F(ca.vertcat(*pts[0]), uv, p_sym)
+                    self._path(ip, out[2], add, f"p{ip}_start")
+                for j in range(1, d + 1):
+                    fj, pw, path = F(ca.vertcat(*pts[j]), uv, p_sym)
+                    for i_s in range(nx):
+                        xp = sum(C[r, j] * pts[r][i_s] for r in range(d + 1))
+                        add((xp - h * fj[i_s]) / xs[i_s], 0.0, 0.0, f"coll_p{ip}_{k}_{j}_{ph.states[i_s]}")
+                    self._path(ip, path, add, f"p{ip}_{k}_{j}")
+                    E_gen = E_gen + B[j] * h * pw[0]
+                    E_thr = E_thr + B[j] * h * pw[1]
+                    E_rw = E_rw + B[j] * h * pw[2]
+                if prev_u is not None:
+                    reg = reg + sum(((u[i] - prev_u[i]) / CONTROL_SCALE[c]) ** 2 for i, c in enumerate(ph.controls))
+                prev_u = u
+                node, node_ids = pts[d], list(ph.idx_X[k, d])
+        gen, rec = self.phases
+        x0 = gen.X[0][0]
+        xe1 = gen.X[-1][d]
+        x20 = rec.X[0][0]
+        xe2 = rec.X[-1][d]
+        for i in range(3):
+            add((x0[i] - P0[i]) / 100.0, 0.0, 0.0, f"start_{GEN_STATES[i]}")
+        d_end = ca.sqrt(xe1[0] ** 2 + xe1[1] ** 2 + xe1[2] ** 2)
+        add((d_end - pr.d_tf) / 100.0, 0.0, 0.0, "d_tf")
+        for i, s in enumerate(GEN_STATES):
+            add((x20[i] - xe1[i]) / STATE_SCALE[s], 0.0, 0.0, f"continuity_{s}")
+        add((x20[6] - pr.d_tf) / 100.0, 0.0, 0.0, "continuity_l")
+        for i in range(3):
+            add((xe2[i] - P0[i]) / 100.0, 0.0, 0.0, f"periodic_{GEN_STATES[i]}")
+        add((xe2[3] - x0[3]) / 10.0, 0.0, 0.0, "periodic_V")
+        add(xe2[4] - x0[4], 0.0, 0.0, "periodic_gamma")
+        add(xe2[5] - x0[5] - 2 * math.pi * kwrap, 0.0, 0.0, "periodic_psi")
+        add((xe2[6] - pr.d0) / 100.0, 0.0, 0.0, "periodic_l")
+        add((gen.T + rec.T) / TIME_SCALE, 0.0, bnd.t_max / TIME_SCALE, "t_max")
+
+        P_avg = (E_gen - E_thr - E_rw) / (gen.T + rec.T)
+        J = -P_avg / P_SCALE + REG_WEIGHT * reg
+        self.nlp = {"x": ca.vertcat(*w_parts), "p": p_sym, "f": J, "g": ca.vertcat(*g)}
+        self.lbw, self.ubw = np.array(lbw), np.array(ubw)
+        self.lbg, self.ubg = np.array(lbg), np.array(ubg)
+        self.energy_fn = ca.Function("energies", [self.nlp["x"], p_sym], [E_gen, E_thr, E_rw, gen.T, rec.T])
+        self.g_fn = ca.Function("g", [self.nlp["x"], p_sym], [self.nlp["g"]])
+        self.nw = nw
+
+    def _point_function(self, ip: int, nx: int, nu: int) -> ca.Function:
+        """CasADi function (state, control, params) -> (derivative, [P_gen, P_thr, P_rw], path)."""
+        s = ca.SX.sym("s", nx)
+        u = ca.SX.sym("u", nu)
+        p = ca.SX.sym("p", NP)
+        args = ([s[i] for i in range(nx)], [u[i] for i in range(nu)], (p[0], p[1]), p[2])
+        out = self.model.generation(*args) if ip == 0 else self.model.recovery(*args, p[4])
+        if ip == 0:
+            path = [out["v_reel"], out["G"]]
+        else:
+            path = [out["l"] - out["d"]]
+        return ca.Function(f"phase{ip}", [s, u, p], [ca.vertcat(*out["f"]), ca.vertcat(out["P_gen"], out["P_thr"], out["P_rw"]),
+                                                     ca.vertcat(*path)])
+
+    def _path(self, ip: int, path: Any, add, tag: str) -> None:
+        bnd, m = self.problem.bounds, self.model
+        if ip == 0:
+            add(path[0] / 5.0, 0.0, ca.inf, f"ddot_{tag}")
+            if not m.scenario.tension_control:
+                add(path[1] / 30.0, bnd.G_min / 30.0, bnd.G_max / 30.0, f"G_{tag}")
+        else:
+            add(path[0] / 100.0, 0.0, ca.inf, f"slack_{tag}")
+
+    # ------------------------------------------------------------------ solve
+    def params(self, wind_ned: tuple[float, float], drag_factor: float = 1.0, k_wrap: int = 0, morph: float = 1.0) -> np.ndarray:
+        """NLP parameter vector: wind north/east [m/s], tether-drag factor, heading wrap count,
+        recovery-aerodynamics morph (1 = the configuration's own recovery form)."""
+        return np.array([wind_ned[0], wind_ned[1], drag_factor, float(k_wrap), morph])
+
+    def solve(self, w0: np.ndarray, params: np.ndarray, lam_x0: np.ndarray | None = None,
+              lam_g0: np.ndarray | None = None, options: dict | None = None) -> RawSolution:
+        """Run IPOPT from the scaled start ``w0``; ``lam_*`` enable a warm start."""
+        solver = self._solver(options)
+        args = {"x0": np.clip(w0, self.lbw, self.ubw), "p": params, "lbx": self.lbw, "ubx": self.ubw,
+                "lbg": self.lbg, "ubg": self.ubg}
+        if lam_x0 is not None:
+            args["lam_x0"] = lam_x0
+        if lam_g0 is not None:
+            args["lam_g0"] = lam_g0
+        t0 = time.perf_counter()
+        try:
+            sol = solver(**args)
+            st = solver.stats()
+        except RuntimeError as exc:  # evaluation errors (NaN) surface as exceptions
+            return RawSolution("failed", f"solver error: {exc}".splitlines()[0], 0, time.perf_counter() - t0,
+                               np.asarray(w0, float), np.zeros(self.nw), np.zeros(len(self.lbg)), math.nan, params)
+        dt = time.perf_counter() - t0
+        ok = bool(st.get("success", False))
+        reason = str(st.get("return_status", "unknown"))
+        it = int(st.get("iter_count", 0))
+        return RawSolution("ok" if ok else "failed", reason, it, dt, np.array(sol["x"]).ravel(),
+                           np.array(sol["lam_x"]).ravel(), np.array(sol["lam_g"]).ravel(), float(sol["f"]), params)
+
+    def _solver(self, options: dict | None) -> Any:
+        """IPOPT instance for these extra options (built once per option set)."""
+        key = tuple(sorted((options or {}).items()))
+        if key not in self._solvers:
+            self._solvers[key] = ca.nlpsol("cycle", "ipopt", self.nlp, {**self._base_opts(), **self._extra, **(options or {})})
+        return self._solvers[key]
+
+    def _base_opts(self) -> dict:
+        return {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.linear_solver": "mumps",
+                "ipopt.max_iter": 1500, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9, "ipopt.acceptable_iter": 0,
+                "ipopt.mu_strategy": "adaptive", "ipopt.max_cpu_time": 120.0}
+
+    # ------------------------------------------------------------------ unpack
+    def unpack(self, w: np.ndarray) -> list[dict[str, np.ndarray]]:
+        """Per phase: ``t`` (node + internal collocation times) [s], ``X`` (points x states),
+        ``U`` (intervals x controls), ``T`` [s], ``t_nodes`` [s], in value units."""
+        scale = np.empty(self.nw)
+        # scale of each variable: rebuild from layout
+        out = []
+        d = self.d
+        for ph in self.phases:
+            xs = np.array([STATE_SCALE[s] for s in ph.states])
+            us = np.array([CONTROL_SCALE[c] for c in ph.controls])
+            T = w[ph.idx_T] * TIME_SCALE
+            pts = []
+            ts = []
+            h = T / ph.n
+            for k in range(ph.n):
+                for j in range(d):
+                    pts.append(w[ph.idx_X[k, j]] * xs)
+                    ts.append((k + self.tau[j]) * h)
+            pts.append(w[ph.idx_X[ph.n - 1, d]] * xs)
+            ts.append(T)
+            U = w[ph.idx_U] * us
+            out.append({"t": np.array(ts), "X": np.array(pts), "U": U, "T": float(T),
+                        "t_nodes": np.arange(ph.n + 1) * h, "states": ph.states, "controls": ph.controls})
+        del scale
+        return out
+
+    def pack(self, phases: list[dict[str, Any]]) -> np.ndarray:
+        """Scaled decision vector from per-phase guesses: ``T`` [s], ``state(t)`` callable
+        returning the state vector at time t, ``control(t)`` callable returning controls."""
+        w = np.zeros(self.nw)
+        d = self.d
+        for ph, gs in zip(self.phases, phases):
+            xs = np.array([STATE_SCALE[s] for s in ph.states])
+            us = np.array([CONTROL_SCALE[c] for c in ph.controls])
+            T = gs["T"]
+            w[ph.idx_T] = T / TIME_SCALE
+            h = T / ph.n
+            for k in range(ph.n):
+                w[ph.idx_U[k]] = np.asarray(gs["control"]((k + 0.5) * h), float) / us
+                for j in range(d + 1):
+                    w[ph.idx_X[k, j]] = np.asarray(gs["state"]((k + self.tau[j]) * h), float) / xs
+        return w
+
+    def constraint_violation(self, w: np.ndarray, params: np.ndarray) -> tuple[float, str]:
+        """Largest violation of the scaled constraints and bounds, and where."""
+        gv = np.array(self.g_fn(w, params)).ravel()
+        viol_g = np.maximum(self.lbg - gv, 0) + np.maximum(gv - self.ubg, 0)
+        viol_x = np.maximum(self.lbw - w, 0) + np.maximum(w - self.ubw, 0)
+        ig, ix = int(np.argmax(viol_g)), int(np.argmax(viol_x))
+        if viol_g[ig] >= viol_x[ix]:
+            return float(viol_g[ig]), self.g_names[ig]
+        return float(viol_x[ix]), f"bound of variable {ix}"
+
+    def energies(self, w: np.ndarray, params: np.ndarray) -> dict[str, float]:
+        E_gen, E_thr, E_rw, T1, T2 = (float(v) for v in self.energy_fn(w, params))
+        return {"E_generated_J": E_gen, "E_thrust_J": E_thr, "E_reel_in_J": E_rw, "T1_s": T1, "T2_s": T2}

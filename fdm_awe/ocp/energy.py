@@ -1,0 +1,135 @@
+"""Power terms of the pumping cycle [W] for both scenario families.
+
+Every function evaluates on floats, NumPy arrays and CasADi symbols (via :mod:`fdm_awe.mathops`),
+so the optimiser's quadrature and the independent re-integration use the same definitions.
+
+Quasi-static winch + DC machine + converter (paper eqs. 14-19 with ``di/dt = 0``,
+``domega/dt = 0``, one Coulomb friction ``M_c``, DESIGN.md sections 4.8, 5 and 6):
+
+- generation, passive rectifier into ``R_L``: ``omega = v_reel / r_w``,
+  ``i = max(0, K_e omega - 2 U_d) / (R + R_L)``, tension ``G = (M_c + B omega + K_t i) / r_w``,
+  energy into the load ``P_load = R_L i^2``;
+- recovery, motor reels in at ``v_reel < 0`` against friction only (slack tether, G = 0):
+  ``i = (M_c + B |omega|) / K_t``, supply power ``P_supply = (K_e |omega| + R i + 2 U_d) i``;
+  the speed is limited by full duty: ``K_e |omega| + R i + 2 U_d <= V_a``.
+
+The diode threshold ``max(0, .)`` is smoothed as ``(a + sqrt(a^2 + eps^2)) / 2`` with
+``eps = 0.02 V`` (current error below 5 mA) so the optimiser sees a smooth problem.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from .. import mathops as mo
+from ..definitions.aircraft import PropulsionParams
+from ..propeller import power as propeller_power
+
+#: smoothing voltage of the rectifier's conduction threshold [V]
+DIODE_EPS_V = 0.02
+
+
+@dataclass(frozen=True)
+class WinchElectrics:
+    """Ground-station values the cycle's energy accounting needs (SI)."""
+
+    r_w: float  #: drum radius [m]
+    B: float  #: viscous friction [N m s]
+    M_c: float  #: Coulomb friction torque [N m]
+    K_e: float  #: back-emf constant [V s/rad]
+    K_t: float  #: torque constant [N m/A]
+    R: float  #: armature resistance [ohm]
+    U_d: float  #: voltage drop of one diode/switch [V]
+    V_a: float  #: supply voltage in motor mode [V]
+    R_L: float  #: generator load resistance [ohm]
+    tether_diameter: float  #: [m]
+    tether_cd_perp: float  #: tether drag coefficient normal to the line [-]
+    gs_params: Any = None  #: the full ground-station parameters, when read from the definition
+
+    @classmethod
+    def from_ground_station(cls, params: Any = None) -> "WinchElectrics":
+        """Values from the ground-station definition (``tether/ground_station.xml`` by default)."""
+        from ..groundstation import load_ground_station
+
+        gs = load_ground_station() if params is None else params
+        w, m, c, t = gs.winch, gs.machine, gs.converter, gs.tether
+        return cls(r_w=w.radius, B=w.viscous_friction, M_c=w.coulomb_friction, K_e=m.k, K_t=m.k, R=m.resistance,
+                   U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,
+                   tether_cd_perp=t.cd_perpendicular, gs_params=gs)
+
+    @property
+    def R_sum(self) -> float:
+        return self.R + self.R_L
+
+    def reel_in_speed_max(self) -> float:
+        """Largest reel-in speed [m/s] the motor reaches at full duty with a slack tether."""
+        omega = (self.V_a - 2 * self.U_d - self.R * self.M_c / self.K_t) / (self.K_e + self.R * self.B / self.K_t)
+        return max(omega, 0.0) * self.r_w
+
+
+def smooth_pos(a: Any, eps: float) -> Any:
+    """Smooth ``max(0, a)``: ``(a + sqrt(a^2 + eps^2)) / 2``."""
+    return 0.5 * (a + mo.sqrt(a * a + eps * eps))
+
+
+def generator_current(v_reel: Any, w: WinchElectrics) -> Any:
+    """Armature current [A] of the passive-rectifier generator at reel-out speed ``v_reel`` [m/s]."""
+    omega = v_reel / w.r_w
+    return smooth_pos(w.K_e * omega - 2 * w.U_d, DIODE_EPS_V) / w.R_sum
+
+
+def generator_tension(v_reel: Any, w: WinchElectrics) -> Any:
+    """Tether tension [N] that holds the winch at reel-out speed ``v_reel`` [m/s] (quasi-static)."""
+    omega = v_reel / w.r_w
+    return (w.M_c + w.B * omega + w.K_t * generator_current(v_reel, w)) / w.r_w
+
+
+def generator_load_power(v_reel: Any, w: WinchElectrics) -> Any:
+    """Electrical power into the load resistor [W] at reel-out speed ``v_reel`` [m/s]."""
+    i = generator_current(v_reel, w)
+    return w.R_L * i * i
+
+
+def motor_supply_power(v_reel: Any, w: WinchElectrics) -> Any:
+    """Power drawn from the supply [W] reeling in at ``v_reel <= 0`` [m/s] with a slack tether.
+
+    Uses :func:`fdm_awe.groundstation.steady.motor_steady` when the ground-station definition
+    is at hand (the same relation the co-simulation's ground station is built on).
+    """
+    if w.gs_params is not None:
+        from ..groundstation.steady import motor_steady
+
+        return motor_steady(-v_reel, 0.0, w.gs_params).p_supply
+    return motor_voltage(v_reel, w) * motor_current(v_reel, w)
+
+
+def motor_current(v_reel: Any, w: WinchElectrics) -> Any:
+    """Armature current [A] reeling in at ``v_reel <= 0`` [m/s] against friction (slack tether)."""
+    omega_abs = -v_reel / w.r_w
+    return (w.M_c + w.B * omega_abs) / w.K_t
+
+
+def motor_voltage(v_reel: Any, w: WinchElectrics) -> Any:
+    """Mean armature-side voltage [V] the converter must apply reeling in at ``v_reel <= 0``."""
+    omega_abs = -v_reel / w.r_w
+    return w.K_e * omega_abs + w.R * motor_current(v_reel, w) + 2 * w.U_d
+
+
+def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: str) -> Any:
+    """Electrical power of the glider's propeller drive [W] (:func:`fdm_awe.propeller.power`)."""
+    return propeller_power(T, V, prop, rho, scenario)
+
+
+def mechanical_tether_power(G: Any, ddot: Any) -> Any:
+    """Mechanical power delivered to the winch ``G ddot`` [W] (DESIGN.md 4.5)."""
+    return G * ddot
+
+
+def design_reference_generator(w: WinchElectrics, G: float) -> dict[str, float]:
+    """Closed-form steady generator point at tension ``G`` [N] (DESIGN.md section 6), unsmoothed."""
+    omega = (w.r_w * G - w.M_c + 2 * w.U_d * w.K_t / w.R_sum) / (w.B + w.K_t * w.K_e / w.R_sum)
+    i = (w.K_e * omega - 2 * w.U_d) / w.R_sum
+    return {"omega": omega, "v_reel": omega * w.r_w, "i": i, "P_load": w.R_L * i * i, "P_mech": G * omega * w.r_w,
+            "efficiency": w.R_L * i * i / (G * omega * w.r_w) if omega > 0 else math.nan}

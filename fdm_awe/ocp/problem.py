@@ -1,0 +1,174 @@
+"""What the pumping-cycle optimal control problem is: scenario, configuration, bounds, mesh.
+
+Plain dataclasses with input validation; nothing here imports CasADi. Every check raises
+:class:`fdm_awe.errors.InputError` with a one-line message naming the field and the allowed range.
+
+Units: SI throughout (m, s, m/s, N, W, rad) except ``elevation0_deg``, ``azimuth0_deg`` and
+``wind_from_deg`` which are in degrees because users type them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+from ..errors import InputError
+
+SCENARIOS = ("physical", "paper")
+CONFIGS = ("nominal", "foldable")
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """Modelling choices of one scenario family (DESIGN.md section 4).
+
+    ``paper``: static quadratic P(T) (eq. 39), no tether drag, no stall limit (Table 3 only),
+    mechanical accounting ``E_generated = int G ddot dt``, reel-in at a constant ``P_rw``.
+    ``physical``: momentum-theory propeller power with airspeed, tether drag with the current
+    tether length, ``C_L <= C_Lmax``, energies counted electrically through the quasi-static
+    DC machine + converter (energy into the load in generation, from the supply in recovery).
+    """
+
+    name: str
+    propeller: str  #: "paper" or "physical" (fdm_awe.propeller.power scenario)
+    tether_drag: bool  #: add the tether's equivalent drag coefficient
+    stall_limit: bool  #: enforce C_L <= C_Lmax
+    electrical: bool  #: electrical (True) or mechanical (False) energy accounting
+    tension_control: bool  #: tension G is a free control in generation (paper) or follows the generator (physical)
+    P_rw: float = 6.0  #: constant reel-in power of the paper scenario [W]
+
+    @classmethod
+    def named(cls, name: str) -> "Scenario":
+        if name == "paper":
+            return cls("paper", "paper", tether_drag=False, stall_limit=False, electrical=False, tension_control=True)
+        if name == "physical":
+            return cls("physical", "physical", tether_drag=True, stall_limit=True, electrical=True, tension_control=False)
+        raise InputError(f"scenario {name!r} unknown (allowed: {', '.join(SCENARIOS)})")
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Path and time bounds (Table 3 plus the corrections of DESIGN.md section 4).
+
+    ``T_max`` None means the aircraft definition's ``propulsion/pm/T-max-N``; ``reel_in_speed_max``
+    None means the DC machine's limit at full duty (supply voltage). ``h_min`` is the documented
+    ground clearance: 10 m keeps the 1.1 m span glider well clear of the ground and of the
+    winch area at the bottom of a loop.
+    """
+
+    V_min: float = 5.0  #: airspeed [m/s]
+    V_max: float = 25.0
+    alpha_max: float = 0.35  #: |alpha| <= alpha_max [rad]
+    phi_max: float = 1.0  #: |phi| <= phi_max [rad]
+    T_max: float | None = None  #: thrust upper bound [N]
+    G_min: float = 0.0  #: tether tension [N]
+    G_max: float = 50.0
+    h_min: float = 10.0  #: minimum altitude (ground clearance) [m]
+    t_max: float = 60.0  #: T1 + T2 <= t_max [s]
+    T_phase_min: float = 2.0  #: each phase lasts at least this long [s]
+    reel_in_speed_max: float | None = None  #: |reel-in speed| bound [m/s]
+    gamma_max: float = 1.0  #: |gamma| bound [rad]: keeps the heading equation's 1/cos(gamma) <= 1.85
+    #: (steeper dives make the point mass's heading dynamics stiff and unstable, so the collocated
+    #: path could no longer be reproduced by integrating its controls)
+
+    def validate(self) -> None:
+        def pos(name: str, v: float) -> None:
+            if not (math.isfinite(v) and v > 0):
+                raise InputError(f"{name} = {v!r} out of range (allowed > 0)")
+
+        for n in ("V_min", "V_max", "alpha_max", "phi_max", "G_max", "t_max", "T_phase_min", "gamma_max"):
+            pos(n, getattr(self, n))
+        if self.V_min >= self.V_max:
+            raise InputError(f"V_min = {self.V_min:g} m/s must be below V_max = {self.V_max:g} m/s")
+        if self.alpha_max > 1.0:
+            raise InputError(f"alpha_max = {self.alpha_max:g} rad out of range (allowed 0 < alpha_max <= 1)")
+        if self.phi_max >= math.pi / 2:
+            raise InputError(f"phi_max = {self.phi_max:g} rad out of range (allowed 0 < phi_max < pi/2)")
+        if self.gamma_max >= math.pi / 2:
+            raise InputError(f"gamma_max = {self.gamma_max:g} rad out of range (allowed 0 < gamma_max < pi/2)")
+        if self.T_max is not None and not (math.isfinite(self.T_max) and self.T_max >= 0):
+            raise InputError(f"T_max = {self.T_max!r} N out of range (allowed >= 0)")
+        if not (math.isfinite(self.G_min) and 0 <= self.G_min < self.G_max):
+            raise InputError(f"tension bounds G_min = {self.G_min:g} N, G_max = {self.G_max:g} N invalid (allowed 0 <= G_min < G_max)")
+        if not (math.isfinite(self.h_min) and self.h_min >= 0):
+            raise InputError(f"h_min = {self.h_min!r} m out of range (allowed >= 0)")
+        if 2 * self.T_phase_min > self.t_max:
+            raise InputError(f"t_max = {self.t_max:g} s leaves no room for two phases of at least {self.T_phase_min:g} s")
+        if self.reel_in_speed_max is not None:
+            pos("reel_in_speed_max", self.reel_in_speed_max)
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """Radau collocation mesh: intervals per phase and polynomial degree."""
+
+    n_gen: int = 30
+    n_rec: int = 16
+    degree: int = 4
+
+    def validate(self) -> None:
+        for name in ("n_gen", "n_rec"):
+            v = getattr(self, name)
+            if not (isinstance(v, int) and 4 <= v <= 1000):
+                raise InputError(f"mesh {name} = {v!r} out of range (allowed integer 4..1000)")
+        if not (isinstance(self.degree, int) and 1 <= self.degree <= 9):
+            raise InputError(f"mesh degree = {self.degree!r} out of range (allowed integer 1..9)")
+
+
+@dataclass(frozen=True)
+class CycleProblem:
+    """One pumping cycle: generation (unfolded, taut tether) then recovery (slack tether).
+
+    The cycle starts and ends at distance ``d0`` [m] from the winch at ``elevation0_deg`` /
+    ``azimuth0_deg`` (azimuth from north, towards east); generation ends at distance ``d_tf``.
+    Wind ``wind_speed`` [m/s] blows FROM ``wind_from_deg`` (180 = from the south, the paper's case).
+    """
+
+    scenario: str = "physical"
+    config: str = "foldable"
+    wind_speed: float = 6.0
+    wind_from_deg: float = 180.0
+    d0: float = 200.0
+    d_tf: float = 250.0
+    elevation0_deg: float = 30.0
+    azimuth0_deg: float = 0.0
+    bounds: Bounds = field(default_factory=Bounds)
+    mesh: Mesh = field(default_factory=Mesh)
+
+    def validate(self) -> "CycleProblem":
+        Scenario.named(self.scenario)
+        if self.config not in CONFIGS:
+            raise InputError(f"configuration {self.config!r} unknown (allowed: {', '.join(CONFIGS)})")
+        if not math.isfinite(self.wind_speed) or self.wind_speed < 0:
+            raise InputError(f"wind speed {self.wind_speed!r} m/s out of range (a magnitude: allowed >= 0; set the direction with wind_from_deg)")
+        if self.wind_speed > 25:
+            raise InputError(f"wind speed {self.wind_speed:g} m/s out of range (allowed 0..25 m/s)")
+        if not math.isfinite(self.wind_from_deg):
+            raise InputError(f"wind direction {self.wind_from_deg!r} deg is not a number")
+        if not (math.isfinite(self.d0) and self.d0 > 0):
+            raise InputError(f"d0 = {self.d0!r} m out of range (allowed > 0)")
+        if not (math.isfinite(self.d_tf) and self.d_tf > self.d0):
+            raise InputError(f"d_tf = {self.d_tf!r} m must exceed d0 = {self.d0:g} m (generation reels out)")
+        if not (0.0 < self.elevation0_deg < 90.0):
+            raise InputError(f"elevation0 = {self.elevation0_deg!r} deg out of range (allowed 0 < elevation < 90)")
+        if not math.isfinite(self.azimuth0_deg) or abs(self.azimuth0_deg) >= 90:
+            raise InputError(f"azimuth0 = {self.azimuth0_deg!r} deg out of range (allowed |azimuth| < 90)")
+        self.bounds.validate()
+        self.mesh.validate()
+        h0 = self.d0 * math.sin(math.radians(self.elevation0_deg))
+        if h0 < self.bounds.h_min:
+            raise InputError(f"start altitude {h0:.1f} m is below the ground clearance h_min = {self.bounds.h_min:g} m")
+        return self
+
+    @property
+    def scenario_spec(self) -> Scenario:
+        return Scenario.named(self.scenario)
+
+    @property
+    def start_position(self) -> tuple[float, float, float]:
+        """NED start point [m] (winch at the origin)."""
+        el, az = math.radians(self.elevation0_deg), math.radians(self.azimuth0_deg)
+        return (self.d0 * math.cos(el) * math.cos(az), self.d0 * math.cos(el) * math.sin(az), -self.d0 * math.sin(el))
+
+    def with_wind(self, speed: float, from_deg: float | None = None) -> "CycleProblem":
+        return replace(self, wind_speed=speed, wind_from_deg=self.wind_from_deg if from_deg is None else from_deg)

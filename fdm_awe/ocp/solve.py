@@ -1,0 +1,192 @@
+"""Solve the cycle OCP robustly: a few crosswind-loop starts, homotopy, warm starts.
+
+``solve_cycle(problem)`` returns a :class:`CycleResult` whose ``status`` is ``"ok"`` only when
+IPOPT reports success AND the scaled constraints hold within :data:`VIOLATION_TOL`; otherwise
+``"failed"`` with the reason (never a result presented as valid).
+
+Strategy (cold): for each start of :func:`fdm_awe.ocp.guess.default_starts` solve the NLP; if
+it fails and the scenario has tether drag, retry by homotopy (tether drag factor 0 -> 0.5 -> 1,
+each step started from the previous solution); for the foldable glider, finally through the
+nominal recovery (aerodynamics morphed 0 -> 1). Starts are tried until ``n_starts`` succeeded;
+the best average power among them is kept. Warm: start from a previous result of the same NLP
+structure (e.g. the neighbouring wind speed of a sweep) with its multipliers; on failure fall
+back to the cold strategy.
+
+Built NLPs are cached per structure (scenario, configuration, geometry, bounds, mesh) in the
+process, so sweeps and repeated solves pay the build once.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+
+from ..definitions.aircraft import Glider, load_glider
+from ..pointmass import wind_vector
+from .collocation import CycleNLP, RawSolution
+from .energy import WinchElectrics
+from .guess import LoopStart, default_starts, loop_guess
+from .model import CycleModel
+from .problem import CycleProblem
+from .result import CycleResult
+
+#: largest scaled constraint violation accepted as a solution
+VIOLATION_TOL = 1e-6
+
+_CACHE: dict[tuple, CycleNLP] = {}
+
+WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-6,
+                "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-4}
+
+
+def structure_key(problem: CycleProblem) -> tuple:
+    """Everything that shapes the NLP except the wind (a parameter)."""
+    return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
+            problem.bounds, problem.mesh)
+
+
+def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
+            cache: bool = True) -> tuple[CycleNLP, float]:
+    """The NLP for ``problem`` (built or from the cache) and the build time [s] spent now."""
+    key = structure_key(problem)
+    if cache and key in _CACHE and glider is None and winch is None:
+        return _CACHE[key], 0.0
+    model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station())
+    nlp = CycleNLP(problem, model)
+    if cache and glider is None and winch is None:
+        _CACHE[key] = nlp
+    return nlp, nlp.build_s
+
+
+def clear_cache() -> None:
+    _CACHE.clear()
+
+
+def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, starts: list[LoopStart] | None = None,
+                n_starts: int = 1, glider: Glider | None = None, winch: WinchElectrics | None = None,
+                ipopt_options: dict | None = None, cache: bool = True) -> CycleResult:
+    """Optimise one pumping cycle (see the module docstring)."""
+    problem = problem.validate()
+    nlp, build_s = get_nlp(problem, glider, winch, cache)
+    wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
+    total_s = 0.0
+    total_it = 0
+    reasons: list[str] = []
+
+    def run(w0: np.ndarray, k: int, drag: float, morph: float = 1.0, lam_x=None, lam_g=None, opts=None) -> RawSolution:
+        nonlocal total_s, total_it
+        o = dict(ipopt_options or {})
+        if opts:
+            o.update(opts)
+        r = nlp.solve(w0, nlp.params(wind, drag, k, morph), lam_x, lam_g, o or None)
+        total_s += r.solve_s
+        total_it += r.iterations
+        return r
+
+    if warm is not None and warm.ok and warm.key == structure_key(problem) and warm.w is not None:
+        r = run(warm.w, warm.k_wrap, 1.0, 1.0, warm.lam_x, warm.lam_g, WARM_OPTIONS)
+        if _accept(nlp, r):
+            return _finish(problem, nlp, warm.k_wrap, "warm start", r, build_s, total_s, total_it)
+        reasons.append(f"warm start: {r.reason}")
+
+    foldable = problem.config == "foldable"
+    drag_homotopy = nlp.model.scenario.tether_drag
+
+    def attempt(w0: np.ndarray, k: int) -> RawSolution:
+        """Direct solve; on failure, tether-drag homotopy (0 -> 0.5 -> 1); for the foldable
+        glider finally the path through the nominal recovery (morph 0 -> 1)."""
+        r = run(w0, k, 1.0, 1.0)
+        if _accept(nlp, r) or not drag_homotopy:
+            pass
+        else:
+            w = w0
+            for drag in (0.0, 0.5, 1.0):
+                r = run(w, k, drag, 1.0)
+                if not _accept(nlp, r):
+                    break
+                w = r.w
+        if foldable and not _accept(nlp, r):
+            r0 = run(w0, k, 1.0, 0.0)
+            if _accept(nlp, r0):
+                r = run(r0.w, k, 1.0, 1.0)
+        return r
+
+    best: tuple[float, RawSolution, int, str] | None = None
+    n_ok = 0
+    for st in starts or default_starts(problem):
+        phases, k = loop_guess(problem, nlp.model, st, wind)
+        r = attempt(nlp.pack(phases), k)
+        if _accept(nlp, r):
+            n_ok += 1
+            if best is None or r.objective < best[0]:
+                best = (r.objective, r, k, st.label())
+            if n_ok >= n_starts:
+                break
+        else:
+            reasons.append(f"{st.label()}: {r.reason}")
+    if best is None:
+        reason = "; ".join(reasons) or "no start converged"
+        return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
+                           reason, total_s, build_s, total_it, problem=problem, key=structure_key(problem))
+    _, r, k, label = best
+    return _finish(problem, nlp, k, label, r, build_s, total_s, total_it)
+
+
+def _accept(nlp: CycleNLP, r: RawSolution | None) -> bool:
+    """IPOPT success, finite objective and scaled constraints within :data:`VIOLATION_TOL`."""
+    if r is None or r.status != "ok":
+        return False
+    viol, where = nlp.constraint_violation(r.w, r.params)
+    if not (viol <= VIOLATION_TOL) or not math.isfinite(r.objective):
+        r.status, r.reason = "failed", f"constraint {where} violated by {viol:.2e} after '{r.reason}'"
+        return False
+    return True
+
+
+def _finish(problem: CycleProblem, nlp: CycleNLP, k: int, label: str, r: RawSolution, build_s: float,
+            total_s: float, total_it: int) -> CycleResult:
+    en = nlp.energies(r.w, r.params)
+    viol, _ = nlp.constraint_violation(r.w, r.params)
+    phases = nlp.unpack(r.w)
+    res = CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "ok", r.reason,
+                      total_s, build_s, total_it, en["T1_s"], en["T2_s"], en["E_generated_J"], en["E_thrust_J"],
+                      en["E_reel_in_J"], k, label, viol, trajectory_columns(nlp, phases, r.params), r.w, r.lam_x,
+                      r.lam_g, structure_key(problem), phases, problem=problem)
+    return res
+
+
+def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.ndarray) -> dict[str, np.ndarray]:
+    """Reference-trajectory columns (see :mod:`fdm_awe.ocp.result`) from the unpacked phases."""
+    m = nlp.model
+    d = nlp.d
+    wind = (float(params[0]), float(params[1]))
+    rows: dict[str, list[float]] = {k: [] for k in ("t", "phase", "x", "y", "z", "V", "gamma", "psi", "alpha", "phi", "T",
+                                                    "tension", "tether_length", "reel_speed", "fold", "p_generated_W",
+                                                    "p_thrust_W", "p_reel_in_W")}
+    t_off = 0.0
+    for ip, ph in enumerate(phases):
+        X, U, t = ph["X"], ph["U"], ph["t"]
+        block = m.phase(ip)
+        for q in range(len(t)):
+            kint = min(q // d, len(U) - 1)
+            u = U[kint]
+            out = block(list(X[q]), list(u), wind, 1.0)
+            rows["t"].append(t_off + t[q])
+            rows["phase"].append(ip)
+            for i, s in enumerate(("x", "y", "z", "V", "gamma", "psi")):
+                rows[s].append(X[q, i])
+            rows["alpha"].append(u[0])
+            rows["phi"].append(u[1])
+            rows["T"].append(u[2])
+            rows["tension"].append(float(out["G"]))
+            rows["tether_length"].append(float(out["l"]))
+            rows["reel_speed"].append(float(out["v_reel"]))
+            rows["fold"].append(1.0 if (ip == 1 and nlp.problem.config == "foldable") else 0.0)
+            rows["p_generated_W"].append(float(out["P_gen"]))
+            rows["p_thrust_W"].append(float(out["P_thr"]))
+            rows["p_reel_in_W"].append(float(out["P_rw"]))
+        t_off += ph["T"]
+    return {k: np.asarray(v, float) for k, v in rows.items()}
