@@ -285,3 +285,14 @@ def test_progress_quiet_and_shown(capsys):
     err = capsys.readouterr().err
     assert "2.0/2.0 s sim" in err
     assert math.isfinite(b.dt)
+
+
+def test_flight_outputs_writes_everything(interrupted, tmp_path):
+    from fdm_awe.recording import cycle_outputs, flight_outputs
+
+    out = flight_outputs(interrupted, None, out_dir=tmp_path / "run")
+    assert set(out) == {"rrd", "plots", "csv", "report"}
+    assert rrd_verify(out["rrd"])[0]
+    assert "interrupted" in (tmp_path / "run" / "flight.md").read_text()
+    c = cycle_outputs(_reference_file(tmp_path / "ref.json"), rrd=tmp_path / "c.rrd")
+    assert set(c) == {"rrd"} and rrd_verify(c["rrd"])[0]

@@ -2,6 +2,9 @@
 
 One-line entry points for the commands::
 
+    flight_outputs(report, reference, rrd=path_or_None, out_dir=dir_or_None)   # all of the below
+    cycle_outputs(result_or_reference_file, rrd=path_or_None, out_dir=dir_or_None)
+
     record_flight(report, reference, "run.rrd")        # 6-DOF flight, complete or cut short
     record_cycle("reference.json", "cycle.rrd")       # optimised cycle (file, trajectory or CycleResult)
     plot_flight(report, reference, "outdir")           # Fig. 7 / Fig. 8 style PNGs
@@ -22,6 +25,7 @@ _EXPORTS = {
     "export_csv": ".csvexport", "export_cycle_csv": ".csvexport",
     "plot_flight": ".plots", "plot_cycle": ".plots", "plot_compare": ".plots",
     "flight_markdown": ".report", "cycle_markdown": ".report", "table3_markdown": ".report",
+    "flight_outputs": ".outputs", "cycle_outputs": ".outputs",
     "rrd_verify": ".inspect", "rrd_stats": ".inspect", "rrd_entities": ".inspect",
 }
 
