@@ -19,6 +19,7 @@ import numpy as np
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
+from .guidance import cross
 
 
 def _clip(v: float) -> float:
@@ -68,7 +69,7 @@ class AttitudeLoops:
         V = max(s.airspeed, 1.0)
         ca, sa, cb, sb = math.cos(s.alpha), math.sin(s.alpha), math.cos(s.beta), math.sin(s.beta)
         v_b = V * np.array([ca * cb, sb, sa * cb])
-        return np.cross(v_b, a_b) / (V * V)
+        return cross(v_b, a_b) / (V * V)
 
     def update(self, s: SixDofState, alpha_cmd: float, roll_cmd: float, dt: float) -> tuple[float, float, float]:
         gn = self.gains

@@ -33,6 +33,7 @@ class GuidanceGains:
     alpha_max: float  #: [rad] (also limited by CLmax)
     phi_max: float  #: wind-axis bank limit [rad]
     thrust_max: float  #: [N]
+    energy_trade: float = 1.0  #: share of an unachievable along-path force turned into climb/dive [-]
 
 
 @dataclass(frozen=True)
@@ -60,6 +61,11 @@ def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> tuple[
         w_u * aero_u.CDalpha1 + w_f * aero_f.CDalpha1,
         w_u * aero_u.CDalpha2 + w_f * aero_f.CDalpha2,
     )
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """3-vector cross product (``numpy.cross`` costs ~50x more for single vectors)."""
+    return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
 
 
 class Guidance:
@@ -114,22 +120,35 @@ class Guidance:
         e1 = va / V
         F_par = float(F @ e1)
         F_perp = F - F_par * e1
-        L = float(np.linalg.norm(F_perp))
         qS_cl0, qS_cla, qS_clmax, qS_cd0, qS_cd1, qS_cd2 = blended_polar(self.aero_u, self.aero_f, fold)
         q = 0.5 * self.rho * V * V
-        # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
-        alpha = (L / q - qS_cl0) / qS_cla
-        alpha_stall = (qS_clmax - qS_cl0) / qS_cla
-        alpha = min(max(alpha, k.alpha_min), min(k.alpha_max, alpha_stall))
-        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-        thrust = min(max(F_par + drag, 0.0), k.thrust_max)
-        # bank about the air velocity: lift direction relative to the unbanked "up"
         horiz = math.hypot(e1[0], e1[1])
         if horiz > 1e-6:
             right0 = np.array([-e1[1], e1[0], 0.0]) / horiz
         else:  # vertical flight: any horizontal axis
             right0 = np.array([0.0, 1.0, 0.0])
-        up0 = np.cross(right0, e1)  # = -c3 at zero bank (points up in level flight)
+        up0 = cross(right0, e1)  # = -c3 at zero bank (points up in level flight)
+        alpha_stall = (qS_clmax - qS_cl0) / qS_cla
+        # energy exchange (TECS-like): an along-path force the propeller cannot give (braking
+        # beyond the drag, or more than full thrust) is traded through the flight path: pull up
+        # to bleed speed into height, push over to gain speed from height.
+        for _ in range(2):
+            L = float(np.linalg.norm(F_perp))
+            alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
+            drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+            excess = F_par + drag
+            if excess < 0.0:
+                F_perp = F - F_par * e1 - k.energy_trade * excess * up0
+            elif excess > k.thrust_max:
+                F_perp = F - F_par * e1 - k.energy_trade * (excess - k.thrust_max) * up0
+            else:
+                break
+        L = float(np.linalg.norm(F_perp))
+        # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
+        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
+        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+        thrust = min(max(F_par + drag, 0.0), k.thrust_max)
+        # bank about the air velocity: lift direction relative to the unbanked "up"
         if L > 1e-6:
             eL = F_perp / L
             mu = math.atan2(float(eL @ right0), float(eL @ up0))
@@ -141,7 +160,7 @@ class Guidance:
         ca, sa = math.cos(alpha), math.sin(alpha)
         xb = ca * e1 + sa * eL
         zb = sa * e1 - ca * eL
-        yb = np.cross(zb, xb)
+        yb = cross(zb, xb)
         pitch = -math.asin(max(-1.0, min(1.0, float(xb[2]))))
         roll = math.atan2(float(yb[2]), float(zb[2]))
         yaw = math.atan2(float(xb[1]), float(xb[0]))

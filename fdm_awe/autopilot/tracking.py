@@ -74,36 +74,32 @@ class TrackingReference:
     def period(self) -> float:
         return self.T1 + self.T2
 
-    def _interp(self, arr: np.ndarray, tc: float) -> np.ndarray | float:
-        i = int(np.searchsorted(self.t, tc, side="right") - 1)
-        i = min(max(i, 0), len(self.t) - 2)
-        w = (tc - self.t[i]) / (self.t[i + 1] - self.t[i])
-        w = min(max(w, 0.0), 1.0)
-        return arr[i] * (1 - w) + arr[i + 1] * w
+    def _table(self) -> np.ndarray:
+        tab = self.__dict__.get("_tab")
+        if tab is None:
+            tab = np.column_stack([self.pos, self.vel, self.acc, self.airspeed, self.alpha, self.phi, self.thrust,
+                                   self.tension, self.length, self.reel_speed])
+            self.__dict__["_tab"] = tab
+        return tab
 
     def cycle_time(self, t: float) -> tuple[int, float]:
         k = int(t // self.period)
         return k, t - k * self.period
 
     def sample(self, t: float) -> RefPoint:
-        """Reference at flight time ``t`` [s] (cycle repeated periodically)."""
+        """Reference at flight time ``t`` [s] (cycle repeated periodically), linear in time."""
         k, tc = self.cycle_time(t)
-        phase = GENERATION if tc < self.T1 else RECOVERY
-        f = self._interp
+        tab = self._table()
+        ts = self.t
+        i = int(np.searchsorted(ts, tc, side="right")) - 1
+        i = min(max(i, 0), len(ts) - 2)
+        w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
+        row = tab[i] * (1.0 - w) + tab[i + 1] * w
         return RefPoint(
-            t_cycle=tc,
-            cycle=k,
-            phase=phase,
-            pos=np.asarray(f(self.pos, tc)),
-            vel=np.asarray(f(self.vel, tc)),
-            acc=np.asarray(f(self.acc, tc)),
-            airspeed=float(f(self.airspeed, tc)),
-            alpha=float(f(self.alpha, tc)),
-            phi=float(f(self.phi, tc)),
-            thrust=float(f(self.thrust, tc)),
-            tension=float(f(self.tension, tc)),
-            length=float(f(self.length, tc)),
-            reel_speed=float(f(self.reel_speed, tc)),
+            t_cycle=tc, cycle=k, phase=GENERATION if tc < self.T1 else RECOVERY,
+            pos=row[0:3], vel=row[3:6], acc=row[6:9], airspeed=float(row[9]), alpha=float(row[10]),
+            phi=float(row[11]), thrust=float(row[12]), tension=float(row[13]), length=float(row[14]),
+            reel_speed=float(row[15]),
         )
 
     def waypoints(self, n: int = 60) -> list[tuple[float, float, float, float, int]]:

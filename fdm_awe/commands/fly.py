@@ -159,12 +159,11 @@ def _write_outputs(args, report, ref, out_dir: Path | None) -> dict:
     written: dict[str, str] = {}
     rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
     try:
-        from .. import recording  # noqa: F401
+        from ..recording import flight_outputs
     except ImportError:
         if rrd:
             print("fly: recording module not available; no .rrd written", file=sys.stderr)
         return written
-    from ..recording import flight_outputs
 
     written.update(flight_outputs(report, ref, rrd=rrd, out_dir=out_dir))
     return written
