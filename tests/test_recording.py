@@ -250,6 +250,9 @@ def test_csv_has_units_in_every_column(flight, tmp_path):
 def test_flight_pngs_are_real_images(flight, circle, tmp_path):
     paths = plot_flight(flight, circle, tmp_path)
     assert [p.name for p in paths] == ["flight_3d.png", "flight_time.png"]
+    from fdm_awe.recording import plot_summary
+
+    paths.append(plot_summary(flight, circle, tmp_path / "summary.png"))
     for p in paths:
         _check_png(p)
 

@@ -23,7 +23,7 @@ _EXPORTS = {
     "record_flight": ".flight", "record_cycle": ".flight", "describe": ".flight",
     "flight_series": ".series", "cycle_series": ".series", "Series": ".series", "csv_name": ".series",
     "export_csv": ".csvexport", "export_cycle_csv": ".csvexport",
-    "plot_flight": ".plots", "plot_cycle": ".plots", "plot_compare": ".plots",
+    "plot_flight": ".plots", "plot_cycle": ".plots", "plot_compare": ".plots", "plot_summary": ".plots",
     "flight_markdown": ".report", "cycle_markdown": ".report", "table3_markdown": ".report",
     "flight_outputs": ".outputs", "cycle_outputs": ".outputs",
     "rrd_verify": ".inspect", "rrd_stats": ".inspect", "rrd_entities": ".inspect",

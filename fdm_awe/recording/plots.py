@@ -88,6 +88,19 @@ def figure_3d(paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], title
     plt = _plt()
     fig = plt.figure(figsize=(9.0, 7.0), dpi=110)
     ax = fig.add_subplot(projection="3d")
+    draw_scene_3d(ax, paths, wind, tether_from)
+    ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+def draw_scene_3d(ax: Any, paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], wind: np.ndarray | None,
+                  tether_from: np.ndarray | None = None) -> None:
+    """Paths, winch, wind arrow, ground shadow, labelled axes with true proportions on a 3D axes."""
     allp = [np.zeros((1, 3))]
     for name, pos, labels, ls in paths:
         pos = np.asarray(pos, float)
@@ -133,14 +146,7 @@ def figure_3d(paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], title
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(6))
     ax.view_init(elev=22, azim=-125)
-    ax.set_title(title, fontsize=10)
     ax.legend(loc="upper left", fontsize=8)
-    fig.tight_layout()
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    plt.close(fig)
-    return out
 
 
 def _shade_phases(ax: Any, s: Series) -> None:
@@ -282,4 +288,50 @@ def plot_compare(references: Sequence[Any], names: Sequence[str], outdir: str | 
     return [p3, pt]
 
 
-__all__ = ["figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight"]
+def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.png", title: str | None = None) -> Path:
+    """One picture of a flight for a README: the 3D cycle (flown and reference, coloured by
+    phase) beside altitude, tension / reel speed and the cumulative energies."""
+    plt = _plt()
+    from matplotlib.patches import Patch
+
+    s = flight_series(flight)
+    rs = _reference_series(reference)
+    meta = dict(s.meta)
+    title = title or _title(meta, "flight")
+    fig = plt.figure(figsize=(14.0, 7.0), dpi=100)
+    gs = fig.add_gridspec(3, 2, width_ratios=[1.25, 1.0])
+    ax = fig.add_subplot(gs[:, 0], projection="3d")
+    paths = [("flown", s.pos, s.phase, "-")]
+    if rs is not None:
+        paths.append(("reference", rs.pos, rs.phase, "--"))
+    draw_scene_3d(ax, paths, _wind(meta, reference), s.pos[0] if len(s.pos) else None)
+    rows = [
+        ("altitude [m]", [("altitude", "altitude h"), ("tether_length", "tether length l")]),
+        ("tension [N] / reel speed [m/s]", [("tension", "tension G [N]"), ("reel_speed", "reel speed [m/s] (+ out)")]),
+        ("cumulative energy [J]", [("E_generated", "generated"), ("E_thrust", "thrust"), ("E_reel_in", "reel-in"),
+                                   ("E_net", "net")]),
+    ]
+    for i, (ylab, cols) in enumerate(rows):
+        axr = fig.add_subplot(gs[i, 1])
+        _shade_phases(axr, s)
+        for key, leg in cols:
+            axr.plot(s.t, s[key], lw=1.2, label=leg)
+        axr.set_ylabel(ylab)
+        axr.grid(True, alpha=0.3)
+        axr.legend(fontsize=7, loc="best")
+        if i == len(rows) - 1:
+            axr.set_xlabel("time [s]")
+        else:
+            axr.tick_params(labelbottom=False)
+    handles = [Patch(color=phase_color_float(lab), alpha=0.3, label=lab) for lab in dict.fromkeys(s.phase)]
+    fig.legend(handles=handles, loc="upper right", fontsize=8, title="phase (shaded)")
+    fig.suptitle(title, fontsize=11)
+    fig.tight_layout(rect=(0, 0, 0.93, 0.96))
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out)
+    plt.close(fig)
+    return out
+
+
+__all__ = ["draw_scene_3d", "figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight", "plot_summary"]
