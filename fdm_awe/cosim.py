@@ -174,7 +174,8 @@ class CoSim:
 
     def run(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None = None) -> FlightResult:
         """Run for ``t_end`` s of simulated time (or until an event); ``on_step(k, state, gs_out)``
-        is called after every step when given."""
+        is called after every step when given, and a true return value ends the run there
+        with status ``ok``."""
         if not (t_end > 0.0 and math.isfinite(t_end)):
             raise InputError(f"t_end: {t_end!r} out of range (allowed > 0 s)")
         g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
@@ -236,8 +237,8 @@ class CoSim:
                 ctl.append(surf)
                 if has_phase:
                     phases.append(self._phase_code(ctrl, labels, codes))
-                if on_step is not None:
-                    on_step(k, s, gs_out)
+                if on_step is not None and on_step(k, s, gs_out):
+                    break  # the caller's end condition (e.g. N cycles flown): status "ok"
                 # ---- events
                 if not finite():
                     event = Event("nonfinite", s.t, "non-finite glider state")

@@ -166,38 +166,54 @@ def fly(
         setup(ap, sim)
     gl = GliderLedger(glider)
     P = reference.period
-    T_total = t_end if t_end is not None else cycles * P
+    # cycles are counted by the autopilot's path parameter (the glider's own period); the
+    # flight ends when the last cycle is flown, or at a generous time cap
+    T_total = t_end if t_end is not None else cycles * P * 2.0 + 10.0
     n = int(round(T_total / dt))
     err = np.full(n + 1, np.nan)
     refpos = np.full((n + 1, 3), np.nan)
     e_load = np.zeros(n + 1)
     e_supply = np.zeros(n + 1)
     led = gs.ledger
+    marks: list[tuple[int, int, int]] = []  # (step, cycle, phase) at every phase change
+    last = [(-1, -1)]
+    s_end = cycles * P
 
-    def _on_step(k: int, s: Any, o: Any) -> None:
+    def _on_step(k: int, s: Any, o: Any) -> bool:
         gl.step(dt)
         rp = ap.ref_point
         if rp is not None and ap.mode == "AUTO":
             refpos[k] = rp.pos
             err[k] = float(np.linalg.norm(rp.pos - s.pos_ned))
+            key = (ap.cycle, rp.phase)
+            if key != last[0]:
+                marks.append((k, *key))
+                last[0] = key
         e_load[k] = led.load
         e_supply[k] = led.supply
         if on_step is not None:
             on_step(k, s, o)
+        return t_end is None and ap.mode == "AUTO" and ap.s_ref >= s_end
 
     wall0 = time.perf_counter()
     res = sim.run(T_total, on_step=_on_step)
     wall = time.perf_counter() - wall0
     k_end = res.steps
-    t = res.t - res.t[0]
     p_prop = np.nan_to_num(res.p_prop)
     e_thrust = np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
     mets: list[CycleMetrics] = []
-    for c in range(int(math.ceil(T_total / P - 1e-9))):
-        i0 = int(round(c * P / dt))
-        i1 = min(int(round((c + 1) * P / dt)), k_end)
+    # cycle c runs from its generation mark to the next cycle's generation mark (or the end)
+    starts = {c: k for k, c, ph in marks if ph == 0}
+    rec = {c: k for k, c, ph in marks if ph == 1}
+    starts.setdefault(0, 0)
+    for c in sorted(starts):
+        i0 = starts[c] if c > 0 else 0
+        nxt = starts.get(c + 1)
+        complete = nxt is not None or (ap.s_ref >= (c + 1) * P - 1e-9)
+        i1 = nxt if nxt is not None else k_end
         if i0 >= k_end:
             break
+        ir = rec.get(c, i1)
         sl = slice(i0 + 1, i1 + 1)
         e = err[sl]
         e = e[np.isfinite(e)]
@@ -205,9 +221,9 @@ def fly(
         E_thr = float(e_thrust[i1] - e_thrust[i0])
         E_rw = float(e_supply[i1] - e_supply[i0])
         mets.append(CycleMetrics(
-            c, reference.T1, reference.T2, E_gen, E_thr, E_rw, E_gen - E_thr - E_rw,
+            c, (ir - i0) * dt, (i1 - ir) * dt, E_gen, E_thr, E_rw, E_gen - E_thr - E_rw,
             float(np.sqrt(np.mean(e**2))) if len(e) else float("nan"), float(e.max()) if len(e) else float("nan"),
-            complete=(i1 - i0) >= int(round(P / dt)) - 1,
+            complete=bool(complete),
         ))
     g_res, g_large = gl.residual()
     gs_res = led.residual()
@@ -222,7 +238,7 @@ def fly(
         status, msg = "landed", msg.replace("ground contact", "landed")
     return FlightReport(
         scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind[0], wind[1]))),
-        status=status, message=msg, sim_time_s=float(t[-1]), wall_s=wall, cycles=mets, ledger=ledger,
+        status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
         autopilot_log=list(ap.log),
     )

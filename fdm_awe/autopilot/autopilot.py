@@ -85,7 +85,12 @@ class Autopilot:
         self.mode = "AUTO" if reference is not None else "FBWA"
         self.armed = True
         self.cycling = reference is not None
-        self.t0 = 0.0  # flight time at which the reference's cycle time is zero
+        #: path parameter: reference time flown so far [s] (cycle k spans k P .. (k+1) P). It
+        #: advances with flight time, faster when the glider is ahead of its reference point
+        #: and slower when behind, so the loops act on the distance to the path rather than on
+        #: a schedule (path following; the cycle's period is the glider's own).
+        self.s_ref = 0.0
+        self.path_rate = 1.0
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -150,7 +155,7 @@ class Autopilot:
             return False
         if not self.cycling:
             # restart the cycle at the reference point nearest to where the glider is
-            self.t0 = self._t_now - self._nearest_cycle_time()
+            self.s_ref = self._cycle_start() + self._nearest_cycle_time()
             self.guidance.reset()
             self._note("cycling started")
         self.cycling = True
@@ -191,7 +196,7 @@ class Autopilot:
         self.guidance.reset()
         self._note(f"mission of {len(wps)} waypoints loaded")
         if self.cycling:
-            self.t0 = self._t_now - self._nearest_cycle_time()
+            self.s_ref = self._cycle_start() + self._nearest_cycle_time()
         return True, "accepted"
 
     def clear_mission(self) -> None:
@@ -201,6 +206,18 @@ class Autopilot:
             self.set_mode("RECOVER")
 
     # ------------------------------------------------------------------ helpers
+    def _cycle_start(self) -> float:
+        """Path parameter at the start of the current cycle [s]."""
+        if self.reference is None:
+            return self.s_ref
+        P = self.reference.period
+        return math.floor(self.s_ref / P + 1e-9) * P
+
+    @property
+    def cycle(self) -> int:
+        """Index of the cycle being flown (0-based)."""
+        return int(self.s_ref // self.reference.period) if self.reference is not None else 0
+
     def _nearest_cycle_time(self) -> float:
         ref = self.reference
         assert ref is not None
@@ -249,8 +266,18 @@ class Autopilot:
         ref_traj = self.reference
         assert ref_traj is not None
         p = self.params
-        r = ref_traj.sample(t - self.t0)
+        r = ref_traj.sample(self.s_ref)
         self.ref_point = r
+        # advance the path parameter: along-path error over the reference speed, relaxed in
+        # PATH_TAU seconds, bounded to 0 .. 3x real time
+        vr = float(np.linalg.norm(r.vel))
+        if vr > 0.5:
+            e_at = float((s.pos_ned - r.pos) @ r.vel) / vr
+            rate = min(max(1.0 + e_at / (vr * p["PATH_TAU"]), 0.0), 3.0)
+        else:
+            rate = 1.0
+        self.path_rate = rate
+        self.s_ref += rate * dt
         wind = s.vel_ned - s.vel_air_ned
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         taut = gs is not None and not gs.slack and r.phase == GENERATION
@@ -277,7 +304,14 @@ class Autopilot:
                 rl = min(max(self.R_L + p["GEN_RL_KP"] * (r.length - gs.length), 0.2), 20.0)
             wcmd = WinchCommand(mode="generator", load_resistance=rl)
         else:
-            wcmd = WinchCommand(mode="motor", reel_speed_ref=min(r.reel_speed, 0.0))
+            # reel in at the reference speed scaled by the path rate, trimmed towards the reference
+            # length, and ease off when the line pulls the glider harder than REC_TENSION
+            v = rate * r.reel_speed
+            if gs is not None:
+                v += 0.5 * (r.length - gs.length)
+                if gs.tension > p["REC_TENSION"]:
+                    v += 0.2 * (gs.tension - p["REC_TENSION"])
+            wcmd = WinchCommand(mode="motor", reel_speed_ref=min(v, 0.5))
         thr = self._throttle(cmd.thrust, s.thrust_N, s.airspeed, dt)
         return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
 
