@@ -159,8 +159,9 @@ def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale
     """Record an optimised cycle (reference-trajectory file, trajectory or CycleResult).
 
     The collocation points are drawn as the path; the glider is posed along it at
-    ``samples_hz`` with attitude from the air-path angles and bank (wings level with the
-    air-path frame rotated by alpha: the point-mass model has no body attitude of its own).
+    ``samples_hz``. The point-mass model has no body attitude of its own: the pose drawn is
+    heading psi, pitch gamma + alpha, bank phi (ZYX Euler angles; exact for wings level,
+    an illustration when banked).
     """
     s = cycle_series(reference)
     tr = load_reference(reference)
@@ -185,7 +186,7 @@ def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale
 
 
 def _air_path_quat(gamma: float, psi: float, phi: float, alpha: float) -> tuple[float, float, float, float]:
-    """(w, x, y, z) attitude: heading psi, pitch gamma + alpha, bank phi (ZYX; sideslip 0)."""
+    """(w, x, y, z) drawn attitude: heading psi, pitch gamma + alpha, bank phi (ZYX Euler angles)."""
     from ..sixdof.state import euler_to_quat
 
     return euler_to_quat(phi, gamma + alpha, psi)
