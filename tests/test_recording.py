@@ -135,6 +135,13 @@ def test_flight_recording_has_scene_series_and_time_range(flight, circle, tmp_pa
         assert ent[e].t_min == pytest.approx(0.0, abs=T_TOL)
         assert ent[e].t_max == pytest.approx(flight.sim_time_s, abs=T_TOL)
     assert "Transform3D:quaternion" in ent["/world/glider"].components
+    # the default layout: the 3D scene of /world beside the plots and the phase lane
+    from fdm_awe.recording import rrd_views
+
+    views = rrd_views(path)
+    assert any(q == ["world/**"] for q in views.values())
+    assert views["tether tension [N]"] == ["plots/tension"] and views["phase"] == ["phase"]
+    assert views["cumulative energy [J]"] == ["plots/energy/**"]
 
 
 def test_interrupted_flight_leaves_a_verified_recording(interrupted, tmp_path):

@@ -26,7 +26,7 @@ _EXPORTS = {
     "plot_flight": ".plots", "plot_cycle": ".plots", "plot_compare": ".plots", "plot_summary": ".plots",
     "flight_markdown": ".report", "cycle_markdown": ".report", "table3_markdown": ".report",
     "flight_outputs": ".outputs", "cycle_outputs": ".outputs",
-    "rrd_verify": ".inspect", "rrd_stats": ".inspect", "rrd_entities": ".inspect",
+    "rrd_verify": ".inspect", "rrd_stats": ".inspect", "rrd_entities": ".inspect", "rrd_views": ".inspect",
 }
 
 

@@ -83,4 +83,23 @@ def rrd_entities(path: str | Path, timeline: str = TIMELINE) -> dict[str, Entity
     return out
 
 
-__all__ = ["EntityInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_verify"]
+def rrd_views(path: str | Path) -> dict[str, list[str]]:
+    """View name -> its content queries, from the default blueprint stored in ``path``."""
+    from rerun.chunk import RrdReader
+
+    reader = RrdReader(str(path))
+    names: dict[str, str] = {}
+    queries: dict[str, list[str]] = {}
+    for entry in reader.blueprints():
+        for chunk in reader.store(store=entry).stream():
+            rb = chunk.to_record_batch()
+            ent = str(chunk.entity_path)
+            for col in rb.schema.names:
+                if col == "ViewBlueprint:display_name":
+                    names[ent] = rb.column(col).to_pylist()[-1][0]
+                elif col == "ViewContents:query":
+                    queries[ent.rsplit("/ViewContents", 1)[0]] = list(rb.column(col).to_pylist()[-1])
+    return {name: queries.get(ent, []) for ent, name in names.items()}
+
+
+__all__ = ["EntityInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_verify", "rrd_views"]
