@@ -25,6 +25,9 @@ import numpy as np
 
 from .units import FT, LBF, SLUG
 
+#: touchdown sink rate [m/s] below which ground contact in RECOVER counts as a landing
+LAND_SINK_MAX = 3.0
+
 
 @dataclass
 class CycleMetrics:
@@ -235,7 +238,12 @@ def fly(
     status = res.status
     msg = res.event.message if res.event is not None else "completed"
     if status == "ground_contact" and ap.mode == "RECOVER":
-        status, msg = "landed", msg.replace("ground contact", "landed")
+        # a landing, not a crash: touchdown sink rate below LAND_SINK_MAX
+        v_down = float(res.vel[-1][2])
+        if v_down < LAND_SINK_MAX:
+            status, msg = "landed", msg.replace("ground contact", "landed") + f", sink {v_down:.1f} m/s"
+        else:
+            msg += f", sink {v_down:.1f} m/s (a crash, not a landing)"
     return FlightReport(
         scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind[0], wind[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,

@@ -91,6 +91,8 @@ class Autopilot:
         #: a schedule (path following; the cycle's period is the glider's own).
         self.s_ref = 0.0
         self.path_rate = 1.0
+        self._rec_ref: TrackingReference | None = None  # landing path, built on entering RECOVER
+        self._rec_s = 0.0
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -142,6 +144,7 @@ class Autopilot:
             self._note(f"mode {self.mode} -> {name}")
             if name == "RECOVER":
                 self.phase = "recovery"
+                self._rec_ref = None
         self.mode = name
         return True
 
@@ -262,22 +265,26 @@ class Autopilot:
         alpha = self.glider.trim_alpha(max(s.airspeed, 8.0))
         return self._hold(s, min(alpha, self.params["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), WinchCommand(mode="generator", load_resistance=self.R_L)
 
+    def _advance(self, ref: TrackingReference, s_par: float, s: SixDofState, dt: float):
+        """Reference point at path parameter ``s_par`` and the parameter one step later: it moves
+        with the along-path error over the reference speed, relaxed in PATH_TAU seconds and
+        bounded to 0 .. 3x real time. Returns (point, rate, new parameter)."""
+        r = ref.sample(s_par)
+        vr = float(np.linalg.norm(r.vel))
+        if vr > 0.5:
+            e_at = float((s.pos_ned - r.pos) @ r.vel) / vr
+            rate = min(max(1.0 + e_at / (vr * self.params["PATH_TAU"]), 0.0), 3.0)
+        else:
+            rate = 1.0
+        return r, rate, s_par + rate * dt
+
     def _auto(self, t: float, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
         ref_traj = self.reference
         assert ref_traj is not None
         p = self.params
-        r = ref_traj.sample(self.s_ref)
+        r, rate, self.s_ref = self._advance(ref_traj, self.s_ref, s, dt)
         self.ref_point = r
-        # advance the path parameter: along-path error over the reference speed, relaxed in
-        # PATH_TAU seconds, bounded to 0 .. 3x real time
-        vr = float(np.linalg.norm(r.vel))
-        if vr > 0.5:
-            e_at = float((s.pos_ned - r.pos) @ r.vel) / vr
-            rate = min(max(1.0 + e_at / (vr * p["PATH_TAU"]), 0.0), 3.0)
-        else:
-            rate = 1.0
         self.path_rate = rate
-        self.s_ref += rate * dt
         wind = s.vel_ned - s.vel_air_ned
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         taut = gs is not None and not gs.slack and r.phase == GENERATION
@@ -319,27 +326,35 @@ class Autopilot:
         p = self.params
         self.phase = "recovery"
         h = -float(s.pos_ned[2])
-        # winch: take in slack line, never pull the glider (speed 0 holds the drum)
+        # winch: take in slack line beyond a 10 m reserve, never pull the glider: under more
+        # than REC_TENSION the passive generator pays line out instead
         d = float(np.linalg.norm(s.hook_pos_ned))
         slack = (gs.length - d) if gs is not None else 0.0
-        reel = -min(p["REC_REEL_SPD"], max(0.0, 0.5 * (slack - 2.0)))
-        wcmd = WinchCommand(mode="motor", reel_speed_ref=reel)
-        V = max(s.airspeed, 1.0)
+        if gs is not None and gs.tension > p["REC_TENSION"]:
+            wcmd = WinchCommand(mode="generator", load_resistance=self.R_L)
+        else:
+            reel = -min(p["REC_REEL_SPD"], max(0.0, 0.5 * (slack - 10.0)))
+            wcmd = WinchCommand(mode="motor", reel_speed_ref=reel)
         if h < p["REC_FLARE_ALT"]:
-            return self._hold(s, min(0.15, p["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), wcmd
-        # lateral: vector field onto a clockwise circle about the winch
-        R = p["REC_RADIUS"]
-        x, y = float(s.pos_ned[0]), float(s.pos_ned[1])
-        rho = math.hypot(x, y)
-        theta = math.atan2(y, x)
-        chi_tan = theta + math.pi / 2  # clockwise seen from above (NED: increasing azimuth)
-        chi_d = chi_tan + math.atan(2.0 * (rho - R) / R)
-        vg = s.vel_ned
-        chi = math.atan2(float(vg[1]), float(vg[0]))
-        gs_h = max(math.hypot(float(vg[0]), float(vg[1])), 1.0)
-        bank_ff = math.atan(gs_h * gs_h / (self.g * max(rho, R))) if abs(rho - R) < R else 0.0
-        roll = max(-0.6, min(0.6, bank_ff + 1.2 * _wrap(chi_d - chi)))
-        # longitudinal: hold the recovery airspeed with the angle of attack
-        alpha = self.glider.trim_alpha(p["REC_AIRSPEED"], -0.07, roll) + 0.03 * (V - p["REC_AIRSPEED"])
-        alpha = min(max(alpha, 0.0), p["LIM_ALPHA_MAX"])
-        return self._hold(s, alpha, roll, 0.0, dt), wcmd
+            # flare: wings level, angle of attack for level flight plus a sink-rate term
+            # (hold ~0.5 m/s down) until the skids touch
+            self.ref_point = None
+            v_down = float(s.vel_ned[2])
+            alpha = self.glider.trim_alpha(max(s.airspeed, 5.0)) + 0.05 * (v_down - 0.5)
+            return self._hold(s, min(max(alpha, 0.0), p["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), wcmd
+        if self._rec_ref is None:
+            # a descending circle about the winch, entered straight from where the glider is
+            self._rec_ref = TrackingReference.descent_helix(
+                s.pos_ned, p["REC_RADIUS"], p["REC_SLOPE"], p["REC_AIRSPEED"], h_end=0.5 * p["REC_FLARE_ALT"])
+            self._rec_s = 0.0
+            self.guidance.reset()
+            self._note(f"recovery path: {len(self._rec_ref.t)} points, {self._rec_ref.period:.0f} s")
+        r, rate, self._rec_s = self._advance(self._rec_ref, min(self._rec_s, self._rec_ref.period - 1.0), s, dt)
+        self.ref_point = r
+        wind = s.vel_ned - s.vel_air_ned
+        f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
+        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt)
+        self.last_guidance = cmd
+        self.track_error = cmd.pos_error
+        thr = self._throttle(cmd.thrust, s.thrust_N, s.airspeed, dt)
+        return self._hold(s, cmd.alpha, cmd.roll, 0.0, dt, thr), wcmd

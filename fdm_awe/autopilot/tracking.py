@@ -9,6 +9,7 @@ the reference state and controls, not by differentiating noisy samples.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -224,3 +225,36 @@ class TrackingReference:
             thrust=zeros.copy(), tension=zeros.copy(), length=d, reel_speed=dd, T1=T1v, T2=period - T1v,
             meta={"source": "uploaded mission"},
         )
+
+    @classmethod
+    def descent_helix(cls, start: np.ndarray, radius: float, slope: float, speed: float, h_end: float = 1.0,
+                      spacing: float = 5.0) -> "TrackingReference":
+        """A landing path: from ``start`` (NED) straight towards the winch down to a circle of
+        ``radius`` [m] about it, then round the circle clockwise (seen from above) descending
+        1 m per ``slope`` m flown, down to ``h_end`` [m] above the ground; flown at ground
+        ``speed`` [m/s]. Waypoints every ``spacing`` metres of path."""
+        p0 = np.asarray(start, float)
+        h0 = -p0[2]
+        rho0 = math.hypot(p0[0], p0[1])
+        theta = math.atan2(p0[1], p0[0]) if rho0 > 1e-6 else 0.0
+        pts = [p0.copy()]
+        h = h0
+        # straight leg to the circle (or outwards onto it when starting inside)
+        leg = rho0 - radius
+        n_leg = max(int(abs(leg) / spacing), 1)
+        for i in range(1, n_leg + 1):
+            r = rho0 - leg * i / n_leg
+            h = max(h0 - abs(leg) * i / n_leg / slope, h_end)
+            pts.append(np.array([r * math.cos(theta), r * math.sin(theta), -h]))
+        while h > h_end:
+            theta += spacing / radius
+            h = max(h - spacing / slope, h_end)
+            pts.append(np.array([radius * math.cos(theta), radius * math.sin(theta), -h]))
+        # a short level run-out so the path does not end at the ground
+        for _ in range(10):
+            theta += spacing / radius
+            pts.append(np.array([radius * math.cos(theta), radius * math.sin(theta), -h_end]))
+        P = np.array(pts)
+        ref = cls.from_waypoints(P, None, None, speed)
+        ref.meta = {"source": "descent helix"}
+        return ref
