@@ -30,12 +30,14 @@ CYCLE_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
 
 
 def layout(panels: tuple[tuple[str, tuple[str, ...]], ...], title: str) -> Any:
-    """3D view of ``world`` (2/5 of the width) beside a grid of time-series panels and a phase lane."""
+    """3D view of ``world`` (2/5 of the width) beside a grid of time-series panels (a second tab
+    holds the run's markdown report) and a phase lane."""
     import rerun.blueprint as rrb
 
     plots = [rrb.TimeSeriesView(name=name, origin="/", contents=list(paths)) for name, paths in panels]
     right = rrb.Vertical(
-        rrb.Grid(*plots, grid_columns=2),
+        rrb.Tabs(rrb.Grid(*plots, grid_columns=2, name="time series"),
+                 rrb.TextDocumentView(name="report", origin="/", contents=["report"]), active_tab=0),
         rrb.StateTimelineView(name="phase", origin="/", contents=["phase"]),
         row_shares=[8, 1],
     )

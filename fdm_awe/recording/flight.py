@@ -22,7 +22,9 @@ from .blueprint import cycle_blueprint, flight_blueprint
 from .rrd import RrdFile
 from .scene import REFERENCE_COLOR, scene_extent
 from .series import Series, cycle_series, flight_series, load_reference
-from .world import GLIDER_SCALE, log_glider, log_path, log_phase, log_point, log_static_scene, log_tether
+from .world import (
+    GLIDER_SCALE, log_error_line, log_glider, log_path, log_phase, log_point, log_static_scene, log_tether,
+)
 
 #: (entity, series name, display name) of a flight's plots
 FLIGHT_PLOTS: tuple[tuple[str, str, str], ...] = (
@@ -137,9 +139,14 @@ def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight
             log_tether(rf, s.t[i], s.pos[i], s["tension"][i])
             refp = np.c_[s["ref_x"], s["ref_y"], s["ref_z"]][i]
             log_point(rf, "world/reference_point", s.t[i], refp, REFERENCE_COLOR)
+            log_error_line(rf, "world/tracking_error", s.t[i], s.pos[i], refp)
         _send_plots(rf, s, FLIGHT_PLOTS)
         log_phase(rf, s.t, s.phase)
         _log_events(rf, flight, s)
+        if hasattr(flight, "cycles") and hasattr(flight, "ledger"):
+            from .report import flight_markdown
+
+            rf.static("report", rf.rr.TextDocument(flight_markdown(flight), media_type=rf.rr.MediaType.MARKDOWN))
     return Path(path)
 
 
@@ -182,6 +189,9 @@ def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale
             log_tether(rf, tt, pos, tens)
         _send_plots(rf, s, CYCLE_PLOTS)
         log_phase(rf, s.t, s.phase)
+        from .report import cycle_markdown
+
+        rf.static("report", rf.rr.TextDocument(cycle_markdown(reference), media_type=rf.rr.MediaType.MARKDOWN))
     return Path(path)
 
 

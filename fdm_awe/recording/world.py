@@ -97,7 +97,7 @@ def log_tether(rf: RrdFile, t: np.ndarray, pos: np.ndarray, tension: np.ndarray 
     taut = tens > 0.5
     colors = np.where(taut[:, None], np.array(TETHER_COLOR), np.array((150, 150, 150))).astype(np.uint8)
     radii = np.where(taut, 0.35, 0.15).astype(np.float32)
-    rf.columns("world/tether", t, rr.LineStrips3D.columns(strips=list(strips), colors=colors, radii=radii))
+    rf.columns("world/tether", t, rr.LineStrips3D.columns(strips=strips, colors=colors, radii=radii))
 
 
 def log_point(rf: RrdFile, entity: str, t: np.ndarray, pos: np.ndarray, color: Sequence[int], radius: float = 1.5) -> None:
@@ -110,6 +110,18 @@ def log_point(rf: RrdFile, entity: str, t: np.ndarray, pos: np.ndarray, color: S
     rf.columns(entity, t[ok], rr.Points3D.columns(positions=pos[ok], colors=[tuple(color)] * n, radii=[radius] * n))
 
 
+def log_error_line(rf: RrdFile, entity: str, t: np.ndarray, pos: np.ndarray, ref: np.ndarray) -> None:
+    """A thin line from the glider to its reference point over time (the tracking error)."""
+    rr = rf.rr
+    ok = np.all(np.isfinite(pos), axis=1) & np.all(np.isfinite(ref), axis=1)
+    if not ok.any():
+        return
+    strips = np.stack([pos[ok], ref[ok]], axis=1)
+    n = len(strips)
+    rf.columns(entity, t[ok], rr.LineStrips3D.columns(strips=strips, colors=[REFERENCE_COLOR] * n,
+                                                      radii=[0.1] * n))
+
+
 def log_phase(rf: RrdFile, t: np.ndarray, labels: Sequence[str]) -> None:
     """Phase as a state lane: one state change per switch."""
     rr = rf.rr
@@ -120,4 +132,4 @@ def log_phase(rf: RrdFile, t: np.ndarray, labels: Sequence[str]) -> None:
     rf.columns("phase", np.asarray(t)[idx], rr.StateChange.columns(state=[labels[i] for i in idx]))
 
 
-__all__ = ["GLIDER_SCALE", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether"]
+__all__ = ["GLIDER_SCALE", "log_error_line", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether"]
