@@ -10,7 +10,7 @@ to look at the run into one folder:
 Open a recording with ``rerun OUT/flight.rrd``.
 
 Usage: python scripts/fly_one_cycle.py [--scenario physical] [--config foldable] [--wind 6]
-                                       [--out runs/one_cycle] [--reference FILE] [--quiet]
+                                       [--out runs/one_cycle] [--reference FILE] [--figure PNG] [--quiet]
 Exit code 0 when the flight completed without an event.
 """
 
@@ -33,6 +33,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--wind", type=float, default=6.0, help="wind speed from the south, m/s (default 6)")
     ap.add_argument("--out", default="runs/one_cycle", help="output folder (default runs/one_cycle)")
     ap.add_argument("--reference", help="fly this reference-trajectory file instead of optimising one")
+    ap.add_argument("--figure", metavar="PNG", help="also write a one-picture summary of the flight (e.g. docs/cycle.png)")
     ap.add_argument("--quiet", action="store_true", help="no progress bars")
     args = ap.parse_args(argv)
 
@@ -68,6 +69,10 @@ def main(argv: list[str] | None = None) -> int:
         report = fly(ref, config=args.config, cycles=1, dt=dt, on_step=bar)
     print(f"flown: {report.status} ({report.message}), {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s")
     written["flight"] = flight_outputs(report, ref, out_dir=out)
+    if args.figure:
+        from fdm_awe.recording import plot_summary
+
+        written["figure"] = str(plot_summary(report, ref, args.figure))
     doc = report.as_json()
     doc["outputs"] = written
     (out / "flight.json").write_text(json.dumps(doc, indent=2, default=lambda o: None) + "\n")
