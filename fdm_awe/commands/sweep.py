@@ -1,0 +1,117 @@
+"""``fdm-awe sweep``: power curves and design sweeps of the pumping cycle on Dask.
+
+Each point is one periodic-cycle optimisation; points of a line (same design, varying wind)
+are warm-started from their neighbour. Every finished point is written at once to
+``OUT/points/<id>.json``: rerunning the same command computes only the missing points.
+
+Outputs in ``OUT``: ``points.csv`` (every point, failed ones with their reason),
+``power_curve.png``, ``folding_map.png``, ``summary.md``; ``--json FILE`` writes the numbers.
+
+Exit codes: 0 when every point of the sweep has a result (converged or failed: failed points
+are counted, listed and do not change the exit code); 1 when some points have no result (the
+sweep was interrupted, a worker died); 2 on bad input; 130 on Ctrl-C (finished points are kept).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--wind", default="3:12:1", metavar="SPEC", help="wind speeds [m/s]: START:STOP:STEP or a list (default 3:12:1)")
+    p.add_argument("--config", default="nominal,foldable", help="configurations: nominal,foldable (default both)")
+    p.add_argument("--scenario", default="physical", choices=("physical", "paper"), help="scenario family (default physical)")
+    p.add_argument("--folded-span", metavar="LIST", help="folded spans b_f [m] (default: the folded definition's)")
+    p.add_argument("--folded-drag-area", metavar="LIST", help="folded drag areas C_Dmin S_f [m2] (default: the definition's)")
+    p.add_argument("--wing-area", metavar="LIST", help="unfolded wing areas [m2] at the definition's aspect ratio (default: the definition's)")
+    p.add_argument("--tether-range", default="200:250", metavar="D0:DTF,...", help="reel-out ranges d0:d_tf [m] (default 200:250)")
+    p.add_argument("--fold-time", default="0", metavar="LIST", help="fold times [s]; only 0 is supported (instant fold)")
+    p.add_argument("--mesh", default="30,20", metavar="NGEN,NREC[,DEG]", help="collocation mesh (default 30,20,3)")
+    p.add_argument("--max-iter", type=int, default=None, help="IPOPT iteration limit per solve (default 1000)")
+    p.add_argument("--workers", type=int, default=None, help="local Dask worker processes (default: number of cores)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="use this Dask scheduler instead of a local cluster")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder (point files, table, plots, summary)")
+    p.add_argument("--json", metavar="FILE", help="also write the summary numbers and every point as JSON")
+    p.add_argument("--retry-failed", action="store_true", help="recompute points recorded as failed")
+    p.add_argument("--stop-after", type=int, default=None, metavar="N",
+                   help="stop after N newly finished points (as an interruption would; for testing resume)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def build_spec(args: argparse.Namespace):
+    """The :class:`~fdm_awe.sweep.spec.SweepSpec` of the command line (canonical ids)."""
+    from ..errors import InputError
+    from ..ocp.problem import Mesh
+    from ..sweep.runner import canonical_spec
+    from ..sweep.spec import DEFAULT_MAX_ITER, SweepSpec, parse_floats, parse_tether_ranges
+
+    try:
+        m = [int(v) for v in args.mesh.split(",")]
+        if len(m) not in (2, 3):
+            raise ValueError
+    except ValueError:
+        raise InputError(f"--mesh {args.mesh!r} invalid (allowed NGEN,NREC or NGEN,NREC,DEGREE integers)") from None
+    mesh = Mesh(n_gen=m[0], n_rec=m[1], **({"degree": m[2]} if len(m) == 3 else {}))
+    configs = tuple(c.strip() for c in args.config.split(",") if c.strip())
+
+    def opt(text: str | None, what: str, unit: str) -> tuple:
+        return (None,) if text is None else parse_floats(text, what, unit)
+
+    spec = SweepSpec(
+        winds=parse_floats(args.wind, "--wind", "m/s"), configs=configs,
+        folded_spans=opt(args.folded_span, "--folded-span", "m"),
+        folded_drag_areas=opt(args.folded_drag_area, "--folded-drag-area", "m2"),
+        wing_areas=opt(args.wing_area, "--wing-area", "m2"),
+        tether_ranges=parse_tether_ranges(args.tether_range),
+        fold_times=parse_floats(args.fold_time, "--fold-time", "s"),
+        scenario=args.scenario, mesh=mesh, max_iter=args.max_iter if args.max_iter is not None else DEFAULT_MAX_ITER,
+    ).validate()
+    return canonical_spec(spec)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..errors import InputError
+    from ..sweep.execute import run_sweep
+    from ..sweep.report import write_outputs
+
+    spec = build_spec(args)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers {args.workers} out of range (allowed >= 1)")
+    if args.stop_after is not None and args.stop_after < 1:
+        raise InputError(f"--stop-after {args.stop_after} out of range (allowed >= 1)")
+    n = len(spec.points())
+    print(f"sweep: {n} points ({spec.scenario} scenario, configs {','.join(spec.configs)}, mesh "
+          f"{spec.mesh.n_gen}/{spec.mesh.n_rec}/{spec.mesh.degree}) -> {args.out}", flush=True)
+    res = run_sweep(spec, args.out, workers=args.workers, scheduler=args.scheduler, retry_failed=args.retry_failed,
+                    progress=not args.no_progress, stop_after=args.stop_after)
+    records = list(res.records.values())
+    rep = write_outputs(spec, records, args.out)
+    where = f"{res.workers} worker(s) on {res.scheduler}" if res.workers else "nothing to compute"
+    print(f"points: {res.n_points} total, {res.n_cached} already done, {res.n_computed} computed now "
+          f"({res.n_failed_now} failed) in {res.wall_s:.1f} s with {where}")
+    n_fail = res.n_failed
+    if n_fail:
+        print(f"failed points: {n_fail} of {len(records)} finished (reasons in points.csv and summary.md)")
+    for label, reason in res.errors:
+        print(f"not computed: {label}: {reason}")
+    missing = res.n_points - len(records)
+    if missing:
+        print(f"INCOMPLETE: {missing} point(s) have no result; rerun the same command to compute them")
+    print(rep.sentence)
+    for k, v in rep.files.items():
+        print(f"{k}: {v}")
+    if args.json:
+        doc = {"scenario": spec.scenario, "spec": spec.to_dict(), "n_points": res.n_points, "n_finished": len(records),
+               "n_ok": len(records) - n_fail, "n_failed": n_fail, "n_cached": res.n_cached, "n_computed": res.n_computed,
+               "complete": res.complete, "wall_s": res.wall_s, "workers": res.workers, "scheduler": res.scheduler,
+               "answer": rep.answer, "answer_text": rep.sentence, "files": rep.files,
+               "not_computed": [{"point": lbl, "reason": r} for lbl, r in res.errors],
+               "failed": [{"id": r["id"], "config": r["config"], "wind_mps": r["wind_mps"], "b_f_m": r.get("b_f_m"),
+                           "reason": r["reason"]} for r in records if r["status"] != "ok"],
+               "points": records}
+        with open(args.json, "w") as fh:
+            json.dump(doc, fh, indent=1, allow_nan=False)
+    return 0 if res.complete else 1

@@ -1,0 +1,119 @@
+"""Design variants of the glider for sweeps, derived from the aircraft definitions.
+
+The definitions (``aircraft/glider_unfolded``, ``aircraft/glider_folded``) stay the single
+source of truth: every variant starts from :func:`fdm_awe.definitions.aircraft.load_glider`
+and changes only what the swept parameter changes, with the formulas of DESIGN.md section 5:
+
+- lift slope (Helmbold): ``C_La = 2 pi A / (2 + sqrt(A^2 / 0.81 + 4))``;
+- zero-lift angle ``alpha_0L`` kept: ``C_L0 = -C_La alpha_0L``;
+- drag ``C_D = C_Dmin + k C_L^2``, ``k = 1 / (pi e A)``, expanded in alpha:
+  ``C_D0 = C_Dmin + k C_L0^2``, ``C_Da1 = 2 k C_L0 C_La``, ``C_Da2 = k C_La^2``.
+
+The Oswald factor ``e``, the zero-lift angle, ``C_Dmin`` (drag area ``C_Dmin S``) and ``C_Lmax``
+of each configuration are recovered from its definition's coefficients
+(:func:`polar_constants`), not typed in here.
+
+Swept parameters (SI):
+
+- ``folded_span`` ``b_f`` [m]: folded area ``S_f = b_f c`` (same chord), ``A_f = b_f / c``;
+- ``folded_drag_area`` [m^2]: ``C_Dmin,f S_f`` (default: the folded definition's);
+- ``wing_area`` ``S_u`` [m^2] of the unfolded wing at the definition's aspect ratio
+  (``c = sqrt(S_u / A_u)``, ``b_u = A_u c``); the unfolded polar is unchanged (same aspect
+  ratio), the folded wing keeps ``b_f`` and the new chord. Mass, inertia and propulsion are
+  kept: a larger wing of the same weight is an optimistic simplification, stated in outputs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from ..definitions.aircraft import AeroParams, Airframe, Glider
+from ..errors import InputError
+
+
+def helmbold_lift_slope(aspect_ratio: float) -> float:
+    """Helmbold's lift-curve slope [1/rad] of a straight wing of aspect ratio ``A``."""
+    A = aspect_ratio
+    return 2 * math.pi * A / (2 + math.sqrt(A * A / 0.81 + 4))
+
+
+@dataclass(frozen=True)
+class PolarConstants:
+    """Constants behind a configuration's polynomial polar (see the module docstring)."""
+
+    alpha_0L: float  #: zero-lift angle of attack [rad]
+    CD_min: float  #: minimum (zero-lift) drag coefficient [-]
+    oswald: float  #: Oswald factor e [-]
+    CLmax: float  #: stall lift coefficient [-]
+
+
+def polar_constants(aero: AeroParams) -> PolarConstants:
+    """Recover ``alpha_0L``, ``C_Dmin``, ``e``, ``C_Lmax`` from a definition's coefficients.
+
+    ``k = C_Da2 / C_La^2``, ``e = 1 / (pi A k)``, ``C_Dmin = C_D0 - k C_L0^2``.
+    """
+    k = aero.CDalpha2 / aero.CLalpha**2
+    return PolarConstants(alpha_0L=-aero.CL0 / aero.CLalpha, CD_min=aero.CD0 - k * aero.CL0**2,
+                          oswald=1.0 / (math.pi * aero.aspect_ratio * k), CLmax=aero.CLmax)
+
+
+def wing_aero(span: float, chord: float, pc: PolarConstants) -> AeroParams:
+    """Aerodynamics of a rectangular wing ``span`` x ``chord`` [m] with the polar constants ``pc``."""
+    S = span * chord
+    A = span / chord
+    CLa = helmbold_lift_slope(A)
+    CL0 = -CLa * pc.alpha_0L
+    k = 1.0 / (math.pi * pc.oswald * A)
+    return AeroParams(S=S, b=span, c=chord, CL0=CL0, CLalpha=CLa, CLmax=pc.CLmax, CD0=pc.CD_min + k * CL0 * CL0,
+                      CDalpha1=2 * k * CL0 * CLa, CDalpha2=k * CLa * CLa)
+
+
+@dataclass(frozen=True)
+class Design:
+    """Design parameters of one sweep point; ``None`` = as in the aircraft definitions."""
+
+    folded_span: float | None = None  #: b_f [m]
+    folded_drag_area: float | None = None  #: C_Dmin,f S_f [m^2]
+    wing_area: float | None = None  #: S_u [m^2]
+
+    def validate(self, base: Glider) -> "Design":
+        b_u = base.unfolded.aero.b if self.wing_area is None else math.sqrt(self.wing_area * base.unfolded.aero.aspect_ratio)
+        if self.folded_span is not None and not (math.isfinite(self.folded_span) and 0 < self.folded_span <= b_u):
+            raise InputError(f"folded span {self.folded_span!r} m out of range (allowed 0 < b_f <= unfolded span {b_u:.4g} m)")
+        if self.folded_drag_area is not None and not (math.isfinite(self.folded_drag_area) and 0 < self.folded_drag_area < 0.1):
+            raise InputError(f"folded drag area {self.folded_drag_area!r} m2 out of range (allowed 0 < C_Dmin S_f < 0.1 m2)")
+        if self.wing_area is not None and not (math.isfinite(self.wing_area) and 0.01 <= self.wing_area <= 2.0):
+            raise InputError(f"wing area {self.wing_area!r} m2 out of range (allowed 0.01..2 m2)")
+        return self
+
+
+def design_glider(base: Glider, design: Design) -> Glider:
+    """The glider ``base`` changed by ``design`` (``base`` itself when nothing changes)."""
+    design.validate(base)
+    u, f = base.unfolded, base.folded
+    if design.wing_area is None and design.folded_span is None and design.folded_drag_area is None:
+        return base
+    pu, pf = polar_constants(u.aero), polar_constants(f.aero)
+    if design.wing_area is not None:
+        A_u = u.aero.aspect_ratio
+        c = math.sqrt(design.wing_area / A_u)
+        u_aero = wing_aero(A_u * c, c, pu)
+        # same aspect ratio: keep the definition's coefficients exactly, change only the geometry
+        u_aero = replace(u.aero, S=u_aero.S, b=u_aero.b, c=c)
+    else:
+        u_aero = u.aero
+        c = u.aero.c
+    b_f = f.aero.b if design.folded_span is None else design.folded_span
+    drag_area = pf.CD_min * f.aero.S if design.folded_drag_area is None else design.folded_drag_area
+    f_aero = wing_aero(b_f, c, replace(pf, CD_min=drag_area / (b_f * c)))
+    return Glider(replace(u, aero=u_aero, aircraft=u.aircraft + "-variant"),
+                  replace(f, aero=f_aero, aircraft=f.aircraft + "-variant"))
+
+
+def describe(glider: Glider) -> dict[str, float]:
+    """Key numbers of a glider variant (for tables): areas, spans, aspect ratios, polars."""
+    u, f = glider.unfolded.aero, glider.folded.aero
+    pf = polar_constants(f)
+    return {"S_u_m2": u.S, "b_u_m": u.b, "chord_m": u.c, "S_f_m2": f.S, "b_f_m": f.b, "AR_f": f.aspect_ratio,
+            "CLalpha_f": f.CLalpha, "CD0_f": f.CD0, "drag_area_f_m2": pf.CD_min * f.S}

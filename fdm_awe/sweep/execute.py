@@ -1,0 +1,188 @@
+"""Run a sweep on Dask: warm-start chains as chained tasks, every finished point persisted at once.
+
+Execution: an embedded ``dask.distributed.LocalCluster`` (worker processes with one thread
+each; ``workers`` defaults to the number of cores) or an existing cluster given by its
+scheduler address (``tcp://HOST:PORT``). Each point is one task
+(:func:`fdm_awe.sweep.runner.run_point`); the next point of its chain takes the task's output
+as an argument, so Dask runs a chain in order (normally on one worker, where the data is) and
+different chains in parallel.
+
+The client writes each point's record as soon as its task finishes
+(:class:`~fdm_awe.sweep.store.PointStore`), so an interrupted sweep resumes without
+recomputing finished points. Points already on disk are skipped; ``retry_failed`` recomputes
+recorded failures.
+
+Outcome (:class:`SweepRun`): ``complete`` is True when every point of the sweep has a record
+(``ok`` or ``failed``). Points whose task could not run at all (a worker died, the sweep was
+stopped) are listed in ``errors`` and are not persisted: a rerun computes them.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from ..errors import InputError
+from .runner import run_point
+from .spec import Point, SweepSpec, chains
+from .store import PointStore
+
+
+@dataclass
+class SweepRun:
+    """What a sweep run did (counts of points) and every finished record of the sweep."""
+
+    n_points: int  #: points in the sweep
+    n_cached: int  #: finished before this run (not recomputed)
+    n_computed: int = 0  #: finished in this run (ok or failed)
+    n_failed_now: int = 0  #: of those, failed
+    errors: list[tuple[str, str]] = field(default_factory=list)  #: (point label, reason) of points that did not run
+    wall_s: float = 0.0  #: wall time of the computation [s] (cluster start-up excluded)
+    startup_s: float = 0.0  #: cluster start-up time [s]
+    workers: int = 0
+    scheduler: str = ""
+    stopped: bool = False  #: stopped early (``stop_after``)
+    records: dict[str, dict[str, Any]] = field(default_factory=dict)  #: id -> record, sweep points only
+    computed_ids: list[str] = field(default_factory=list)
+
+    @property
+    def complete(self) -> bool:
+        return len(self.records) == self.n_points
+
+    @property
+    def n_failed(self) -> int:
+        return sum(1 for r in self.records.values() if r.get("status") != "ok")
+
+
+def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+        n = len(client.scheduler_info().get("workers", {}))
+        if n == 0:
+            client.wait_for_workers(1, timeout=60)
+            n = len(client.scheduler_info().get("workers", {}))
+        return client, None, n
+    n = workers or os.cpu_count() or 1
+    if n < 1:
+        raise InputError(f"workers = {n} out of range (allowed >= 1)")
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    return Client(cluster), cluster, n
+
+
+def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, scheduler: str | None = None,
+              retry_failed: bool = False, progress: bool = True, stop_after: int | None = None,
+              on_point: Callable[[dict[str, Any]], None] | None = None) -> SweepRun:
+    """Compute the missing points of ``spec`` into ``out_dir`` (see the module docstring).
+
+    ``stop_after``: stop (cancel the remaining tasks) once this many points were finished in
+    this run, as an interruption would. ``on_point`` is called with each new record.
+    """
+    points = spec.validate().points()
+    store = PointStore(out_dir)
+    ids = [p.id for p in points]
+    done = store.records(ids)
+    if retry_failed:
+        for pid, r in list(done.items()):
+            if r.get("status") != "ok":
+                store.forget(pid)
+                del done[pid]
+    run = SweepRun(n_points=len(points), n_cached=len(done))
+    pending = [p for p in points if p.id not in done]
+    if not pending:
+        run.records = done
+        return run
+
+    t0 = time.perf_counter()
+    client, cluster, n = _client(workers, scheduler)
+    run.startup_s = time.perf_counter() - t0
+    run.workers = n
+    run.scheduler = scheduler or "local"
+    t1 = time.perf_counter()
+    try:
+        futures, by_key = _submit(client, chains(points), done, store)
+        _collect(futures, by_key, store, run, done, progress, stop_after, on_point, client)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    run.wall_s = time.perf_counter() - t1
+    run.records = {pid: done[pid] for pid in ids if pid in done}
+    return run
+
+
+def _submit(client: Any, chain_list: list, done: dict[str, dict], store: PointStore) -> tuple[list, dict[str, Point]]:
+    """Submit every missing point, chained to its warm-start predecessor (a future, a stored
+    warm start, or nothing)."""
+    after_point: dict[str, Any] = {}  # point id -> warm start for the next point (Warm, Future or None)
+    futures = []
+    by_key: dict[str, Point] = {}
+    for ch in chain_list:
+        cur = None if ch.after is None else after_point[chain_list[ch.after].points[0].id]
+        for p in ch.points:
+            rec = done.get(p.id)
+            if rec is not None:
+                if rec.get("status") == "ok":
+                    w = store.load_warm(p.id)
+                    if w is not None:
+                        cur = w
+            else:
+                key = f"sweep-point-{p.id}"
+                fut = client.submit(run_point, p, cur, key=key, pure=False, retries=0)
+                futures.append(fut)
+                by_key[fut.key] = p
+                cur = fut
+            after_point[p.id] = cur
+    return futures, by_key
+
+
+def _collect(futures: list, by_key: dict[str, Point], store: PointStore, run: SweepRun, done: dict[str, dict],
+             progress: bool, stop_after: int | None, on_point: Callable | None, client: Any) -> None:
+    from dask.distributed import as_completed
+    from tqdm import tqdm
+
+    remaining = len(futures)
+    bar = tqdm(total=remaining, unit="pt", desc="sweep", file=sys.stderr, disable=not progress, dynamic_ncols=True)
+    failed = 0
+
+    def post() -> None:
+        bar.set_postfix_str(f"done {run.n_computed} failed {failed} remaining {remaining}", refresh=True)
+
+    post()
+    try:
+        for fut in as_completed(futures):
+            p = by_key[fut.key]
+            remaining -= 1
+            try:
+                rec, warm = fut.result()
+            except Exception as exc:  # the task did not run (worker lost, upstream lost, cancelled)
+                run.errors.append((p.label(), f"{type(exc).__name__}: {exc}".splitlines()[0]))
+                bar.update(1)
+                post()
+                continue
+            store.write(rec, warm)
+            done[p.id] = rec
+            run.n_computed += 1
+            run.computed_ids.append(p.id)
+            if rec["status"] != "ok":
+                failed += 1
+                run.n_failed_now += 1
+            bar.update(1)
+            post()
+            if on_point is not None:
+                on_point(rec)
+            if stop_after is not None and run.n_computed >= stop_after and remaining > 0:
+                run.stopped = True
+                client.cancel([f for f in futures if not f.done()])
+                break
+    finally:
+        bar.close()

@@ -1,0 +1,65 @@
+"""All outputs of a sweep from its records: table, plots, summary, JSON document."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Sequence
+
+from .outputs import answer, answer_sentence, folding_cells, folding_map_plot, power_curve_plot, summary_markdown, write_csv
+from .references import ReferenceCurves, reference_curves, tether_properties
+from .spec import SweepSpec
+
+#: stated in every summary: what the design variants keep fixed
+NOTES = (
+    "Energies are counted as the scenario defines them (physical: electrically at the generator load and the "
+    "motor supply, propeller drive power with airspeed, tether drag).",
+    "Folded-wing variants: S_f = b_f x chord, Helmbold lift slope at A_f = b_f/chord, Oswald factor, zero-lift "
+    "angle and C_Lmax of the folded definition, C_Dmin from the folded drag area; mass and inertia unchanged.",
+    "The wing folds instantly at the switch to recovery (the cycle optimiser has no fold time).",
+    "Loyd and quasi-steady curves are reel-out (mechanical) powers without losses or recovery: upper references, "
+    "not cycle averages.",
+)
+
+
+@dataclass
+class SweepReport:
+    """Paths of the written outputs and the answer."""
+
+    files: dict[str, str]
+    answer: dict[str, Any]
+    sentence: str
+    refs: ReferenceCurves | None
+    markdown: str
+
+
+def spec_references(spec: SweepSpec) -> ReferenceCurves:
+    """Reference curves for the sweep's first wing area and tether range, over its winds."""
+    from .design import Design, design_glider
+    from .runner import _base_glider
+
+    base = _base_glider()
+    g = design_glider(base, Design(wing_area=spec.wing_areas[0]))
+    d, cdp = tether_properties()
+    d0, dtf = spec.tether_ranges[0]
+    winds = sorted(set(spec.winds))
+    return reference_curves(winds, g.unfolded.aero, d, cdp, d0, dtf)
+
+
+def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: str | Path) -> SweepReport:
+    """Write ``points.csv``, ``power_curve.png``, ``folding_map.png`` (if foldable points),
+    ``summary.md`` into ``out_dir``."""
+    out = Path(out_dir)
+    refs = spec_references(spec)
+    files = {"table": str(write_csv(records, out / "points.csv"))}
+    title = f"{spec.scenario} scenario, mesh {spec.mesh.n_gen}/{spec.mesh.n_rec}"
+    files["power_curve"] = str(power_curve_plot(records, refs, out / "power_curve.png", title))
+    cells = folding_cells(records)
+    mp = folding_map_plot(cells, out / "folding_map.png")
+    if mp is not None:
+        files["folding_map"] = str(mp)
+    ans = answer(cells)
+    files["summary"] = str(out / "summary.md")
+    md = summary_markdown(records, ans, spec.scenario, refs, files, NOTES)
+    Path(files["summary"]).write_text(md)
+    return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md)

@@ -1,0 +1,156 @@
+"""Solve one sweep point: build its glider variant and problem, run the cycle optimiser.
+
+:func:`run_point` is what a Dask worker executes. It takes the point and the output of the
+previous point of its warm-start chain (or a :class:`Warm` loaded from disk, or ``None``) and
+returns ``(record, warm_for_next)``: the point's record (a flat JSON-ready dict, see
+:data:`RECORD_FIELDS`) and the warm start the next point should use (this point's solution
+if it succeeded, otherwise the one it was given). It never raises: an exception inside the
+optimiser becomes a ``failed`` record carrying the exception text as its reason.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+import traceback
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .design import Design, describe, design_glider
+from .spec import Point
+
+#: columns of a point record, in table order
+RECORD_FIELDS = (
+    "id", "scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2", "wing_area_m2",
+    "fold_time_s", "mesh", "max_iter", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
+    "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "warm_from", "start", "max_violation",
+    "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
+)
+
+
+@dataclass
+class Warm:
+    """What a warm start needs from a solved point (scaled NLP vector, multipliers, heading wrap)."""
+
+    point_id: str
+    w: np.ndarray
+    lam_x: np.ndarray
+    lam_g: np.ndarray
+    k_wrap: int
+
+    def as_result(self, problem: Any) -> Any:
+        """A minimal ``CycleResult`` accepted by ``solve_cycle(warm=...)`` for ``problem``."""
+        from ..ocp.result import CycleResult
+        from ..ocp.solve import structure_key
+
+        return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "ok", "warm",
+                           0.0, 0.0, 0, k_wrap=self.k_wrap, w=self.w, lam_x=self.lam_x, lam_g=self.lam_g,
+                           key=structure_key(problem))
+
+
+@functools.lru_cache(maxsize=1)
+def _base_glider() -> Any:
+    from ..definitions.aircraft import load_glider
+
+    return load_glider()
+
+
+def canonical_spec(spec: Any) -> Any:
+    """``spec`` with design values equal to the definitions' replaced by ``None`` (so they share
+    point ids and the optimiser's cached NLP with the unchanged glider)."""
+    from dataclasses import replace
+
+    g = _base_glider()
+    f, u = g.folded.aero, g.unfolded.aero
+    from .design import polar_constants
+
+    area_f = polar_constants(f).CD_min * f.S
+
+    def same(v: Any, ref: float) -> Any:
+        return None if v is not None and abs(v - ref) <= 1e-9 * max(1.0, abs(ref)) else v
+
+    return replace(spec, folded_spans=tuple(dict.fromkeys(same(v, f.b) for v in spec.folded_spans)),
+                   folded_drag_areas=tuple(dict.fromkeys(same(v, area_f) for v in spec.folded_drag_areas)),
+                   wing_areas=tuple(dict.fromkeys(same(v, u.S) for v in spec.wing_areas)))
+
+
+def point_design(point: Point) -> Design:
+    return Design(point.folded_span if point.config == "foldable" else None,
+                  point.folded_drag_area if point.config == "foldable" else None, point.wing_area)
+
+
+def point_glider(point: Point) -> Any:
+    """The glider variant of ``point`` (the definitions' own glider when nothing changes)."""
+    return design_glider(_base_glider(), point_design(point))
+
+
+def point_problem(point: Point) -> Any:
+    """The :class:`~fdm_awe.ocp.problem.CycleProblem` of ``point``."""
+    from ..ocp.problem import CycleProblem, Mesh
+
+    n_gen, n_rec, deg = point.mesh
+    return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
+                        d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg))
+
+
+def base_record(point: Point) -> dict[str, Any]:
+    """The parameter part of a record (no results yet)."""
+    rec: dict[str, Any] = {k: None for k in RECORD_FIELDS}
+    rec.update({"id": point.id, "scenario": point.scenario, "config": point.config, "wind_mps": point.wind,
+                "d0_m": point.d0, "d_tf_m": point.d_tf, "folded_span_m": point.folded_span,
+                "folded_drag_area_m2": point.folded_drag_area, "wing_area_m2": point.wing_area,
+                "fold_time_s": point.fold_time, "mesh": "x".join(str(v) for v in point.mesh),
+                "max_iter": point.max_iter})
+    return rec
+
+
+def _num(v: Any) -> float | None:
+    return None if v is None or not math.isfinite(float(v)) else float(v)
+
+
+def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm | None]:
+    """Solve ``point`` warm-started from ``upstream`` (see the module docstring)."""
+    t0 = time.perf_counter()
+    warm_in: Warm | None
+    if isinstance(upstream, tuple):
+        warm_in = upstream[1]
+    else:
+        warm_in = upstream
+    rec = base_record(point)
+    try:
+        glider = point_glider(point)
+        rec.update(describe(glider))
+        if point.config == "nominal":  # the folded wing plays no part
+            for k in ("S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2"):
+                rec[k] = None
+        from ..ocp.solve import solve_cycle
+
+        problem = point_problem(point)
+        warm = warm_in.as_result(problem) if warm_in is not None else None
+        custom = glider is not _base_glider()
+        # the iteration limit decides failures; the CPU-time limit is lifted so that a busy
+        # machine cannot change a result
+        opts = {"ipopt.max_iter": int(point.max_iter), "ipopt.max_cpu_time": 1e6}
+        res = solve_cycle(problem, warm=warm, glider=glider if custom else None, ipopt_options=opts)
+        s = res.summary()
+        rec.update({"status": "ok" if res.ok else "failed", "reason": str(res.reason), "iterations": int(res.iterations),
+                    "solve_s": _num(res.solve_s), "build_s": _num(res.build_s), "start": res.start or None,
+                    "max_violation": _num(res.max_violation), "warm_from": warm_in.point_id if warm_in else None})
+        for k in ("P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J", "T1_s", "T2_s"):
+            rec[k] = _num(s.get(k)) if res.ok else None
+        if res.ok and res.w is not None:
+            warm_out: Warm | None = Warm(point.id, np.asarray(res.w, float), np.asarray(res.lam_x, float),
+                                         np.asarray(res.lam_g, float), int(res.k_wrap))
+        else:
+            warm_out = warm_in
+    except Exception as exc:  # a failed point is a result: record why
+        tb = traceback.extract_tb(exc.__traceback__)
+        where = f" at {tb[-1].filename.rsplit('/', 1)[-1]}:{tb[-1].lineno}" if tb else ""
+        rec.update({"status": "failed", "reason": f"{type(exc).__name__}: {exc}{where}".splitlines()[0],
+                    "warm_from": warm_in.point_id if warm_in else None})
+        warm_out = warm_in
+    rec["wall_s"] = round(time.perf_counter() - t0, 4)
+    return rec, warm_out

@@ -1,0 +1,209 @@
+"""What a sweep is: its axes, its points, and how points chain for warm starts.
+
+A :class:`SweepSpec` holds the axes (SI units):
+
+- ``winds`` [m/s], the power-curve axis;
+- ``configs``: ``nominal`` (the wing stays unfolded) and/or ``foldable`` (folds for recovery);
+- ``folded_spans`` [m], ``folded_drag_areas`` [m^2] (foldable points only; ``None`` = the
+  folded definition's value);
+- ``wing_areas`` [m^2] (``None`` = the definition's);
+- ``tether_ranges``: reel-out range ``(d0, d_tf)`` [m];
+- ``fold_times`` [s]: only ``0`` (the cycle optimiser folds the wing instantly at the phase
+  switch; any other value is refused with an :class:`~fdm_awe.errors.InputError`);
+- ``scenario`` (``physical`` default, ``paper``), the collocation ``mesh`` and the IPOPT
+  iteration limit ``max_iter`` (:data:`DEFAULT_MAX_ITER`).
+
+Nominal points do not depend on the folded-wing axes, so they are not repeated over them.
+
+Every :class:`Point` has a stable id (a hash of its parameters, the scenario and the mesh),
+used as its file name: a rerun with the same (or an overlapping) sweep finds finished points.
+
+Points that differ only in wind form a *line*. Each line is solved as a warm-start chain: the
+*anchor* (the wind nearest :data:`ANCHOR_WIND`) starts cold, then two branches walk up and down
+in wind, each point warm-started from the previous successful one. The chain structure depends
+only on the spec, never on the number of workers, so results do not either.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import asdict, dataclass, field
+
+from ..errors import InputError
+from ..ocp.problem import CONFIGS, SCENARIOS, Mesh
+
+#: IPOPT iteration limit per solve in a sweep. It replaces the optimiser's CPU-time limit, so
+#: whether a point converges never depends on how busy the machine is (reproducible results).
+DEFAULT_MAX_ITER = 1000
+
+#: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
+ANCHOR_WIND = 8.0
+
+
+@dataclass(frozen=True)
+class Point:
+    """One sweep point: a periodic-cycle OCP. ``None`` design values = the definitions'."""
+
+    scenario: str
+    config: str
+    wind: float  #: [m/s]
+    d0: float  #: [m]
+    d_tf: float  #: [m]
+    folded_span: float | None = None  #: [m]
+    folded_drag_area: float | None = None  #: [m^2]
+    wing_area: float | None = None  #: [m^2]
+    fold_time: float = 0.0  #: [s]
+    mesh: tuple[int, int, int] = (30, 20, 3)  #: (n_gen, n_rec, degree)
+    max_iter: int = DEFAULT_MAX_ITER  #: IPOPT iteration limit per solve
+
+    @property
+    def id(self) -> str:
+        """Stable identifier (16 hex digits of a SHA-1 of the canonical parameters)."""
+        doc = json.dumps(asdict(self), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha1(doc.encode()).hexdigest()[:16]
+
+    @property
+    def line_key(self) -> tuple:
+        """Everything but the wind: points with equal keys form one warm-start line."""
+        d = asdict(self)
+        d.pop("wind")
+        return tuple(sorted(d.items()))
+
+    def label(self) -> str:
+        parts = [self.config, f"v={self.wind:g}"]
+        if self.config == "foldable":
+            parts.append(f"b_f={'def' if self.folded_span is None else f'{self.folded_span:g}'}")
+            if self.folded_drag_area is not None:
+                parts.append(f"CdA_f={self.folded_drag_area:g}")
+        if self.wing_area is not None:
+            parts.append(f"S={self.wing_area:g}")
+        parts.append(f"d={self.d0:g}-{self.d_tf:g}")
+        return " ".join(parts)
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """The axes of a sweep (see the module docstring)."""
+
+    winds: tuple[float, ...]
+    configs: tuple[str, ...] = ("nominal", "foldable")
+    folded_spans: tuple[float | None, ...] = (None,)
+    folded_drag_areas: tuple[float | None, ...] = (None,)
+    wing_areas: tuple[float | None, ...] = (None,)
+    tether_ranges: tuple[tuple[float, float], ...] = ((200.0, 250.0),)
+    fold_times: tuple[float, ...] = (0.0,)
+    scenario: str = "physical"
+    mesh: Mesh = field(default_factory=Mesh)
+    max_iter: int = DEFAULT_MAX_ITER
+
+    def validate(self) -> "SweepSpec":
+        if self.scenario not in SCENARIOS:
+            raise InputError(f"scenario {self.scenario!r} unknown (allowed: {', '.join(SCENARIOS)})")
+        if not self.configs:
+            raise InputError("config: at least one of nominal, foldable")
+        for c in self.configs:
+            if c not in CONFIGS:
+                raise InputError(f"config {c!r} unknown (allowed: {', '.join(CONFIGS)})")
+        if not self.winds:
+            raise InputError("wind: at least one wind speed")
+        for v in self.winds:
+            if not (math.isfinite(v) and 0 <= v <= 25):
+                raise InputError(f"wind speed {v!r} m/s out of range (allowed 0..25 m/s)")
+        for d0, dtf in self.tether_ranges:
+            if not (math.isfinite(d0) and math.isfinite(dtf) and 0 < d0 < dtf):
+                raise InputError(f"tether range {d0!r}:{dtf!r} m invalid (allowed 0 < d0 < d_tf)")
+        for t in self.fold_times:
+            if t != 0.0:
+                raise InputError(f"fold time {t!r} s not supported (allowed: 0; the cycle optimiser folds the wing "
+                                 "instantly at the switch to recovery)")
+        self.mesh.validate()
+        if not (isinstance(self.max_iter, int) and 10 <= self.max_iter <= 100000):
+            raise InputError(f"max_iter = {self.max_iter!r} out of range (allowed integer 10..100000)")
+        return self
+
+    def points(self) -> list[Point]:
+        """All points, without duplicates, in a stable order."""
+        self.validate()
+        mesh = (self.mesh.n_gen, self.mesh.n_rec, self.mesh.degree)
+        out: list[Point] = []
+        seen: set[str] = set()
+        for cfg in self.configs:
+            fold_axes = ([(b, a, t) for b in self.folded_spans for a in self.folded_drag_areas for t in self.fold_times]
+                         if cfg == "foldable" else [(None, None, 0.0)])
+            for S in self.wing_areas:
+                for d0, dtf in self.tether_ranges:
+                    for b, a, t in fold_axes:
+                        for v in sorted(self.winds):
+                            p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh, self.max_iter)
+                            if p.id not in seen:
+                                seen.add(p.id)
+                                out.append(p)
+        return out
+
+    def to_dict(self) -> dict:
+        d = asdict(self)
+        d["mesh"] = {"n_gen": self.mesh.n_gen, "n_rec": self.mesh.n_rec, "degree": self.mesh.degree}
+        return d
+
+
+@dataclass(frozen=True)
+class Chain:
+    """Points solved one after another, each warm-started from the last successful one.
+
+    ``after`` is the index of the chain whose first point seeds this one's first point
+    (``None`` = cold start).
+    """
+
+    points: tuple[Point, ...]
+    after: int | None = None
+
+
+def chains(points: list[Point], anchor_wind: float = ANCHOR_WIND) -> list[Chain]:
+    """Warm-start chains of ``points``: per line an anchor chain (anchor, then upwards in wind)
+    and a downward chain seeded by the anchor (see the module docstring)."""
+    lines: dict[tuple, list[Point]] = {}
+    for p in points:
+        lines.setdefault(p.line_key, []).append(p)
+    out: list[Chain] = []
+    for pts in lines.values():
+        pts = sorted(pts, key=lambda p: p.wind)
+        ia = min(range(len(pts)), key=lambda i: (abs(pts[i].wind - anchor_wind), pts[i].wind))
+        out.append(Chain(tuple(pts[ia:])))
+        if ia > 0:
+            out.append(Chain(tuple(reversed(pts[:ia])), after=len(out) - 1))
+    return out
+
+
+def parse_floats(text: str, what: str, unit: str) -> tuple[float, ...]:
+    """``"3:12:1"`` (start:stop:step, stop included) or ``"0.22,0.4"`` -> floats."""
+    text = text.strip()
+    try:
+        if ":" in text:
+            parts = [float(x) for x in text.split(":")]
+            if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
+                raise ValueError
+            a, b, s = parts
+            n = int(math.floor((b - a) / s + 1e-9)) + 1
+            if n > 10000:
+                raise ValueError
+            return tuple(round(a + i * s, 10) for i in range(n))
+        vals = tuple(float(x) for x in text.split(",") if x.strip())
+        if not vals or not all(math.isfinite(v) for v in vals):
+            raise ValueError
+        return vals
+    except ValueError:
+        raise InputError(f"{what} {text!r} invalid (allowed: START:STOP:STEP with STEP > 0, or a comma list, in {unit})") from None
+
+
+def parse_tether_ranges(text: str) -> tuple[tuple[float, float], ...]:
+    """``"200:250,150:250"`` -> ((200, 250), (150, 250)) [m]."""
+    out = []
+    for item in text.split(","):
+        try:
+            a, b = (float(x) for x in item.split(":"))
+        except ValueError:
+            raise InputError(f"tether range {item!r} invalid (allowed D0:DTF in m, e.g. 200:250)") from None
+        out.append((a, b))
+    return tuple(out)
