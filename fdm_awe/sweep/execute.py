@@ -74,7 +74,8 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"workers = {n} out of range (allowed >= 1)")
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+    # the scheduler always serves HTTP (health routes): a free port avoids clashes with other clusters
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                            silence_logs=logging.ERROR)
     return Client(cluster), cluster, n
 
