@@ -28,7 +28,7 @@ from typing import Any, Callable
 
 from ..errors import InputError
 from .runner import run_point
-from .spec import Point, SweepSpec, chains
+from .spec import Chain, Point, SweepSpec, chains
 from .store import PointStore
 
 
@@ -82,8 +82,10 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
 
 def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, scheduler: str | None = None,
               retry_failed: bool = False, progress: bool = True, stop_after: int | None = None,
-              on_point: Callable[[dict[str, Any]], None] | None = None) -> SweepRun:
+              on_point: Callable[[dict[str, Any]], None] | None = None, warm_start: bool = True) -> SweepRun:
     """Compute the missing points of ``spec`` into ``out_dir`` (see the module docstring).
+
+    ``warm_start=False`` solves every point cold, as an independent task (for comparison).
 
     ``stop_after``: stop (cancel the remaining tasks) once this many points were finished in
     this run, as an interruption would. ``on_point`` is called with each new record.
@@ -110,7 +112,8 @@ def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, sche
     run.scheduler = scheduler or "local"
     t1 = time.perf_counter()
     try:
-        futures, by_key = _submit(client, chains(points), done, store)
+        chain_list = chains(points) if warm_start else [Chain((p,)) for p in points]
+        futures, by_key = _submit(client, chain_list, done, store)
         _collect(futures, by_key, store, run, done, progress, stop_after, on_point, client)
     finally:
         client.close()

@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""Benchmark of ``fdm-awe sweep`` on Dask: 2 workers vs 1 worker, warm-started lines vs cold points.
+
+Three runs of the same sweep (>= 16 points) into fresh folders, measured in one go:
+
+1. warm-started chains on 1 local worker;
+2. warm-started chains on 2 local workers;
+3. every point cold (independent tasks) on 2 local workers.
+
+Wall times exclude the cluster start-up (reported separately); they include the workers'
+imports and NLP builds. Prints the ratios (goals: 2-worker speed-up >= 1.7; warm vs cold
+reported) and the summed per-point solve times, and writes everything to a JSON file.
+The numbers depend on how busy the machine is: the load average before and after is recorded.
+
+Usage: scripts/bench_sweep.py [--mesh 10,8] [--wind 5:12:1] [--json bench_sweep.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+
+from fdm_awe.ocp.problem import Mesh
+from fdm_awe.sweep.execute import run_sweep
+from fdm_awe.sweep.spec import SweepSpec, parse_floats, parse_tether_ranges
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--mesh", default="10,8", help="NGEN,NREC (default 10,8)")
+    ap.add_argument("--wind", default="5:12:1", help="wind speeds [m/s] (default 5:12:1)")
+    ap.add_argument("--tether-range", default="200:250,200:300", help="reel-out ranges (default 200:250,200:300)")
+    ap.add_argument("--json", default="bench_sweep.json", help="output JSON file")
+    args = ap.parse_args()
+    ng, nr = (int(v) for v in args.mesh.split(","))
+    spec = SweepSpec(winds=parse_floats(args.wind, "--wind", "m/s"), configs=("nominal",),
+                     tether_ranges=parse_tether_ranges(args.tether_range), mesh=Mesh(n_gen=ng, n_rec=nr))
+    n_points = len(spec.points())
+    if n_points < 16:
+        print(f"warning: only {n_points} points (the benchmark asks for >= 16)", file=sys.stderr)
+    load_before = os.getloadavg()
+    runs = {}
+    with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
+        for name, workers, warm in (("warm_1w", 1, True), ("warm_2w", 2, True), ("cold_2w", 2, False)):
+            t0 = time.perf_counter()
+            r = run_sweep(spec, os.path.join(tmp, name), workers=workers, warm_start=warm, progress=False)
+            recs = list(r.records.values())
+            runs[name] = {"workers": workers, "warm_start": warm, "wall_s": r.wall_s, "startup_s": r.startup_s,
+                          "total_s": time.perf_counter() - t0, "n_ok": sum(x["status"] == "ok" for x in recs),
+                          "n_failed": sum(x["status"] != "ok" for x in recs), "n_not_run": len(r.errors),
+                          "sum_point_wall_s": sum(x["wall_s"] or 0.0 for x in recs),
+                          "sum_iterations": sum(x["iterations"] or 0 for x in recs),
+                          "P_avg_W": {f"{x['d0_m']:g}-{x['d_tf_m']:g}@{x['wind_mps']:g}": x["P_avg_W"] for x in recs}}
+            print(f"{name}: {n_points} points, {workers} worker(s), warm={warm}: {r.wall_s:.1f} s "
+                  f"(+{r.startup_s:.1f} s start-up), {runs[name]['n_ok']} ok, {runs[name]['n_failed']} failed, "
+                  f"sum of point times {runs[name]['sum_point_wall_s']:.1f} s, {runs[name]['sum_iterations']} iterations",
+                  flush=True)
+    load_after = os.getloadavg()
+    speedup_workers = runs["warm_1w"]["wall_s"] / runs["warm_2w"]["wall_s"]
+    speedup_warm = runs["cold_2w"]["wall_s"] / runs["warm_2w"]["wall_s"]
+    speedup_warm_cpu = runs["cold_2w"]["sum_point_wall_s"] / runs["warm_2w"]["sum_point_wall_s"]
+    same = runs["warm_1w"]["P_avg_W"] == runs["warm_2w"]["P_avg_W"]
+    doc = {"n_points": n_points, "mesh": [ng, nr], "winds": list(spec.winds), "tether_ranges": spec.tether_ranges,
+           "cpu_count": os.cpu_count(), "loadavg_before": load_before, "loadavg_after": load_after, "runs": runs,
+           "speedup_2w_vs_1w": speedup_workers, "goal_2w_vs_1w": 1.7, "speedup_warm_vs_cold_wall": speedup_warm,
+           "speedup_warm_vs_cold_point_time": speedup_warm_cpu, "results_identical_1w_2w": same}
+    print(f"2 workers vs 1: {speedup_workers:.2f}x (goal >= 1.7)")
+    print(f"warm-started lines vs cold points (2 workers): {speedup_warm:.2f}x wall, {speedup_warm_cpu:.2f}x summed point time")
+    print(f"results identical with 1 and 2 workers: {same}")
+    print(f"load average before {load_before[0]:.2f}, after {load_after[0]:.2f} on {os.cpu_count()} cores")
+    with open(args.json, "w") as fh:
+        json.dump(doc, fh, indent=1)
+    print(f"wrote {args.json}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
