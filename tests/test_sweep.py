@@ -2,7 +2,7 @@
 definitions, resume after an interruption, independence of the worker count, and a sweep on a
 Dask scheduler and worker started as separate processes on 127.0.0.1.
 
-The Dask tests solve real cycle OCPs on a coarse mesh (6/4 intervals) for three nominal
+The Dask tests solve real cycle OCPs on a coarse mesh (6/4 intervals, degree 3) for three nominal
 points (7, 8, 9 m/s): enough for two warm-start chains (8 -> 9 and 8 -> 7), few seconds each.
 """
 
@@ -27,7 +27,7 @@ from fdm_awe.sweep.design import Design, design_glider, helmbold_lift_slope, pol
 from fdm_awe.sweep.references import reference_curves
 from fdm_awe.sweep.spec import SweepSpec, chains, parse_floats
 
-MESH = Mesh(n_gen=6, n_rec=4)
+MESH = Mesh(n_gen=6, n_rec=4, degree=3)
 WINDS = (7.0, 8.0, 9.0)
 VENV_BIN = Path(sys.executable).parent
 
@@ -204,7 +204,7 @@ def test_sweep_on_separate_scheduler_and_worker(tmp_path, reference_run):
         procs.append(subprocess.Popen([dask, "worker", addr, "--host", "127.0.0.1", "--nthreads", "1", "--nworkers", "1",
                                        "--no-dashboard"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         js = tmp_path / "sweep.json"
-        code = main(["sweep", "--wind", "8,9", "--config", "nominal", "--mesh", "6,4", "--scheduler", addr,
+        code = main(["sweep", "--wind", "8,9", "--config", "nominal", "--mesh", "6,4,3", "--scheduler", addr,
                      "--out", str(tmp_path), "--json", str(js), "--no-progress"])
         assert code == 0
         doc = json.loads(js.read_text())

@@ -29,12 +29,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--wing-area", metavar="LIST", help="unfolded wing areas [m2] at the definition's aspect ratio (default: the definition's)")
     p.add_argument("--tether-range", default="200:250", metavar="D0:DTF,...", help="reel-out ranges d0:d_tf [m] (default 200:250)")
     p.add_argument("--fold-time", default="0", metavar="LIST", help="fold times [s]; only 0 is supported (instant fold)")
-    p.add_argument("--mesh", default="30,20", metavar="NGEN,NREC[,DEG]", help="collocation mesh (default 30,20,3)")
+    p.add_argument("--mesh", default=None, metavar="NGEN,NREC[,DEG]", help="collocation mesh (default: the optimiser's)")
     p.add_argument("--max-iter", type=int, default=None, help="IPOPT iteration limit per solve (default 1000)")
     p.add_argument("--workers", type=int, default=None, help="local Dask worker processes (default: number of cores)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="use this Dask scheduler instead of a local cluster")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (point files, table, plots, summary)")
     p.add_argument("--json", metavar="FILE", help="also write the summary numbers and every point as JSON")
+    p.add_argument("--cold", action="store_true", help="solve every point cold (no warm starts along the wind axis)")
     p.add_argument("--retry-failed", action="store_true", help="recompute points recorded as failed")
     p.add_argument("--stop-after", type=int, default=None, metavar="N",
                    help="stop after N newly finished points (as an interruption would; for testing resume)")
@@ -48,13 +49,16 @@ def build_spec(args: argparse.Namespace):
     from ..sweep.runner import canonical_spec
     from ..sweep.spec import DEFAULT_MAX_ITER, SweepSpec, parse_floats, parse_tether_ranges
 
-    try:
-        m = [int(v) for v in args.mesh.split(",")]
-        if len(m) not in (2, 3):
-            raise ValueError
-    except ValueError:
-        raise InputError(f"--mesh {args.mesh!r} invalid (allowed NGEN,NREC or NGEN,NREC,DEGREE integers)") from None
-    mesh = Mesh(n_gen=m[0], n_rec=m[1], **({"degree": m[2]} if len(m) == 3 else {}))
+    if args.mesh is None:
+        mesh = Mesh()
+    else:
+        try:
+            m = [int(v) for v in args.mesh.split(",")]
+            if len(m) not in (2, 3):
+                raise ValueError
+        except ValueError:
+            raise InputError(f"--mesh {args.mesh!r} invalid (allowed NGEN,NREC or NGEN,NREC,DEGREE integers)") from None
+        mesh = Mesh(n_gen=m[0], n_rec=m[1], **({"degree": m[2]} if len(m) == 3 else {}))
     configs = tuple(c.strip() for c in args.config.split(",") if c.strip())
 
     def opt(text: str | None, what: str, unit: str) -> tuple:
@@ -86,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"sweep: {n} points ({spec.scenario} scenario, configs {','.join(spec.configs)}, mesh "
           f"{spec.mesh.n_gen}/{spec.mesh.n_rec}/{spec.mesh.degree}) -> {args.out}", flush=True)
     res = run_sweep(spec, args.out, workers=args.workers, scheduler=args.scheduler, retry_failed=args.retry_failed,
-                    progress=not args.no_progress, stop_after=args.stop_after)
+                    progress=not args.no_progress, stop_after=args.stop_after, warm_start=not args.cold)
     records = list(res.records.values())
     rep = write_outputs(spec, records, args.out)
     where = f"{res.workers} worker(s) on {res.scheduler}" if res.workers else "nothing to compute"

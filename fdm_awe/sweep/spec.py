@@ -55,7 +55,7 @@ class Point:
     folded_drag_area: float | None = None  #: [m^2]
     wing_area: float | None = None  #: [m^2]
     fold_time: float = 0.0  #: [s]
-    mesh: tuple[int, int, int] = (30, 20, 3)  #: (n_gen, n_rec, degree)
+    mesh: tuple[int, int, int] = (60, 20, 4)  #: (n_gen, n_rec, degree); sweeps set it from their Mesh
     max_iter: int = DEFAULT_MAX_ITER  #: IPOPT iteration limit per solve
 
     @property
