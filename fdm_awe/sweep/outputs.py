@@ -47,15 +47,20 @@ def _group_key(r: dict[str, Any]) -> tuple:
     return (r["scenario"], _n(r.get("wing_area_m2")), r["d0_m"], r["d_tf_m"])
 
 
+def _g(v: Any, fallback: Any = None) -> str:
+    v = v if v is not None else fallback
+    return "def" if v is None else f"{float(v):.3g}"
+
+
 def _line_label(r: dict[str, Any]) -> str:
     if r["config"] == "nominal":
         s = "nominal"
     else:
-        s = f"foldable b_f={r['b_f_m']:.3g} m"
+        s = f"foldable b_f={_g(r.get('b_f_m'), r.get('folded_span_m'))} m"
         if r.get("folded_drag_area_m2") is not None:
-            s += f" CdA_f={r['drag_area_f_m2']:.3g} m2"
+            s += f" CdA_f={_g(r.get('drag_area_f_m2'), r.get('folded_drag_area_m2'))} m2"
     if r.get("wing_area_m2") is not None:
-        s += f" S={r['S_u_m2']:.3g} m2"
+        s += f" S={_g(r.get('S_u_m2'), r.get('wing_area_m2'))} m2"
     return s
 
 
@@ -87,7 +92,10 @@ def folding_cells(records: Sequence[dict[str, Any]]) -> list[FoldingCell]:
         n = nominal.get((_group_key(r), r["wind_mps"]))
         pf = r["P_avg_W"] if r["status"] == "ok" else None
         pn = n["P_avg_W"] if (n is not None and n["status"] == "ok") else None
-        cells.append(FoldingCell(_group_key(r), float(r["b_f_m"]), float(r["drag_area_f_m2"]), r["wind_mps"], pf, pn))
+        b_f = r.get("b_f_m") if r.get("b_f_m") is not None else r.get("folded_span_m")
+        area = r.get("drag_area_f_m2") if r.get("drag_area_f_m2") is not None else r.get("folded_drag_area_m2")
+        cells.append(FoldingCell(_group_key(r), math.nan if b_f is None else float(b_f),
+                                 math.nan if area is None else float(area), r["wind_mps"], pf, pn))
     return cells
 
 

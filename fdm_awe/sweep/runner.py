@@ -72,9 +72,15 @@ def canonical_spec(spec: Any) -> Any:
     def same(v: Any, ref: float) -> Any:
         return None if v is not None and abs(v - ref) <= 1e-9 * max(1.0, abs(ref)) else v
 
-    return replace(spec, folded_spans=tuple(dict.fromkeys(same(v, f.b) for v in spec.folded_spans)),
-                   folded_drag_areas=tuple(dict.fromkeys(same(v, area_f) for v in spec.folded_drag_areas)),
-                   wing_areas=tuple(dict.fromkeys(same(v, u.S) for v in spec.wing_areas)))
+    out = replace(spec, folded_spans=tuple(dict.fromkeys(same(v, f.b) for v in spec.folded_spans)),
+                  folded_drag_areas=tuple(dict.fromkeys(same(v, area_f) for v in spec.folded_drag_areas)),
+                  wing_areas=tuple(dict.fromkeys(same(v, u.S) for v in spec.wing_areas)))
+    # refuse impossible designs now (InputError naming the value), not point by point later
+    for S in out.wing_areas:
+        for b in out.folded_spans if "foldable" in out.configs else (None,):
+            for a in out.folded_drag_areas if "foldable" in out.configs else (None,):
+                Design(b, a, S).validate(g)
+    return out
 
 
 def point_design(point: Point) -> Design:
