@@ -330,22 +330,33 @@ class Autopilot:
         # than REC_TENSION the passive generator pays line out instead
         d = float(np.linalg.norm(s.hook_pos_ned))
         slack = (gs.length - d) if gs is not None else 0.0
-        if gs is not None and gs.tension > p["REC_TENSION"]:
+        if h < 3.0 * p["REC_FLARE_ALT"]:
+            # final approach and touchdown: pay line out so it never catches the glider
+            wcmd = WinchCommand(mode="motor", reel_speed_ref=p["REC_REEL_SPD"])
+        elif gs is not None and gs.tension > p["REC_TENSION"]:
+            # pulling: the passive generator lets line out under load
             wcmd = WinchCommand(mode="generator", load_resistance=self.R_L)
         else:
-            reel = -min(p["REC_REEL_SPD"], max(0.0, 0.5 * (slack - 10.0)))
+            # keep REC_SLACK metres of slack: reel in the excess, pay out (motor) when short
+            reel = -min(max(0.5 * (slack - p["REC_SLACK"]), -p["REC_REEL_SPD"]), p["REC_REEL_SPD"])
             wcmd = WinchCommand(mode="motor", reel_speed_ref=reel)
         if h < p["REC_FLARE_ALT"]:
             # flare: wings level, angle of attack for level flight plus a sink-rate term
             # (hold ~0.5 m/s down) until the skids touch
             self.ref_point = None
             v_down = float(s.vel_ned[2])
-            alpha = self.glider.trim_alpha(max(s.airspeed, 5.0)) + 0.05 * (v_down - 0.5)
-            return self._hold(s, min(max(alpha, 0.0), p["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), wcmd
+            sink_target = 0.3 + 0.7 * min(h / p["REC_FLARE_ALT"], 1.0)  # 1.0 m/s at the top, 0.3 at touchdown
+            alpha = self.glider.trim_alpha(max(s.airspeed, 5.0)) + 0.05 * (v_down - sink_target)
+            a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
+            # the motor only guards against stalling (below 80 % of the recovery airspeed)
+            thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
+            thr = self._throttle(thrust, s.thrust_N, s.airspeed, dt)
+            return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
         if self._rec_ref is None:
             # a descending circle about the winch, entered straight from where the glider is
             self._rec_ref = TrackingReference.descent_helix(
-                s.pos_ned, p["REC_RADIUS"], p["REC_SLOPE"], p["REC_AIRSPEED"], h_end=0.5 * p["REC_FLARE_ALT"])
+                s.pos_ned, p["REC_RADIUS"], p["REC_SLOPE"], p["REC_AIRSPEED"], h_end=0.5 * p["REC_FLARE_ALT"],
+                wind=s.vel_ned - s.vel_air_ned)
             self._rec_s = 0.0
             self.guidance.reset()
             self._note(f"recovery path: {len(self._rec_ref.t)} points, {self._rec_ref.period:.0f} s")

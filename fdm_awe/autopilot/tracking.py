@@ -228,11 +228,12 @@ class TrackingReference:
 
     @classmethod
     def descent_helix(cls, start: np.ndarray, radius: float, slope: float, speed: float, h_end: float = 1.0,
-                      spacing: float = 5.0) -> "TrackingReference":
+                      spacing: float = 5.0, wind: np.ndarray | None = None) -> "TrackingReference":
         """A landing path: from ``start`` (NED) straight towards the winch down to a circle of
         ``radius`` [m] about it, then round the circle clockwise (seen from above) descending
-        1 m per ``slope`` m flown, down to ``h_end`` [m] above the ground; flown at ground
-        ``speed`` [m/s]. Waypoints every ``spacing`` metres of path."""
+        1 m per ``slope`` m flown, down to ``h_end`` [m] above the ground; flown at AIRspeed
+        ``speed`` [m/s] in the steady ``wind`` (NED), so the ground speed is faster downwind and
+        slower upwind. Waypoints every ``spacing`` metres of path."""
         p0 = np.asarray(start, float)
         h0 = -p0[2]
         rho0 = math.hypot(p0[0], p0[1])
@@ -255,6 +256,13 @@ class TrackingReference:
             theta += spacing / radius
             pts.append(np.array([radius * math.cos(theta), radius * math.sin(theta), -h_end]))
         P = np.array(pts)
-        ref = cls.from_waypoints(P, None, None, speed)
+        w = np.zeros(3) if wind is None else np.asarray(wind, float)
+        seg = np.diff(P, axis=0)
+        ls = np.linalg.norm(seg, axis=1)
+        u = seg / ls[:, None]
+        uw = u @ w
+        vg = uw + np.sqrt(np.maximum(speed * speed - float(w @ w) + uw * uw, 0.25 * speed * speed))
+        times = np.r_[0.0, np.cumsum(ls / vg)]
+        ref = cls.from_waypoints(P, times, None, speed)
         ref.meta = {"source": "descent helix"}
         return ref
