@@ -90,7 +90,9 @@ def figure_3d(paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], title
     ax = fig.add_subplot(projection="3d")
     draw_scene_3d(ax, paths, wind, tether_from)
     ax.set_title(title, fontsize=10)
-    fig.tight_layout()
+    h, lab = ax.get_legend_handles_labels()
+    fig.legend(h, lab, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out)
@@ -146,7 +148,6 @@ def draw_scene_3d(ax: Any, paths: Sequence[tuple[str, np.ndarray, Sequence[str],
     for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
         axis.set_major_locator(MaxNLocator(6))
     ax.view_init(elev=22, azim=-125)
-    ax.legend(loc="upper left", fontsize=8)
 
 
 def _shade_phases(ax: Any, s: Series) -> None:
@@ -305,6 +306,8 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
     if rs is not None:
         paths.append(("reference", rs.pos, rs.phase, "--"))
     draw_scene_3d(ax, paths, _wind(meta, reference), s.pos[0] if len(s.pos) else None)
+    h, lab = ax.get_legend_handles_labels()
+    fig.legend(h, lab, loc="upper left", bbox_to_anchor=(0.01, 0.955), ncol=4, fontsize=8, frameon=False)
     rows = [
         ("altitude [m]", [("altitude", "altitude h"), ("tether_length", "tether length l")]),
         ("tension [N] / reel speed [m/s]", [("tension", "tension G [N]"), ("reel_speed", "reel speed [m/s] (+ out)")]),
@@ -326,7 +329,7 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
     handles = [Patch(color=phase_color_float(lab), alpha=0.3, label=lab) for lab in dict.fromkeys(s.phase)]
     fig.legend(handles=handles, loc="upper right", fontsize=8, title="phase (shaded)")
     fig.suptitle(title, fontsize=11)
-    fig.tight_layout(rect=(0, 0, 0.93, 0.96))
+    fig.tight_layout(rect=(0, 0, 0.93, 0.89))
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out)
