@@ -74,6 +74,7 @@ class FoldingCell:
     wind: float
     P_foldable: float | None
     P_nominal: float | None
+    missing: bool = False  #: the nominal counterpart has no record (not swept or not finished)
 
     @property
     def dP(self) -> float | None:
@@ -95,7 +96,7 @@ def folding_cells(records: Sequence[dict[str, Any]]) -> list[FoldingCell]:
         b_f = r.get("b_f_m") if r.get("b_f_m") is not None else r.get("folded_span_m")
         area = r.get("drag_area_f_m2") if r.get("drag_area_f_m2") is not None else r.get("folded_drag_area_m2")
         cells.append(FoldingCell(_group_key(r), math.nan if b_f is None else float(b_f),
-                                 math.nan if area is None else float(area), r["wind_mps"], pf, pn))
+                                 math.nan if area is None else float(area), r["wind_mps"], pf, pn, n is None))
     return cells
 
 
@@ -150,7 +151,8 @@ def power_curve_plot(records: Sequence[dict[str, Any]], refs: ReferenceCurves | 
 
 def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str = "") -> Path | None:
     """Colour map of ``dP = P_foldable - P_nominal`` [W] over folded span x wind (first
-    context and drag area if several); grey = a point of the pair failed."""
+    context and drag area if several); grey cells: a point of the pair failed (``fail``) or
+    has no record (``n/a``)."""
     if not cells:
         return None
     import matplotlib
@@ -165,10 +167,15 @@ def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str 
     spans = sorted({c.b_f for c in sel})
     winds = sorted({c.wind for c in sel})
     Z = np.full((len(spans), len(winds)), np.nan)
+    text = np.full(Z.shape, "n/a", dtype=object)  # no record for this pair
     for c in sel:
+        i, j = spans.index(c.b_f), winds.index(c.wind)
         if c.dP is not None:
-            Z[spans.index(c.b_f), winds.index(c.wind)] = c.dP
-    fig, ax = plt.subplots(figsize=(1.0 + 0.75 * len(winds), 1.6 + 0.6 * len(spans)))
+            Z[i, j] = c.dP
+            text[i, j] = f"{c.dP:+.0f}"
+        elif not c.missing:
+            text[i, j] = "fail"
+    fig, ax = plt.subplots(figsize=(2.5 + 0.75 * len(winds), 2.2 + 0.6 * len(spans)))
     finite = Z[np.isfinite(Z)]
     lo = float(min(finite.min(), -1e-3)) if finite.size else -1.0
     hi = float(max(finite.max(), 1e-3)) if finite.size else 1.0
@@ -176,13 +183,15 @@ def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str 
     im = ax.imshow(np.ma.masked_invalid(Z), cmap="RdBu", norm=TwoSlopeNorm(0.0, lo, hi), aspect="auto", origin="lower")
     for i in range(len(spans)):
         for j in range(len(winds)):
-            ax.text(j, i, "fail" if not np.isfinite(Z[i, j]) else f"{Z[i, j]:+.0f}", ha="center", va="center", fontsize=7)
+            ax.text(j, i, text[i, j], ha="center", va="center", fontsize=7)
     ax.set_xticks(range(len(winds)), [f"{w:g}" for w in winds])
     ax.set_yticks(range(len(spans)), [f"{b:.3g}" for b in spans])
     ax.set_xlabel("wind speed [m/s]")
     ax.set_ylabel("folded span b_f [m]")
-    fig.colorbar(im, ax=ax, label="P_foldable - P_nominal [W]  (> 0: folding pays)")
-    ax.set_title(title or f"where folding pays ({ctx[0]}, tether {ctx[2]:g}-{ctx[3]:g} m, CdA_f {area:.3g} m2)", fontsize=9)
+    fig.colorbar(im, ax=ax, label="P_fold - P_nom [W]")
+    ax.set_title(title or f"where folding pays (> 0, blue): {ctx[0]}, tether {ctx[2]:g}-{ctx[3]:g} m, "
+                          f"CdA_f {area:.3g} m2\ncycle-average net power, foldable minus nominal [W]; fail = a point failed",
+                 fontsize=8)
     fig.tight_layout()
     p = Path(path)
     fig.savefig(p, dpi=110)
