@@ -70,3 +70,108 @@ def test_losing_the_reference_recovers_and_lands_near_the_winch(reference):
     from fdm_awe.groundstation import load_ground_station
 
     assert np.nanmax(r.tension) < 0.5 * load_ground_station().tether.breaking_load  # line intact, with margin
+
+
+def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_path):
+    """A pymavlink ground station on 127.0.0.1 (own thread) talks to the flying autopilot:
+    mission download equals the reference, PARAM_SET takes effect and persists, an uploaded
+    path is flown, and DO_SET_MODE RECOVER switches the autopilot."""
+    import threading
+    import time
+
+    from pymavlink import mavutil
+    from pymavlink.dialects.v20 import common as mav
+
+    from fdm_awe.autopilot.config import autopilot_params
+    from fdm_awe.mavlink.bridge import telemetry_builder
+    from fdm_awe.mavlink.endpoint import MavlinkEndpoint
+    from fdm_awe.mavlink.params import ParamStore
+    from fdm_awe.mavlink.vehicle import MODE_NUMBERS
+    from fdm_awe.pacing import RealtimePacer
+
+    sock = __import__("socket").socket(2, 2)
+    sock.bind(("127.0.0.1", 0))
+    port = sock.getsockname()[1]
+    sock.close()
+    gcs = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255, source_component=190)
+    out: dict = {}
+    holder: dict = {}
+
+    def wait(mtype, cond=None, timeout=8.0):
+        t_end = time.monotonic() + timeout
+        while time.monotonic() < t_end:
+            m = gcs.recv_match(type=mtype, blocking=True, timeout=0.2)
+            if m is not None and (cond is None or cond(m)):
+                return m
+        return None
+
+    def ground_station():
+        hb = wait("HEARTBEAT")
+        out["mode_at_start"] = hb.custom_mode if hb else None
+        gcs.mav.mission_request_list_send(1, 1)
+        cnt = wait("MISSION_COUNT")
+        items = []
+        for seq in range(cnt.count if cnt else 0):
+            gcs.mav.mission_request_int_send(1, 1, seq)
+            items.append(wait("MISSION_ITEM_INT", lambda m, s=seq: m.seq == s))
+        gcs.mav.mission_ack_send(1, 1, mav.MAV_MISSION_ACCEPTED)
+        out["items"] = items
+        gcs.mav.param_set_send(1, 1, b"GUID_KP", 0.7, mav.MAV_PARAM_TYPE_REAL32)
+        out["param"] = wait("PARAM_VALUE", lambda m: m.param_id == "GUID_KP")
+        # upload the same path back (MAVLink carries no timing: the autopilot times it itself)
+        gcs.mav.mission_count_send(1, 1, len(items))
+        while True:
+            m = wait(["MISSION_REQUEST_INT", "MISSION_REQUEST", "MISSION_ACK"])
+            if m is None or m.get_type() == "MISSION_ACK":
+                out["upload_ack"] = m
+                break
+            it = items[m.seq]
+            gcs.mav.mission_item_int_send(1, 1, m.seq, it.frame, it.command, 0, 1, 0, 0, 0, 0, it.x, it.y, it.z)
+        time.sleep(3.0)
+        gcs.mav.command_long_send(1, 1, mav.MAV_CMD_DO_SET_MODE, 0, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
+                                  MODE_NUMBERS["RECOVER"], 0, 0, 0, 0, 0)
+        out["mode_ack"] = wait("COMMAND_ACK", lambda m: m.command == mav.MAV_CMD_DO_SET_MODE)
+        out["done"] = True
+
+    params = autopilot_params(store=ParamStore(tmp_path / "params.json"))
+
+    def setup(ap, sim):
+        holder["ap"] = ap
+        holder["ep"] = MavlinkEndpoint(f"udpout:127.0.0.1:{port}", vehicle=ap)
+        holder["build"] = telemetry_builder(ap, sim)
+        holder["pacer"] = RealtimePacer(2.0)
+
+    def on_step(k, s, o):
+        holder["build"].integrate(s)
+        holder["ep"].update(s.t, lambda: holder["build"](s, o))
+        holder["pacer"].wait(s.t)
+        if k == 1:
+            holder["thread"] = threading.Thread(target=ground_station, daemon=True)
+            holder["thread"].start()
+        if out.get("upload_ack") is not None and "mission_at_upload" not in holder:
+            holder["mission_at_upload"] = holder["ap"].reference.meta.get("source")
+            holder["k_upload"] = k
+
+    try:
+        rep = fly(reference, config="nominal", cycles=1, t_end=40.0, params=params, setup=setup, on_step=on_step)
+    finally:
+        holder["thread"].join(timeout=10.0)
+        holder["ep"].close()
+        gcs.close()
+    ap = holder["ap"]
+    assert out.get("done"), out
+    assert out["mode_at_start"] == MODE_NUMBERS["AUTO"]
+    wps = reference.waypoints()
+    assert len(out["items"]) == len(wps)
+    assert out["param"] is not None and out["param"].param_value == pytest.approx(0.7)
+    assert ap.guidance.k.kp == pytest.approx(0.7)
+    # the change persisted: a new store on the same file starts from it
+    assert autopilot_params(store=ParamStore(tmp_path / "params.json"))["GUID_KP"] == pytest.approx(0.7)
+    assert out["upload_ack"] is not None
+    assert out["upload_ack"].type == mav.MAV_MISSION_ACCEPTED
+    assert holder["mission_at_upload"] == "uploaded mission"
+    assert out["mode_ack"].result == mav.MAV_RESULT_ACCEPTED and ap.mode == "RECOVER"
+    # the uploaded path was flown without an event until the mode change
+    assert rep.status in ("ok", "landed"), rep.message
+    e = rep.track_error[holder["k_upload"]:]
+    assert np.nanmax(e) < 60.0

@@ -24,7 +24,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--h-min", type=float, default=10.0, metavar="M", help="ground clearance [m]")
     p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s]")
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
-                   help="collocation intervals in generation, recovery and the Radau degree (default 30,16,4)")
+                   help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts to compare (default 1)")
     p.add_argument("--verify", action="store_true", help="re-integrate the optimal controls and report the check")
     p.add_argument("--json", metavar="FILE", help="write the result summary as JSON")

@@ -319,8 +319,8 @@ class CycleNLP:
 
     def _base_opts(self) -> dict:
         return {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.linear_solver": "mumps",
-                "ipopt.max_iter": 1500, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9, "ipopt.acceptable_iter": 0,
-                "ipopt.mu_strategy": "adaptive", "ipopt.max_cpu_time": 120.0}
+                "ipopt.max_iter": 500, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9, "ipopt.acceptable_iter": 0,
+                "ipopt.mu_strategy": "adaptive", "ipopt.max_cpu_time": 60.0}
 
     # ------------------------------------------------------------------ unpack
     def unpack(self, w: np.ndarray) -> list[dict[str, np.ndarray]]:

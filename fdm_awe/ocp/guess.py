@@ -143,3 +143,32 @@ def _interp(t: np.ndarray, Y: np.ndarray) -> Callable[[float], np.ndarray]:
         return np.array([np.interp(tq, t, Y[:, i]) for i in range(Y.shape[1])])
 
     return f
+
+
+def guess_from_result(result: Any, model: CycleModel) -> tuple[list[dict[str, Any]], int]:
+    """Per-phase guesses interpolated from a solved cycle (any mesh, any scenario).
+
+    States are interpolated linearly between the collocation points; controls are held per
+    interval. Controls the source lacks (the tension of the ``paper`` generation phase when the
+    source is ``physical``) come from its tension column.
+    """
+    phases = []
+    for ip, ph in enumerate(result.phases):
+        t, X, U = np.asarray(ph["t"]), np.asarray(ph["X"]), np.asarray(ph["U"])
+        T = float(ph["T"])
+        names = list(ph["controls"])
+        want = model.gen_controls if ip == 0 else model.rec_controls
+        n = len(U)
+        sel = result.columns["phase"] == ip
+        t_col = result.columns["t"][sel] - (0.0 if ip == 0 else result.phases[0]["T"])
+        G_col = result.columns["tension"][sel]
+
+        def control(tq: float, U=U, n=n, T=T, names=names, want=want, t_col=t_col, G_col=G_col) -> np.ndarray:
+            k = int(min(max(tq / T * n, 0), n - 1))
+            out = []
+            for c in want:
+                out.append(U[k, names.index(c)] if c in names else float(np.interp(tq, t_col, G_col)))
+            return np.array(out)
+
+        phases.append({"T": T, "state": _interp(t, X), "control": control})
+    return phases, int(result.k_wrap)

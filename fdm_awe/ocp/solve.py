@@ -28,13 +28,17 @@ from ..definitions.aircraft import Glider, load_glider
 from ..pointmass import wind_vector
 from .collocation import CycleNLP, RawSolution
 from .energy import WinchElectrics
-from .guess import LoopStart, default_starts, loop_guess
+from .guess import LoopStart, default_starts, guess_from_result, loop_guess
 from .model import CycleModel
-from .problem import CycleProblem
+from .problem import CycleProblem, Mesh
 from .result import CycleResult
 
 #: largest scaled constraint violation accepted as a solution
 VIOLATION_TOL = 1e-6
+
+#: mesh of the first, cheap solve of a cold start; the target mesh is then solved from its
+#: interpolated solution (mesh continuation)
+COARSE_MESH = Mesh(20, 10, 3)
 
 _CACHE: dict[tuple, CycleNLP] = {}
 
@@ -67,9 +71,35 @@ def clear_cache() -> None:
 
 def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, starts: list[LoopStart] | None = None,
                 n_starts: int = 1, glider: Glider | None = None, winch: WinchElectrics | None = None,
-                ipopt_options: dict | None = None, cache: bool = True) -> CycleResult:
-    """Optimise one pumping cycle (see the module docstring)."""
+                ipopt_options: dict | None = None, cache: bool = True, coarse: Mesh | None | bool = True,
+                time_budget_s: float = 180.0) -> CycleResult:
+    """Optimise one pumping cycle (see the module docstring).
+
+    ``warm``: a previous result; the same NLP structure restarts with its multipliers, any
+    other (different mesh or scenario) is interpolated as the initial guess. ``coarse``: mesh
+    of a first cheap solve of each cold start (``True``: :data:`COARSE_MESH` when the target mesh
+    is finer; ``None``/``False``: solve the target mesh directly). ``time_budget_s``: no new
+    attempt starts after this much solver time (the result then fails with that reason).
+    """
     problem = problem.validate()
+    if coarse is True:
+        coarse = COARSE_MESH if problem.mesh.n_gen > COARSE_MESH.n_gen else None
+    if coarse and warm is None and glider is None and winch is None:
+        from dataclasses import replace as _replace
+
+        t0 = time.perf_counter()
+        first = solve_cycle(_replace(problem, mesh=coarse), starts=starts, n_starts=n_starts,
+                            ipopt_options=ipopt_options, cache=cache, coarse=None, time_budget_s=time_budget_s)
+        if first.ok:
+            res = solve_cycle(problem, warm=first, ipopt_options=ipopt_options, cache=cache, coarse=None,
+                              time_budget_s=time_budget_s)
+            res.build_s += first.build_s
+            res.solve_s += first.solve_s
+            res.iterations += first.iterations
+            if res.ok:
+                res.start = f"{first.start}, refined from mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}"
+                return res
+        del t0
     nlp, build_s = get_nlp(problem, glider, winch, cache)
     wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
     total_s = 0.0
@@ -78,6 +108,9 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
 
     def run(w0: np.ndarray, k: int, drag: float, morph: float = 1.0, lam_x=None, lam_g=None, opts=None) -> RawSolution:
         nonlocal total_s, total_it
+        if total_s > time_budget_s:
+            return RawSolution("failed", f"time budget of {time_budget_s:g} s used up", 0, 0.0, w0, np.zeros_like(w0),
+                               np.zeros(len(nlp.lbg)), math.nan, nlp.params(wind, drag, k, morph))
         o = dict(ipopt_options or {})
         if opts:
             o.update(opts)
@@ -91,27 +124,39 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         if _accept(nlp, r):
             return _finish(problem, nlp, warm.k_wrap, "warm start", r, build_s, total_s, total_it)
         reasons.append(f"warm start: {r.reason}")
+    elif warm is not None and warm.ok:
+        phases, k = guess_from_result(warm, nlp.model)
+        r = run(nlp.pack(phases), k, 1.0, 1.0)
+        if _accept(nlp, r):
+            return _finish(problem, nlp, k, "from a previous solution", r, build_s, total_s, total_it)
+        reasons.append(f"from a previous solution: {r.reason}")
 
     foldable = problem.config == "foldable"
     drag_homotopy = nlp.model.scenario.tether_drag
 
     def attempt(w0: np.ndarray, k: int) -> RawSolution:
-        """Direct solve; on failure, tether-drag homotopy (0 -> 0.5 -> 1); for the foldable
-        glider finally the path through the nominal recovery (morph 0 -> 1)."""
+        """Direct solve; on failure, for the foldable glider a continuation from the nominal
+        recovery (aerodynamics morphed 0 -> 1 in quarters), then (tether drag) a homotopy in
+        the tether drag (0 -> 0.5 -> 1)."""
         r = run(w0, k, 1.0, 1.0)
-        if _accept(nlp, r) or not drag_homotopy:
-            pass
-        else:
+        if _accept(nlp, r):
+            return r
+        if foldable:
+            w = w0
+            for morph in (0.0, 0.25, 0.5, 0.75, 1.0):
+                r = run(w, k, 1.0, morph)
+                if not _accept(nlp, r):
+                    break
+                w = r.w
+            if _accept(nlp, r):
+                return r
+        if drag_homotopy:
             w = w0
             for drag in (0.0, 0.5, 1.0):
                 r = run(w, k, drag, 1.0)
                 if not _accept(nlp, r):
                     break
                 w = r.w
-        if foldable and not _accept(nlp, r):
-            r0 = run(w0, k, 1.0, 0.0)
-            if _accept(nlp, r0):
-                r = run(r0.w, k, 1.0, 1.0)
         return r
 
     best: tuple[float, RawSolution, int, str] | None = None
