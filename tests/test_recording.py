@@ -306,3 +306,36 @@ def test_flight_outputs_writes_everything(interrupted, tmp_path):
     assert "interrupted" in (tmp_path / "run" / "flight.md").read_text()
     c = cycle_outputs(_reference_file(tmp_path / "ref.json"), rrd=tmp_path / "c.rrd")
     assert set(c) == {"rrd"} and rrd_verify(c["rrd"])[0]
+
+
+def test_flight_recording_survives_an_exception_in_the_loop(circle, tmp_path):
+    """An exception escaping the co-simulation (here raised by a step callback after 1 s)
+    leaves no result, but the buffered steps are recorded and the file verifies."""
+    from fdm_awe.flight import fly
+    from fdm_awe.recording import FlightRecording
+
+    def boom(k, state, gs_out):
+        if k == 120:
+            raise RuntimeError("controller failure")
+
+    path = tmp_path / "aborted.rrd"
+    with pytest.raises(RuntimeError, match="controller failure"):
+        with FlightRecording(path, circle, chain=boom) as rec:
+            fly(circle, config="foldable", cycles=1, t_end=3.0, on_step=rec, setup=rec.setup)
+    ok, msg = rrd_verify(path)
+    assert ok, msg
+    ent = rrd_entities(path)
+    # the initial state and steps 1..120 were buffered (the callback ran before raising): 0 .. 1 s
+    assert ent["/world/glider"].t_min == pytest.approx(0.0, abs=T_TOL)
+    assert ent["/world/glider"].t_max == pytest.approx(120 * DT, abs=T_TOL)
+    assert ent["/plots/altitude"].rows == 121 and ent["/plots/tension"].rows == 120
+    assert "/phase" in ent and "/events" in ent
+
+
+def test_flight_recording_finish_uses_the_report(flight, circle, tmp_path):
+    from fdm_awe.recording import FlightRecording
+
+    with FlightRecording(tmp_path / "done.rrd", circle) as rec:
+        rec.finish(flight)
+    ent = rrd_entities(rec.finished)
+    assert ent["/plots/altitude"].rows == len(flight.result.t)

@@ -12,7 +12,8 @@ One-line entry points for the commands::
     export_csv(report, "run.csv")                      # time histories, units in the column names
     flight_markdown(report)                            # Table-3 style report
 
-rerun and matplotlib are imported only when a recording or plot is made.
+``FlightRecording`` (step callback + context manager) records the steps flown even when an
+exception escapes the flight loop. rerun and matplotlib are imported only when a recording or plot is made.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ _EXPORTS = {
     "export_csv": ".csvexport", "export_cycle_csv": ".csvexport",
     "plot_flight": ".plots", "plot_cycle": ".plots", "plot_compare": ".plots", "plot_summary": ".plots",
     "flight_markdown": ".report", "cycle_markdown": ".report", "table3_markdown": ".report",
+    "FlightRecording": ".live",
     "flight_outputs": ".outputs", "cycle_outputs": ".outputs",
     "rrd_verify": ".inspect", "rrd_stats": ".inspect", "rrd_entities": ".inspect", "rrd_views": ".inspect",
 }

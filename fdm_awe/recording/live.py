@@ -1,0 +1,120 @@
+"""A recording that survives whatever ends the flight.
+
+The co-simulation turns Ctrl-C and flight events into a normal result, which
+:func:`~fdm_awe.recording.flight.record_flight` records. An exception raised inside the loop
+(a controller bug, a failed assertion) propagates instead and takes the result with it.
+:class:`FlightRecording` keeps a light copy of every step (about 20 floats, read through the
+step callback) so that the recording is written from the steps flown in every case::
+
+    with FlightRecording("run.rrd", reference) as rec:
+        report = fly(reference, ..., on_step=rec, setup=rec.setup)
+        rec.finish(report)          # full recording from the report
+    # on an exception: the steps flown so far are recorded (status "aborted"), then it re-raises
+
+Cost: one tuple per step (a few microseconds against a step of several hundred).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+_FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust", "p_prop",
+           "load_factor", "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec")
+
+
+class FlightRecording:
+    """Step callback ``(k, state, gs_output)`` plus ``setup(autopilot, cosim)`` hook (the latter
+    only to read the autopilot's phase label each step); writes ``path`` on :meth:`finish` or,
+    failing that, from the buffered steps when the ``with`` block ends."""
+
+    def __init__(self, path: str | Path, reference: Any = None, *, chain: Any = None) -> None:
+        self.path = Path(path)
+        self.reference = reference
+        self.chain = chain  #: another on_step callback to call after this one
+        self.rows: list[tuple] = []
+        self.phases: list[str] = []
+        self._ap: Any = None
+        self.finished: Path | None = None
+
+    def setup(self, autopilot: Any, cosim: Any = None) -> None:
+        """Keep the autopilot (for its phase) and the initial state (the first row, as the
+        co-simulation logs it)."""
+        self._ap = autopilot
+        glider = getattr(cosim, "glider", None)
+        if glider is not None and not self.rows:
+            s = glider.state()
+            nan = math.nan
+            self.rows.append((s.t, s.x, s.y, s.z, s.phi, s.theta, s.psi, s.airspeed, s.alpha, s.beta, s.fold,
+                              s.thrust_N, s.prop_power_W, s.load_factor, nan, nan, nan, nan, nan, nan, nan))
+            self.phases.append(getattr(autopilot, "phase", "") or "")
+
+    def __call__(self, k: int, s: Any, o: Any) -> None:
+        self.rows.append((s.t, s.x, s.y, s.z, s.phi, s.theta, s.psi, s.airspeed, s.alpha, s.beta, s.fold, s.thrust_N,
+                          s.prop_power_W, s.load_factor, o.tension, o.length, o.reel_speed, o.omega, o.current, o.duty,
+                          o.p_electrical))
+        ap = self._ap
+        self.phases.append(getattr(ap, "phase", "") if ap is not None else "")
+        if self.chain is not None:
+            self.chain(k, s, o)
+
+    def partial_result(self, status: str = "aborted", message: str = "") -> Any:
+        """The buffered steps as a :class:`~fdm_awe.cosim.FlightResult` (controls unknown: NaN)."""
+        from ..cosim import COLUMNS, Event, FlightResult
+
+        n = len(self.rows)
+        data = np.full((n, len(COLUMNS)), np.nan)
+        labels: list[str] = []
+        if n:
+            a = np.asarray(self.rows, dtype=float)
+            col = {name: i for i, name in enumerate(COLUMNS)}
+            f = {name: a[:, i] for i, name in enumerate(_FIELDS)}
+            for name in ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust",
+                         "p_prop", "load_factor", "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec"):
+                data[:, col[name]] = f[name]
+            data[:, col["qw"]:col["qz"] + 1] = _euler_to_quat(f["phi"], f["theta"], f["psi"])
+            if n > 1:  # ground velocity by differences (the callback does not copy it)
+                v = np.gradient(a[:, 1:4], a[:, 0], axis=0)
+                data[:, col["vn"]:col["vd"] + 1] = v
+            labels = sorted(set(self.phases))
+            codes = {p: i for i, p in enumerate(labels)}
+            data[:, col["phase"]] = [codes[p] for p in self.phases]
+        t_end = float(data[-1, 0]) if n else 0.0
+        dt = float(np.median(np.diff(data[:, 0]))) if n > 1 else math.nan
+        return FlightResult(status=status, event=Event(status, t_end, message or status), data=data,
+                            phase_labels=labels, dt=dt, wall_s=0.0, steps=max(n - 1, 0))
+
+    def finish(self, report: Any = None) -> Path:
+        """Write the recording: from ``report`` (FlightReport/FlightResult) when given, else
+        from the buffered steps."""
+        from .flight import record_flight
+
+        flight = report if report is not None else self.partial_result()
+        self.finished = record_flight(flight, self.reference, self.path)
+        return self.finished
+
+    def __enter__(self) -> "FlightRecording":
+        return self
+
+    def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
+        if self.finished is None:
+            from .flight import record_flight
+
+            status = "aborted" if exc_type is not None else "unfinished"
+            msg = f"{exc_type.__name__}: {exc}" if exc_type is not None else "flight not finished"
+            self.finished = record_flight(self.partial_result(status, msg), self.reference, self.path)
+
+
+def _euler_to_quat(phi: np.ndarray, theta: np.ndarray, psi: np.ndarray) -> np.ndarray:
+    """(n, 4) quaternions (w, x, y, z) of ZYX Euler angles (same convention as the JSBSim adapter)."""
+    cr, sr = np.cos(0.5 * phi), np.sin(0.5 * phi)
+    cp, sp = np.cos(0.5 * theta), np.sin(0.5 * theta)
+    cy, sy = np.cos(0.5 * psi), np.sin(0.5 * psi)
+    return np.stack((cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy), axis=1)
+
+
+__all__ = ["FlightRecording"]
