@@ -339,3 +339,20 @@ def test_flight_recording_finish_uses_the_report(flight, circle, tmp_path):
         rec.finish(flight)
     ent = rrd_entities(rec.finished)
     assert ent["/plots/altitude"].rows == len(flight.result.t)
+
+
+def test_cycle_outputs_from_a_cycle_result(tmp_path):
+    """A CycleResult (as solve_cycle returns it) is recorded directly; a failed one writes nothing."""
+    from fdm_awe.ocp.result import CycleResult, read_reference
+    from fdm_awe.recording import cycle_outputs
+
+    tr = read_reference(_reference_file(tmp_path / "ref.json"))
+    ok = CycleResult(scenario="physical", config="foldable", wind_mps=6.0, wind_from_deg=180.0, status="ok",
+                     reason="Solve_Succeeded", solve_s=1.0, build_s=0.0, iterations=10, T1_s=8.0, T2_s=4.0,
+                     E_generated_J=80.0, E_thrust_J=36.0, E_reel_in_J=24.0, columns=dict(tr.columns))
+    out = cycle_outputs(ok, out_dir=tmp_path / "opt")
+    assert rrd_verify(out["rrd"])[0]
+    assert "| 20.0 |" in (tmp_path / "opt" / "cycle.md").read_text()  # E_net = 80 - 36 - 24
+    failed = CycleResult(scenario="physical", config="foldable", wind_mps=6.0, wind_from_deg=180.0, status="failed",
+                         reason="Infeasible_Problem_Detected", solve_s=1.0, build_s=0.0, iterations=10)
+    assert cycle_outputs(failed, out_dir=tmp_path / "bad") == {}

@@ -41,11 +41,14 @@ def flight_outputs(report: Any, reference: Any = None, *, rrd: str | Path | None
 
 def cycle_outputs(result: Any, *, rrd: str | Path | None = None, out_dir: str | Path | None = None,
                   prefix: str = "cycle") -> dict[str, Any]:
-    """Same for an optimised cycle (``ok`` CycleResult, reference-trajectory file or trajectory)."""
+    """Same for an optimised cycle (``ok`` CycleResult, reference-trajectory file or trajectory);
+    a failed CycleResult has no trajectory: nothing is written."""
     from .csvexport import export_cycle_csv
     from .flight import record_cycle
 
     written: dict[str, Any] = {}
+    if getattr(result, "ok", True) is False:
+        return written
     if out_dir is not None and rrd is None:
         rrd = Path(out_dir) / f"{prefix}.rrd"
     if rrd is not None:
