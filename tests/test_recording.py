@@ -304,6 +304,8 @@ def test_flight_outputs_writes_everything(interrupted, tmp_path):
     assert set(out) == {"rrd", "plots", "csv", "report"}
     assert rrd_verify(out["rrd"])[0]
     assert "interrupted" in (tmp_path / "run" / "flight.md").read_text()
+    bare = flight_outputs(interrupted.result, None, out_dir=tmp_path / "bare")
+    assert set(bare) == {"rrd", "plots", "csv", "report"}
     c = cycle_outputs(_reference_file(tmp_path / "ref.json"), rrd=tmp_path / "c.rrd")
     assert set(c) == {"rrd"} and rrd_verify(c["rrd"])[0]
 

@@ -16,7 +16,8 @@ from typing import Any
 def flight_outputs(report: Any, reference: Any = None, *, rrd: str | Path | None = None,
                    out_dir: str | Path | None = None, prefix: str = "flight") -> dict[str, Any]:
     """Recording (``rrd``), and in ``out_dir``: ``<prefix>_3d.png``, ``<prefix>_time.png``,
-    ``<prefix>.csv``, ``<prefix>.md``. Works for complete, failed and interrupted flights."""
+    ``<prefix>.csv``, ``<prefix>.md``. Works for complete, failed and interrupted flights
+    (FlightReport, or a bare FlightResult)."""
     from .csvexport import export_csv
     from .flight import record_flight
 

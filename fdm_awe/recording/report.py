@@ -37,8 +37,13 @@ def _table(header: Sequence[str], rows: Iterable[Sequence[str]]) -> str:
 
 
 def flight_markdown(report: Any, title: str | None = None) -> str:
-    """Report of a flight (:class:`fdm_awe.flight.FlightReport`): run facts, per-cycle table, ledger."""
+    """Report of a flight (:class:`fdm_awe.flight.FlightReport`): run facts, per-cycle table, ledger.
+    A bare FlightResult (no cycles, no ledger) gets the run facts only."""
     r = report
+    if not hasattr(r, "cycles"):
+        msg = r.event.message if getattr(r, "event", None) is not None else "completed"
+        return "\n".join([f"# {title or 'Flight'}", "", f"- status: **{r.status}** ({msg})",
+                          f"- simulated {r.sim_time_s:.2f} s in {r.wall_s:.2f} s wall time", ""])
     head = title or f"Flight: scenario {r.scenario}, config {r.config}, wind {r.wind_mps:g} m/s"
     out = [f"# {head}", "",
            f"- status: **{r.status}** ({r.message})",
