@@ -358,3 +358,22 @@ def test_cycle_outputs_from_a_cycle_result(tmp_path):
     failed = CycleResult(scenario="physical", config="foldable", wind_mps=6.0, wind_from_deg=180.0, status="failed",
                          reason="Infeasible_Problem_Detected", solve_s=1.0, build_s=0.0, iterations=10)
     assert cycle_outputs(failed, out_dir=tmp_path / "bad") == {}
+
+
+def test_recorded_pose_and_series_values_read_back(flight, tmp_path):
+    """Values, not only entities: the last glider translation is the last logged NED position,
+    the tension series holds the logged tensions (stored as float32 / float64)."""
+    from rerun.chunk import RrdReader
+
+    path = record_flight(flight, None, tmp_path / "values.rrd")
+    r = flight.result
+    found = {}
+    for chunk in RrdReader(str(path)).store().stream():
+        ent = str(chunk.entity_path)
+        if ent in ("/world/glider", "/plots/tension") and not chunk.is_static:
+            found[ent] = chunk.to_record_batch()
+    tr = found["/world/glider"].column("Transform3D:translation").to_pylist()
+    # float32 storage: ~1e-7 relative, positions ~200 m -> 1e-4 m; 1e-3 m leaves margin
+    np.testing.assert_allclose(np.asarray(tr[-1], float).reshape(3), r.pos[-1], atol=1e-3)
+    ts = np.asarray([v[0] for v in found["/plots/tension"].column("Scalars:scalars").to_pylist()], float)
+    np.testing.assert_allclose(ts, r.tension[1:], rtol=1e-12)
