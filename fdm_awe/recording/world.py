@@ -70,7 +70,9 @@ def log_glider(rf: RrdFile, t: np.ndarray, pos: np.ndarray, quat_wxyz: np.ndarra
     xyzw = q[:, [1, 2, 3, 0]]
     rf.columns("world/glider", t, rr.Transform3D.columns(translation=pos, quaternion=xyzw))
     rf.static("world/glider/airframe", rr.Transform3D(scale=scale))
-    rf.static("world/glider/airframe/body", rr.LineStrips3D(shape.fixed_parts(), colors=[(30, 30, 30)], radii=[0.02]))
+    parts = shape.fixed_parts()
+    rf.static("world/glider/airframe/body", rr.LineStrips3D(parts, colors=[(30, 30, 30)], radii=[0.02],
+                                                            labels=[f"glider (drawn {scale:g}x)"] + [""] * (len(parts) - 1)))
     f = np.zeros(len(t)) if fold is None else np.nan_to_num(np.asarray(fold, float)[ok])
     keep = [0]
     last = f[0]
