@@ -377,3 +377,14 @@ def test_recorded_pose_and_series_values_read_back(flight, tmp_path):
     np.testing.assert_allclose(np.asarray(tr[-1], float).reshape(3), r.pos[-1], atol=1e-3)
     ts = np.asarray([v[0] for v in found["/plots/tension"].column("Scalars:scalars").to_pylist()], float)
     np.testing.assert_allclose(ts, r.tension[1:], rtol=1e-12)
+
+
+def test_series_energies_agree_with_the_ground_station_ledger(flight):
+    """The cumulative energies integrated from the logged per-step power equal the ground
+    station's own ledger (accumulated inside its integrator) for the flown cycle."""
+    s = flight_series(flight)
+    c = flight.cycles[0]
+    # same joules by two routes; 1e-9 relative allows only summation-order round-off
+    assert s["E_generated"][-1] == pytest.approx(c.E_generated_J, rel=1e-9, abs=1e-9)
+    assert s["E_reel_in"][-1] == pytest.approx(c.E_reel_in_J, rel=1e-9, abs=1e-9)
+    assert s["E_thrust"][-1] == pytest.approx(c.E_thrust_J, rel=1e-9)
