@@ -150,6 +150,27 @@ def draw_scene_3d(ax: Any, paths: Sequence[tuple[str, np.ndarray, Sequence[str],
     ax.view_init(elev=22, azim=-125)
 
 
+def thin(t: np.ndarray, y: np.ndarray, max_points: int = 4000) -> tuple[np.ndarray, np.ndarray]:
+    """At most about ``max_points`` samples for drawing: per bucket of samples the minimum and
+    the maximum are kept (in time order), so spikes survive; NaN buckets stay NaN (gaps)."""
+    n = len(t)
+    if n <= max_points:
+        return t, y
+    k = int(np.ceil(2 * n / max_points))
+    m = (n // k) * k
+    tb, yb = t[:m].reshape(-1, k), y[:m].reshape(-1, k)
+    filled = np.where(np.isfinite(yb), yb, np.nan)
+    allnan = ~np.isfinite(filled).any(axis=1)
+    lo = np.where(allnan, 0, np.nanargmin(np.where(allnan[:, None], 0.0, filled), axis=1))
+    hi = np.where(allnan, 0, np.nanargmax(np.where(allnan[:, None], 0.0, filled), axis=1))
+    first, second = np.minimum(lo, hi), np.maximum(lo, hi)
+    rows = np.arange(len(tb))
+    tt = np.column_stack([tb[rows, first], tb[rows, second]]).ravel()
+    yy = np.column_stack([yb[rows, first], yb[rows, second]]).ravel()
+    yy[np.repeat(allnan, 2)] = np.nan
+    return np.r_[tt, t[m:]], np.r_[yy, y[m:]]
+
+
 def _shade_phases(ax: Any, s: Series) -> None:
     for lab, i0, i1 in s.phase_segments():
         t1 = s.t[min(i1 + 1, len(s.t) - 1)]
@@ -202,7 +223,7 @@ def figure_time(s: Series, title: str, out: str | Path, kind: str = "flight") ->
     for ax, (ylab, cols) in zip(axes.flat, panels):
         _shade_phases(ax, s)
         for key, leg, f in cols:
-            ax.plot(s.t, s[key] * f, lw=1.2, label=leg)
+            ax.plot(*thin(s.t, s[key] * f), lw=1.2, label=leg)
         ax.set_ylabel(ylab)
         ax.grid(True, alpha=0.3)
         if len(cols) > 1:
@@ -318,7 +339,7 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
         axr = fig.add_subplot(gs[i, 1])
         _shade_phases(axr, s)
         for key, leg in cols:
-            axr.plot(s.t, s[key], lw=1.2, label=leg)
+            axr.plot(*thin(s.t, s[key]), lw=1.2, label=leg)
         axr.set_ylabel(ylab)
         axr.grid(True, alpha=0.3)
         axr.legend(fontsize=7, loc="best")
