@@ -396,3 +396,18 @@ def test_series_energies_agree_with_the_ground_station_ledger(tmp_path):
     assert s["E_generated"][-1] == pytest.approx(c.E_generated_J, rel=1e-9, abs=1e-9)
     assert s["E_reel_in"][-1] == pytest.approx(c.E_reel_in_J, rel=1e-9, abs=1e-9)
     assert s["E_thrust"][-1] == pytest.approx(c.E_thrust_J, rel=1e-9)
+
+
+def test_thinning_keeps_spikes_gaps_and_order():
+    from fdm_awe.recording.plots import thin
+
+    t = np.arange(100_000) * 0.01
+    y = np.sin(t)
+    y[51_234] = 10.0  # a one-sample spike
+    y[200:600] = np.nan  # a gap spanning whole buckets
+    tt, yy = thin(t, y, max_points=4000)
+    assert len(tt) <= 4100 and np.all(np.diff(tt) >= 0)
+    assert np.nanmax(yy) == 10.0 and np.nanmin(yy) == pytest.approx(-1.0, abs=1e-6)
+    assert np.isnan(yy).any()
+    short_t, short_y = thin(t[:100], y[:100])
+    assert len(short_t) == 100
