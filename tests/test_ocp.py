@@ -1,0 +1,225 @@
+"""Pumping-cycle OCP: checked independently of the optimiser.
+
+References: DESIGN.md section 6 closed-form generator point, the ground station's own steady
+relations, scipy's adaptive Runge-Kutta re-integration of the optimal controls, and first
+principles (no energy from still air). Coarse meshes where the check allows it keep the file
+fast; the default mesh is used where the re-integration accuracy is the point.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from fdm_awe.errors import InputError
+from fdm_awe.ocp.energy import (WinchElectrics, design_reference_generator, generator_load_power, generator_tension,
+                                motor_supply_power)
+from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
+from fdm_awe.ocp.result import read_reference, write_reference
+from fdm_awe.ocp.solve import get_nlp, solve_cycle
+from fdm_awe.ocp.verify import verify
+
+#: coarse mesh for convergence-only checks (verification accuracy is tested on finer meshes)
+COARSE = Mesh(20, 12, 3)
+#: the paper scenario has no stiff generator coupling: 30 intervals of degree 4 reproduce its
+#: path within ~0.03 % (the physical scenario's check runs on the default mesh)
+PAPER_MESH = Mesh(30, 16, 4)
+
+
+@pytest.fixture(scope="module")
+def winch() -> WinchElectrics:
+    return WinchElectrics.from_ground_station()
+
+
+# ---------------------------------------------------------------- energy relations
+def test_generator_point_matches_design_reference(winch):
+    """DESIGN.md section 6: G = 30 N, R_L 1.5 ohm -> omega 117.010 rad/s, 3.5103 m/s,
+    6.148 A, 56.70 W, 105.31 W, efficiency 0.538 (printed to 4-5 digits: rel 1e-3)."""
+    ref = design_reference_generator(winch, 30.0)
+    assert ref["omega"] == pytest.approx(117.010, rel=1e-3)
+    assert ref["v_reel"] == pytest.approx(3.5103, rel=1e-3)
+    assert ref["i"] == pytest.approx(6.148, rel=1e-3)
+    assert ref["P_load"] == pytest.approx(56.70, rel=1e-3)
+    assert ref["P_mech"] == pytest.approx(105.31, rel=1e-3)
+    assert ref["efficiency"] == pytest.approx(0.538, rel=2e-3)
+    # the OCP's (smoothed) inverse relation reproduces it: the smoothing of the 1 V diode
+    # threshold by 0.02 V changes the current by < 1e-4 A far above the threshold
+    assert float(generator_tension(ref["v_reel"], winch)) == pytest.approx(30.0, rel=1e-6)
+    assert float(generator_load_power(ref["v_reel"], winch)) == pytest.approx(56.70, rel=1e-3)
+
+
+def test_generator_matches_ground_station_steady(winch):
+    """The OCP's tension(speed) is the inverse of the ground station's speed(tension).
+    Tolerance 1e-4: the OCP smooths the rectifier's conduction threshold (0.02 V on a 2 V
+    margin at 10 N, relative current error ~ (0.02/2)^2/4)."""
+    from fdm_awe.groundstation.steady import generator_steady
+
+    for G in (10.0, 25.0, 45.0):
+        st = generator_steady(G, winch.gs_params)
+        assert float(generator_tension(st.reel_speed, winch)) == pytest.approx(G, rel=1e-4)
+        assert float(generator_load_power(st.reel_speed, winch)) == pytest.approx(st.p_load, rel=1e-4)
+
+
+def test_reel_in_limit_is_full_duty(winch):
+    """At the reel-in speed limit the motor needs exactly the supply voltage (duty 1)."""
+    from fdm_awe.groundstation.steady import motor_steady
+
+    v = winch.reel_in_speed_max()
+    assert motor_steady(v, 0.0, winch.gs_params).duty == pytest.approx(1.0, rel=1e-12)
+    # friction alone costs M_c omega: the supply power exceeds it (copper, diodes, viscous)
+    assert float(motor_supply_power(-v, winch)) > winch.M_c * v / winch.r_w
+
+
+# ---------------------------------------------------------------- input validation
+@pytest.mark.parametrize("kwargs, words", [
+    ({"d_tf": 150.0}, "d_tf"),
+    ({"bounds": Bounds(V_min=30.0)}, "V_min"),
+    ({"wind_speed": -3.0}, "wind speed"),
+    ({"scenario": "fantasy"}, "scenario"),
+    ({"config": "biplane"}, "configuration"),
+    ({"bounds": Bounds(h_min=150.0)}, "clearance"),
+    ({"mesh": Mesh(2, 12, 3)}, "mesh"),
+])
+def test_infeasible_inputs_one_line(kwargs, words):
+    with pytest.raises(InputError) as ei:
+        CycleProblem(**kwargs).validate()
+    msg = str(ei.value)
+    assert words in msg and "\n" not in msg
+
+
+def test_cli_input_error_exit_code(capsys):
+    from fdm_awe.cli import main
+
+    assert main(["optimize", "--wind", "-2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "wind speed" in err[0]
+
+
+def test_ipopt_failure_is_a_failed_status():
+    """An iteration limit far too small: the result says failed and why, carries no energies."""
+    pr = CycleProblem(scenario="paper", config="nominal", wind_speed=3.0, mesh=COARSE)
+    res = solve_cycle(pr, ipopt_options={"ipopt.max_iter": 3}, coarse=None)
+    assert res.status == "failed"
+    assert "Maximum_Iterations_Exceeded" in res.reason
+    s = res.summary()
+    assert s["E_net_J"] is None and s["P_avg_W"] is None
+    with pytest.raises(InputError):
+        write_reference(res, "never.json")
+
+
+# ---------------------------------------------------------------- paper scenario
+@pytest.fixture(scope="module")
+def paper3():
+    pr = CycleProblem(scenario="paper", config="foldable", wind_speed=3.0, mesh=PAPER_MESH)
+    res = solve_cycle(pr, coarse=None)
+    return pr, res
+
+
+def test_paper_3ms_converges_and_reintegrates(paper3):
+    """The interval defects of the re-integrated optimal controls sum to < 0.5 %
+    of the path, energies re-counted by the adaptive integrator agree within 1 %, every scaled
+    constraint holds within 1e-6."""
+    pr, res = paper3
+    assert res.ok, res.reason
+    v = verify(res, get_nlp(pr)[0])
+    assert v.position_error_rel < 0.005
+    for k, e in v.energy_error_rel.items():
+        assert e < 0.01, k
+    assert v.nlp_max_violation < 1e-6
+
+
+def test_paper_3ms_same_order_as_table3(paper3):
+    """Table 3: generation 2048 J, thrust 1121 J, rewinding 63.81 J, T1 14.24 s, T2 10.70 s.
+    'Same order': each within a factor 2 (the differences are explained in the report)."""
+    _, res = paper3
+    for ours, paper in ((res.E_generated_J, 2048.0), (res.E_thrust_J, 1121.0), (res.E_reel_in_J, 63.81),
+                        (res.T1_s, 14.24), (res.T2_s, 10.70)):
+        assert 0.5 < ours / paper < 2.0
+    # mechanical accounting: E_generated = int G ddot <= G_max (d_tf - d0) = 2500 J (within the
+    # quadrature error of the mesh, 1e-4)
+    assert res.E_generated_J <= 50.0 * 50.0 * (1 + 1e-4)  # Radau quadrature of ddot vs the exact 50 m
+    # reel-in at the constant 6 W of the paper
+    assert res.E_reel_in_J == pytest.approx(6.0 * res.T2_s, rel=1e-9)
+
+
+def test_reference_file_round_trip(paper3, tmp_path):
+    _, res = paper3
+    p = write_reference(res, tmp_path / "ref.json")
+    ref = read_reference(p)
+    assert ref.metadata["scenario"] == "paper" and ref.metadata["config"] == "foldable"
+    assert ref.period == pytest.approx(res.T1_s + res.T2_s)
+    t = ref["t"]
+    assert np.all(np.diff(t) >= -1e-12) and t[0] == 0.0 and t[-1] == pytest.approx(ref.period)
+    # periodic: the cycle ends where it starts (position within the constraint tolerance)
+    for c in ("x", "y", "z", "V", "gamma"):
+        assert ref[c][-1] == pytest.approx(ref[c][0], abs=1e-5)
+    assert ref["tether_length"][0] == pytest.approx(200.0, abs=1e-5)
+    s = ref.sample(res.T1_s + 0.5 * res.T2_s)
+    assert s["phase"] == 1.0 and s["fold"] == 1.0 and s["tension"] == 0.0
+    assert ref.sample(0.25 * res.T1_s)["fold"] == 0.0
+    doc = json.loads(p.read_text())
+    assert doc["format"] == "fdm-awe-reference-trajectory" and doc["units"]["tension"] == "N"
+
+
+# ---------------------------------------------------------------- physical scenario
+@pytest.mark.parametrize("wind", [6.0, 10.0])
+def test_physical_nominal_converges(wind):
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=wind, mesh=COARSE)
+    res = solve_cycle(pr, coarse=None)
+    assert res.ok, res.reason
+    assert res.max_violation < 1e-6
+    assert res.E_generated_J > 0 and res.E_thrust_J > 0 and res.E_reel_in_J > 0
+
+
+@pytest.mark.xfail(reason="the fully folded glider (20 % of the wing, stall speed ~21 m/s) cannot fly the >= 9.3 s "
+                          "recovery the winch's reel-in limit imposes within V <= 25 m/s and |gamma| <= 1 rad: IPOPT "
+                          "stalls (the nominal-to-folded continuation converges up to 95 % folded, with thrust "
+                          "energy exploding towards the end)", strict=False)
+def test_physical_foldable_converges():
+    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=10.0, mesh=COARSE)
+    res = solve_cycle(pr, coarse=None, time_budget_s=40.0)
+    assert res.ok, res.reason
+
+
+def test_physical_foldable_failure_is_reported():
+    """Whatever the outcome, a failed solve carries a reason and no numbers."""
+    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=6.0, mesh=COARSE)
+    res = solve_cycle(pr, coarse=None, time_budget_s=20.0)
+    if res.ok:
+        assert res.max_violation < 1e-6
+    else:
+        assert res.reason and res.summary()["E_net_J"] is None
+
+
+def test_physical_zero_wind_gains_nothing():
+    """Still air: every energy term is counted electrically with real losses, so no cycle can
+    end with more energy than it started with."""
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=0.0, mesh=COARSE)
+    res = solve_cycle(pr, coarse=None)
+    assert res.ok, res.reason
+    assert res.E_net_J <= 0.0
+
+
+def test_physical_reintegrates_default_mesh():
+    """Default mesh (coarse solve first, then refined): same acceptance as the paper case."""
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0)
+    res = solve_cycle(pr)
+    assert res.ok, res.reason
+    v = verify(res, get_nlp(pr)[0])
+    assert v.nlp_max_violation < 1e-6
+    assert v.position_error_rel < 0.005
+    for k, e in v.energy_error_rel.items():
+        assert e < 0.01, k
+
+
+def test_warm_start_from_neighbouring_wind():
+    """A sweep re-solves from the previous wind speed's solution (same NLP, new wind)."""
+    pr = CycleProblem(scenario="paper", config="nominal", wind_speed=3.0, mesh=COARSE)
+    first = solve_cycle(pr, coarse=None)
+    assert first.ok
+    again = solve_cycle(pr.with_wind(3.5), warm=first)
+    assert again.ok and again.start == "warm start"
+    assert again.iterations < first.iterations
