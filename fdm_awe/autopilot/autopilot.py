@@ -331,14 +331,16 @@ class Autopilot:
         d = float(np.linalg.norm(s.hook_pos_ned))
         slack = (gs.length - d) if gs is not None else 0.0
         if h < 3.0 * p["REC_FLARE_ALT"]:
-            # final approach and touchdown: pay line out so it never catches the glider
-            wcmd = WinchCommand(mode="motor", reel_speed_ref=p["REC_REEL_SPD"])
+            # final approach and touchdown: free spool (open-circuit generator: only the drum's
+            # friction and inertia resist), the line pays out if the glider reaches its end
+            wcmd = WinchCommand(mode="generator", load_resistance=1.0e4)
         elif gs is not None and gs.tension > p["REC_TENSION"]:
             # pulling: the passive generator lets line out under load
             wcmd = WinchCommand(mode="generator", load_resistance=self.R_L)
         else:
-            # keep REC_SLACK metres of slack: reel in the excess, pay out (motor) when short
-            reel = -min(max(0.5 * (slack - p["REC_SLACK"]), -p["REC_REEL_SPD"]), p["REC_REEL_SPD"])
+            # keep REC_SLACK metres of slack: reel in the excess (the half-bridge drives the
+            # motor one way only; line goes out through the generator when pulled)
+            reel = -min(max(0.5 * (slack - p["REC_SLACK"]), 0.0), p["REC_REEL_SPD"])
             wcmd = WinchCommand(mode="motor", reel_speed_ref=reel)
         if h < p["REC_FLARE_ALT"]:
             # flare: wings level, angle of attack for level flight plus a sink-rate term
