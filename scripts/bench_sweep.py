@@ -53,11 +53,15 @@ def main() -> int:
                           "total_s": time.perf_counter() - t0, "n_ok": sum(x["status"] == "ok" for x in recs),
                           "n_failed": sum(x["status"] != "ok" for x in recs), "n_not_run": len(r.errors),
                           "sum_point_wall_s": sum(x["wall_s"] or 0.0 for x in recs),
+                          "sum_point_cpu_s": sum(x.get("cpu_s") or 0.0 for x in recs),
                           "sum_iterations": sum(x["iterations"] or 0 for x in recs),
                           "P_avg_W": {f"{x['d0_m']:g}-{x['d_tf_m']:g}@{x['wind_mps']:g}": x["P_avg_W"] for x in recs}}
+            # share of its cores the sweep actually got: CPU seconds / (workers x wall seconds)
+            runs[name]["cpu_share"] = runs[name]["sum_point_cpu_s"] / (workers * r.wall_s) if r.wall_s > 0 else None
             print(f"{name}: {n_points} points, {workers} worker(s), warm={warm}: {r.wall_s:.1f} s "
                   f"(+{r.startup_s:.1f} s start-up), {runs[name]['n_ok']} ok, {runs[name]['n_failed']} failed, "
-                  f"sum of point times {runs[name]['sum_point_wall_s']:.1f} s, {runs[name]['sum_iterations']} iterations",
+                  f"sum of point times {runs[name]['sum_point_wall_s']:.1f} s (CPU {runs[name]['sum_point_cpu_s']:.1f} s, "
+                  f"{100 * (runs[name]['cpu_share'] or 0):.0f} % of {workers} core(s)), {runs[name]['sum_iterations']} iterations",
                   flush=True)
     load_after = os.getloadavg()
     speedup_workers = runs["warm_1w"]["wall_s"] / runs["warm_2w"]["wall_s"]
@@ -71,6 +75,10 @@ def main() -> int:
     print(f"2 workers vs 1: {speedup_workers:.2f}x (goal >= 1.7)")
     print(f"warm-started lines vs cold points (2 workers): {speedup_warm:.2f}x wall, {speedup_warm_cpu:.2f}x summed point time")
     print(f"results identical with 1 and 2 workers: {same}")
+    cpu_speedup = runs["warm_1w"]["sum_point_cpu_s"] / max(runs["warm_2w"]["sum_point_cpu_s"], 1e-9)
+    doc["cpu_s_ratio_1w_vs_2w"] = cpu_speedup
+    print(f"CPU seconds of the work, 1 worker / 2 workers: {cpu_speedup:.2f} (1.0 = same work; a 2-worker wall speed-up "
+          f"below 2 with this near 1 means the cores were not free)")
     print(f"load average before {load_before[0]:.2f}, after {load_after[0]:.2f} on {os.cpu_count()} cores")
     with open(args.json, "w") as fh:
         json.dump(doc, fh, indent=1)

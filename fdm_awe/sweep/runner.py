@@ -26,7 +26,7 @@ from .spec import Point
 RECORD_FIELDS = (
     "id", "scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2", "wing_area_m2",
     "fold_time_s", "mesh", "max_iter", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
-    "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "warm_from", "start", "max_violation",
+    "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "warm_from", "start", "max_violation",
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
 )
 
@@ -120,6 +120,7 @@ def _num(v: Any) -> float | None:
 def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm | None]:
     """Solve ``point`` warm-started from ``upstream`` (see the module docstring)."""
     t0 = time.perf_counter()
+    c0 = time.process_time()
     warm_in: Warm | None
     if isinstance(upstream, tuple):
         warm_in = upstream[1]
@@ -159,4 +160,5 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
                     "warm_from": warm_in.point_id if warm_in else None})
         warm_out = warm_in
     rec["wall_s"] = round(time.perf_counter() - t0, 4)
+    rec["cpu_s"] = round(time.process_time() - c0, 4)  # CPU time of the worker process for this point
     return rec, warm_out
