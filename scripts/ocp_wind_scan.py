@@ -39,6 +39,8 @@ def main() -> int:
     ap.add_argument("--mesh", default=None, help="NG,NR,DEG (default: the OCP default mesh)")
     ap.add_argument("--starts", type=int, default=2, help="successful cold starts compared per point")
     ap.add_argument("--out", default="ocp_wind_scan", help="output stem (.json and .md are added)")
+    ap.add_argument("--cold-at", default=None, help="winds with cold solves (default: all); the others rely on the warm sweeps")
+    ap.add_argument("--time-budget", type=float, default=90.0, help="solver seconds per attempt before giving up")
     args = ap.parse_args()
     mesh = Mesh(*(int(v) for v in args.mesh.split(","))) if args.mesh else Mesh()
     winds = parse_winds(args.winds)
@@ -46,23 +48,24 @@ def main() -> int:
     t_all = time.perf_counter()
     for cfg in args.configs.split(","):
         best: dict[float, object] = {}
-        tried: dict[float, list[str]] = {w: [] for w in winds}
+        tried: dict[float, list[str]] = {w: [] for w in winds + ([] if args.cold_at is None else parse_winds(args.cold_at))}
 
         def keep(w: float, r, how: str) -> None:
             tried[w].append(f"{how}: {r.status} {r.P_avg_W:.2f} W" if r.ok else f"{how}: {r.status} ({r.reason[:60]})")
             if r.ok and (w not in best or r.P_avg_W > best[w].P_avg_W):
                 best[w] = r
 
-        for w in winds:
+        cold_at = winds if args.cold_at is None else parse_winds(args.cold_at)
+        for w in cold_at:
             pr = CycleProblem(scenario=args.scenario, config=cfg, wind_speed=w, mesh=mesh)
-            keep(w, solve_cycle(pr, n_starts=args.starts), "cold")
+            keep(w, solve_cycle(pr, n_starts=args.starts, time_budget_s=args.time_budget), "cold")
             print(f"{cfg} {w:5.1f} m/s cold: {tried[w][-1]}", flush=True)
         for order in (winds, winds[::-1]):
             prev = None
             for w in order:
                 if prev is not None and prev in best:
                     pr = CycleProblem(scenario=args.scenario, config=cfg, wind_speed=w, mesh=mesh)
-                    keep(w, solve_cycle(pr, warm=best[prev]), f"warm from {prev:g}")
+                    keep(w, solve_cycle(pr, warm=best[prev], time_budget_s=args.time_budget), f"warm from {prev:g}")
                     print(f"{cfg} {w:5.1f} m/s {tried[w][-1]}", flush=True)
                 prev = w
         table[cfg] = {}
