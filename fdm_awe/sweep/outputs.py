@@ -236,7 +236,7 @@ def answer_sentence(ans: dict[str, Any], scenario: str) -> str:
 
 
 def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], scenario: str, refs: ReferenceCurves | None,
-                     files: dict[str, str], notes: Sequence[str] = ()) -> str:
+                     files: dict[str, str], notes: Sequence[str] = (), n_expected: int | None = None) -> str:
     """Short markdown report: the answer, the power table, failures, references, files."""
     recs = sorted(records, key=_order)
     n_ok = sum(r["status"] == "ok" for r in recs)
@@ -261,6 +261,9 @@ def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], sce
                 "| quasi-steady [W] | " + " | ".join(f"{v:.1f}" for v in refs.quasi_steady_W) + " |"]
     bad = [r for r in recs if r["status"] != "ok"]
     out += ["", f"## Points: {len(recs)} ({n_ok} ok, {len(bad)} failed)", ""]
+    if n_expected is not None and n_expected > len(recs):
+        out.append(f"- INCOMPLETE: {n_expected - len(recs)} of {n_expected} points have no result yet "
+                   "(rerun the same command to compute them; blank cells above)")
     for r in bad:
         out.append(f"- failed: {_line_label(r)}, wind {r['wind_mps']:g} m/s: {r['reason']}")
     if notes:

@@ -60,6 +60,6 @@ def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: s
         files["folding_map"] = str(mp)
     ans = answer(cells)
     files["summary"] = str(out / "summary.md")
-    md = summary_markdown(records, ans, spec.scenario, refs, files, NOTES)
+    md = summary_markdown(records, ans, spec.scenario, refs, files, NOTES, n_expected=len(spec.points()))
     Path(files["summary"]).write_text(md)
     return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md)
