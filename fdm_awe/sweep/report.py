@@ -52,7 +52,7 @@ def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: s
     out = Path(out_dir)
     refs = spec_references(spec)
     files = {"table": str(write_csv(records, out / "points.csv"))}
-    title = f"{spec.scenario} scenario, mesh {spec.mesh.n_gen}/{spec.mesh.n_rec}"
+    title = f"{spec.scenario} scenario, mesh {spec.mesh.n_gen}/{spec.mesh.n_rec}, degree {spec.mesh.degree}"
     files["power_curve"] = str(power_curve_plot(records, refs, out / "power_curve.png", title))
     cells = folding_cells(records)
     mp = folding_map_plot(cells, out / "folding_map.png")
