@@ -22,10 +22,10 @@ HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + auto
 def _flyable_bounds():
     from ..ocp.problem import Bounds
 
-    # A reference to be flown keeps margins the optimiser's own optimum does not: alpha 0.17 rad
-    # is C_L 1.0 (83 % of C_Lmax on the unfolded wing) and the bank stays 0.2 rad inside the
-    # Table-3 limit, leaving the autopilot room to correct.
-    return Bounds(alpha_max=0.17, phi_max=0.8)
+    # A reference to be flown keeps margins the optimiser's own optimum does not: C_L at most
+    # 85 % of each wing's C_Lmax and the bank 0.2 rad inside the Table-3 limit, leaving the
+    # autopilot room to correct.
+    return Bounds(cl_margin=0.85, phi_max=0.8)
 
 
 def _turbulence(text: str) -> tuple[str, int]:
@@ -84,7 +84,7 @@ def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
 
     b = _flyable_bounds()
     print(f"optimising a {args.scenario} {args.config} cycle at {args.wind:g} m/s (flyable bounds: "
-          f"alpha <= {b.alpha_max} rad, |bank| <= {b.phi_max} rad) ...", file=sys.stderr)
+          f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad) ...", file=sys.stderr)
     res = solve_cycle(CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind,
                                    wind_from_deg=args.wind_from, bounds=b))
     if not res.ok:

@@ -170,7 +170,7 @@ class CycleNLP:
         E_gen = E_thr = E_rw = 0.0
         reg = 0.0
         for ip, ph in enumerate(self.phases):
-            a_hi = m.alpha_upper(ip, bnd.alpha_max)
+            a_hi = m.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
             ctrl_bounds = {"alpha": (-bnd.alpha_max, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
                            "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0)}
             ph.T, ph.idx_T = new_var(f"T{ip + 1}", TIME_SCALE, bnd.T_phase_min, bnd.t_max)

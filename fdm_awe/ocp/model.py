@@ -137,7 +137,11 @@ class CycleModel:
         """The block of phase ``index`` (0 generation, 1 recovery)."""
         return self.generation if index == 0 else self.recovery
 
-    def alpha_upper(self, index: int, alpha_max: float) -> float:
-        """Upper bound on alpha [rad]: Table 3's bound, tightened by C_L <= C_Lmax if enabled."""
-        af = self.gen_airframe if index == 0 else self.rec_airframe
-        return min(alpha_max, af.aero.alpha_max_lift) if self.scenario.stall_limit else alpha_max
+    def alpha_upper(self, index: int, alpha_max: float, cl_margin: float = 1.0) -> float:
+        """Upper bound on alpha [rad]: Table 3's bound, tightened by C_L <= C_Lmax if enabled,
+        and by C_L <= cl_margin C_Lmax of the phase's own wing when ``cl_margin`` < 1."""
+        a = (self.gen_airframe if index == 0 else self.rec_airframe).aero
+        hi = min(alpha_max, a.alpha_max_lift) if self.scenario.stall_limit else alpha_max
+        if cl_margin < 1.0:
+            hi = min(hi, (cl_margin * a.CLmax - a.CL0) / a.CLalpha)
+        return hi

@@ -68,6 +68,7 @@ class Bounds:
     T_phase_min: float = 2.0  #: each phase lasts at least this long [s]
     reel_in_speed_max: float | None = None  #: |reel-in speed| bound [m/s]
     gamma_max: float = 1.0  #: |gamma| bound [rad]: keeps the heading equation's 1/cos(gamma) <= 1.85
+    cl_margin: float = 1.0  #: usable share of C_Lmax (1 = up to stall); < 1 keeps a margin for a reference to be flown
     #: (steeper dives make the point mass's heading dynamics stiff and unstable, so the collocated
     #: path could no longer be reproduced by integrating its controls)
 
@@ -84,6 +85,8 @@ class Bounds:
             raise InputError(f"alpha_max = {self.alpha_max:g} rad out of range (allowed 0 < alpha_max <= 1)")
         if self.phi_max >= math.pi / 2:
             raise InputError(f"phi_max = {self.phi_max:g} rad out of range (allowed 0 < phi_max < pi/2)")
+        if not (math.isfinite(self.cl_margin) and 0.3 <= self.cl_margin <= 1.0):
+            raise InputError(f"cl_margin = {self.cl_margin!r} out of range (allowed 0.3 .. 1)")
         if self.gamma_max >= math.pi / 2:
             raise InputError(f"gamma_max = {self.gamma_max:g} rad out of range (allowed 0 < gamma_max < pi/2)")
         if self.T_max is not None and not (math.isfinite(self.T_max) and self.T_max >= 0):
