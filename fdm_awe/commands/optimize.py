@@ -26,6 +26,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts to compare (default 1)")
+    p.add_argument("--time-budget", type=float, default=180.0, metavar="S",
+                   help="solver seconds before the optimisation is reported as failed (default 180)")
     p.add_argument("--verify", action="store_true", help="re-integrate the optimal controls and report the check")
     p.add_argument("--json", metavar="FILE", help="write the result summary as JSON")
     p.add_argument("--trajectory", metavar="FILE",
@@ -69,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     from ..ocp.solve import get_nlp, solve_cycle
 
     print(f"optimising {problem.scenario}/{problem.config} at {problem.wind_speed:g} m/s ...", file=sys.stderr, flush=True)
-    res = solve_cycle(problem, n_starts=max(1, args.starts))
+    res = solve_cycle(problem, n_starts=max(1, args.starts), time_budget_s=args.time_budget)
     traj = args.trajectory
     if traj is None and args.json:
         traj = args.json[:-5] + ".trajectory.json" if args.json.endswith(".json") else args.json + ".trajectory.json"
