@@ -139,6 +139,7 @@ def fly(
     ``on_step(k, state, gs_output)`` after every step. ``t_end`` overrides the flight length.
     """
     from .autopilot.autopilot import Autopilot
+    from .autopilot.guidance import norm3
     from .autopilot.config import autopilot_params
     from .cosim import CoSim, Limits
     from .definitions.aircraft import load_glider
@@ -187,7 +188,7 @@ def fly(
         rp = ap.ref_point
         if rp is not None and ap.mode == "AUTO":
             refpos[k] = rp.pos
-            err[k] = float(np.linalg.norm(rp.pos - s.pos_ned))
+            err[k] = norm3(rp.pos - s.pos_ned)
             key = (ap.cycle, rp.phase)
             if key != last[0]:
                 marks.append((k, *key))

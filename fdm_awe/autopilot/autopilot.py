@@ -41,7 +41,7 @@ from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
-from .guidance import Guidance, GuidanceGains
+from .guidance import Guidance, GuidanceGains, norm3
 from .tracking import GENERATION, RECOVERY, TrackingReference
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
@@ -270,7 +270,7 @@ class Autopilot:
         with the along-path error over the reference speed, relaxed in PATH_TAU seconds and
         bounded to 0 .. 3x real time. Returns (point, rate, new parameter)."""
         r = ref.sample(s_par)
-        vr = float(np.linalg.norm(r.vel))
+        vr = norm3(r.vel)
         if vr > 0.5:
             e_at = float((s.pos_ned - r.pos) @ r.vel) / vr
             rate = min(max(1.0 + e_at / (vr * self.params["PATH_TAU"]), 0.0), 3.0)
@@ -328,7 +328,7 @@ class Autopilot:
         h = -float(s.pos_ned[2])
         # winch: take in slack line beyond a 10 m reserve, never pull the glider: under more
         # than REC_TENSION the passive generator pays line out instead
-        d = float(np.linalg.norm(s.hook_pos_ned))
+        d = norm3(s.hook_pos_ned)
         slack = (gs.length - d) if gs is not None else 0.0
         if h < 3.0 * p["REC_FLARE_ALT"]:
             # final approach and touchdown: free spool (open-circuit generator: only the drum's

@@ -63,6 +63,11 @@ def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> tuple[
     )
 
 
+def norm3(a: np.ndarray) -> float:
+    """Length of a 3-vector (``numpy.linalg.norm`` costs ~10x more for single vectors)."""
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """3-vector cross product (``numpy.cross`` costs ~50x more for single vectors)."""
     return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
@@ -101,22 +106,22 @@ class Guidance:
         e_v = ref.vel - vel
         g_vec = np.array([0.0, 0.0, self.g])
         if taut:
-            e_r = pos / max(float(np.linalg.norm(pos)), 1e-6)
+            e_r = pos / max(norm3(pos), 1e-6)
             e_p = e_p - float(e_p @ e_r) * e_r
             e_v = e_v - float(e_v @ e_r) * e_r
         self.integral = np.clip(self.integral + e_p * dt, -k.int_max, k.int_max)
         corr = k.kp * e_p + k.kd * e_v + k.ki * self.integral
-        n = float(np.linalg.norm(corr))
+        n = norm3(corr)
         if n > k.a_max:
             corr *= k.a_max / n
         a_cmd = ref.acc + corr
         F = self.m * (a_cmd - g_vec) - tether_force
         if taut:
-            e_rr = ref.pos / max(float(np.linalg.norm(ref.pos)), 1e-6)
+            e_rr = ref.pos / max(norm3(ref.pos), 1e-6)
             F_r_ref = float(self.m * (ref.acc - g_vec) @ e_rr) + ref.tension
             F = F - float(F @ e_r) * e_r + F_r_ref * e_r
         va = vel - wind
-        V = max(float(np.linalg.norm(va)), 1.0)
+        V = max(norm3(va), 1.0)
         e1 = va / V
         F_par = float(F @ e1)
         F_perp = F - F_par * e1
@@ -133,7 +138,7 @@ class Guidance:
         # beyond the drag, or more than full thrust) is traded through the flight path: pull up
         # to bleed speed into height, push over to gain speed from height.
         for _ in range(2):
-            L = float(np.linalg.norm(F_perp))
+            L = norm3(F_perp)
             alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
             drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
             excess = F_par + drag
@@ -143,7 +148,7 @@ class Guidance:
                 F_perp = F - F_par * e1 - k.energy_trade * (excess - k.thrust_max) * up0
             else:
                 break
-        L = float(np.linalg.norm(F_perp))
+        L = norm3(F_perp)
         # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
         alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
@@ -164,4 +169,4 @@ class Guidance:
         pitch = -math.asin(max(-1.0, min(1.0, float(xb[2]))))
         roll = math.atan2(float(yb[2]), float(zb[2]))
         yaw = math.atan2(float(xb[1]), float(xb[0]))
-        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, (qS_cl0 + qS_cla * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S), float(np.linalg.norm(e_p)))
+        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, (qS_cl0 + qS_cla * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S), norm3(e_p))
