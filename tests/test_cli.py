@@ -21,3 +21,32 @@ def test_info_runs(tmp_path, capsys):
     assert main(["info", "--json", str(tmp_path / "i.json")]) == 0
     assert "best glide" in capsys.readouterr().out
     assert (tmp_path / "i.json").stat().st_size > 0
+
+
+def test_fly_rejects_bad_input_with_one_line_and_exit_2(tmp_path, capsys):
+    assert main(["fly", "--cycles", "0", "--reference", "x.json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--cycles" in err and "1..1000" in err
+    missing = tmp_path / "nope.json"
+    assert main(["fly", "--reference", str(missing)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and str(missing) in err
+
+
+def test_fly_command_writes_json_per_the_output_contract(tmp_path):
+    """A short headless flight of the stored reference through the command line."""
+    from pathlib import Path
+    import json
+
+    ref = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
+    out = tmp_path / "run.json"
+    rc = main(["fly", "--reference", str(ref), "--config", "nominal", "--cycles", "1", "--quiet", "--json", str(out)])
+    doc = json.loads(out.read_text())
+    assert rc == 0 and doc["status"] == "ok"
+    for key in ("scenario", "config", "wind_mps", "status", "sim_time_s", "wall_s", "realtime_factor",
+                "ledger_residual_rel", "cycles"):
+        assert key in doc
+    c = doc["cycles"][0]
+    for key in ("T1_s", "T2_s", "E_generated_J", "E_thrust_J", "E_reel_in_J", "E_net_J", "track_rms_m", "track_max_m"):
+        assert key in c
+    assert c["E_net_J"] == __import__("pytest").approx(c["E_generated_J"] - c["E_thrust_J"] - c["E_reel_in_J"], abs=1e-5)
