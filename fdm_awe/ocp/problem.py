@@ -67,10 +67,11 @@ class Bounds:
     t_max: float = 60.0  #: T1 + T2 <= t_max [s]
     T_phase_min: float = 2.0  #: each phase lasts at least this long [s]
     reel_in_speed_max: float | None = None  #: |reel-in speed| bound [m/s]
-    gamma_max: float = 1.0  #: |gamma| bound [rad]: keeps the heading equation's 1/cos(gamma) <= 1.85
+    #: |gamma| bound [rad]: keeps the heading equation's 1/cos(gamma) <= 1.85 (steeper dives make
+    #: the point mass's heading dynamics stiff and unstable, so the collocated path could no longer
+    #: be reproduced by integrating its controls)
+    gamma_max: float = 1.0
     cl_margin: float = 1.0  #: usable share of C_Lmax (1 = up to stall); < 1 keeps a margin for a reference to be flown
-    #: (steeper dives make the point mass's heading dynamics stiff and unstable, so the collocated
-    #: path could no longer be reproduced by integrating its controls)
 
     def validate(self) -> None:
         def pos(name: str, v: float) -> None:
