@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
 import sys
 
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
@@ -30,6 +31,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="solver seconds before the optimisation is reported as failed (default 180)")
     p.add_argument("--verify", action="store_true", help="re-integrate the optimal controls and report the check")
     p.add_argument("--json", metavar="FILE", help="write the result summary as JSON")
+    p.add_argument("--rrd", metavar="FILE", help="write a rerun recording of the optimised cycle")
+    p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV and a markdown report of the cycle into DIR")
     p.add_argument("--trajectory", metavar="FILE",
                    help="reference-trajectory file to write (default: next to --json as *.trajectory.json)")
 
@@ -72,6 +75,9 @@ def run(args: argparse.Namespace) -> int:
 
     print(f"optimising {problem.scenario}/{problem.config} at {problem.wind_speed:g} m/s ...", file=sys.stderr, flush=True)
     res = solve_cycle(problem, n_starts=max(1, args.starts), time_budget_s=args.time_budget)
+    for f in (args.json, args.trajectory, args.rrd):
+        if f:
+            Path(f).parent.mkdir(parents=True, exist_ok=True)
     traj = args.trajectory
     if traj is None and args.json:
         traj = args.json[:-5] + ".trajectory.json" if args.json.endswith(".json") else args.json + ".trajectory.json"
@@ -89,6 +95,10 @@ def run(args: argparse.Namespace) -> int:
         out["verification"] = {k: (float(x) if not isinstance(x, (dict, str)) else x) for k, x in v.as_dict().items()}
     if res.ok and traj:
         print(f"  reference trajectory: {traj}")
+    if res.ok and (args.rrd or args.out):
+        from ..recording import cycle_outputs
+
+        out.update(cycle_outputs(res, rrd=args.rrd, out_dir=args.out))
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(out, fh, indent=2, default=float)
