@@ -54,6 +54,8 @@ def main() -> int:
                           "n_failed": sum(x["status"] != "ok" for x in recs), "n_not_run": len(r.errors),
                           "sum_point_wall_s": sum(x["wall_s"] or 0.0 for x in recs),
                           "sum_point_cpu_s": sum(x.get("cpu_s") or 0.0 for x in recs),
+                          "points_per_worker": sorted(sum(1 for x in recs if x.get("worker") == w)
+                                                      for w in {x.get("worker") for x in recs}),
                           "sum_iterations": sum(x["iterations"] or 0 for x in recs),
                           "P_avg_W": {f"{x['d0_m']:g}-{x['d_tf_m']:g}@{x['wind_mps']:g}": x["P_avg_W"] for x in recs}}
             # share of its cores the sweep actually got: CPU seconds / (workers x wall seconds)
@@ -61,7 +63,8 @@ def main() -> int:
             print(f"{name}: {n_points} points, {workers} worker(s), warm={warm}: {r.wall_s:.1f} s "
                   f"(+{r.startup_s:.1f} s start-up), {runs[name]['n_ok']} ok, {runs[name]['n_failed']} failed, "
                   f"sum of point times {runs[name]['sum_point_wall_s']:.1f} s (CPU {runs[name]['sum_point_cpu_s']:.1f} s, "
-                  f"{100 * (runs[name]['cpu_share'] or 0):.0f} % of {workers} core(s)), {runs[name]['sum_iterations']} iterations",
+                  f"{100 * (runs[name]['cpu_share'] or 0):.0f} % of {workers} core(s)), {runs[name]['sum_iterations']} iterations, "
+                  f"points per worker {runs[name]['points_per_worker']}",
                   flush=True)
     load_after = os.getloadavg()
     speedup_workers = runs["warm_1w"]["wall_s"] / runs["warm_2w"]["wall_s"]

@@ -39,6 +39,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--retry-failed", action="store_true", help="recompute points recorded as failed")
     p.add_argument("--stop-after", type=int, default=None, metavar="N",
                    help="stop after N newly finished points (as an interruption would; for testing resume)")
+    p.add_argument("--report-only", action="store_true",
+                   help="compute nothing: write the outputs from the points already finished in --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -89,8 +91,16 @@ def run(args: argparse.Namespace) -> int:
     n = len(spec.points())
     print(f"sweep: {n} points ({spec.scenario} scenario, configs {','.join(spec.configs)}, mesh "
           f"{spec.mesh.n_gen}/{spec.mesh.n_rec}/{spec.mesh.degree}) -> {args.out}", flush=True)
-    res = run_sweep(spec, args.out, workers=args.workers, scheduler=args.scheduler, retry_failed=args.retry_failed,
-                    progress=not args.no_progress, stop_after=args.stop_after, warm_start=not args.cold)
+    if args.report_only:
+        from ..sweep.execute import SweepRun
+        from ..sweep.store import PointStore
+
+        ids = [p.id for p in spec.points()]
+        done = PointStore(args.out).records(ids)
+        res = SweepRun(n_points=len(ids), n_cached=len(done), records=done)
+    else:
+        res = run_sweep(spec, args.out, workers=args.workers, scheduler=args.scheduler, retry_failed=args.retry_failed,
+                        progress=not args.no_progress, stop_after=args.stop_after, warm_start=not args.cold)
     records = list(res.records.values())
     rep = write_outputs(spec, records, args.out)
     where = f"{res.workers} worker(s) on {res.scheduler}" if res.workers else "nothing to compute"

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import functools
 import math
+import os
+import socket
 import time
 import traceback
 from dataclasses import dataclass
@@ -26,7 +28,7 @@ from .spec import Point
 RECORD_FIELDS = (
     "id", "scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2", "wing_area_m2",
     "fold_time_s", "mesh", "max_iter", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
-    "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "warm_from", "start", "max_violation",
+    "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "worker", "warm_from", "start", "max_violation",
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
 )
 
@@ -161,4 +163,5 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
         warm_out = warm_in
     rec["wall_s"] = round(time.perf_counter() - t0, 4)
     rec["cpu_s"] = round(time.process_time() - c0, 4)  # CPU time of the worker process for this point
+    rec["worker"] = f"{socket.gethostname()}:{os.getpid()}"  # which worker process solved it
     return rec, warm_out
