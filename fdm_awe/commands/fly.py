@@ -145,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
 
     t0 = time.perf_counter()
     report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                 on_step=on_step if hooks else None, params=params, setup=setup)
+                 on_step=on_step, params=params, setup=setup)
     if bar is not None:
         bar.close()
     if endpoint is not None:
