@@ -13,9 +13,9 @@ from fdm_awe.flight import LAND_SINK_MAX, fly
 @pytest.fixture(scope="module")
 def reference():
     """A physical-scenario cycle at 8 m/s for the nominal glider, written by the optimiser
-    (``fdm-awe optimize --scenario physical --config nominal --wind 8`` with the flyable
-    bounds alpha <= 0.17 rad, |bank| <= 0.8 rad) and kept as test data, so these flight tests
-    do not depend on the optimiser's run time."""
+    (physical scenario, nominal, 8 m/s, with the flyable bounds of ``fdm-awe fly``:
+    C_L <= 0.85 C_Lmax, |bank| <= 0.8 rad) and kept as test data, so these flight tests do not
+    depend on the optimiser's run time."""
     return TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"))
 
 

@@ -48,3 +48,20 @@ def test_paper_fit_is_static_and_more_than_100_percent_in_flight(prop):
 def test_unknown_scenario(prop):
     with pytest.raises(ValueError, match="scenario"):
         power(1.0, 1.0, prop, 1.225, "magic")
+
+
+def test_thrust_available_matches_the_jsbsim_propeller_at_full_throttle(prop):
+    """The point-mass T_avail(V) fit against the 6-DOF motor + 9x5 propeller (JSBSim) at full
+    throttle: within 0.1 N (the fit's own error is 0.01 N; the rest is the transient)."""
+    from fdm_awe.sixdof import JSBSimGlider
+    from fdm_awe.sixdof.state import Surfaces
+
+    g = JSBSimGlider("glider_unfolded", dt=1 / 120)
+    for V0 in (12.0, 16.0, 20.0):
+        g.reset([0, 0, -300], V0, alpha=0.05, throttle=1.0)
+        for _ in range(120):  # 1 s: the motor reaches its speed
+            g.set_controls(Surfaces(0.0, g.controls.elevator, 0.0, 1.0, 0.0))
+            g.step()
+        s = g.state()
+        assert prop.thrust_available(s.airspeed) == pytest.approx(s.thrust_N, abs=0.1)
+    assert prop.thrust_available(0.0) == pytest.approx(prop.T_max)

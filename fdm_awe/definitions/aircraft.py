@@ -13,7 +13,7 @@ Named values the XML must declare (JSBSim ``<property value="...">NAME</property
 - anywhere (an inline ``<system name="point-mass-propulsion">``): ``propulsion/pm/P0-W``,
   ``propulsion/pm/eta-prop``, ``propulsion/pm/eta-motor``, ``propulsion/pm/disk-area-m2``,
   ``propulsion/pm/paper-PT0``, ``propulsion/pm/paper-PT1``, ``propulsion/pm/paper-PT2``,
-  ``propulsion/pm/T-max-N``.
+  ``propulsion/pm/T-max-N``, ``propulsion/pm/T-avail-c1``, ``propulsion/pm/T-avail-c2``.
 """
 
 from __future__ import annotations
@@ -81,7 +81,13 @@ class PropulsionParams:
     PT0: float  #: paper eq. 39 constant [W]
     PT1: float  #: paper eq. 39 linear term [W/N]
     PT2: float  #: paper eq. 39 quadratic term [W/N^2]
-    T_max: float  #: maximum thrust [N]
+    T_max: float  #: maximum (static) thrust [N]
+    T_avail_c1: float = 0.0  #: linear fall of full-throttle thrust with airspeed [N/(m/s)]
+    T_avail_c2: float = 0.0  #: quadratic fall of full-throttle thrust with airspeed [N/(m/s)^2]
+
+    def thrust_available(self, V):  # noqa: ANN001,ANN201 - floats and CasADi symbols alike
+        """Full-throttle thrust [N] at airspeed ``V`` [m/s]: ``T_max + c1 V + c2 V^2``."""
+        return self.T_max + self.T_avail_c1 * V + self.T_avail_c2 * V * V
 
 
 @dataclass(frozen=True)
@@ -168,6 +174,8 @@ def _propulsion(doc: XmlDoc) -> PropulsionParams:
         PT1=pv("propulsion/pm/paper-PT1", lo=0.0),
         PT2=pv("propulsion/pm/paper-PT2", lo=0.0),
         T_max=pv("propulsion/pm/T-max-N", lo=0.0, hi=1000.0, lo_open=True),
+        T_avail_c1=pv("propulsion/pm/T-avail-c1", lo=-10.0, hi=0.0),
+        T_avail_c2=pv("propulsion/pm/T-avail-c2", lo=-1.0, hi=0.0),
     )
 
 

@@ -10,7 +10,9 @@ Constraints (DESIGN.md section 4, Table 3):
 - variable bounds: airspeed, |gamma|, ground clearance (``z <= -h_min``), controls (alpha with
   the stall limit, bank, thrust, tension, reel-in speed), phase durations;
 - path constraints at the phase start and every collocation point: ``ddot >= 0`` and, where
-  tension follows the generator, ``G <= G_max`` in generation; ``d <= l`` in recovery;
+  tension follows the generator, ``G <= G_max`` in generation; ``d <= l`` in recovery; in the
+  ``physical`` scenario the thrust at most what the propeller gives at the airspeed
+  (``T <= T_avail(V)`` from the aircraft definition);
 - boundaries: start position fixed, ``d(T_1) = d_tf``, continuity between the phases
   (position, airspeed, angles; tether length ``l = d_tf``), periodicity back to the start
   (airspeed, flight-path angle, heading + ``2 pi k``; ``l = d0``), ``T_1 + T_2 <= t_max``.
@@ -268,6 +270,9 @@ class CycleNLP:
             path = [out["v_reel"], out["G"]]
         else:
             path = [out["l"] - out["d"]]
+        if self.model.scenario.propeller == "physical":
+            # thrust within what the propeller gives at this airspeed (full throttle)
+            path.append(self.model.gen_airframe.propulsion.thrust_available(s[3]) - u[2])
         return ca.Function(f"phase{ip}", [s, u, p], [ca.vertcat(*out["f"]), ca.vertcat(out["P_gen"], out["P_thr"], out["P_rw"]),
                                                      ca.vertcat(*path)])
 
@@ -279,6 +284,8 @@ class CycleNLP:
                 add(path[1] / 30.0, bnd.G_min / 30.0, bnd.G_max / 30.0, f"G_{tag}")
         else:
             add(path[0] / 100.0, 0.0, ca.inf, f"slack_{tag}")
+        if m.scenario.propeller == "physical":
+            add(path[-1] / 5.0, 0.0, ca.inf, f"thrust_avail_{tag}")
 
     # ------------------------------------------------------------------ solve
     def params(self, wind_ned: tuple[float, float], drag_factor: float = 1.0, k_wrap: int = 0, morph: float = 1.0) -> np.ndarray:
