@@ -143,7 +143,7 @@ def fly(
     from .autopilot.config import autopilot_params
     from .cosim import CoSim, Limits
     from .definitions.aircraft import load_glider
-    from .groundstation import GroundStation, WinchCommand, load_ground_station
+    from .groundstation import GroundStation, load_ground_station
     from .sixdof import JSBSimGlider
 
     meta = reference.meta

@@ -139,6 +139,3 @@ class PointMassModel:
             "drag_air": -f["D"] * V,
         }
 
-
-def as_array(x: Any) -> np.ndarray:
-    return np.asarray(x, dtype=float).reshape(-1)

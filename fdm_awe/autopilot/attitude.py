@@ -18,7 +18,7 @@ import numpy as np
 
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.stabilizer import StabilizerGains
-from ..sixdof.state import SixDofState, Surfaces
+from ..sixdof.state import SixDofState
 from .guidance import cross
 
 

@@ -42,7 +42,7 @@ from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
 from .guidance import Guidance, GuidanceGains, norm3
-from .tracking import GENERATION, RECOVERY, TrackingReference
+from .tracking import GENERATION, TrackingReference
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
 CONFIGS = ("foldable", "nominal")
