@@ -17,7 +17,6 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
-import numpy as np
 
 from . import mathops as mo
 from .aero import lift_drag
