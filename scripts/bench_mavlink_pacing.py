@@ -13,7 +13,7 @@ JSBSim + tether + winch + autopilot step) at --rate Hz, paced at --factor x real
 - how many datagrams the listener received.
 
     python scripts/bench_mavlink_pacing.py                 # 60 s at 1x
-    python scripts/bench_mavlink_pacing.py --seconds 10 --json /tmp/bench.json
+    python scripts/bench_mavlink_pacing.py --seconds 10 --json bench.json
 """
 
 from __future__ import annotations
