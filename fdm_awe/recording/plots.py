@@ -25,6 +25,15 @@ from .series import Series, cycle_series, flight_series, load_reference
 DEG = 180.0 / np.pi
 
 
+
+def _save(fig, out) -> Path:  # noqa: ANN001 - a matplotlib Figure
+    """Write ``fig`` to ``out`` (PNG; folders created), close it and return the path."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out)
+    _plt().close(fig)
+    return out
+
 def _plt() -> Any:
     import matplotlib
 
@@ -93,11 +102,7 @@ def figure_3d(paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], title
     h, lab = ax.get_legend_handles_labels()
     fig.legend(h, lab, loc="lower center", ncol=4, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.07, 1, 1))
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    plt.close(fig)
-    return out
+    return _save(fig, out)
 
 
 def draw_scene_3d(ax: Any, paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], wind: np.ndarray | None,
@@ -241,11 +246,7 @@ def figure_time(s: Series, title: str, out: str | Path, kind: str = "flight") ->
     fig.legend(handles=handles, loc="upper right", fontsize=9, title="phase")
     fig.suptitle(title, fontsize=11)
     fig.tight_layout(rect=(0, 0, 0.92, 0.97))
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    plt.close(fig)
-    return out
+    return _save(fig, out)
 
 
 def plot_flight(flight: Any, reference: Any = None, outdir: str | Path = ".", prefix: str = "flight") -> list[Path]:
@@ -351,11 +352,7 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
     fig.legend(handles=handles, loc="upper right", fontsize=8, title="phase (shaded)")
     fig.suptitle(title, fontsize=11)
     fig.tight_layout(rect=(0, 0, 0.93, 0.89))
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    plt.close(fig)
-    return out
+    return _save(fig, out)
 
 
 __all__ = ["draw_scene_3d", "figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight", "plot_summary"]
