@@ -233,3 +233,21 @@ def test_cli_rejects_bad_input(tmp_path, capsys):
     assert "--wind" in capsys.readouterr().err
     assert main(["sweep", "--wind", "5", "--fold-time", "1.5", "--out", str(tmp_path)]) == 2
     assert "fold time" in capsys.readouterr().err
+
+
+def test_custom_glider_nlp_is_built_once_per_variant():
+    """A design variant's NLP is cached by value: the second wind of its chain reuses it, an
+    equal variant built anew hits the same entry, another variant gets its own NLP."""
+    from fdm_awe.ocp.problem import CycleProblem, Mesh
+    from fdm_awe.ocp.solve import get_nlp
+
+    g = load_glider()
+    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=6.0, mesh=Mesh(6, 4, 2))
+    v1 = design_glider(g, Design(folded_span=0.4))
+    nlp1, built1 = get_nlp(pr, glider=v1)
+    nlp2, built2 = get_nlp(pr.with_wind(9.0), glider=design_glider(g, Design(folded_span=0.4)))
+    assert built1 > 0.0 and built2 == 0.0 and nlp2 is nlp1
+    nlp3, built3 = get_nlp(pr, glider=design_glider(g, Design(folded_span=0.6)))
+    assert built3 > 0.0 and nlp3 is not nlp1
+    assert nlp1.model.rec_airframe.aero.b == pytest.approx(0.4)
+    assert nlp3.model.rec_airframe.aero.b == pytest.approx(0.6)

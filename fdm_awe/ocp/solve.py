@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
@@ -40,7 +41,11 @@ VIOLATION_TOL = 1e-6
 #: interpolated solution (mesh continuation)
 COARSE_MESH = Mesh(20, 10, 3)
 
-_CACHE: dict[tuple, CycleNLP] = {}
+_CACHE: "OrderedDict[tuple, CycleNLP]" = OrderedDict()
+
+#: built NLPs kept per process (least recently used dropped first); a sweep over design
+#: variants walks each variant's wind chain, so a few entries give every chain one build
+CACHE_SIZE = 8
 
 WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-6,
                 "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-4}
@@ -54,14 +59,22 @@ def structure_key(problem: CycleProblem) -> tuple:
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
             cache: bool = True) -> tuple[CycleNLP, float]:
-    """The NLP for ``problem`` (built or from the cache) and the build time [s] spent now."""
-    key = structure_key(problem)
-    if cache and key in _CACHE and glider is None and winch is None:
+    """The NLP for ``problem`` (built or from the cache) and the build time [s] spent now.
+
+    The cache key is the problem's structure plus the glider and winch values (both frozen
+    dataclasses compared by value), so a custom glider variant is built once per process and
+    reused for every wind speed of its sweep chain.
+    """
+    key = (structure_key(problem), glider, winch)
+    if cache and key in _CACHE:
+        _CACHE.move_to_end(key)
         return _CACHE[key], 0.0
     model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station())
     nlp = CycleNLP(problem, model)
-    if cache and glider is None and winch is None:
+    if cache:
         _CACHE[key] = nlp
+        while len(_CACHE) > CACHE_SIZE:
+            _CACHE.popitem(last=False)
     return nlp, nlp.build_s
 
 
@@ -84,15 +97,16 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     problem = problem.validate()
     if coarse is True:
         coarse = COARSE_MESH if problem.mesh.n_gen > COARSE_MESH.n_gen else None
-    if coarse and warm is None and glider is None and winch is None:
+    if coarse and warm is None:
         from dataclasses import replace as _replace
 
         t0 = time.perf_counter()
-        first = solve_cycle(_replace(problem, mesh=coarse), starts=starts, n_starts=n_starts,
-                            ipopt_options=ipopt_options, cache=cache, coarse=None, time_budget_s=time_budget_s)
+        first = solve_cycle(_replace(problem, mesh=coarse), starts=starts, n_starts=n_starts, glider=glider,
+                            winch=winch, ipopt_options=ipopt_options, cache=cache, coarse=None,
+                            time_budget_s=time_budget_s)
         if first.ok:
-            res = solve_cycle(problem, warm=first, ipopt_options=ipopt_options, cache=cache, coarse=None,
-                              time_budget_s=time_budget_s)
+            res = solve_cycle(problem, warm=first, glider=glider, winch=winch, ipopt_options=ipopt_options,
+                              cache=cache, coarse=None, time_budget_s=time_budget_s)
             res.build_s += first.build_s
             res.solve_s += first.solve_s
             res.iterations += first.iterations
