@@ -24,8 +24,9 @@ from __future__ import annotations
 
 import math
 
+from . import controller as _controller
 from .controller import pi_update
-from .converter import GENERATOR, MOTOR, link_coefficients, source_and_coupling
+from .converter import GENERATOR, MOTOR, link_coefficients
 from .machine import armature_coefficients
 from .definitions import GroundStationParams
 from .ledger import EnergyLedger
@@ -119,7 +120,6 @@ class Drivetrain:
         change at the step end (``strain_payout``, ``wound_line_kinetic``).
         """
         (r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax, K, R, L, two_ud, Va, C) = self._const
-        ctrl = self.params.controller
         h = dt / n
         motor = mode == MOTOR
         if mode != self.mode:
@@ -127,7 +127,7 @@ class Drivetrain:
                 self.integ = 0.0
             self.mode = mode
         # converter / armature / drum coefficients, constant while h, R_L and the mode are
-        _, s_cpl = source_and_coupling(mode, 0.0, boost_duty, Va)  # v_src = duty V_a in the loop
+        s_cpl = 0.0 if motor else 1.0 - boost_duty  # converter module: v_src = duty V_a in the loop
         key = (h, RL, s_cpl)
         if key != self._coef_key:
             cu, q = link_coefficients(C, RL, h, s_cpl)  # u1 = cu u0 + q i1
@@ -142,7 +142,7 @@ class Drivetrain:
         Jb = J + hB
 
         l0, w0, i0, u0 = l_start, self.omega, self.current, self.u_link
-        integ, duty, broken = self.integ, self.duty, self.broken
+        integ, duty, broken, at_stop = self.integ, self.duty, self.broken, self.at_stop
         event = None
         e_glider = e_supply = e_stop = e_brk = e_numel = 0.0
         S_u2 = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
@@ -162,34 +162,57 @@ class Drivetrain:
             b_ = self.stretch if self.stretch > 0.0 else 0.0
             e_glider += 0.5 * k * (a_ * a_ - b_ * b_)
         v_src = 0.0
-        if not motor:
+        pi = motor and duty_cmd is None  # controller module: PI sample on the measured drum speed
+        pi_call = pi and pi_update is not _controller.pi_update  # a replaced pi_update (tests) is called
+        if motor:
+            if not pi:
+                duty = duty_cmd
+                v_src = duty * Va
+            ctrl = self.params.controller
+            kp, ki, d_min, d_max = ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max
+        else:
             duty = boost_duty
+        if pi_call:
+            pi = False
+        line = not (fixed or broken)
         t_on = i_on = True
         px, py, pz = x, y, z
         hvx, hvy, hvz = h * vx, h * vy, h * vz
         sqrt = math.sqrt
+        d1 = 0.0
         for _ in range(n):
-            if motor:  # controller module: PI sample on the measured drum speed
-                if duty_cmd is None:
-                    duty, integ = pi_update(ctrl, w0 - omega_ref, integ, h)
+            if pi_call:
+                duty, integ = pi_update(ctrl, w0 - omega_ref, integ, h)
+                v_src = duty * Va
+            elif pi:  # pi_update (controller module), written out: the same operations in order
+                err = w0 - omega_ref
+                u_ = kp * err + integ
+                if u_ > d_max:
+                    duty, hold = d_max, err > 0.0
+                elif u_ < d_min:
+                    duty, hold = d_min, err < 0.0
                 else:
-                    duty = duty_cmd
+                    duty, hold = u_, False
+                if not hold:
+                    integ += ki * err * h
+                    if integ > d_max:
+                        integ = d_max
+                    elif integ < d_min:
+                        integ = d_min
                 v_src = duty * Va
             iA = aL * i0 + aH * (v_src - two_ud) - aS * u0
-            if broken:
-                tA = 0.0
-            elif fixed:
-                tA = fixed_tension
-            else:
+            if line:
                 px += hvx
                 py += hvy
                 pz += hvz
                 d1 = sqrt(px * px + py * py + pz * pz)
                 tA = k * (d1 - l0)
+            elif broken:
+                tA = 0.0
+            else:
+                tA = fixed_tension
             # fast path: keep the friction sign of w0 and the active tension/current pieces
-            ok = False
             if w0 != 0.0:
-                sg = 1.0 if w0 > 0.0 else -1.0
                 a_ = -J * w0
                 b_ = Jb
                 if t_on:
@@ -198,10 +221,17 @@ class Drivetrain:
                 if i_on:
                     a_ += hK * iA
                     b_ += hK * iB
-                w1 = (-sg * hM - a_) / b_
-                ok = (w1 * sg > 0.0 and (tA - tB * w1 > 0.0) == t_on and (iA + iB * w1 > 0.0) == i_on)
-                mf = sg * Mc
-            if not ok:
+                if w0 > 0.0:
+                    w1 = (-hM - a_) / b_
+                    ok = w1 > 0.0
+                    mf = Mc
+                else:
+                    w1 = (hM - a_) / b_
+                    ok = w1 < 0.0
+                    mf = -Mc
+                if not (ok and (tA - tB * w1 > 0.0) == t_on and (iA + iB * w1 > 0.0) == i_on):
+                    w1, mf = solve_drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
+            else:
                 w1, mf = solve_drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
             l1 = l0 + hr * w1
             if (l1 < lmin and w1 < 0.0) or (l1 > lmax and w1 > 0.0):  # drum end stops
@@ -210,16 +240,16 @@ class Drivetrain:
                     w1 = 0.0
                 l1 = l0 + hr * w1
                 mf = Mc if w1 > 0.0 else (-Mc if w1 < 0.0 else 0.0)
-                if not self.at_stop:
+                if not at_stop:
                     event = "tether_fully_reeled_in" if l1 < 0.5 * (lmin + lmax) else "tether_fully_paid_out"
-                self.at_stop = True
+                at_stop = True
                 i1 = iA + iB * w1
                 T1 = tA - tB * w1
                 tau_stop = J * (w1 - w0) / h - (r * (T1 if T1 > 0.0 else 0.0) - K * (i1 if i1 > 0.0 else 0.0) - B * w1 - mf)
                 e_stop += -h * tau_stop * w1 + 0.5 * J * (w1 - w0) ** 2
                 S_dw2 -= (w1 - w0) ** 2  # booked as end-stop loss, not integrator dissipation
-            elif self.at_stop:
-                self.at_stop = False
+            else:
+                at_stop = False
             i1 = iA + iB * w1
             i_on = i1 > 0.0
             if not i_on:
@@ -245,9 +275,7 @@ class Drivetrain:
             S_du2 += du * du
             if motor:
                 e_supply += v_src * i1
-            if fixed:
-                e_glider += T1 * hr * w1
-            elif not broken:
+            if line:
                 s1 = d1 - l1
                 e_glider += T1 * (d1 - d0)
                 s1p = s1 if s1 > 0.0 else 0.0
@@ -255,14 +283,18 @@ class Drivetrain:
                 e_numel += T1 * (s1 - s0) - 0.5 * k * (s1p * s1p - s0p * s0p)
                 if T1 > Tbreak:  # the line breaks at the end of this sub-step
                     broken = True
+                    line = False
                     event = "tether_break"
                     e_brk += 0.5 * k * s1p * s1p
                     s1 = 0.0
                     k = tB = 0.0
                 d0, s0 = d1, s1
+            elif fixed:
+                e_glider += T1 * hr * w1
             t_sum += T1
             l0, w0, i0, u0 = l1, w1, i1, u1
 
+        self.at_stop = at_stop
         self.length, self.omega, self.current, self.u_link = l0, w0, i0, u0
         self.integ, self.duty, self.broken = integ, duty, broken
         self.stretch = s0 if not (fixed or broken) else 0.0

@@ -113,9 +113,15 @@ class GroundStation:
         self._last_cmd: WinchCommand | None = None
         self._k = self.params.machine.k
         self._r = self.params.winch.radius
-        self._tp = self.params.tether
+        tp = self._tp = self.params.tether
         self._RL = self.params.converter.load_resistance
         self._d2 = self.params.converter.boost_duty
+        # hot-path constants of the line shares (tether module), factored in the same order so
+        # the products round exactly as line_drag_share / line_weight_share do
+        self._drag_c = -0.5 * tp.drag_share * tp.air_density * tp.cd_perpendicular * tp.diameter
+        self._drag_on = tp.drag_share > 0.0
+        self._weight_c = tp.weight_share * tp.mass_per_length
+        self._g = tp.gravity
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -192,8 +198,15 @@ class GroundStation:
         ``pos_ned`` (m, winch at the origin) moving with ``vel_ned`` (m/s, ground-relative)."""
         if not (0.0 < dt <= 1.0):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
-        x, y, z = pos_ned.tolist() if type(pos_ned) is np.ndarray else map(float, pos_ned)
-        vx, vy, vz = vel_ned.tolist() if type(vel_ned) is np.ndarray else map(float, vel_ned)
+        if type(pos_ned) is tuple and type(vel_ned) is tuple:
+            x, y, z = pos_ned
+            vx, vy, vz = vel_ned
+            if type(x) is not float or type(vx) is not float:
+                x, y, z = map(float, pos_ned)
+                vx, vy, vz = map(float, vel_ned)
+        else:
+            x, y, z = pos_ned.tolist() if type(pos_ned) is np.ndarray else map(float, pos_ned)
+            vx, vy, vz = vel_ned.tolist() if type(vel_ned) is np.ndarray else map(float, vel_ned)
         if not (isfinite(x + y + z) and isfinite(vx + vy + vz)):
             raise InputError(f"glider position/velocity must be finite, got pos={tuple(pos_ned)!r} vel={tuple(vel_ned)!r}")
         if cmd is not self._last_cmd and not isinstance(cmd, WinchCommand):
@@ -205,19 +218,28 @@ class GroundStation:
         dtr = self.drivetrain
         r = self._r
         l_start = dtr.length
+        mode = cmd.mode
         tmean, pload, psup, event = dtr.advance(
-            dt, n, x, y, z, vx, vy, vz, cmd.mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
+            dt, n, x, y, z, vx, vy, vz, mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
         # force on the glider: mean tension along the line, plus drag and weight shares
+        # (tether module's line_drag_share and line_weight_share, written out)
         d = math.sqrt(x * x + y * y + z * z)
         lg = dtr.ledger
         if dtr.broken and event != "tether_break":
             fx = fy = fz = 0.0
         else:
-            wx, wy, wz = self.wind
-            tp = self._tp
-            fx, fy, fz = line_drag_share(tp, l_start, x, y, z, vx - wx, vy - wy, vz - wz)
+            if d <= 0.0 or not self._drag_on:
+                fx = fy = fz = 0.0
+            else:
+                wx, wy, wz = self.wind
+                vax, vay, vaz = vx - wx, vy - wy, vz - wz
+                ux, uy, uz = x / d, y / d, z / d
+                vr = vax * ux + vay * uy + vaz * uz
+                px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
+                c = self._drag_c * l_start * math.sqrt(px * px + py * py + pz * pz)
+                fx, fy, fz = c * px, c * py, c * pz
             lg.line_drag_work_on_glider += (fx * vx + fy * vy + fz * vz) * dt
-            fw = line_weight_share(tp, l_start)
+            fw = self._weight_c * l_start * self._g
             lg.line_weight_work_on_glider += fw * vz * dt
             fz += fw
             if d > 0.0 and tmean > 0.0:
@@ -226,7 +248,10 @@ class GroundStation:
                 fy += c * y
                 fz += c * z
         w = dtr.omega
+        i = dtr.current
+        # machine_mode (machine module, eq. 17 sign rule), written out
+        mm = "idle" if (w == 0.0 or i <= 0.0) else ("generator" if -(1.0 if w > 0.0 else -1.0) * self._k * i < 0.0
+                                                  else "motor")
         return GroundStationOutput(
-            np.array((fx, fy, fz)), tmean, dtr.length, r * w, w, dtr.current, dtr.duty, cmd.mode,
-            dtr.u_link, pload - psup, event, machine_mode(w, dtr.current, tmean, self._k, r),
-            tmean * r * w, d, dtr.stretch <= 0.0, dtr.broken)
+            np.array((fx, fy, fz)), tmean, dtr.length, r * w, w, i, dtr.duty, mode,
+            dtr.u_link, pload - psup, event, mm, tmean * r * w, d, dtr.stretch <= 0.0, dtr.broken)
