@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import os
+from math import cos, sin
 from pathlib import Path
 from typing import Sequence
 
@@ -158,7 +159,7 @@ class JSBSimGlider:
         self.set_wind(wind_ned)
         self.turbulence = None
         self.set_turbulence(turbulence)
-        self._force = [0.0, 0.0, 0.0]
+        self._force = (0.0, 0.0, 0.0)
         self._raw: list[float] | None = None
         self._state: SixDofState | None = None
         self._controls = Surfaces()
@@ -287,7 +288,7 @@ class JSBSimGlider:
         self._apply_ic(vals, 0.0)
         self._set_elev(self.trim_elevator(alpha))
         self._apply_ic(vals, float(alpha))
-        self._force = [0.0, 0.0, 0.0]
+        self._force = (0.0, 0.0, 0.0)
         self._set_tmag(1.0)
         self._controls = Surfaces(elevator=self.trim_elevator(alpha), throttle=throttle, fold_cmd=fold)
         self._read()
@@ -337,14 +338,19 @@ class JSBSimGlider:
         """Tether force on the glider (N, NED) applied at the hook during the next step."""
         if isinstance(force_ned, np.ndarray):
             force_ned = force_ned.tolist()  # Python floats: faster than numpy scalars below
-        fx, fy, fz = force_ned[0], force_ned[1], force_ned[2]
-        self._force = [fx, fy, fz]
+        self._set_force(force_ned[0], force_ned[1], force_ned[2])
+
+    def _set_force(self, fx: float, fy: float, fz: float) -> None:
+        """:meth:`set_tether_force` from three floats (N, NED): three property sets."""
+        self._force = (fx, fy, fz)
         self._set_tx(fx / LBF)
         self._set_ty(fy / LBF)
         self._set_tz(fz / LBF)
 
     def set_controls(self, s: Surfaces) -> None:
         """Surface, throttle and fold commands for the next step (see :class:`Surfaces`)."""
+        if s is self._controls:
+            return  # the same (immutable) commands are in the FCS already
         self._controls = s
         self._set_ail(s.aileron)
         self._set_elev(s.elevator)
@@ -362,9 +368,30 @@ class JSBSimGlider:
         self._read()
 
     def _read(self) -> None:
-        self._raw = [g() for g in self._get]
+        r = self._raw = [g() for g in self._get]
         self._state = None
-        self._hook = self._hook_kinematics()
+        # hook kinematics (see _hook_kinematics), written out: this runs every step
+        x = (r[1] - self._lat0) * self._M0
+        y = r[2] * self._N0cos
+        z = -r[3] * FT
+        vx, vy, vz = r[4] * FT, r[5] * FT, r[6] * FT
+        ox, oy, oz = self._hook_off
+        if ox == 0.0 and oy == 0.0 and oz == 0.0:
+            self._hook = (x, y, z), (vx, vy, vz)
+            return
+        phi, th, psi = r[7], r[8], r[9]
+        cf, sf = cos(phi), sin(phi)
+        ct, st = cos(th), sin(th)
+        cp, sp = cos(psi), sin(psi)
+        p, q, rr = r[10], r[11], r[12]
+        wx, wy, wz = q * oz - rr * oy, rr * ox - p * oz, p * oy - q * ox
+        m00, m01, m02 = ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp
+        m10, m11, m12 = ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp
+        m20, m21, m22 = -st, sf * ct, cf * ct
+        self._hook = ((x + m00 * ox + m01 * oy + m02 * oz, y + m10 * ox + m11 * oy + m12 * oz,
+                       z + m20 * ox + m21 * oy + m22 * oz),
+                      (vx + m00 * wx + m01 * wy + m02 * wz, vy + m10 * wx + m11 * wy + m12 * wz,
+                       vz + m20 * wx + m21 * wy + m22 * wz))
 
     def raw(self) -> list[float]:
         """The property values of the last step in JSBSim units (order of ``_READ``)."""
@@ -402,9 +429,8 @@ class JSBSimGlider:
         if st is None:
             if self._raw is None:
                 raise InputError("state: call reset() first")
-            f = self._force
             st = self._state = SixDofState(self._raw, self._scale_l, self._offset_l, self._hook,
-                                           (f[0], f[1], f[2]), self._maxvolts)
+                                           self._force, self._maxvolts)
         return st
 
     def convert_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
