@@ -202,28 +202,40 @@ class CoSim:
         v_max = lim.airspeed_max
         t_max = lim.max_tension
         n_max = lim.max_load_factor
-        set_controls, set_force, step, state, finite, hook = (
-            g.set_controls, g.set_tether_force, g.step, g.state, g.raw_finite, g.hook_kinematics)
+        set_controls, step, state, hook = g.set_controls, g.step, g.state, g.hook_kinematics
+        set_force = getattr(g, "_set_force", None)
+        if set_force is None:  # a glider without the three-float setter
+            set_tf = g.set_tether_force
+
+            def set_force(fx: float, fy: float, fz: float) -> None:
+                set_tf((fx, fy, fz))
+        update, gs_step = ctrl.update, gs.step
         has_phase = hasattr(ctrl, "phase")
+        last_phase, last_code = None, -1
+        check_v = v_max is not None or v_min is not None
+        grace = lim.grace_s
+        ground_contact = lim.ground_contact
+        ndarray = np.ndarray
+        isfinite = math.isfinite
         wall0 = time.perf_counter()
         try:
             while k < n:
-                surf, wcmd = ctrl.update(s.t, s, gs_out)
+                surf, wcmd = update(s.t, s, gs_out)
                 set_controls(surf)
                 hp, hv = hook()
                 try:
-                    gs_out = gs.step(dt, hp, hv, wcmd)
+                    gs_out = gs_step(dt, hp, hv, wcmd)
                 except InputError as exc:
                     event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
                     break
                 f = gs_out.force_on_glider_ned
-                if type(f) is np.ndarray:
+                if type(f) is ndarray:
                     f = f.tolist()
                 fx, fy, fz = f[0], f[1], f[2]
-                if not math.isfinite(fx + fy + fz):
+                if not isfinite(fx + fy + fz):
                     event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")
                     break
-                set_force(f)
+                set_force(fx, fy, fz)
                 try:
                     step()
                 except (RuntimeError, ValueError, ArithmeticError) as exc:  # JSBSim gave up on the state
@@ -231,16 +243,22 @@ class CoSim:
                     break
                 k += 1
                 s = state()
-                raws.append(s._r)
-                gsrec.append((gs_out.tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
+                r = s._r
+                raws.append(r)
+                tension = gs_out.tension
+                gsrec.append((tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
                               gs_out.duty, gs_out.p_electrical, fx, fy, fz))
                 ctl.append(surf)
                 if has_phase:
-                    phases.append(self._phase_code(ctrl, labels, codes))
+                    ph = ctrl.phase
+                    if ph is not last_phase:
+                        last_phase = ph
+                        last_code = self._phase_code(ctrl, labels, codes)
+                    phases.append(last_code)
                 if on_step is not None and on_step(k, s, gs_out):
                     break  # the caller's end condition (e.g. N cycles flown): status "ok"
-                # ---- events
-                if not finite():
+                # ---- events (on floats; the state's position, velocity, attitude and rates)
+                if not isfinite(sum(r[1:16])):
                     event = Event("nonfinite", s.t, "non-finite glider state")
                     break
                 gev = gs_out.event
@@ -249,13 +267,13 @@ class CoSim:
                     event = Event(kind, s.t, f"ground station event: {gev}")
                     break
                 if s.on_ground:
-                    if airborne and lim.ground_contact:
+                    if airborne and ground_contact:
                         event = Event("ground_contact", s.t, f"ground contact at x={s.x:.1f} m, y={s.y:.1f} m, "
                                       f"{s.airspeed:.1f} m/s")
                         break
                 else:
                     airborne = True
-                if s.t - t0 >= lim.grace_s:
+                if check_v and s.t - t0 >= grace:
                     v = s.airspeed
                     if v_max is not None and v > v_max:
                         event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s above {v_max:g} m/s")
@@ -263,12 +281,14 @@ class CoSim:
                     if v_min is not None and v < v_min:
                         event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s below {v_min:g} m/s")
                         break
-                if t_max is not None and gs_out.tension > t_max:
-                    event = Event("load_limit", s.t, f"tether tension {gs_out.tension:.1f} N above {t_max:g} N")
+                if t_max is not None and tension > t_max:
+                    event = Event("load_limit", s.t, f"tether tension {tension:.1f} N above {t_max:g} N")
                     break
-                if n_max is not None and abs(s.load_factor) > n_max:
-                    event = Event("load_limit", s.t, f"load factor {s.load_factor:.2f} g beyond {n_max:g} g")
-                    break
+                if n_max is not None:
+                    nz = s.load_factor
+                    if nz > n_max or nz < -n_max:
+                        event = Event("load_limit", s.t, f"load factor {nz:.2f} g beyond {n_max:g} g")
+                        break
         except KeyboardInterrupt:
             event = Event("interrupted", s.t, "interrupted by the user")
         wall = time.perf_counter() - wall0
