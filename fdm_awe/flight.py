@@ -1,14 +1,21 @@
 """A whole flight: the 6-DOF glider, the ground station and the autopilot flying the optimised
 pumping cycle for N cycles, with per-cycle energies, tracking errors and an energy ledger.
 
-Energy terms per cycle (J, all >= 0 except ``E_net_J``), counted electrically as in the
-``physical`` scenario: ``E_generated_J`` into the load resistor, ``E_thrust_J`` drawn by the
-glider's motor, ``E_reel_in_J`` drawn from the ground station's supply;
-``E_net_J = E_generated_J - E_thrust_J - E_reel_in_J``.
+Plants (``plant``): ``physical`` = the JSBSim propeller and the ground station of
+:mod:`fdm_awe.groundstation`; ``paper`` = the ideal thruster and the kinematic winch of
+:mod:`fdm_awe.paper_plant`, faithful to the ``paper`` scenario's simplifications.
+
+Energy terms per cycle (J, all >= 0 except ``E_net_J``), counted as the plant's scenario
+counts them. Physical plant, electrically: ``E_generated_J`` into the load resistor,
+``E_thrust_J`` drawn by the glider's motor, ``E_reel_in_J`` drawn from the ground station's
+supply. Paper plant: ``E_generated_J`` = mechanical tension x reel speed in generation,
+``E_thrust_J`` = the paper's P(T) fit of the commanded thrust, ``E_reel_in_J`` = the constant
+reel-in power x recovery time. ``E_net_J = E_generated_J - E_thrust_J - E_reel_in_J``.
 
 Energy ledger (whole flight): the glider's translational kinetic + potential energy change
 equals the work of the aerodynamic, propeller, tether and ground forces on it (read from
-JSBSim's force breakdown, work = force . velocity integrated by the trapezoidal rule); the
+JSBSim's force breakdown, work = force . velocity integrated by the trapezoidal rule; the
+paper plant's ideal thrust is split off JSBSim's external forces as thrust work); the
 ground station keeps its own ledger from the line end to the electrical terminals. The
 residual of each, relative to the largest term, is reported (``ledger_residual_rel`` is the
 larger of the two).
@@ -24,6 +31,13 @@ from typing import Any, Callable
 import numpy as np
 
 from .units import FT, LBF, SLUG
+
+#: what each plant is (written into the flight's JSON)
+PLANT_NOTES = {
+    "physical": "JSBSim 9x5 propeller and motor; ground station with DC machine, converter and PI speed loop",
+    "paper": "paper scenario's simplifications: ideal thruster (body-x force, power by the P(T) fit), "
+             "kinematic winch on an elastic line (generation booked as tension x reel speed, reel-in at constant power)",
+}
 
 #: touchdown sink rate [m/s] below which ground contact in RECOVER counts as a landing
 LAND_SINK_MAX = 3.0
@@ -51,13 +65,17 @@ class GliderLedger:
 
     _FORCES = ("aero", "prop", "external", "gear", "weight")
 
-    def __init__(self, glider: Any) -> None:
+    def __init__(self, glider: Any, ideal_thrust: bool = False) -> None:
+        """``ideal_thrust``: the paper plant's body-x force is among JSBSim's external forces;
+        its work is booked as thrust work, not tether work."""
         pm = glider.fdm.get_property_manager()
         node = lambda n: pm.get_node(n, False).get_double_value  # noqa: E731
         self._f = {k: [node(f"forces/fb{a}-{k}-lbs") for a in "xyz"] for k in self._FORCES}
         self._v = [node(f"velocities/{a}-fps") for a in "uvw"]
         self._mass = node("inertia/mass-slugs")
         self.work = {k: 0.0 for k in self._FORCES}
+        self.work["ideal_thrust"] = 0.0
+        self._ti = node("external_reactions/ideal-thrust/magnitude") if ideal_thrust else None
         self._v_prev = self._vel()
         self.ke0 = self._ke()
         self.ke = self.ke0
@@ -74,14 +92,17 @@ class GliderLedger:
         vm = [(a + b) * 0.5 for a, b in zip(v, self._v_prev)]
         for k, fs in self._f.items():
             self.work[k] += (fs[0]() * vm[0] + fs[1]() * vm[1] + fs[2]() * vm[2]) * LBF * dt
+        if self._ti is not None:
+            self.work["ideal_thrust"] += self._ti() * vm[0] * LBF * dt
         self._v_prev = v
         self.ke = self._ke()
 
     def terms(self) -> dict[str, float]:
         """J: kinetic change, potential change (= -weight work), works of the other forces."""
-        return {"delta_kinetic": self.ke - self.ke0, "delta_potential": -self.work["weight"],
-                "aero_work": self.work["aero"], "thrust_work": self.work["prop"],
-                "tether_work": self.work["external"], "ground_work": self.work["gear"]}
+        w = self.work
+        return {"delta_kinetic": self.ke - self.ke0, "delta_potential": -w["weight"],
+                "aero_work": w["aero"], "thrust_work": w["prop"] + w["ideal_thrust"],
+                "tether_work": w["external"] - w["ideal_thrust"], "ground_work": w["gear"]}
 
     def residual(self) -> tuple[float, float]:
         t = self.terms()
@@ -106,6 +127,7 @@ class FlightReport:
     track_error: np.ndarray | None = field(repr=False, default=None)
     reference_pos: np.ndarray | None = field(repr=False, default=None)
     autopilot_log: list[tuple[float, str]] = field(default_factory=list)
+    plant: str = "physical"  #: "physical" or "paper" (see PLANT_NOTES)
 
     @property
     def realtime_factor(self) -> float:
@@ -114,7 +136,8 @@ class FlightReport:
     def as_json(self) -> dict[str, Any]:
         """DESIGN.md section 1 output contract of ``fdm-awe fly``."""
         return {
-            "scenario": self.scenario, "config": self.config, "wind_mps": self.wind_mps, "status": self.status,
+            "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
+            "config": self.config, "wind_mps": self.wind_mps, "status": self.status,
             "message": self.message, "sim_time_s": round(self.sim_time_s, 6), "wall_s": round(self.wall_s, 3),
             "realtime_factor": round(self.realtime_factor, 1), "ledger_residual_rel": float(f"{self.ledger_residual_rel:.3e}"),
             "ledger": {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.ledger.items()},
@@ -132,25 +155,39 @@ def fly(
     params: Any = None,
     setup: Callable[[Any, Any], None] | None = None,
     t_end: float | None = None,
+    plant: str = "physical",
 ) -> FlightReport:
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
     ``setup(autopilot, cosim)`` is called before the run (e.g. to attach a MAVLink endpoint);
     ``on_step(k, state, gs_output)`` after every step. ``t_end`` overrides the flight length.
+    ``plant``: ``"physical"`` (JSBSim propeller + ground station) or ``"paper"`` (ideal thruster +
+    kinematic winch, :mod:`fdm_awe.paper_plant`).
     """
     from .autopilot.autopilot import Autopilot
     from .autopilot.guidance import norm3
     from .autopilot.config import autopilot_params
-    from .cosim import CoSim, Limits
+    from .cosim import COLUMNS, CoSim, Limits
     from .definitions.aircraft import load_glider
     from .groundstation import GroundStation, load_ground_station
     from .sixdof import JSBSimGlider
 
+    from .paper_plant import PLANTS, IdealThruster, IdealWinch
+
+    if plant not in PLANTS:
+        raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
+    paper = plant == "paper"
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))
     glider = JSBSimGlider("glider_foldable", dt=dt, wind_ned=wind, turbulence=turbulence)
     gsp = load_ground_station()
-    gs = GroundStation(gsp, wind_ned=wind)
+    airframes = load_glider()
+    if paper:
+        from .ocp.problem import Scenario
+
+        gs = IdealWinch(gsp, P_rw=Scenario.named("paper").P_rw, wind_ned=wind)
+    else:
+        gs = GroundStation(gsp, wind_ned=wind)
     r0 = reference.sample(0.0)
     va = r0.vel - np.asarray(wind)
     V = float(np.linalg.norm(va))
@@ -159,16 +196,22 @@ def fly(
     glider.reset(r0.pos, V, gamma=gamma, psi=psi, phi=r0.phi, alpha=r0.alpha, fold=0.0)
     s0 = glider.state()
     # start on the reference: the line carries the reference tension at the start point
-    gs.reset(tether_length=gs.unstretched_length(float(np.linalg.norm(s0.hook_pos_ned)), r0.tension),
-             reel_speed=max(r0.reel_speed, 0.0), mode="generator")
+    d_start = float(np.linalg.norm(s0.hook_pos_ned))
+    l_start = gs.unstretched_length(d_start, r0.tension)
+    if paper:
+        gs.reset(tether_length=l_start, reel_speed=max(r0.reel_speed, 0.0), mode="generator", distance=d_start)
+    else:
+        gs.reset(tether_length=l_start, reel_speed=max(r0.reel_speed, 0.0), mode="generator")
     ps = params if params is not None else autopilot_params()
-    ap = Autopilot(glider, load_glider(), ps, reference, config=config, load_resistance=gsp.converter.load_resistance)
+    thruster = IdealThruster.for_glider(glider, airframes.unfolded.propulsion) if paper else None
+    ap = Autopilot(glider, airframes, ps, reference, config=config, load_resistance=gsp.converter.load_resistance,
+                   thruster=thruster, winch="ideal" if paper else "physical", line_EA=gsp.tether.axial_stiffness)
     # the line's own breaking load ends a run as "tether_break" (ground-station event); the
     # co-simulation's tension limit sits just above it so it never pre-empts that event
     sim = CoSim(glider, gs, ap, dt=dt, limits=Limits(max_tension=1.01 * gsp.tether.breaking_load, grace_s=1.0))
     if setup is not None:
         setup(ap, sim)
-    gl = GliderLedger(glider)
+    gl = GliderLedger(glider, ideal_thrust=paper)
     P = reference.period
     # cycles are counted by the autopilot's path parameter (the glider's own period); the
     # flight ends when the last cycle is flown, or at a generous time cap
@@ -178,6 +221,9 @@ def fly(
     refpos = np.full((n + 1, 3), np.nan)
     e_load = np.zeros(n + 1)
     e_supply = np.zeros(n + 1)
+    e_ideal = np.zeros(n + 1)  # paper plant: P(T) of the ideal thrust, J
+    t_ideal = np.zeros(n + 1)  # paper plant: ideal thrust, N
+    e_acc = [0.0]
     led = gs.ledger
     marks: list[tuple[int, int, int]] = []  # (step, cycle, phase) at every phase change
     last = [(-1, -1)]
@@ -195,6 +241,10 @@ def fly(
                 last[0] = key
         e_load[k] = led.load
         e_supply[k] = led.supply
+        if thruster is not None:
+            e_acc[0] += thruster.power() * dt  # the thrust commanded for the step just flown
+            e_ideal[k] = e_acc[0]
+            t_ideal[k] = thruster.thrust
         if on_step is not None:
             on_step(k, s, o)
         return t_end is None and ap.mode == "AUTO" and ap.s_ref >= s_end
@@ -203,8 +253,14 @@ def fly(
     res = sim.run(T_total, on_step=_on_step)
     wall = time.perf_counter() - wall0
     k_end = res.steps
-    p_prop = np.nan_to_num(res.p_prop)
-    e_thrust = np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
+    if paper:
+        e_thrust = e_ideal[: k_end + 1]
+        # the logged propulsion columns show the ideal thruster (the real propeller is idle)
+        res.data[1:, COLUMNS.index("thrust")] = t_ideal[1: k_end + 1]
+        res.data[1:, COLUMNS.index("p_prop")] = [thruster.power(t) for t in t_ideal[1: k_end + 1]]
+    else:
+        p_prop = np.nan_to_num(res.p_prop)
+        e_thrust = np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
     mets: list[CycleMetrics] = []
     # cycle c runs from its generation mark to the next cycle's generation mark (or the end)
     starts = {c: k for k, c, ph in marks if ph == 0}
@@ -249,5 +305,5 @@ def fly(
         scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind[0], wind[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
-        autopilot_log=list(ap.log),
+        autopilot_log=list(ap.log), plant=plant,
     )

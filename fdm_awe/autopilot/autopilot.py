@@ -60,6 +60,8 @@ class Autopilot:
 
     ``config``: ``"foldable"`` folds for recovery, ``"nominal"`` never folds.
     ``load_resistance``: the generator's R_L [ohm] (definition default of the ground station).
+    ``thruster``/``winch``/``line_EA``: the paper plant's ideal thruster, ``"ideal"`` for its
+    kinematic winch, and the line's axial stiffness EA [N] (ground-station definition).
     """
 
     def __init__(
@@ -72,9 +74,20 @@ class Autopilot:
         load_resistance: float = 1.5,
         rho: float = 1.225,
         g: float = 9.81,
+        thruster: Any = None,
+        winch: str = "physical",
+        line_EA: float = 22600.0,
     ) -> None:
         if config not in CONFIGS:
             raise ValueError(f"config {config!r} unknown (allowed: {', '.join(CONFIGS)})")
+        if winch not in ("physical", "ideal"):
+            raise ValueError(f"winch {winch!r} unknown (allowed: physical, ideal)")
+        #: paper plant: an ideal thruster (:class:`fdm_awe.paper_plant.IdealThruster`) takes the
+        #: thrust command instead of the propeller's throttle (held at zero)
+        self.thruster = thruster
+        #: "ideal": a kinematic winch (paper plant) reels at the commanded speed in generation
+        #: too; "physical": the passive generator sets the reel-out speed
+        self.winch = winch
         self.glider = glider
         self.airframes = airframes
         self.params = params
@@ -109,6 +122,7 @@ class Autopilot:
         #: airspeed [m/s] at which the propeller gives zero thrust at full throttle (its
         #: zero-thrust advance ratio times the tip speed scale); sets the throttle feed-forward
         self._v_zero_thrust = params["THR_VZERO"]
+        self._line_EA = line_EA
         for name in params.names():
             params.on_change(name, self._on_param)
 
@@ -245,6 +259,25 @@ class Autopilot:
             self._thr_int -= p["THR_KI"] * e * dt
         return min(max(u, 0.0), 1.0)
 
+    def _propulsion(self, thrust_cmd: float, s: SixDofState, dt: float) -> float:
+        """Throttle for the thrust command; with an ideal thruster it takes the command and
+        the propeller's throttle stays at zero."""
+        if self.thruster is not None:
+            self.thruster.command(thrust_cmd if self.armed else 0.0)
+            return 0.0
+        return self._throttle(thrust_cmd, s.thrust_N, s.airspeed, dt)
+
+    def _pay_out(self, s: SixDofState, gs: Any, load_resistance: float, slack: float) -> WinchCommand:
+        """Let line out in generator mode: through the load resistor on the real winch; on a
+        kinematic winch, at the glider's opening speed plus a catch-up on ``slack`` (m) of
+        line beyond the glider's distance and on a tension above REC_TENSION."""
+        if self.winch != "ideal" or gs is None:
+            return WinchCommand(mode="generator", load_resistance=load_resistance)
+        d = norm3(s.hook_pos_ned)
+        d_rate = float(s.hook_pos_ned @ s.hook_vel_ned) / max(d, 1e-6)
+        v = max(d_rate, 0.0) + 0.5 * max(d + slack - gs.length, 0.0) + 0.2 * max(gs.tension - self.params["REC_TENSION"], 0.0)
+        return WinchCommand(mode="generator", reel_speed_ref=v)
+
     def _hold(self, s: SixDofState, alpha: float, roll: float, fold: float, dt: float, throttle: float = 0.0) -> Surfaces:
         a, e, r = self.att.update(s, alpha, roll, dt)
         return Surfaces(a, e, r, throttle, fold)
@@ -256,6 +289,8 @@ class Autopilot:
         self._t_now = t
         if self.mode == "MANUAL":
             self.phase = "ground" if s.on_ground else self.phase
+            if self.thruster is not None:
+                self.thruster.command(self.manual.throttle * self.thruster.T_max)
             return self.manual, WinchCommand(mode="generator", load_resistance=self.R_L)
         if self.mode == "RECOVER":
             return self._recover(s, gs, dt)
@@ -263,6 +298,7 @@ class Autopilot:
             return self._auto(t, s, gs, dt)
         # FBWA (or AUTO without a path): wings level, trim alpha, no thrust
         alpha = self.glider.trim_alpha(max(s.airspeed, 8.0))
+        self._propulsion(0.0, s, dt)
         return self._hold(s, min(alpha, self.params["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), WinchCommand(mode="generator", load_resistance=self.R_L)
 
     def _advance(self, ref: TrackingReference, s_par: float, s: SixDofState, dt: float):
@@ -303,7 +339,16 @@ class Autopilot:
             self._note(f"phase {self.phase} -> {phase} (cycle {r.cycle}, t_cycle {tc:.2f} s)")
             self.phase = phase
         # winch
-        if r.phase == GENERATION:
+        if r.phase == GENERATION and self.winch == "ideal":
+            # kinematic winch: reel at the reference speed (scaled by the path rate), on the
+            # reference's unstretched length, and pay out faster when the line pulls harder
+            # than the reference tension (the tension term damps the line's spring mode)
+            v = rate * r.reel_speed
+            if gs is not None:
+                l_ref = r.length / (1.0 + r.tension / self._line_EA)
+                v += p["WINCH_KL"] * (l_ref - gs.length) + p["WINCH_KT"] * (gs.tension - r.tension)
+            wcmd = WinchCommand(mode="generator", reel_speed_ref=v)
+        elif r.phase == GENERATION:
             rl = self.R_L
             if p["GEN_RL_KP"] > 0 and gs is not None:
                 # radial position is the winch's job: pay out faster (higher R_L, less
@@ -319,7 +364,7 @@ class Autopilot:
                 if gs.tension > p["REC_TENSION"]:
                     v += 0.2 * (gs.tension - p["REC_TENSION"])
             wcmd = WinchCommand(mode="motor", reel_speed_ref=min(v, 0.5))
-        thr = self._throttle(cmd.thrust, s.thrust_N, s.airspeed, dt)
+        thr = self._propulsion(cmd.thrust, s, dt)
         return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
 
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
@@ -333,10 +378,10 @@ class Autopilot:
         if h < 3.0 * p["REC_FLARE_ALT"]:
             # final approach and touchdown: free spool (open-circuit generator: only the drum's
             # friction and inertia resist), the line pays out if the glider reaches its end
-            wcmd = WinchCommand(mode="generator", load_resistance=1.0e4)
+            wcmd = self._pay_out(s, gs, 1.0e4, 2.0)
         elif gs is not None and gs.tension > p["REC_TENSION"]:
             # pulling: the passive generator lets line out under load
-            wcmd = WinchCommand(mode="generator", load_resistance=self.R_L)
+            wcmd = self._pay_out(s, gs, self.R_L, 0.0)
         else:
             # keep REC_SLACK metres of slack: reel in the excess (the half-bridge drives the
             # motor one way only; line goes out through the generator when pulled)
@@ -352,7 +397,7 @@ class Autopilot:
             a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
             # the motor only guards against stalling (below 80 % of the recovery airspeed)
             thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
-            thr = self._throttle(thrust, s.thrust_N, s.airspeed, dt)
+            thr = self._propulsion(thrust, s, dt)
             return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
         if self._rec_ref is None:
             # a descending circle about the winch, entered straight from where the glider is
@@ -369,5 +414,5 @@ class Autopilot:
         cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt)
         self.last_guidance = cmd
         self.track_error = cmd.pos_error
-        thr = self._throttle(cmd.thrust, s.thrust_N, s.airspeed, dt)
+        thr = self._propulsion(cmd.thrust, s, dt)
         return self._hold(s, cmd.alpha, cmd.roll, 0.0, dt, thr), wcmd

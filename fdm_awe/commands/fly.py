@@ -5,6 +5,11 @@ first from ``--scenario/--config/--wind``. Prints a per-cycle energy table, writ
 DESIGN.md section 1 (``--json``), a rerun recording (``--rrd``), and optionally speaks MAVLink
 (``--mavlink URL``) paced at real time (``--realtime [FACTOR]``).
 Exit code 0 when the flight completed without an event (or landed in RECOVER mode).
+
+The plant follows the scenario (``--scenario``; with ``--reference`` and no ``--scenario``, the
+reference file's scenario): ``physical`` flies the JSBSim propeller and the ground station,
+``paper`` the ideal thruster and kinematic winch of :mod:`fdm_awe.paper_plant` (the paper
+scenario's simplifications). The JSON says which plant flew (``plant``, ``plant_note``).
 """
 
 from __future__ import annotations
@@ -40,7 +45,9 @@ def _turbulence(text: str) -> tuple[str, int]:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one now)")
-    p.add_argument("--scenario", choices=("physical", "paper"), default="physical", help="scenario of the reference to optimise (default physical)")
+    p.add_argument("--scenario", choices=("physical", "paper"), default=None,
+                   help="scenario of the reference to optimise and of the plant that flies it: physical (JSBSim propeller + "
+                        "ground station) or paper (ideal thruster + kinematic winch); default physical, or the --reference file's")
     p.add_argument("--config", choices=("foldable", "nominal"), default="foldable", help="foldable folds for recovery, nominal never folds")
     p.add_argument("--wind", type=float, default=8.0, metavar="M/S", help="wind speed for the optimised reference (default 8)")
     p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG", help="wind direction, blowing from (default 180 = south)")
@@ -78,6 +85,7 @@ def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
 
     if args.reference:
         return TrackingReference.from_ocp_file(args.reference), Path(args.reference)
+    args.scenario = args.scenario or "physical"
     from ..ocp.problem import CycleProblem
     from ..ocp.result import write_reference
     from ..ocp.solve import solve_cycle
@@ -100,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
     if out_dir:
         out_dir.mkdir(parents=True, exist_ok=True)
     ref, ref_path = load_or_optimise_reference(args, out_dir)
+    plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
     from ..autopilot.config import autopilot_params
     from ..flight import fly
     from ..mavlink.params import ParamStore
@@ -145,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
 
     t0 = time.perf_counter()
     report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                 on_step=on_step, params=params, setup=setup)
+                 on_step=on_step, params=params, setup=setup, plant=plant)
     if bar is not None:
         bar.close()
     if endpoint is not None:
@@ -182,7 +191,7 @@ def _write_outputs(args, report, ref, out_dir: Path | None) -> dict:
 
 
 def _print_summary(report, ref_path: Path) -> None:
-    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_path}")
+    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_path}  plant {report.plant}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
           f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
     print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
