@@ -18,11 +18,17 @@ Backward Euler is L-stable, so the fast electrical modes (L_a/R ~ 0.4 ms, R_L C 
 stiff short line never constrain the flight step; steady states are exact. The integrator's own
 dissipation is booked in the ledger (``numerical``) so that the energy balance closes to
 round-off and the size of the numerical error is visible.
+
+Speed: the sub-step loop of :meth:`Drivetrain.advance` is the reference implementation; when
+numba is installed its compiled twin (:mod:`.substeps`, same operations, identical results,
+tested) runs instead (``FDM_AWE_JIT=0`` in the environment keeps the Python loop).
 """
 
 from __future__ import annotations
 
 import math
+
+import numpy as np
 
 from . import controller as _controller
 from .controller import pi_update
@@ -30,6 +36,7 @@ from .converter import GENERATOR, MOTOR, link_coefficients
 from .machine import armature_coefficients
 from .definitions import GroundStationParams
 from .ledger import EnergyLedger
+from .substeps import EVENTS, compiled as compiled_substeps
 from .winch import solve_drum_speed
 
 
@@ -46,6 +53,8 @@ class Drivetrain:
                        tp.max_length, mp.k, mp.resistance, mp.inductance,
                        2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance)
         self.ledger = EnergyLedger()
+        self._kernel = compiled_substeps()  # the loop below, compiled (None: run it in Python)
+        self._kc: tuple = ()
         self.reset(length=100.0, omega=0.0, mode=GENERATOR)
 
     # -- state -------------------------------------------------------------------------
@@ -135,6 +144,9 @@ class Drivetrain:
             # i1 = aL i0 + aH (v_src - 2 U_d) - aS u0 + iB w1   (p = cu u0)
             self._coef = (q, cu, aL, aH, aH * s_cpl * cu, iB, h * r, h * K, h * Mc, h * B)
             self._coef_key = key
+            ctrl = self.params.controller
+            self._kc = np.array((r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak) + self._coef[:-1] + (
+                ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max))  # substeps.CONSTANTS
         q, cu, aL, aH, aS, iB, hr, hK, hM, hB = self._coef
         # drum (winch module): backward Euler with set-valued Coulomb friction
         l_start = self.length
@@ -178,9 +190,19 @@ class Drivetrain:
         t_on = i_on = True
         px, py, pz = x, y, z
         hvx, hvy, hvz = h * vx, h * vy, h * vz
+        kernel = self._kernel
+        loops = n
+        if kernel is not None and not pi_call:  # the compiled twin of the loop below
+            (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_stop, e_brk, e_numel,
+             S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = kernel(
+                n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop, l0, w0, i0, u0, integ,
+                float(duty), float(v_src), d0, s0, k, tB, J, Jb, omega_ref,
+                0.0 if fixed_tension is None else fixed_tension, e_glider, self._kc)
+            event = EVENTS[ev]
+            loops = 0  # the Python loop below is skipped
         sqrt = math.sqrt
         d1 = 0.0
-        for _ in range(n):
+        for _ in range(loops):
             if pi_call:
                 duty, integ = pi_update(ctrl, w0 - omega_ref, integ, h)
                 v_src = duty * Va
