@@ -114,7 +114,23 @@ class Guidance:
         n = norm3(corr)
         if n > k.a_max:
             corr *= k.a_max / n
-        a_cmd = ref.acc + corr
+        # feed-forward of the reference acceleration in the path's own axes: its tangential
+        # part along the glider's air velocity, its normal (turning) part across it. Taken in
+        # NED as it stands, a heading error would turn the reference's centripetal
+        # acceleration (up to 3 g on a pumping loop) into a demand to brake or to accelerate
+        # (thrust cut, lift raised by the energy trade, the glider slows and falls behind).
+        a_ff = ref.acc
+        va_ref = ref.vel - wind
+        v_ref = norm3(va_ref)
+        va0 = vel - wind
+        v0 = norm3(va0)
+        if v_ref > 1.0 and v0 > 1.0:
+            t_ref = va_ref / v_ref
+            t_now = va0 / v0
+            a_t = float(a_ff @ t_ref)
+            a_n = a_ff - a_t * t_ref
+            a_ff = a_t * t_now + a_n - float(a_n @ t_now) * t_now
+        a_cmd = a_ff + corr
         F = self.m * (a_cmd - g_vec) - tether_force
         if taut:
             e_rr = ref.pos / max(norm3(ref.pos), 1e-6)
