@@ -17,6 +17,7 @@ pass None (for stand-in ground stations that ignore it).
 from __future__ import annotations
 
 import math
+from math import atan2, cos, sin
 from dataclasses import dataclass
 from typing import Any
 
@@ -82,37 +83,66 @@ class Stabilizer:
         self._ixx, self._iyy, self._izz = float(J[0, 0]), float(J[1, 1]), float(J[2, 2])
 
     def update(self, t: float, s: SixDofState, gs_output: Any) -> tuple[Surfaces, Any]:
+        # written for the co-simulation's hot path: the same arithmetic as the plain form, with
+        # max/min spelled out (max(a, b) is ``b if b > a else a``, min(a, b) ``b if b < a else a``)
         gn = self.gains
-        self._refresh(s.fold)
-        dt = 0.0 if self._t_last is None else max(0.0, t - self._t_last)
+        fold = s.fold
+        if not abs(fold - self._coef_fold) < 1e-3:
+            self._refresh(fold)
+        tl = self._t_last
+        if tl is None:
+            dt = 0.0
+        else:
+            dt = t - tl
+            if not dt > 0.0:
+                dt = 0.0
         self._t_last = t
-        qbar = max(s.qbar, 1.0)
+        qbar = s.qbar
+        if 1.0 > qbar:
+            qbar = 1.0
         p, q, r = s.p, s.q, s.r
+        S = self._S
         # pitch: alpha second-order response + integral, feed-forward trim
         e_a = self.alpha_cmd - s.alpha
-        self._int += e_a * dt
-        self._int = max(-0.2, min(0.2, self._int))
-        m_des = self._iyy * (gn.w_alpha**2 * (e_a + gn.ki_alpha * self._int) - 2 * gn.z_alpha * gn.w_alpha * q)
-        de = self._de_trim + m_des / (qbar * self._S * self._c * self._cm_de)
+        ia = self._int + e_a * dt
+        ia = ia if ia < 0.2 else 0.2
+        ia = ia if ia > -0.2 else -0.2
+        self._int = ia
+        w = gn.w_alpha
+        m_des = self._iyy * (w**2 * (e_a + gn.ki_alpha * ia) - 2 * gn.z_alpha * w * q)
+        de = self._de_trim + m_des / (qbar * S * self._c * self._cm_de)
         # roll: bank response
         phi, theta, psi = s.phi, s.theta, s.psi
         phi_c = self.phi_cmd
-        if self.psi_cmd is not None:
-            e_psi = math.atan2(math.sin(self.psi_cmd - psi), math.cos(self.psi_cmd - psi))
-            phi_c = max(-gn.phi_max, min(gn.phi_max, gn.k_psi * e_psi))
+        psi_cmd = self.psi_cmd
+        if psi_cmd is not None:
+            e_psi = atan2(sin(psi_cmd - psi), cos(psi_cmd - psi))
+            pm = gn.phi_max
+            phi_c = gn.k_psi * e_psi
+            phi_c = phi_c if phi_c < pm else pm
+            phi_c = phi_c if phi_c > -pm else -pm
         e_phi = phi_c - phi
-        self._int_phi = max(-0.5, min(0.5, self._int_phi + e_phi * dt))
-        l_des = self._ixx * (gn.w_phi**2 * (e_phi + gn.ki_phi * self._int_phi) - 2 * gn.z_phi * gn.w_phi * p)
-        da = l_des / (qbar * self._S * self._b * self._cl_da)
+        ip = self._int_phi + e_phi * dt
+        ip = ip if ip < 0.5 else 0.5
+        ip = ip if ip > -0.5 else -0.5
+        self._int_phi = ip
+        w = gn.w_phi
+        l_des = self._ixx * (w**2 * (e_phi + gn.ki_phi * ip) - 2 * gn.z_phi * w * p)
+        qSb = qbar * S * self._b
+        da = l_des / (qSb * self._cl_da)
         # yaw: damp r about the coordinated-turn rate, null sideslip
-        v = max(s.airspeed, 1.0)
-        r_c = 9.81 * math.sin(phi) * math.cos(theta) / v
-        n_des = -self._izz * 2 * gn.w_r * (r - r_c) + gn.k_beta * qbar * self._S * self._b * self._cn_beta * s.beta
-        dr = n_des / (qbar * self._S * self._b * self._cn_dr)
-        surf = Surfaces(
-            aileron=_clip(da / self._lim_a), elevator=_clip(de / self._lim_e), rudder=_clip(dr / self._lim_r),
-            throttle=self.throttle, fold_cmd=self.fold_cmd,
-        )
+        v = s.airspeed
+        if 1.0 > v:
+            v = 1.0
+        r_c = 9.81 * sin(phi) * cos(theta) / v
+        n_des = -self._izz * 2 * gn.w_r * (r - r_c) + gn.k_beta * qbar * S * self._b * self._cn_beta * s.beta
+        dr = n_des / (qSb * self._cn_dr)
+        a, e, rr = da / self._lim_a, de / self._lim_e, dr / self._lim_r
+        surf = Surfaces._checked_fast(
+            -1.0 if a < -1.0 else 1.0 if a > 1.0 else (a if a == a else 0.0),
+            -1.0 if e < -1.0 else 1.0 if e > 1.0 else (e if e == e else 0.0),
+            -1.0 if rr < -1.0 else 1.0 if rr > 1.0 else (rr if rr == rr else 0.0),
+            self.throttle, self.fold_cmd)
         return surf, self.winch
 
 

@@ -38,12 +38,33 @@ class Surfaces:
                     raise InputError(f"Surfaces.{name}: {v!r} out of range (allowed {lo:g} .. {hi:g})")
 
     @classmethod
+    def _checked_fast(cls, aileron: float, elevator: float, rudder: float, throttle: float,
+                      fold_cmd: float) -> "Surfaces":
+        """The same as ``Surfaces(...)`` (same range checks and errors), built without the
+        frozen dataclass's per-field ``object.__setattr__`` calls (controllers' hot path)."""
+        if not (-1.0 <= aileron <= 1.0 and -1.0 <= elevator <= 1.0 and -1.0 <= rudder <= 1.0
+                and 0.0 <= throttle <= 1.0 and 0.0 <= fold_cmd <= 1.0):
+            return cls(aileron, elevator, rudder, throttle, fold_cmd)  # raises the one-line error
+        o = _new(cls)
+        _set_a(o, aileron)
+        _set_e(o, elevator)
+        _set_r(o, rudder)
+        _set_t(o, throttle)
+        _set_f(o, fold_cmd)
+        return o
+
+    @classmethod
     def saturated(cls, aileron: float = 0.0, elevator: float = 0.0, rudder: float = 0.0,
                   throttle: float = 0.0, fold_cmd: float = 0.0) -> "Surfaces":
         """Commands saturated to their ranges (NaN becomes 0)."""
         def c(v: float, lo: float, hi: float) -> float:
             return lo if v < lo else hi if v > hi else (v if v == v else 0.0)
         return cls(c(aileron, -1, 1), c(elevator, -1, 1), c(rudder, -1, 1), c(throttle, 0, 1), c(fold_cmd, 0, 1))
+
+
+_new = object.__new__
+_set_a, _set_e, _set_r, _set_t, _set_f = (Surfaces.__dict__[n].__set__
+                                         for n in ("aileron", "elevator", "rudder", "throttle", "fold_cmd"))
 
 
 class SixDofState:
