@@ -228,10 +228,13 @@ class CoSim:
                 except InputError as exc:
                     event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
                     break
-                f = gs_out.force_on_glider_ned
-                if type(f) is ndarray:
-                    f = f.tolist()
-                fx, fy, fz = f[0], f[1], f[2]
+                try:
+                    fx, fy, fz = gs_out.force_xyz
+                except AttributeError:  # a ground station whose output has no force_xyz
+                    f = gs_out.force_on_glider_ned
+                    if type(f) is ndarray:
+                        f = f.tolist()
+                    fx, fy, fz = f[0], f[1], f[2]
                 if not isfinite(fx + fy + fz):
                     event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")
                     break

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from math import isfinite
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -74,27 +74,83 @@ class WinchCommand:
             _finite("WinchCommand.boost_duty", self.boost_duty, lo=0.0, hi=1.0)
 
 
-@dataclass(slots=True)
 class GroundStationOutput:
     """Ground-station output of one step (SI). Tension/powers are means over the step;
-    speeds, current and voltages are end-of-step values."""
+    speeds, current and voltages are end-of-step values.
 
-    force_on_glider_ned: np.ndarray  #: N, line force acting ON the glider (tension + drag/weight shares)
-    tension: float  #: N, mean line tension over the step
-    length: float  #: m, unstretched paid-out length
-    reel_speed: float  #: m/s, > 0 reel-out
-    omega: float  #: rad/s, drum speed (> 0 reel-out)
-    current: float  #: A, armature current (>= 0)
-    duty: float  #: T1 duty in motor mode, T2 (boost) duty in generator mode
-    mode: str  #: converter mode in effect ("generator" / "motor")
-    u_link: float  #: V, DC-link (load) capacitor voltage
-    p_electrical: float  #: W, mean (load power - supply power): > 0 delivered out of the station
-    event: str | None  #: None, "tether_break", "tether_fully_reeled_in", "tether_fully_paid_out"
-    machine_mode: str = "idle"  #: eq. 17 sign rule: "generator", "motor" or "idle"
-    p_mechanical: float = 0.0  #: W, mean tension x end reel speed at the drum
-    distance: float = 0.0  #: m, winch-glider distance at the start of the step
-    slack: bool = False  #: line slack (d <= l) at the end of the step
-    broken: bool = False  #: line broken (no force from now on)
+    Fields (constructor order): ``force_on_glider_ned`` N, line force acting ON the glider
+    (tension + drag/weight shares; given as an array or three floats, read as an array);
+    ``tension`` N, mean line tension over the step; ``length`` m, unstretched paid-out length;
+    ``reel_speed`` m/s, > 0 reel-out; ``omega`` rad/s, drum speed (> 0 reel-out); ``current`` A,
+    armature current (>= 0); ``duty`` T1 duty in motor mode, T2 (boost) duty in generator mode;
+    ``mode`` converter mode in effect ("generator" / "motor"); ``u_link`` V, DC-link (load)
+    capacitor voltage; ``p_electrical`` W, mean (load power - supply power): > 0 delivered out
+    of the station; ``event`` None, "tether_break", "tether_fully_reeled_in",
+    "tether_fully_paid_out"; ``machine_mode`` eq. 17 sign rule: "generator", "motor" or "idle";
+    ``p_mechanical`` W, mean tension x end reel speed at the drum; ``distance`` m, winch-glider
+    distance at the start of the step; ``slack`` line slack (d <= l) at the end of the step;
+    ``broken`` line broken (no force from now on).
+
+    ``force_xyz`` gives the force as a tuple of three floats (the co-simulation's hot path: the
+    array is only built when ``force_on_glider_ned`` is read).
+    """
+
+    __slots__ = ("_force", "tension", "length", "reel_speed", "omega", "current", "duty", "mode", "u_link",
+                 "p_electrical", "event", "machine_mode", "p_mechanical", "distance", "slack", "broken")
+
+    def __init__(self, force_on_glider_ned: Any, tension: float, length: float, reel_speed: float, omega: float,
+                 current: float, duty: float, mode: str, u_link: float, p_electrical: float, event: str | None,
+                 machine_mode: str = "idle", p_mechanical: float = 0.0, distance: float = 0.0,
+                 slack: bool = False, broken: bool = False) -> None:
+        self._force = force_on_glider_ned
+        self.tension = tension
+        self.length = length
+        self.reel_speed = reel_speed
+        self.omega = omega
+        self.current = current
+        self.duty = duty
+        self.mode = mode
+        self.u_link = u_link
+        self.p_electrical = p_electrical
+        self.event = event
+        self.machine_mode = machine_mode
+        self.p_mechanical = p_mechanical
+        self.distance = distance
+        self.slack = slack
+        self.broken = broken
+
+    @property
+    def force_on_glider_ned(self) -> np.ndarray:
+        """N, line force acting ON the glider, NED (3,) array."""
+        f = self._force
+        if type(f) is not np.ndarray:
+            f = self._force = np.array(f, dtype=float)
+        return f
+
+    @force_on_glider_ned.setter
+    def force_on_glider_ned(self, value: Any) -> None:
+        self._force = value
+
+    @property
+    def force_xyz(self) -> tuple[float, float, float]:
+        """The line force on the glider as three floats (N, NED)."""
+        f = self._force
+        if type(f) is np.ndarray:
+            f = f.tolist()
+        return (f[0], f[1], f[2]) if type(f) is not tuple else f
+
+    _FIELDS = ("force_on_glider_ned",) + __slots__[1:]
+
+    def __repr__(self) -> str:
+        return "GroundStationOutput(" + ", ".join(f"{n}={getattr(self, n)!r}" for n in self._FIELDS) + ")"
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return all(np.array_equal(getattr(self, n), getattr(other, n)) if n == "force_on_glider_ned"
+                   else getattr(self, n) == getattr(other, n) for n in self._FIELDS)
+
+    __hash__ = None  # type: ignore[assignment]  # mutable, like the dataclass it replaces
 
 
 class GroundStation:
@@ -253,5 +309,5 @@ class GroundStation:
         mm = "idle" if (w == 0.0 or i <= 0.0) else ("generator" if -(1.0 if w > 0.0 else -1.0) * self._k * i < 0.0
                                                   else "motor")
         return GroundStationOutput(
-            np.array((fx, fy, fz)), tmean, dtr.length, r * w, w, i, dtr.duty, mode,
+            (fx, fy, fz), tmean, dtr.length, r * w, w, i, dtr.duty, mode,
             dtr.u_link, pload - psup, event, mm, tmean * r * w, d, dtr.stretch <= 0.0, dtr.broken)
