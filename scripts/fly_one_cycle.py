@@ -66,7 +66,9 @@ def main(argv: list[str] | None = None) -> int:
     ref = TrackingReference.from_ocp_file(str(ref_file))
     dt = 1.0 / 120.0
     with FlightProgress(ref.period, dt, desc="flying one cycle", quiet=quiet) as bar:
-        report = fly(ref, config=args.config, cycles=1, dt=dt, on_step=bar)
+        # the plant follows the scenario (the reference file's, when one is given)
+        plant = ref.meta.get("scenario") if args.reference and ref.meta.get("scenario") in ("physical", "paper") else args.scenario
+        report = fly(ref, config=args.config, cycles=1, dt=dt, on_step=bar, plant=plant)
     print(f"flown: {report.status} ({report.message}), {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s")
     written["flight"] = flight_outputs(report, ref, out_dir=out)
     if args.figure:

@@ -48,7 +48,12 @@ def flight_markdown(report: Any, title: str | None = None) -> str:
     out = [f"# {head}", "",
            f"- status: **{r.status}** ({r.message})",
            f"- simulated {r.sim_time_s:.2f} s in {r.wall_s:.2f} s wall time ({r.realtime_factor:.0f}x real time)",
-           f"- energy ledger residual (relative to the largest term): {r.ledger_residual_rel:.2e}", ""]
+           f"- energy ledger residual (relative to the largest term): {r.ledger_residual_rel:.2e}"]
+    if getattr(r, "plant", None):
+        from ..flight import PLANT_NOTES
+
+        out.append(f"- plant: {r.plant} ({PLANT_NOTES.get(r.plant, '')})")
+    out.append("")
     header = ["cycle", "T1 [s]", "T2 [s]", "E_generated [J]", "E_thrust [J]", "E_reel_in [J]", "E_net [J]",
               "P_avg [W]", "track rms [m]", "track max [m]", "complete"]
     rows = []
