@@ -75,3 +75,26 @@ def test_periodic_sampling_and_phase():
     assert ref.sample(3.0).phase == 0 and ref.sample(7.0).phase == 1
     s = ref.sample(23.0)
     assert s.cycle == 2 and s.t_cycle == pytest.approx(3.0) and s.phase == 0
+
+
+def test_a_heading_error_does_not_turn_the_turn_into_a_brake():
+    """Reference: a level 2 g turn at constant speed. With the glider's velocity 20 deg off the
+    reference heading (same speed, on the path), the centripetal acceleration is fed forward
+    across the glider's velocity: the thrust asked for stays that of the turn itself (drag),
+    instead of the brake a NED feed-forward would ask for (|a| sin 20 deg ~ 6.7 m/s^2)."""
+    g = load_glider()
+    gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35,
+                          phi_max=1.4, thrust_max=8.0, energy_trade=0.0)
+    gd = Guidance(gains, g.unfolded.mass.mass, g.unfolded.aero, g.folded.aero)
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    V, a = 20.0, 2.0 * 9.81
+    ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, a, 0.0]),
+                   V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
+    wind = np.zeros(3)
+    on = gd.update(ref, ref.pos, ref.vel, wind, np.zeros(3), 0.0, 0.0)
+    c, s = math.cos(math.radians(20.0)), math.sin(math.radians(20.0))
+    off = gd.update(ref, ref.pos, np.array([V * c, -V * s, 0.0]), wind, np.zeros(3), 0.0, 0.0)
+    assert on.thrust > 0.5  # the drag of a 2 g turn at 20 m/s
+    assert off.thrust == pytest.approx(on.thrust, rel=1e-6)
+    assert off.alpha == pytest.approx(on.alpha, rel=1e-6)

@@ -115,8 +115,8 @@ class Guidance:
         if n > k.a_max:
             corr *= k.a_max / n
         # feed-forward of the reference acceleration in the path's own axes: its tangential
-        # part along the glider's air velocity, its normal (turning) part across it. Taken in
-        # NED as it stands, a heading error would turn the reference's centripetal
+        # part along the glider's air velocity, its normal (turning) part, same size, across
+        # it. Taken in NED as it stands, a heading error would turn the reference's centripetal
         # acceleration (up to 3 g on a pumping loop) into a demand to brake or to accelerate
         # (thrust cut, lift raised by the energy trade, the glider slows and falls behind).
         a_ff = ref.acc
@@ -129,7 +129,11 @@ class Guidance:
             t_now = va0 / v0
             a_t = float(a_ff @ t_ref)
             a_n = a_ff - a_t * t_ref
-            a_ff = a_t * t_now + a_n - float(a_n @ t_now) * t_now
+            a_p = a_n - float(a_n @ t_now) * t_now
+            n_p, n_n = norm3(a_p), norm3(a_n)
+            if n_p > 1e-9:
+                a_p = a_p * (n_n / n_p)  # the turn keeps its rate
+            a_ff = a_t * t_now + a_p
         a_cmd = a_ff + corr
         F = self.m * (a_cmd - g_vec) - tether_force
         if taut:
