@@ -16,6 +16,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+import warnings
 from typing import Callable
 
 #: Event codes returned by :func:`substeps` (0: none).
@@ -242,7 +243,16 @@ def compiled() -> Callable | None:
         return None
     register_jitable(_piece)
     register_jitable(drum_speed)
-    return numba.njit(cache=True)(substeps)
+    f8, b1 = numba.float64, numba.boolean
+    # one explicit signature: compiled (or loaded from the cache) here, when the ground station
+    # is built, not inside the first co-simulation step; other argument types are converted
+    sig = (numba.int64,) + (f8,) * 7 + (b1,) * 5 + (f8,) * 16 + (f8[::1],)
+    try:
+        return numba.njit(sig, cache=True)(substeps)
+    except Exception as exc:  # a broken numba install must not stop a simulation
+        warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python loop runs instead",
+                      RuntimeWarning, stacklevel=2)
+        return None
 
 
 __all__ = ["CONSTANTS", "EVENTS", "compiled", "drum_speed", "substeps"]
