@@ -98,3 +98,29 @@ def test_a_heading_error_does_not_turn_the_turn_into_a_brake():
     assert on.thrust > 0.5  # the drag of a 2 g turn at 20 m/s
     assert off.thrust == pytest.approx(on.thrust, rel=1e-6)
     assert off.alpha == pytest.approx(on.alpha, rel=1e-6)
+
+
+@pytest.mark.parametrize("negative_lift", [False, True])
+def test_a_push_over_is_flown_with_negative_lift(negative_lift):
+    """Level flight at 20 m/s, reference accelerating down at 1.5 g: the air must push the
+    glider down (0.5 g net). With negative lift the wings stay level at a negative angle of
+    attack; without it the guidance can only bank to its limit."""
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    aero = g.unfolded.aero
+    gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.3, alpha_max=0.35,
+                          phi_max=1.1, thrust_max=8.0, negative_lift=negative_lift)
+    gd = Guidance(gains, g.unfolded.mass.mass, aero, g.folded.aero)
+    V = 20.0
+    ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, 0.0, 1.5 * 9.81]),
+                   V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
+    c = gd.update(ref, ref.pos, ref.vel, np.zeros(3), np.zeros(3), 0.0, 0.0)
+    down_force = g.unfolded.mass.mass * 0.5 * 9.81
+    if negative_lift:
+        assert c.mu == pytest.approx(0.0, abs=1e-9)
+        cl = -down_force / (0.5 * 1.225 * V * V * aero.S)
+        assert c.alpha == pytest.approx((cl - aero.CL0) / aero.CLalpha, rel=1e-6)
+        assert c.lift_coefficient == pytest.approx(cl, rel=1e-6)
+    else:
+        assert abs(c.mu) == pytest.approx(1.1)

@@ -34,6 +34,7 @@ class GuidanceGains:
     phi_max: float  #: wind-axis bank limit [rad]
     thrust_max: float  #: [N]
     energy_trade: float = 1.0  #: share of an unachievable along-path force turned into climb/dive [-]
+    negative_lift: bool = False  #: fly a lift demand pointing below the horizon with negative lift (push-over) instead of banking past the limit
 
 
 @dataclass(frozen=True)
@@ -169,16 +170,21 @@ class Guidance:
             else:
                 break
         L = norm3(F_perp)
-        # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
-        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
-        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-        thrust = min(max(F_par + drag, 0.0), k.thrust_max)
         # bank about the air velocity: lift direction relative to the unbanked "up"
         if L > 1e-6:
             eL = F_perp / L
             mu = math.atan2(float(eL @ right0), float(eL @ up0))
         else:
             eL, mu = up0, 0.0
+        if k.negative_lift and abs(mu) > math.pi - k.phi_max:
+            # the force points below the horizon, further than the bank limit reaches: push
+            # over (negative lift, wings banked the other way) instead of banking past it
+            mu -= math.copysign(math.pi, mu)
+            L = -L
+        # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
+        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
+        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+        thrust = min(max(F_par + drag, 0.0), k.thrust_max)
         mu = min(max(mu, -k.phi_max), k.phi_max)
         eL = math.cos(mu) * up0 + math.sin(mu) * right0
         # body axes: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL
