@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import time
+from array import array
 from dataclasses import dataclass
 from typing import Any, Callable, Protocol, Sequence
 
@@ -181,8 +182,9 @@ class CoSim:
         g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
         n = int(round(t_end / dt))
         # per-step records: raw JSBSim rows, ground-station tuples, commands (converted at the end)
-        raws: list[list[float]] = []
-        gsrec: list[tuple] = []
+        # (flat float arrays: turned into the result's columns without a per-row conversion)
+        raws = array("d")
+        gsrec = array("d")
         ctl: list[Surfaces] = []
         phases: list[int] = []
         labels: list[str] = []
@@ -190,8 +192,10 @@ class CoSim:
         s = g.state()
         t0 = s.t
         nan7 = (math.nan,) * 10
-        raws.append(g.raw())
-        gsrec.append(nan7)
+        raw0 = g.raw()
+        ncol = len(raw0)
+        raws.extend(raw0)
+        gsrec.extend(nan7)
         ctl.append(g.controls)
         phases.append(self._phase_code(ctrl, labels, codes))
         airborne = not s.on_ground
@@ -247,9 +251,9 @@ class CoSim:
                 k += 1
                 s = state()
                 r = s._r
-                raws.append(r)
+                raws.extend(r)
                 tension = gs_out.tension
-                gsrec.append((tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
+                gsrec.extend((tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
                               gs_out.duty, gs_out.p_electrical, fx, fy, fz))
                 ctl.append(surf)
                 if has_phase:
@@ -296,8 +300,10 @@ class CoSim:
             event = Event("interrupted", s.t, "interrupted by the user")
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
-        m = min(len(raws), len(gsrec), len(ctl))
-        data = self._assemble(raws[:m], gsrec[:m], ctl[:m], phases if has_phase else None)
+        m = min(len(raws) // ncol, len(gsrec) // 10, len(ctl))
+        data = self._assemble(np.frombuffer(raws, dtype=float).reshape(-1, ncol)[:m],
+                              np.frombuffer(gsrec, dtype=float).reshape(-1, 10)[:m], ctl[:m],
+                              phases if has_phase else None)
         status = "ok" if event is None else event.kind
         return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
                             steps=m - 1)
@@ -313,12 +319,12 @@ class CoSim:
             labels.append(str(ph))
         return code
 
-    def _assemble(self, raws: list, gsrec: list, ctl: list, phases: list | None) -> np.ndarray:
+    def _assemble(self, raws: np.ndarray, gsrec: np.ndarray, ctl: list, phases: list | None) -> np.ndarray:
         n = len(raws)
         data = np.full((n, len(COLUMNS)), np.nan)
         if n == 0:
             return data
-        si = self.glider.convert_raw(np.array(raws, dtype=float))
+        si = self.glider.convert_raw(raws)
         data[:, 0] = si["t"]
         data[:, 1:4] = si["pos_ned"]
         data[:, 4:7] = si["vel_ned"]
@@ -328,7 +334,7 @@ class CoSim:
         for col, key in ((17, "airspeed"), (18, "alpha"), (19, "beta"), (20, "fold"), (21, "thrust_N"),
                          (22, "prop_power_W"), (23, "load_factor")):
             data[:, col] = si[key]
-        data[:, 24:34] = np.array(gsrec, dtype=float)
+        data[:, 24:34] = gsrec
         data[:, 34:39] = np.array([(c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd) for c in ctl])
         if phases is not None:
             ph = np.array(phases[:n], dtype=float)
