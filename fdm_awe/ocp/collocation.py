@@ -22,8 +22,15 @@ Radau quadrature), plus a small penalty on control changes between intervals tha
 reference smooth for the autopilot (``REG_WEIGHT``; reported energies never include it).
 
 Parameters of the NLP (changeable without rebuilding): wind north/east [m/s], the tether-drag
-homotopy factor (0..1), the heading wrap count ``k`` and the recovery-aerodynamics morph
-(0 = unfolded, 1 = the configuration's recovery form; a homotopy path for the foldable glider).
+homotopy factor (0..1), the heading wrap count ``k``, the recovery-aerodynamics morph
+(0 = unfolded, 1 = the configuration's recovery form; a homotopy path for the foldable glider),
+the weight of the elastic penalty and the thrust-bound blend (1 = ``T <= T_avail(V)``, 0 = the
+static ``T_max``; used to show where the foldable cycle's infeasibility comes from).
+
+Elastic mode (a feasibility aid): every recovery interval carries fictitious accelerations on
+the airspeed, flight-path-angle and heading equations, each the difference of two non-negative
+variables with an exact L1 penalty. Their bounds are [0, 0] (the strict problem, the only one
+whose solutions are reported) unless :meth:`CycleNLP.solve` is called with ``elastic=True``.
 """
 
 from __future__ import annotations
@@ -48,7 +55,17 @@ P_SCALE = 10.0  #: objective scale [W]
 STATE_SCALE = {"x": 100.0, "y": 100.0, "z": 100.0, "V": 10.0, "gamma": 1.0, "psi": 1.0, "l": 100.0}
 CONTROL_SCALE = {"alpha": 0.3, "phi": 1.0, "T": 5.0, "G": 30.0, "v_reel": 5.0}
 TIME_SCALE = 10.0
-NP = 5  #: number of NLP parameters
+NP = 7  #: number of NLP parameters
+#: elastic slacks of the recovery dynamics: fictitious accelerations added to the airspeed
+#: [m/s^2], flight-path-angle and heading [rad/s] equations, one value per interval, each split
+#: into a positive and a negative part (scale of the variables)
+SLACK_SCALE = {"V": 1.0, "gamma": 0.1, "psi": 0.1}
+#: IPOPT defaults of every solve: iterations per solve (the deterministic limit) and a CPU-time
+#: safety net [s]
+DEFAULT_MAX_ITER = 500
+DEFAULT_MAX_CPU_S = 900.0
+#: upper bound of a scaled elastic slack when the elastic mode is on (0 when off)
+SLACK_MAX = 100.0
 
 
 def radau_coefficients(d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -129,7 +146,7 @@ class CycleNLP:
         pr, m = self.problem, self.model
         bnd = pr.bounds
         d, C, B = self.d, self.C, self.B
-        p_sym = ca.SX.sym("p", NP)  # wind north, wind east, tether-drag factor, heading wrap k, morph
+        p_sym = ca.SX.sym("p", NP)  # wind north, wind east, tether-drag factor, heading wrap k, morph, penalty
         wind = (p_sym[0], p_sym[1])
         drag = p_sym[2]
         kwrap = p_sym[3]
@@ -171,6 +188,8 @@ class CycleNLP:
         P0 = pr.start_position
         E_gen = E_thr = E_rw = 0.0
         reg = 0.0
+        slack_sum = 0.0
+        self.idx_slack: list[int] = []
         for ip, ph in enumerate(self.phases):
             a_hi = m.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
             ctrl_bounds = {"alpha": (-bnd.alpha_max, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
@@ -205,6 +224,16 @@ class CycleNLP:
                     u_ids.append(i)
                 ph.idx_U[k] = u_ids
                 ph.U.append(u)
+                extra = [0.0] * nx
+                if ip == 1:  # elastic slacks (bounds [0, 0] unless the elastic mode opens them)
+                    for i_s, s_name in enumerate(ph.states):
+                        if s_name not in SLACK_SCALE:
+                            continue
+                        sp, i_p = new_var(f"slack+_{s_name}_p1_{k}", SLACK_SCALE[s_name], 0.0, 0.0)
+                        sn, i_n = new_var(f"slack-_{s_name}_p1_{k}", SLACK_SCALE[s_name], 0.0, 0.0)
+                        self.idx_slack += [i_p, i_n]
+                        extra[i_s] = sp - sn
+                        slack_sum = slack_sum + (sp + sn) / SLACK_SCALE[s_name]
                 pts = [node]
                 ph.idx_X[k, 0] = node_ids
                 for j in range(1, d + 1):
@@ -221,7 +250,7 @@ class CycleNLP:
                     fj, pw, path = F(ca.vertcat(*pts[j]), uv, p_sym)
                     for i_s in range(nx):
                         xp = sum(C[r, j] * pts[r][i_s] for r in range(d + 1))
-                        add((xp - h * fj[i_s]) / xs[i_s], 0.0, 0.0, f"coll_p{ip}_{k}_{j}_{ph.states[i_s]}")
+                        add((xp - h * (fj[i_s] + extra[i_s])) / xs[i_s], 0.0, 0.0, f"coll_p{ip}_{k}_{j}_{ph.states[i_s]}")
                     self._path(ip, path, add, f"p{ip}_{k}_{j}")
                     E_gen = E_gen + B[j] * h * pw[0]
                     E_thr = E_thr + B[j] * h * pw[1]
@@ -251,7 +280,7 @@ class CycleNLP:
         add((gen.T + rec.T) / TIME_SCALE, 0.0, bnd.t_max / TIME_SCALE, "t_max")
 
         P_avg = (E_gen - E_thr - E_rw) / (gen.T + rec.T)
-        J = -P_avg / P_SCALE + REG_WEIGHT * reg
+        J = -P_avg / P_SCALE + REG_WEIGHT * reg + p_sym[5] * slack_sum / max(1, len(self.phases[1].U))
         self.nlp = {"x": ca.vertcat(*w_parts), "p": p_sym, "f": J, "g": ca.vertcat(*g)}
         self.lbw, self.ubw = np.array(lbw), np.array(ubw)
         self.lbg, self.ubg = np.array(lbg), np.array(ubg)
@@ -271,8 +300,10 @@ class CycleNLP:
         else:
             path = [out["l"] - out["d"]]
         if self.model.scenario.propeller == "physical":
-            # thrust within what the propeller gives at this airspeed (full throttle)
-            path.append(self.model.gen_airframe.propulsion.thrust_available(s[3]) - u[2])
+            # thrust within what the propeller gives at this airspeed (full throttle); p[6] < 1
+            # blends the bound towards the static T_max (a homotopy path only)
+            prop = self.model.gen_airframe.propulsion
+            path.append(p[6] * (prop.thrust_available(s[3]) - prop.T_max) + prop.T_max - u[2])
         return ca.Function(f"phase{ip}", [s, u, p], [ca.vertcat(*out["f"]), ca.vertcat(out["P_gen"], out["P_thr"], out["P_rw"]),
                                                      ca.vertcat(*path)])
 
@@ -288,16 +319,34 @@ class CycleNLP:
             add(path[-1] / 5.0, 0.0, ca.inf, f"thrust_avail_{tag}")
 
     # ------------------------------------------------------------------ solve
-    def params(self, wind_ned: tuple[float, float], drag_factor: float = 1.0, k_wrap: int = 0, morph: float = 1.0) -> np.ndarray:
+    def params(self, wind_ned: tuple[float, float], drag_factor: float = 1.0, k_wrap: int = 0, morph: float = 1.0,
+               penalty: float = 0.0, thrust_bound: float = 1.0) -> np.ndarray:
         """NLP parameter vector: wind north/east [m/s], tether-drag factor, heading wrap count,
-        recovery-aerodynamics morph (1 = the configuration's own recovery form)."""
-        return np.array([wind_ned[0], wind_ned[1], drag_factor, float(k_wrap), morph])
+        recovery-aerodynamics morph (1 = the configuration's own recovery form), weight of the
+        exact (L1) penalty on the elastic slacks (used only in the elastic mode), and the
+        thrust-bound blend (1 = ``T <= T_avail(V)``, 0 = ``T <= T_max``; < 1 only on a homotopy
+        path)."""
+        return np.array([wind_ned[0], wind_ned[1], drag_factor, float(k_wrap), morph, penalty, thrust_bound])
+
+    def max_slack(self, w: np.ndarray) -> float:
+        """Largest elastic slack in ``w`` (scaled; 0 for a solution of the strict problem)."""
+        return float(np.max(np.abs(w[self.idx_slack]))) if self.idx_slack else 0.0
 
     def solve(self, w0: np.ndarray, params: np.ndarray, lam_x0: np.ndarray | None = None,
-              lam_g0: np.ndarray | None = None, options: dict | None = None) -> RawSolution:
-        """Run IPOPT from the scaled start ``w0``; ``lam_*`` enable a warm start."""
+              lam_g0: np.ndarray | None = None, options: dict | None = None, elastic: bool = False) -> RawSolution:
+        """Run IPOPT from the scaled start ``w0``; ``lam_*`` enable a warm start. ``elastic``
+        opens the bounds of the recovery's elastic slacks (a feasibility aid: such a solution
+        only serves as a start of the strict problem, whose slacks are fixed at zero)."""
         solver = self._solver(options)
-        args = {"x0": np.clip(w0, self.lbw, self.ubw), "p": params, "lbx": self.lbw, "ubx": self.ubw,
+        ubw = self.ubw
+        if elastic:
+            ubw = self.ubw.copy()
+            ubw[self.idx_slack] = SLACK_MAX
+        else:
+            w0 = np.array(w0, float)
+            w0[self.idx_slack] = 0.0
+            lam_x0 = None if lam_x0 is None else np.where(np.isin(np.arange(self.nw), self.idx_slack), 0.0, lam_x0)
+        args = {"x0": np.clip(w0, self.lbw, ubw), "p": params, "lbx": self.lbw, "ubx": ubw,
                 "lbg": self.lbg, "ubg": self.ubg}
         if lam_x0 is not None:
             args["lam_x0"] = lam_x0
@@ -326,8 +375,8 @@ class CycleNLP:
 
     def _base_opts(self) -> dict:
         return {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.linear_solver": "mumps",
-                "ipopt.max_iter": 500, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9, "ipopt.acceptable_iter": 0,
-                "ipopt.mu_strategy": "adaptive", "ipopt.max_cpu_time": 60.0}
+                "ipopt.max_iter": DEFAULT_MAX_ITER, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9,
+                "ipopt.acceptable_iter": 0, "ipopt.mu_strategy": "adaptive", "ipopt.max_cpu_time": DEFAULT_MAX_CPU_S}
 
     # ------------------------------------------------------------------ unpack
     def unpack(self, w: np.ndarray) -> list[dict[str, np.ndarray]]:

@@ -7,19 +7,22 @@ IPOPT reports success AND the scaled constraints hold within :data:`VIOLATION_TO
 Strategy (cold): for each start of :func:`fdm_awe.ocp.guess.default_starts` solve the NLP; if
 it fails and the scenario has tether drag, retry by homotopy (tether drag factor 0 -> 0.5 -> 1,
 each step started from the previous solution); for the foldable glider, finally through the
-nominal recovery (aerodynamics morphed 0 -> 1). Starts are tried until ``n_starts`` succeeded;
+nominal recovery (aerodynamics morphed 0 -> 1); the foldable glider first tries an elastic solve
+(fictitious accelerations in the recovery dynamics, exact L1 penalty) whose result starts the
+strict problem only if every slack vanished (a feasibility aid, never a relaxation: a result
+always satisfies the strict problem). Starts are tried until ``n_starts`` succeeded;
 the best average power among them is kept. Warm: start from a previous result of the same NLP
 structure (e.g. the neighbouring wind speed of a sweep) with its multipliers; on failure fall
 back to the cold strategy.
 
-Built NLPs are cached per structure (scenario, configuration, geometry, bounds, mesh) in the
+Limits are iteration counts (per attempt and in total, deterministic); wall time is only a
+safety net. Built NLPs are cached per structure (scenario, configuration, geometry, bounds, mesh) in the
 process, so sweeps and repeated solves pay the build once.
 """
 
 from __future__ import annotations
 
 import math
-import time
 from collections import OrderedDict
 from typing import Any
 
@@ -27,7 +30,7 @@ import numpy as np
 
 from ..definitions.aircraft import Glider, load_glider
 from ..pointmass import wind_vector
-from .collocation import CycleNLP, RawSolution
+from .collocation import DEFAULT_MAX_CPU_S, DEFAULT_MAX_ITER, CycleNLP, RawSolution
 from .energy import WinchElectrics
 from .guess import LoopStart, default_starts, guess_from_result, loop_guess
 from .model import CycleModel
@@ -36,6 +39,16 @@ from .result import CycleResult
 
 #: largest scaled constraint violation accepted as a solution
 VIOLATION_TOL = 1e-6
+
+#: IPOPT iterations per attempt (one NLP solve) and over all attempts of one ``solve_cycle``
+MAX_ITER = DEFAULT_MAX_ITER
+MAX_ITER_TOTAL = 3000
+#: wall-clock safety net [s] of one ``solve_cycle`` (the iteration budget is the primary limit)
+SAFETY_WALL_S = DEFAULT_MAX_CPU_S
+#: weight of the exact L1 penalty on the elastic slacks (per recovery interval, relative to the
+#: scaled objective) and the largest scaled slack counted as zero
+ELASTIC_PENALTY = 1000.0
+ELASTIC_SLACK_TOL = 1e-6
 
 #: mesh of the first, cheap solve of a cold start; the target mesh is then solved from its
 #: interpolated solution (mesh continuation)
@@ -47,8 +60,11 @@ _CACHE: "OrderedDict[tuple, CycleNLP]" = OrderedDict()
 #: variants walks each variant's wind chain, so a few entries give every chain one build
 CACHE_SIZE = 8
 
+#: warm start: primal-dual restart with a small monotone barrier (measured at the default mesh,
+#: physical nominal 8 -> 8.25 / 8.5 m/s: 188 / 199 iterations where the adaptive barrier from
+#: mu 1e-4 took 211 and at +0.5 m/s lost the warm start)
 WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-6,
-                "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-4}
+                "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-5, "ipopt.mu_strategy": "monotone"}
 
 
 def structure_key(problem: CycleProblem) -> tuple:
@@ -85,14 +101,20 @@ def clear_cache() -> None:
 def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, starts: list[LoopStart] | None = None,
                 n_starts: int = 1, glider: Glider | None = None, winch: WinchElectrics | None = None,
                 ipopt_options: dict | None = None, cache: bool = True, coarse: Mesh | None | bool = True,
-                time_budget_s: float = 180.0) -> CycleResult:
+                time_budget_s: float = SAFETY_WALL_S, max_iter: int = MAX_ITER, max_iter_total: int = MAX_ITER_TOTAL) -> CycleResult:
     """Optimise one pumping cycle (see the module docstring).
 
     ``warm``: a previous result; the same NLP structure restarts with its multipliers, any
     other (different mesh or scenario) is interpolated as the initial guess. ``coarse``: mesh
     of a first cheap solve of each cold start (``True``: :data:`COARSE_MESH` when the target mesh
-    is finer; ``None``/``False``: solve the target mesh directly). ``time_budget_s``: no new
-    attempt starts after this much solver time (the result then fails with that reason).
+    is finer; ``None``/``False``: solve the target mesh directly).
+
+    Limits (deterministic first): ``max_iter`` IPOPT iterations per attempt (an
+    ``ipopt.max_iter`` in ``ipopt_options`` takes precedence), ``max_iter_total`` over all
+    attempts of this call (checked before each attempt, so the last one may overrun it by at most
+    one attempt). ``time_budget_s`` is only a wall-clock safety net (no new attempt after this
+    much solver time; also IPOPT's CPU-time limit per attempt): with the defaults the iteration
+    budget decides, so a busy machine does not change a result.
     """
     problem = problem.validate()
     if coarse is True:
@@ -100,39 +122,56 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     if coarse and warm is None:
         from dataclasses import replace as _replace
 
-        t0 = time.perf_counter()
         first = solve_cycle(_replace(problem, mesh=coarse), starts=starts, n_starts=n_starts, glider=glider,
                             winch=winch, ipopt_options=ipopt_options, cache=cache, coarse=None,
-                            time_budget_s=time_budget_s)
+                            time_budget_s=time_budget_s, max_iter=max_iter, max_iter_total=max_iter_total)
         if first.ok:
             res = solve_cycle(problem, warm=first, glider=glider, winch=winch, ipopt_options=ipopt_options,
-                              cache=cache, coarse=None, time_budget_s=time_budget_s)
+                              cache=cache, coarse=None,
+                              time_budget_s=time_budget_s, max_iter=max_iter,
+                              max_iter_total=max(max_iter_total - first.iterations, 1))
             res.build_s += first.build_s
             res.solve_s += first.solve_s
             res.iterations += first.iterations
             if res.ok:
                 res.start = f"{first.start}, refined from mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}"
-                return res
-        del t0
+            return res
+        # the coarse mesh found no cycle: the target mesh is not tried cold (same starts, same
+        # strategy, many more variables); the reason names the coarse mesh
+        first.reason = f"mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}: {first.reason}"
+        first.problem, first.key = problem, structure_key(problem)
+        return first
     nlp, build_s = get_nlp(problem, glider, winch, cache)
     wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
     total_s = 0.0
     total_it = 0
     reasons: list[str] = []
+    # options differing from the NLP's defaults (each distinct option set builds its own solver)
+    base_opts: dict[str, Any] = {}
+    if int(max_iter) != MAX_ITER:
+        base_opts["ipopt.max_iter"] = int(max_iter)
+    if float(time_budget_s) != SAFETY_WALL_S:
+        base_opts["ipopt.max_cpu_time"] = float(max(time_budget_s, 1.0))
+    base_opts.update(ipopt_options or {})
 
-    def run(w0: np.ndarray, k: int, drag: float, morph: float = 1.0, lam_x=None, lam_g=None, opts=None) -> RawSolution:
+    def run(w0: np.ndarray, k: int, drag: float, morph: float = 1.0, lam_x=None, lam_g=None, opts=None,
+            elastic: bool = False) -> RawSolution:
         nonlocal total_s, total_it
-        if total_s > time_budget_s:
-            return RawSolution("failed", f"time budget of {time_budget_s:g} s used up", 0, 0.0, w0, np.zeros_like(w0),
-                               np.zeros(len(nlp.lbg)), math.nan, nlp.params(wind, drag, k, morph))
-        o = dict(ipopt_options or {})
+        params = nlp.params(wind, drag, k, morph, ELASTIC_PENALTY if elastic else 0.0)
+        if total_it >= max_iter_total or total_s > time_budget_s:
+            why = (f"iteration budget of {max_iter_total} used up" if total_it >= max_iter_total
+                   else f"wall-time safety net of {time_budget_s:g} s reached")
+            return RawSolution("failed", why, 0, 0.0, w0, np.zeros_like(w0), np.zeros(len(nlp.lbg)), math.nan, params)
+        o = dict(base_opts)
         if opts:
             o.update(opts)
-        r = nlp.solve(w0, nlp.params(wind, drag, k, morph), lam_x, lam_g, o or None)
+        r = nlp.solve(w0, params, lam_x, lam_g, o or None, elastic=elastic)
         total_s += r.solve_s
         total_it += r.iterations
         return r
 
+    if warm is not None and warm.w is not None and len(warm.w) != nlp.nw:
+        warm = None  # a vector of another NLP layout (e.g. stored by an older version): start cold
     if warm is not None and warm.ok and warm.key == structure_key(problem) and warm.w is not None:
         r = run(warm.w, warm.k_wrap, 1.0, 1.0, warm.lam_x, warm.lam_g, WARM_OPTIONS)
         if _accept(nlp, r):
@@ -148,14 +187,24 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     foldable = problem.config == "foldable"
     drag_homotopy = nlp.model.scenario.tether_drag
 
+    elastic_slack: list[float] = []
+
     def attempt(w0: np.ndarray, k: int) -> RawSolution:
-        """Direct solve; on failure, for the foldable glider a continuation from the nominal
-        recovery (aerodynamics morphed 0 -> 1 in quarters), then (tether drag) a homotopy in
-        the tether drag (0 -> 0.5 -> 1)."""
+        """Direct solve; on failure, for the foldable glider an elastic solve (the recovery's
+        dynamics slacks open, exact L1 penalty) and the strict problem from it if its slacks
+        vanished, then a continuation from the nominal recovery (aerodynamics morphed 0 -> 1 in
+        quarters); then (tether drag) a homotopy in the tether drag (0 -> 0.5 -> 1)."""
         r = run(w0, k, 1.0, 1.0)
         if _accept(nlp, r):
             return r
         if foldable:
+            re = run(w0, k, 1.0, 1.0, elastic=True)
+            if re.status == "ok":
+                elastic_slack.append(nlp.max_slack(re.w))
+                if elastic_slack[-1] <= ELASTIC_SLACK_TOL:
+                    r = run(re.w, k, 1.0, 1.0)
+                    if _accept(nlp, r):
+                        return r
             w = w0
             for morph in (0.0, 0.25, 0.5, 0.75, 1.0):
                 r = run(w, k, 1.0, morph)
@@ -188,6 +237,10 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
             reasons.append(f"{st.label()}: {r.reason}")
     if best is None:
         reason = "; ".join(reasons) or "no start converged"
+        if elastic_slack and min(elastic_slack) > ELASTIC_SLACK_TOL:
+            reason = (f"no feasible cycle found: the elastic feasibility solves end with a fictitious acceleration "
+                      f"of {min(elastic_slack):.3g} (scaled) left in the folded recovery (locally infeasible; README: "
+                      f"the folded glider and T <= T_avail(V)); {reason}")
         return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
                            reason, total_s, build_s, total_it, problem=problem, key=structure_key(problem))
     _, r, k, label = best
