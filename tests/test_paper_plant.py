@@ -145,3 +145,15 @@ def test_paper_plant_flies_a_paper_cycle(paper_flight):
     doc = rep.as_json()
     assert doc["plant"] == "paper" and "kinematic winch" in doc["plant_note"]
     json.dumps(doc, allow_nan=False)
+
+
+def test_paper_plant_flight_is_deterministic():
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import fly
+
+    ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_foldable_3mps.json"))
+    docs = [fly(ref, config="foldable", cycles=1, plant="paper", t_end=6.0).as_json() for _ in range(2)]
+    for d in docs:
+        d.pop("wall_s")
+        d.pop("realtime_factor")
+    assert json.dumps(docs[0], sort_keys=True) == json.dumps(docs[1], sort_keys=True)
