@@ -34,15 +34,17 @@ def test_fly_rejects_bad_input_with_one_line_and_exit_2(tmp_path, capsys):
 
 
 def test_fly_command_writes_json_per_the_output_contract(tmp_path):
-    """A short headless flight of the stored reference through the command line."""
+    """A short headless flight of the stored reference through the command line; scenario and
+    configuration default to the reference file's."""
     from pathlib import Path
     import json
 
     ref = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
     out = tmp_path / "run.json"
-    rc = main(["fly", "--reference", str(ref), "--config", "nominal", "--cycles", "1", "--quiet", "--json", str(out)])
+    rc = main(["fly", "--reference", str(ref), "--cycles", "1", "--quiet", "--json", str(out)])
     doc = json.loads(out.read_text())
     assert rc == 0 and doc["status"] == "ok"
+    assert (doc["scenario"], doc["config"]) == ("physical", "nominal")
     for key in ("scenario", "config", "wind_mps", "status", "sim_time_s", "wall_s", "realtime_factor",
                 "ledger_residual_rel", "cycles"):
         assert key in doc

@@ -48,7 +48,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scenario", choices=("physical", "paper"), default=None,
                    help="scenario of the reference to optimise and of the plant that flies it: physical (JSBSim propeller + "
                         "ground station) or paper (ideal thruster + kinematic winch); default physical, or the --reference file's")
-    p.add_argument("--config", choices=("foldable", "nominal"), default="foldable", help="foldable folds for recovery, nominal never folds")
+    p.add_argument("--config", choices=("foldable", "nominal"), default=None,
+                   help="foldable folds for recovery, nominal never folds; default foldable, or the --reference file's")
     p.add_argument("--wind", type=float, default=8.0, metavar="M/S", help="wind speed for the optimised reference (default 8)")
     p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG", help="wind direction, blowing from (default 180 = south)")
     p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles (default 3)")
@@ -84,8 +85,12 @@ def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
     from ..errors import InputError
 
     if args.reference:
-        return TrackingReference.from_ocp_file(args.reference), Path(args.reference)
+        ref = TrackingReference.from_ocp_file(args.reference)
+        if args.config is None:
+            args.config = ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal") else "foldable"
+        return ref, Path(args.reference)
     args.scenario = args.scenario or "physical"
+    args.config = args.config or "foldable"
     from ..ocp.problem import CycleProblem
     from ..ocp.result import write_reference
     from ..ocp.solve import solve_cycle
