@@ -2,7 +2,10 @@
 
 import dataclasses
 import math
+import os
 import random
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -23,7 +26,7 @@ def _pair():
         pytest.skip("numba not installed (or FDM_AWE_JIT=0): only the Python loop runs")
     py, jit = GroundStation(P, wind_ned=(3.0, 0.0, 0.0)), GroundStation(P, wind_ned=(3.0, 0.0, 0.0))
     py.drivetrain._kernel = None
-    assert jit.drivetrain._kernel is not None
+    assert jit.drivetrain._kernel is not None and jit._step_kernel is not None  # the whole step compiled
     return py, jit
 
 
@@ -50,8 +53,9 @@ def _run(stations, steps):
     la, lb = py.ledger.as_dict(), jit.ledger.as_dict()
     assert la == lb
     d1, d2 = py.drivetrain, jit.drivetrain
-    for name in ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch"):
+    for name in ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "mode"):
         assert getattr(d1, name) == getattr(d2, name), name
+    assert np.array_equal(d1._s, d2._s)  # states and every ledger term, bit for bit
     return n
 
 
@@ -105,6 +109,30 @@ def test_end_stop_and_tether_break():
         steps.append((dt, tuple((200.0 * U + 8.0 * k * dt * U).tolist()), tuple((8.0 * U).tolist()), GEN))
     assert _run(st, steps) == len(steps)
     assert st[1].drivetrain.broken and st[1].ledger.break_release > 0.0
+
+
+def test_python_step_without_numba():
+    """FDM_AWE_JIT=0: nothing is compiled and the Python step gives the same numbers."""
+    code = ("import math\n"
+            "from fdm_awe.groundstation import GroundStation, WinchCommand\n"
+            "from fdm_awe.groundstation.substeps import compiled, compiled_station\n"
+            "assert compiled() is None and compiled_station() is None\n"
+            "gs = GroundStation(wind_ned=(3.0, 0.0, 0.0)); gs.reset(100.0, 0.0, 'generator')\n"
+            "for k in range(240):\n"
+            "    o = gs.step(1 / 120, (86.6 + 0.025 * k, 0.0, -50.0), (3.0, 0.0, 0.0), WinchCommand('generator'))\n"
+            "print(repr((o.tension, o.length, o.omega, gs.ledger.load, gs.ledger.residual())))\n")
+    env = dict(os.environ, FDM_AWE_JIT="0")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    py_vals = eval(out.stdout.strip())
+    if compiled() is None:
+        return
+    gs = GroundStation(wind_ned=(3.0, 0.0, 0.0))
+    gs.reset(100.0, 0.0, "generator")
+    for k in range(240):
+        o = gs.step(1 / 120, (86.6 + 0.025 * k, 0.0, -50.0), (3.0, 0.0, 0.0), WinchCommand("generator"))
+    assert py_vals == (o.tension, o.length, o.omega, gs.ledger.load, gs.ledger.residual())
+    assert o.tension > 0.0
 
 
 def test_drum_speed_without_lists_equals_the_winch_solver():

@@ -35,16 +35,62 @@ from .controller import pi_update
 from .converter import GENERATOR, MOTOR, link_coefficients
 from .machine import armature_coefficients
 from .definitions import GroundStationParams
-from .ledger import EnergyLedger
-from .substeps import EVENTS, compiled as compiled_substeps
+from .ledger import FIELDS as LEDGER_FIELDS, EnergyLedger
+from .substeps import EVENTS, STATE, compiled as compiled_substeps
 from .winch import solve_drum_speed
 
 
+def _state_float(i: int, name: str) -> property:
+    def get(self: "Drivetrain") -> float:
+        return self._s.item(i)
+
+    def set_(self: "Drivetrain", v: float) -> None:
+        self._s[i] = v
+
+    return property(get, set_, doc=name)
+
+
+def _state_bool(i: int, name: str) -> property:
+    def get(self: "Drivetrain") -> bool:
+        return self._s.item(i) != 0.0
+
+    def set_(self: "Drivetrain", v: bool) -> None:
+        self._s[i] = 1.0 if v else 0.0
+
+    return property(get, set_, doc=name)
+
+
 class Drivetrain:
-    """Line, drum, machine, converter and PI controller with their states (SI, plain floats)."""
+    """Line, drum, machine, converter and PI controller with their states (SI).
+
+    The states (``length`` m, ``omega`` rad/s, ``current`` A, ``u_link`` V, ``integ`` and
+    ``duty`` (-), ``broken``, ``at_stop``, ``stretch`` m, ``mode``) and the energy ledger live in
+    one float64 array (layout :data:`fdm_awe.groundstation.substeps.STATE` followed by the
+    ledger's terms), so that the compiled ground-station step updates them in place; as
+    attributes they read as Python floats, bools and the mode string."""
+
+    length = _state_float(0, "unstretched paid-out line length, m")
+    omega = _state_float(1, "drum speed, rad/s (> 0 reel-out)")
+    current = _state_float(2, "armature current, A")
+    u_link = _state_float(3, "DC-link voltage, V")
+    integ = _state_float(4, "PI integrator (duty)")
+    duty = _state_float(5, "duty in effect (T1 in motor mode, T2 in generator mode)")
+    broken = _state_bool(6, "the line is broken")
+    at_stop = _state_bool(7, "the drum is at an end stop")
+    stretch = _state_float(8, "d - l at the end of the last sub-step, m")
+
+    @property
+    def mode(self) -> str:
+        """Converter mode in effect ("generator" / "motor")."""
+        return MOTOR if self._s.item(9) != 0.0 else GENERATOR
+
+    @mode.setter
+    def mode(self, v: str) -> None:
+        self._s[9] = 1.0 if v == MOTOR else 0.0
 
     def __init__(self, params: GroundStationParams) -> None:
         self.params = params
+        self._s = np.zeros(len(STATE) + len(LEDGER_FIELDS))
         tp, wp, mp, cp = params.tether, params.winch, params.machine, params.converter
         self._coef_key: tuple = ()
         self._coef: tuple = ()
@@ -52,7 +98,7 @@ class Drivetrain:
                        tp.mass_per_length, tp.axial_stiffness, tp.breaking_load, tp.min_length,
                        tp.max_length, mp.k, mp.resistance, mp.inductance,
                        2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance)
-        self.ledger = EnergyLedger()
+        self.ledger = EnergyLedger(self._s[len(STATE):])
         self._kernel = compiled_substeps()  # the loop below, compiled (None: run it in Python)
         self._kc: tuple = ()
         self.reset(length=100.0, omega=0.0, mode=GENERATOR)

@@ -35,18 +35,43 @@ act on the glider, not on the station, and are listed for a whole-system balance
 
 from __future__ import annotations
 
+import numpy as np
+
 INPUTS = ("glider_work", "supply", "wound_line_kinetic", "strain_payout")
 LOSSES = ("load", "copper", "semiconductor", "coulomb", "viscous", "end_stop", "break_release", "numerical")
 STORES = ("kinetic", "inductor", "capacitor", "elastic")
 INTERFACE = ("drum_work", "airgap", "line_drag_work_on_glider", "line_weight_work_on_glider")
+#: Every term, in the order of the ledger's float buffer (``EnergyLedger.buffer``).
+FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
+#: Index of each term in the buffer (the compiled ground-station step adds into it directly).
+INDEX = {name: i for i, name in enumerate(FIELDS)}
+
+
+def _term(i: int) -> property:
+    def get(self: "EnergyLedger") -> float:
+        return self.buffer.item(i)
+
+    def set_(self: "EnergyLedger", v: float) -> None:
+        self.buffer[i] = v
+
+    return property(get, set_, doc=f"{FIELDS[i]}, J")
 
 
 class EnergyLedger:
-    """Accumulated energy terms (J) since the last :meth:`clear`."""
+    """Accumulated energy terms (J) since the last :meth:`clear`.
 
-    __slots__ = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
+    The terms live in one float64 array ``buffer`` (order :data:`FIELDS`); each is also an
+    attribute (read as a Python float). ``buffer`` may be a view into a larger array (the
+    ground station keeps its states and its ledger in one array for the compiled step)."""
 
-    def __init__(self) -> None:
+    __slots__ = ("buffer",)
+
+    def __init__(self, buffer: np.ndarray | None = None) -> None:
+        if buffer is None:
+            buffer = np.zeros(len(FIELDS))
+        elif buffer.shape != (len(FIELDS),) or buffer.dtype != np.float64:
+            raise ValueError(f"EnergyLedger buffer: need float64 shape ({len(FIELDS)},), got {buffer.dtype} {buffer.shape}")
+        self.buffer = buffer
         self.clear()
 
     def clear(self, stored: dict[str, float] | None = None) -> None:
@@ -92,3 +117,8 @@ class EnergyLedger:
         d["residual"] = self.residual()
         d["relative_residual"] = self.relative_residual()
         return d
+
+
+for _i, _name in enumerate(FIELDS):
+    setattr(EnergyLedger, _name, _term(_i))
+del _i, _name

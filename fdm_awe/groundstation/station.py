@@ -21,12 +21,18 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
-from .converter import GENERATOR, MODES
+from . import controller as _controller
+from .controller import pi_update as _pi_update
+from .converter import GENERATOR, MODES, MOTOR
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
 from .machine import machine_mode
+from .substeps import EVENTS, compiled_station
 from .tether import line_drag_share, line_weight_share
+
+_MACHINE_MODES = ("idle", "generator", "motor")
+_NAN = float("nan")
 
 
 def _finite(name: str, v: float, lo: float | None = None, hi: float | None = None,
@@ -178,6 +184,19 @@ class GroundStation:
         self._drag_on = tp.drag_share > 0.0
         self._weight_c = tp.weight_share * tp.mass_per_length
         self._g = tp.gravity
+        # the compiled step (substeps.station_step): constants in the order of STATION_CONSTANTS
+        self._step_kernel = compiled_station()
+        self._set_step_constants()
+
+    def _set_step_constants(self) -> None:
+        p = self.params
+        tp, wp, mp, cp, ctrl = p.tether, p.winch, p.machine, p.converter, p.controller
+        self._sc = np.array((wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
+                             tp.axial_stiffness, tp.breaking_load, tp.min_length, tp.max_length, mp.k,
+                             mp.resistance, mp.inductance, 2.0 * cp.device_drop, cp.supply_voltage,
+                             cp.link_capacitance, ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max)
+                            + self.wind + (self._drag_c, 1.0 if self._drag_on else 0.0, self._weight_c, self._g),
+                            dtype=float)
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -185,6 +204,8 @@ class GroundStation:
         if len(w) != 3:
             raise InputError("wind_ned: need 3 components (N, E, D)")
         self.wind = (w[0], w[1], w[2])
+        if hasattr(self, "_sc"):
+            self._sc[19:22] = self.wind
 
     @property
     def ledger(self) -> EnergyLedger:
@@ -272,6 +293,18 @@ class GroundStation:
         RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
         d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         dtr = self.drivetrain
+        kern = self._step_kernel
+        if kern is not None and dtr._kernel is not None and _controller.pi_update is _pi_update:
+            # the compiled twin of the Python code below (substeps.station_step, identical results)
+            mode = cmd.mode
+            duty = cmd.duty
+            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
+                dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, mode == MOTOR, cmd.reel_speed_ref / self._r,
+                _NAN if duty is None else duty, d2, RL)
+            r = self._r
+            return GroundStationOutput(
+                (fx, fy, fz), tmean, length, r * w, w, i, duty, mode, u_link, p_el, EVENTS[ev], _MACHINE_MODES[mm],
+                tmean * r * w, d, slack, broken)
         r = self._r
         l_start = dtr.length
         mode = cmd.mode

@@ -7,8 +7,15 @@ scalars so that numba compiles it (``cache=True``: compiled once per installatio
 the cache afterwards). Round-off is identical (no fast-math), and a test runs both on the
 same scenarios and compares every state and ledger term for exact equality.
 
-:func:`compiled` returns the compiled loop, or None when numba is not installed or
-``FDM_AWE_JIT=0`` is set in the environment; the drivetrain then runs its Python loop.
+:func:`station_step` is the whole :meth:`GroundStation.step` on the line in the same way (the
+coefficients, the set-up of :meth:`Drivetrain.advance`, this loop, the ledger accumulation, the
+force on the glider and the machine mode): one compiled call per flight step, on the
+drivetrain's state array (states and ledger, updated in place). Its reference is the Python
+code of ``GroundStation.step`` and ``Drivetrain.advance``; a test compares both bit for bit.
+
+:func:`compiled` / :func:`compiled_station` return the compiled functions, or None when numba
+is not installed or ``FDM_AWE_JIT=0`` is set in the environment; the ground station then runs
+its Python code.
 """
 
 from __future__ import annotations
@@ -18,6 +25,8 @@ import math
 import os
 import warnings
 from typing import Callable
+
+import numpy as np
 
 #: Event codes returned by :func:`substeps` (0: none).
 EVENTS = (None, "tether_fully_reeled_in", "tether_fully_paid_out", "tether_break")
@@ -229,6 +238,156 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
 CONSTANTS = ("r", "B", "Mc", "K", "Va", "two_ud", "lmin", "lmax", "Tbreak", "q", "cu", "aL", "aH", "aS",
              "iB", "hr", "hK", "hM", "kp", "ki", "d_min", "d_max")
 
+#: The drivetrain's states at the head of its state array (``broken``, ``at_stop`` 0/1,
+#: ``motor`` 1 in motor mode); the energy ledger's terms follow (``ledger.FIELDS`` order).
+STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
+_NS = len(STATE)
+# ledger terms, offsets in the state array (ledger.FIELDS order)
+(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
+ _NUMERICAL, _DRUM, _AIRGAP, _DRAG_W, _WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 24)
+
+#: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
+#: ground station's line-share factors; fixed for a station).
+STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
+                     "C", "kp", "ki", "d_min", "d_max", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
+                     "weight_c", "g")
+
+
+def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):  # noqa: C901
+    """One flight step of :meth:`fdm_awe.groundstation.station.GroundStation.step` on the line
+    (coefficients, :meth:`Drivetrain.advance`'s set-up, the sub-step loop :func:`substeps`, the
+    ledger, the force on the glider and the machine mode) in one call, written on scalars for
+    numba: the same operations in the same order as the Python reference, identical results.
+
+    ``s`` the state array (:data:`STATE`, then the ledger; updated in place), ``c`` the
+    constants (:data:`STATION_CONSTANTS`), ``n`` sub-steps in ``dt`` s, the hook position (m)
+    and velocity (m/s) NED, ``motor`` the converter mode, ``omega_ref`` rad/s, ``duty_cmd`` the
+    open-loop T1 duty (NaN: PI), ``boost_duty``, ``RL`` ohm. Returns ``(fx, fy, fz, mean tension,
+    length, omega, current, duty, u_link, p_electrical, event code, machine mode code (0 idle,
+    1 generator, 2 motor), distance, slack, broken)``.
+    """
+    r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
+    K, R, L, two_ud, Va, C, kp, ki, d_min, d_max = c[9], c[10], c[11], c[12], c[13], c[14], c[15], c[16], c[17], c[18]
+    h = dt / n
+    if motor != (s[9] != 0.0):  # mode switch (drivetrain: the PI integrator restarts at 0)
+        if motor:
+            s[4] = 0.0
+        s[9] = 1.0 if motor else 0.0
+    # converter / armature coefficients (converter.link_coefficients, machine.armature_coefficients)
+    s_cpl = 0.0 if motor else 1.0 - boost_duty
+    den = C + h / RL
+    cu, q = C / den, h * s_cpl / den
+    D = L + h * R + h * s_cpl * q
+    aL, aH, iB = L / D, h / D, h * K / D
+    kc = np.empty(22)
+    kc[0], kc[1], kc[2], kc[3], kc[4], kc[5], kc[6], kc[7], kc[8] = r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak
+    kc[9], kc[10], kc[11], kc[12], kc[13], kc[14] = q, cu, aL, aH, aH * s_cpl * cu, iB
+    hr = h * r
+    kc[15], kc[16], kc[17] = hr, h * K, h * Mc
+    kc[18], kc[19], kc[20], kc[21] = kp, ki, d_min, d_max
+    hB = h * B
+    l_start = s[0]
+    J = Jw + mu * l_start * r * r
+    Jb = J + hB
+    integ, duty, broken, at_stop = s[4], s[5], s[6] != 0.0, s[7] != 0.0
+    e_glider = 0.0
+    k = 0.0 if broken else EA / l_start
+    tB = 0.0 if broken else k * hr
+    if broken:
+        s0 = d0 = 0.0
+    else:
+        d0 = math.sqrt(x * x + y * y + z * z)
+        s0 = d0 - l_start
+        a_ = s0 if s0 > 0.0 else 0.0
+        b_ = s[8] if s[8] > 0.0 else 0.0
+        e_glider += 0.5 * k * (a_ * a_ - b_ * b_)
+    v_src = 0.0
+    pi = motor and duty_cmd != duty_cmd
+    if motor:
+        if not pi:
+            duty = duty_cmd
+            v_src = duty * Va
+    else:
+        duty = boost_duty
+    (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_stop, e_brk, e_numel,
+     S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(
+        n, h, x, y, z, h * vx, h * vy, h * vz, pi, motor, False, broken, at_stop, l_start, s[1], s[2], s[3],
+        integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, 0.0, e_glider, kc)
+    # Drivetrain.advance: states and ledger
+    s[7] = 1.0 if at_stop else 0.0
+    s[0], s[1], s[2], s[3] = l0, w0, i0, u0
+    s[4], s[5], s[6] = integ, duty, 1.0 if broken else 0.0
+    stretch = s0 if not broken else 0.0
+    s[8] = stretch
+    s[_GLIDER_WORK] += e_glider
+    s[_SUPPLY] += h * e_supply
+    J_end = Jw + mu * l0 * r * r
+    s[_WOUND] += 0.5 * (J_end - J) * w0 * w0
+    sp = stretch if stretch > 0.0 else 0.0
+    k_end = 0.0 if broken else EA / l0
+    s[_STRAIN] += 0.5 * (k_end - k) * sp * sp
+    s[_LOAD] += h * S_u2 / RL
+    s[_COPPER] += h * R * S_i2
+    s[_SEMI] += h * two_ud * S_i
+    s[_COULOMB] += h * S_fw
+    s[_VISCOUS] += h * B * S_w2
+    s[_END_STOP] += e_stop
+    s[_BREAK] += e_brk
+    s[_NUMERICAL] += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
+    s[_DRUM] += h * r * S_Tw
+    s[_AIRGAP] += h * K * S_iw
+    s[_SK], s[_SI], s[_SC], s[_SE] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
+    tmean, pload, psup = t_sum / n, S_u2 / (RL * n), e_supply / n
+    # GroundStation.step: the force on the glider (line tension, drag and weight shares)
+    d = math.sqrt(x * x + y * y + z * z)
+    if broken and ev != 3:
+        fx = fy = fz = 0.0
+    else:
+        if d <= 0.0 or c[23] == 0.0:
+            fx = fy = fz = 0.0
+        else:
+            vax, vay, vaz = vx - c[19], vy - c[20], vz - c[21]
+            ux, uy, uz = x / d, y / d, z / d
+            vr = vax * ux + vay * uy + vaz * uz
+            px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
+            cd = c[22] * l_start * math.sqrt(px * px + py * py + pz * pz)
+            fx, fy, fz = cd * px, cd * py, cd * pz
+        s[_DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
+        fw = c[24] * l_start * c[25]
+        s[_WEIGHT_W] += fw * vz * dt
+        fz += fw
+        if d > 0.0 and tmean > 0.0:
+            ct = -tmean / d
+            fx += ct * x
+            fy += ct * y
+            fz += ct * z
+    # machine.machine_mode (eq. 17 sign rule)
+    if w0 == 0.0 or i0 <= 0.0:
+        mm = 0
+    elif -(1.0 if w0 > 0.0 else -1.0) * K * i0 < 0.0:
+        mm = 1
+    else:
+        mm = 2
+    return (fx, fy, fz, tmean, l0, w0, i0, duty, u0, pload - psup, ev, mm, d, stretch <= 0.0, broken)
+
+
+@functools.lru_cache(maxsize=None)
+def compiled_station() -> Callable | None:
+    """:func:`station_step` compiled by numba (cached on disk), or None (as :func:`compiled`)."""
+    if compiled() is None:
+        return None
+    import numba
+    from numba.extending import register_jitable
+    register_jitable(substeps)
+    f8, b1 = numba.float64, numba.boolean
+    sig = (f8[::1], f8[::1], numba.int64) + (f8,) * 7 + (b1,) + (f8,) * 4
+    try:
+        return numba.njit(sig, cache=True)(station_step)
+    except Exception as exc:  # a broken numba install must not stop a simulation
+        warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python step runs instead",
+                      RuntimeWarning, stacklevel=2)
+        return None
+
 
 @functools.lru_cache(maxsize=None)
 def compiled() -> Callable | None:
@@ -255,4 +414,5 @@ def compiled() -> Callable | None:
         return None
 
 
-__all__ = ["CONSTANTS", "EVENTS", "compiled", "drum_speed", "substeps"]
+__all__ = ["CONSTANTS", "EVENTS", "STATE", "STATION_CONSTANTS", "compiled", "compiled_station", "drum_speed",
+           "station_step", "substeps"]
