@@ -199,6 +199,7 @@ class CoSim:
         ctl.append(g.controls)
         phases.append(self._phase_code(ctrl, labels, codes))
         airborne = not s.on_ground
+        r = s._r  # the state's raw JSBSim values (adapter order: [0] time, [29] weight on wheels)
         gs_out = self.last_gs_output
         event: Event | None = None
         k = 0
@@ -224,7 +225,7 @@ class CoSim:
         wall0 = time.perf_counter()
         try:
             while k < n:
-                surf, wcmd = update(s.t, s, gs_out)
+                surf, wcmd = update(r[0], s, gs_out)  # r[0]: the state's time
                 set_controls(surf)
                 hp, hv = hook()
                 try:
@@ -273,14 +274,14 @@ class CoSim:
                     kind = "tether_break" if gev == "tether_break" else str(gev)
                     event = Event(kind, s.t, f"ground station event: {gev}")
                     break
-                if s.on_ground:
+                if r[29] > 0.5:  # SixDofState.on_ground, without the property call
                     if airborne and ground_contact:
                         event = Event("ground_contact", s.t, f"ground contact at x={s.x:.1f} m, y={s.y:.1f} m, "
                                       f"{s.airspeed:.1f} m/s")
                         break
                 else:
                     airborne = True
-                if check_v and s.t - t0 >= grace:
+                if check_v and r[0] - t0 >= grace:
                     v = s.airspeed
                     if v_max is not None and v > v_max:
                         event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s above {v_max:g} m/s")
