@@ -54,6 +54,9 @@ ELASTIC_SLACK_TOL = 1e-6
 #: interpolated solution (mesh continuation)
 COARSE_MESH = Mesh(20, 10, 3)
 
+#: what ``solve_cycle`` tries after a failed warm start (see its ``warm_fallback``)
+WARM_FALLBACKS = ("all", "one", "none")
+
 _CACHE: "OrderedDict[tuple, CycleNLP]" = OrderedDict()
 
 #: built NLPs kept per process (least recently used dropped first); a sweep over design
@@ -101,7 +104,8 @@ def clear_cache() -> None:
 def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, starts: list[LoopStart] | None = None,
                 n_starts: int = 1, glider: Glider | None = None, winch: WinchElectrics | None = None,
                 ipopt_options: dict | None = None, cache: bool = True, coarse: Mesh | None | bool = True,
-                time_budget_s: float = SAFETY_WALL_S, max_iter: int = MAX_ITER, max_iter_total: int = MAX_ITER_TOTAL) -> CycleResult:
+                time_budget_s: float = SAFETY_WALL_S, max_iter: int = MAX_ITER, max_iter_total: int = MAX_ITER_TOTAL,
+                warm_fallback: str = "all") -> CycleResult:
     """Optimise one pumping cycle (see the module docstring).
 
     ``warm``: a previous result; the same NLP structure restarts with its multipliers, any
@@ -115,7 +119,15 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     one attempt). ``time_budget_s`` is only a wall-clock safety net (no new attempt after this
     much solver time; also IPOPT's CPU-time limit per attempt): with the defaults the iteration
     budget decides, so a busy machine does not change a result.
+
+    ``warm_fallback``: what follows a failed warm start: ``"all"`` the whole cold strategy
+    (every start with its continuations), ``"one"`` a single IPOPT solve from the first start,
+    ``"none"`` nothing (the result is ``failed`` at once). The cheaper settings bound the cost of
+    a point that cannot converge (a sweep's failure), at the risk of missing a cycle that only
+    a later start or a continuation finds.
     """
+    if warm_fallback not in WARM_FALLBACKS:
+        raise ValueError(f"warm_fallback {warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
     problem = problem.validate()
     if coarse is True:
         coarse = COARSE_MESH if problem.mesh.n_gen > COARSE_MESH.n_gen else None
@@ -183,6 +195,16 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         if _accept(nlp, r):
             return _finish(problem, nlp, k, "from a previous solution", r, build_s, total_s, total_it)
         reasons.append(f"from a previous solution: {r.reason}")
+    if reasons and warm_fallback != "all":
+        if warm_fallback == "one":
+            st = (starts or default_starts(problem))[0]
+            phases, k = loop_guess(problem, nlp.model, st, wind)
+            r = run(nlp.pack(phases), k, 1.0, 1.0)
+            if _accept(nlp, r):
+                return _finish(problem, nlp, k, st.label(), r, build_s, total_s, total_it)
+            reasons.append(f"{st.label()} (one cold solve): {r.reason}")
+        return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
+                           "; ".join(reasons), total_s, build_s, total_it, problem=problem, key=structure_key(problem))
 
     foldable = problem.config == "foldable"
     drag_homotopy = nlp.model.scenario.tether_drag
