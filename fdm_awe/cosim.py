@@ -200,6 +200,8 @@ class CoSim:
         phases.append(self._phase_code(ctrl, labels, codes))
         airborne = not s.on_ground
         r = s._r  # the state's raw JSBSim values (adapter order: [0] time, [29] weight on wheels)
+        # the SixDofState airspeed and load-factor conversions, written out on the raw row
+        k_v, k_fz, k_m = s._k[13], s._k[21], s._k[22]
         gs_out = self.last_gs_output
         event: Event | None = None
         k = 0
@@ -282,7 +284,7 @@ class CoSim:
                 else:
                     airborne = True
                 if check_v and r[0] - t0 >= grace:
-                    v = s.airspeed
+                    v = r[13] * k_v  # SixDofState.airspeed
                     if v_max is not None and v > v_max:
                         event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s above {v_max:g} m/s")
                         break
@@ -293,7 +295,7 @@ class CoSim:
                     event = Event("load_limit", s.t, f"tether tension {tension:.1f} N above {t_max:g} N")
                     break
                 if n_max is not None:
-                    nz = s.load_factor
+                    nz = -r[21] * k_fz / (r[22] * k_m) / 9.80665  # SixDofState.load_factor
                     if nz > n_max or nz < -n_max:
                         event = Event("load_limit", s.t, f"load factor {nz:.2f} g beyond {n_max:g} g")
                         break

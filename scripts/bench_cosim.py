@@ -9,8 +9,8 @@
   winch held by the PI speed loop at zero reel speed).
 
 Timings are the best of ``--repeat`` interleaved rounds (the machine is shared; the 1-minute
-load average is printed and stored). The ground station runs its compiled sub-step loop when
-numba is installed (``FDM_AWE_JIT=0``: the Python loop); both are timed alone. Targets
+load average is printed and stored). The ground station runs its step as one compiled call when
+numba is installed (``FDM_AWE_JIT=0``: the Python step, its reference); both are timed alone. Targets
 (design notes, section 9): ratio <= 3, real-time factor >= 500.
 
 Usage: python scripts/bench_cosim.py [--json bench_cosim.json] [--repeat 3] [--seconds 30]
@@ -30,7 +30,7 @@ os.environ.setdefault("JSBSIM_DEBUG", "0")
 
 from fdm_awe.cosim import CoSim, Limits  # noqa: E402
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station  # noqa: E402
-from fdm_awe.groundstation.substeps import compiled as compiled_substeps  # noqa: E402
+from fdm_awe.groundstation.substeps import compiled_station  # noqa: E402
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer  # noqa: E402
 
 WIND = 14.0  # m/s from the south
@@ -58,7 +58,7 @@ def bench_bare(seconds: float) -> float:
 
 def bench_ground_station(seconds: float, compiled: bool = True) -> float:
     """Seconds per ``GroundStation.step`` alone, glider hook fixed at the start position
-    (``compiled`` False: the Python sub-step loop instead of the compiled one)."""
+    (``compiled`` False: the Python step, the reference of the compiled one)."""
     g = make_glider()
     gs = GroundStation(load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
     gs.reset(tether_length=LINE, reel_speed=0.0, mode="motor")
@@ -105,7 +105,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seconds", type=float, default=30.0, help="simulated seconds per round")
     a = ap.parse_args(argv)
     bare, co, rtf, co0, rtf0, gst, gsp, status = [], [], [], [], [], [], [], "ok"
-    jit = compiled_substeps() is not None
+    jit = compiled_station() is not None
     for _ in range(max(1, a.repeat)):
         bare.append(bench_bare(a.seconds))
         gst.append(bench_ground_station(a.seconds))
@@ -127,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
         "realtime_factor": max(rtf),
         "ground_station_step_us": min(gst) * 1e6,
         "ground_station_compiled": jit,
-        "ground_station_step_python_loop_us": min(gsp) * 1e6,
+        "ground_station_step_python_us": min(gsp) * 1e6,
         "cosim_fixed_commands_step_us": c0 * 1e6,
         "ratio_fixed_commands": c0 / b,
         "realtime_factor_fixed_commands": max(rtf0),
@@ -144,8 +144,8 @@ def main(argv: list[str] | None = None) -> int:
         "all_cosim_fixed_commands_us": [x * 1e6 for x in co0],
     }
     print(f"bare JSBSim step      {out['bare_step_us']:8.2f} us")
-    print(f"ground station step   {out['ground_station_step_us']:8.2f} us  (alone; sub-step loop "
-          f"{'compiled' if jit else 'in Python'}; Python loop {out['ground_station_step_python_loop_us']:.2f} us)")
+    print(f"ground station step   {out['ground_station_step_us']:8.2f} us  (alone; "
+          f"{'one compiled call' if jit else 'in Python'}; Python step {out['ground_station_step_python_us']:.2f} us)")
     print(f"co-simulation step    {out['cosim_fixed_commands_step_us']:8.2f} us  (JSBSim + tether + ground station, fixed commands)"
           f"  ratio {out['ratio_fixed_commands']:.2f}")
     print(f"co-simulation step    {out['cosim_step_us']:8.2f} us  (JSBSim + tether + ground station + stabilising controller)")

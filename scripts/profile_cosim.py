@@ -11,7 +11,7 @@ Pieces (microseconds per step, best of ``--repeat`` rounds, each over the same 3
   state object;
 - ``ground_station``: ``GroundStation.step`` on the flight's hook positions and velocities
   (tether, drum, DC machine, converter, PI, ledger; ``ground_station_python`` the same with the
-  Python sub-step loop);
+  Python step, the reference of the compiled one);
 - ``controller``: the stabilising controller's ``update`` on the flight's states;
 - ``loop``: the rest of ``CoSim.run`` (recording, event checks, bookkeeping), i.e. the
   co-simulation step with a replayed ground station minus the pieces above.
@@ -164,7 +164,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  {k:24s} {best[k]:7.2f}   {100 * best[k] / total:5.1f} %")
     print(f"  {'sum':24s} {total:7.2f}   (measured co-simulation step {best['cosim_step']:.2f})")
     print(f"  bare fdm.run()           {best['bare_jsbsim_run']:7.2f}")
-    print(f"  ground station, Python sub-step loop {best['ground_station_python']:7.2f}")
+    print(f"  in the loop: ground station {best['cosim_step'] - best['cosim_replayed_ground_station']:7.2f}, "
+          f"everything but fdm.run() {best['cosim_step'] - best['jsbsim_run']:7.2f} "
+          f"(pieces alternating with JSBSim cost more than alone: caches)")
+    print(f"  ground station, Python step          {best['ground_station_python']:7.2f}")
     print(f"  stabilising controller update        {best['controller']:7.2f}")
     if a.json:
         Path(a.json).write_text(json.dumps({"us_per_step": best, "repeat": a.repeat,
