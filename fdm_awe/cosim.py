@@ -209,13 +209,15 @@ class CoSim:
         v_max = lim.airspeed_max
         t_max = lim.max_tension
         n_max = lim.max_load_factor
-        set_controls, step, state, hook = g.set_controls, g.step, g.state, g.hook_kinematics
-        set_force = getattr(g, "_set_force", None)
-        if set_force is None:  # a glider without the three-float setter
-            set_tf = g.set_tether_force
+        set_controls, hook = g.set_controls, g.hook_kinematics
+        advance = getattr(g, "advance", None)  # force, step and new state in one call
+        if advance is None:  # a glider without it: the three calls
+            set_tf, step, state = g.set_tether_force, g.step, g.state
 
-            def set_force(fx: float, fy: float, fz: float) -> None:
+            def advance(fx: float, fy: float, fz: float) -> SixDofState:
                 set_tf((fx, fy, fz))
+                step()
+                return state()
         update, gs_step = ctrl.update, gs.step
         has_phase = hasattr(ctrl, "phase")
         last_phase, last_code = None, -1
@@ -245,14 +247,13 @@ class CoSim:
                 if not isfinite(fx + fy + fz):
                     event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")
                     break
-                set_force(fx, fy, fz)
                 try:
-                    step()
+                    s_new = advance(fx, fy, fz)
                 except (RuntimeError, ValueError, ArithmeticError) as exc:  # JSBSim gave up on the state
                     event = Event("nonfinite", s.t, f"JSBSim failed: {exc}")
                     break
                 k += 1
-                s = state()
+                s = s_new
                 r = s._r
                 raws.extend(r)
                 tension = gs_out.tension

@@ -22,7 +22,7 @@ import math
 import os
 from math import cos, sin
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -102,6 +102,7 @@ class JSBSimGlider:
         self._foldable = pm.hasNode("fcs/wing-fold-norm") if hasattr(pm, "hasNode") else self._has("fcs/wing-fold-norm")
         self._fold_get = node("fcs/wing-fold-norm").get_double_value if self._foldable else (lambda: 0.0)
         self._get.append(self._fold_get)  # raw[30]: fold state
+        self._read_raw = _list_of_calls(self._get)
         self._set_tx = node("external_reactions/tether/x").set_double_value
         self._set_ty = node("external_reactions/tether/y").set_double_value
         self._set_tz = node("external_reactions/tether/z").set_double_value
@@ -367,8 +368,21 @@ class JSBSimGlider:
         self.fdm.run()
         self._read()
 
+    def advance(self, fx: float, fy: float, fz: float) -> SixDofState:
+        """The co-simulation's hot path in one call: :meth:`set_tether_force` from three floats
+        (N, NED), :meth:`step`, and the new :meth:`state`."""
+        self._force = (fx, fy, fz)
+        self._set_tx(fx / LBF)
+        self._set_ty(fy / LBF)
+        self._set_tz(fz / LBF)
+        self.fdm.run()
+        self._read()
+        st = self._state = SixDofState(self._raw, self._scale_l, self._offset_l, self._hook, self._force,
+                                       self._maxvolts)
+        return st
+
     def _read(self) -> None:
-        r = self._raw = [g() for g in self._get]
+        r = self._raw = self._read_raw()
         self._state = None
         # hook kinematics (see _hook_kinematics), written out: this runs every step
         x = (r[1] - self._lat0) * self._M0
@@ -465,6 +479,14 @@ class JSBSimGlider:
     def cg_structural(self) -> np.ndarray:
         """CG in the aircraft's structural frame (x aft, y right, z up), m."""
         return np.array(np.asarray(self.fdm.get_mass_balance().get_xyz_cg()), dtype=float).ravel() * IN
+
+
+def _list_of_calls(getters: list) -> Callable[[], list[float]]:
+    """A function returning ``[getters[0](), getters[1](), ...]`` as one list display (generated
+    once; no loop or comprehension frame per call: the per-step property reads)."""
+    ns = {f"g{i}": g for i, g in enumerate(getters)}
+    exec("def read():\n    return [" + ", ".join(f"g{i}()" for i in range(len(getters))) + "]\n", ns)  # noqa: S102
+    return ns["read"]
 
 
 def _r1(a: float) -> np.ndarray:
