@@ -141,9 +141,11 @@ class GroundStationOutput:
     def force_xyz(self) -> tuple[float, float, float]:
         """The line force on the glider as three floats (N, NED)."""
         f = self._force
+        if type(f) is tuple:  # the compiled step's output
+            return f
         if type(f) is np.ndarray:
             f = f.tolist()
-        return (f[0], f[1], f[2]) if type(f) is not tuple else f
+        return (f[0], f[1], f[2])
 
     _FIELDS = ("force_on_glider_ned",) + __slots__[1:]
 
