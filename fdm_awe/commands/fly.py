@@ -114,6 +114,10 @@ def run(args: argparse.Namespace) -> int:
         out_dir.mkdir(parents=True, exist_ok=True)
     ref, ref_path = load_or_optimise_reference(args, out_dir)
     plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
+    scale = ref.meta.get("tether_drag_scale", 1.0)
+    if scale != 1.0:
+        print(f"warning: {ref_path} was optimised with tether_drag_scale {scale:g}; the flight uses the defined line "
+              f"(scale 1), so its line drag differs from the reference's", file=sys.stderr)
     from ..autopilot.config import autopilot_params
     from ..flight import fly
     from ..mavlink.params import ParamStore

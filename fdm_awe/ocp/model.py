@@ -41,11 +41,12 @@ class CycleModel:
     winch: WinchElectrics
     rho: float = 1.225
     g: float = 9.81
+    tether_drag_scale: float = 1.0  #: factor on the line drag (CycleProblem.tether_drag_scale)
 
     @classmethod
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
         rec = glider.folded if problem.config == "foldable" else glider.unfolded
-        return cls(problem.scenario_spec, glider.unfolded, rec, winch)
+        return cls(problem.scenario_spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale)
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
@@ -72,7 +73,7 @@ class CycleModel:
         if not self.scenario.tether_drag:
             return 0.0, 0.0
         w = self.winch
-        cdt = drag_factor * tether_drag_coefficient(length, w.tether_diameter, w.tether_cd_perp, aero.S)
+        cdt = drag_factor * self.tether_drag_scale * tether_drag_coefficient(length, w.tether_diameter, w.tether_cd_perp, aero.S)
         V, gamma, psi = x[3], x[4], x[5]
         cg = mo.cos(gamma)
         va = (V * cg * mo.cos(psi), V * cg * mo.sin(psi), -V * mo.sin(gamma))

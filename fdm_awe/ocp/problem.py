@@ -144,6 +144,10 @@ class CycleProblem:
     elevation0_deg: float = 30.0
     azimuth0_deg: float = 0.0
     bounds: Bounds = field(default_factory=Bounds)
+    #: factor on the tether's line drag (``physical`` scenario; 1 = the line of the ground-station
+    #: definition). A sensitivity knob of the optimiser only (e.g. 0.5 ~ half the diameter or
+    #: half the length): the 6-DOF flight always uses the defined line
+    tether_drag_scale: float = 1.0
     mesh: Mesh = field(default_factory=Mesh)
 
     def validate(self) -> "CycleProblem":
@@ -164,6 +168,8 @@ class CycleProblem:
             raise InputError(f"elevation0 = {self.elevation0_deg!r} deg out of range (allowed 0 < elevation < 90)")
         if not math.isfinite(self.azimuth0_deg) or abs(self.azimuth0_deg) >= 90:
             raise InputError(f"azimuth0 = {self.azimuth0_deg!r} deg out of range (allowed |azimuth| < 90)")
+        if not (math.isfinite(self.tether_drag_scale) and 0.0 <= self.tether_drag_scale <= 10.0):
+            raise InputError(f"tether_drag_scale = {self.tether_drag_scale!r} out of range (allowed 0 .. 10)")
         self.bounds.validate()
         self.mesh.validate()
         h0 = self.d0 * math.sin(math.radians(self.elevation0_deg))
