@@ -209,7 +209,7 @@ class CoSim:
         v_max = lim.airspeed_max
         t_max = lim.max_tension
         n_max = lim.max_load_factor
-        set_controls, hook = g.set_controls, g.hook_kinematics
+        set_controls = g.set_controls
         advance = getattr(g, "advance", None)  # force, step and new state in one call
         if advance is None:  # a glider without it: the three calls
             set_tf, step, state = g.set_tether_force, g.step, g.state
@@ -222,6 +222,9 @@ class CoSim:
         has_phase = hasattr(ctrl, "phase")
         last_phase, last_code = None, -1
         check_v = v_max is not None or v_min is not None
+        inf = math.inf  # a disabled limit is never crossed
+        v_hi, v_lo = (inf if v_max is None else v_max), (-inf if v_min is None else v_min)
+        t_hi = inf if t_max is None else t_max
         grace = lim.grace_s
         ground_contact = lim.ground_contact
         ndarray = np.ndarray
@@ -231,7 +234,7 @@ class CoSim:
             while k < n:
                 surf, wcmd = update(r[0], s, gs_out)  # r[0]: the state's time
                 set_controls(surf)
-                hp, hv = hook()
+                hp, hv = s._hook  # the state's tether attachment point (glider.hook_kinematics())
                 try:
                     gs_out = gs_step(dt, hp, hv, wcmd)
                 except InputError as exc:
@@ -286,13 +289,13 @@ class CoSim:
                     airborne = True
                 if check_v and r[0] - t0 >= grace:
                     v = r[13] * k_v  # SixDofState.airspeed
-                    if v_max is not None and v > v_max:
+                    if v > v_hi:
                         event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s above {v_max:g} m/s")
                         break
-                    if v_min is not None and v < v_min:
+                    if v < v_lo:
                         event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s below {v_min:g} m/s")
                         break
-                if t_max is not None and tension > t_max:
+                if tension > t_hi:
                     event = Event("load_limit", s.t, f"tether tension {tension:.1f} N above {t_max:g} N")
                     break
                 if n_max is not None:

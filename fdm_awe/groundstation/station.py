@@ -174,7 +174,7 @@ class GroundStation:
         self.set_wind(wind_ned)
         self._dt = -1.0
         self._n = 1
-        self._last_cmd: WinchCommand | None = None
+        self._last_cmd: Any = object()  # nothing seen yet: the first command is checked
         self._k = self.params.machine.k
         self._r = self.params.winch.radius
         tp = self._tp = self.params.tether
@@ -288,25 +288,30 @@ class GroundStation:
             vx, vy, vz = vel_ned.tolist() if type(vel_ned) is np.ndarray else map(float, vel_ned)
         if not (isfinite(x + y + z) and isfinite(vx + vy + vz)):
             raise InputError(f"glider position/velocity must be finite, got pos={tuple(pos_ned)!r} vel={tuple(vel_ned)!r}")
-        if cmd is not self._last_cmd and not isinstance(cmd, WinchCommand):
-            raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
-        self._last_cmd = cmd
+        if cmd is not self._last_cmd:
+            if not isinstance(cmd, WinchCommand):
+                raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
+            self._last_cmd = cmd
+            # the command's terms of the step (a WinchCommand is immutable): converter mode,
+            # motor flag, drum speed reference, open-loop duty (NaN: PI), boost duty, load resistance
+            self._cmd_terms = (cmd.mode, cmd.mode == MOTOR, cmd.reel_speed_ref / self._r,
+                               _NAN if cmd.duty is None else cmd.duty,
+                               self._d2 if cmd.boost_duty is None else cmd.boost_duty,
+                               self._RL if cmd.load_resistance is None else cmd.load_resistance)
         n = self._n if dt == self._dt else self._substeps(dt)
-        RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
-        d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         dtr = self.drivetrain
         kern = self._step_kernel
         if kern is not None and dtr._kernel is not None and _controller.pi_update is _pi_update:
             # the compiled twin of the Python code below (substeps.station_step, identical results)
-            mode = cmd.mode
-            duty = cmd.duty
+            mode, motor, omega_ref, duty, d2, RL = self._cmd_terms
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
-                dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, mode == MOTOR, cmd.reel_speed_ref / self._r,
-                _NAN if duty is None else duty, d2, RL)
+                dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
             r = self._r
             return GroundStationOutput(
                 (fx, fy, fz), tmean, length, r * w, w, i, duty, mode, u_link, p_el, EVENTS[ev], _MACHINE_MODES[mm],
                 tmean * r * w, d, slack, broken)
+        RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
+        d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         r = self._r
         l_start = dtr.length
         mode = cmd.mode
