@@ -25,7 +25,7 @@ from fdm_awe.ocp.problem import Mesh
 from fdm_awe.performance import loyd_power, quasi_steady_reel_out
 from fdm_awe.sweep.design import Design, design_glider, helmbold_lift_slope, polar_constants
 from fdm_awe.sweep.references import reference_curves
-from fdm_awe.sweep.spec import SweepSpec, chains, parse_floats
+from fdm_awe.sweep.spec import Point, SweepSpec, anchors, chains, parse_floats
 
 MESH = Mesh(n_gen=6, n_rec=4, degree=3)
 WINDS = (7.0, 8.0, 9.0)
@@ -125,6 +125,40 @@ def test_spec_points_and_chains():
         SweepSpec(winds=(5.0,), fold_times=(2.0,)).points()
     with pytest.raises(InputError, match="wind"):
         parse_floats("3:1:1", "wind", "m/s")
+
+
+def test_chains_with_several_anchors():
+    """anchor_every = n: every n-th wind from the one nearest 8 m/s starts cold, every other point
+    joins its nearest anchor (a tie goes toward the main anchor); each point in exactly one
+    chain; the layout is a function of the spec alone."""
+    winds = parse_floats("5:12:1", "wind", "m/s")
+    spec = SweepSpec(winds=winds, configs=("nominal",), tether_ranges=((200.0, 250.0), (200.0, 300.0)), anchor_every=2)
+    pts = spec.points()
+    ch = chains(pts, spec.anchor_every)
+    assert sorted(p.id for c in ch for p in c.points) == sorted(p.id for p in pts)
+    layout = [([p.wind for p in c.points], c.after) for c in ch]
+    # per line: 8 -> 9 and 8 -> 7 (7 is as near 6 as 8: it goes to the main anchor), 6 -> 5, 10 -> 11, 12
+    line = [([8, 9], None), ([7], 0), ([6], None), ([5], 2), ([10, 11], None), ([12], None)]
+    assert layout == line + [(w, None if a is None else a + 6) for w, a in line]
+    cold = [c.points[0].wind for c in ch if c.after is None]
+    assert cold == [8, 6, 10, 12] * 2
+    # anchors every 3 winds: 5, 8, 11; 6 -> 5, 7 -> 8, 9 -> 8, 10 -> 11
+    assert anchors(8, 3, 3) == [0, 3, 6] and anchors(8, 3, 0) == [3]
+    ch3 = chains(pts[:8], 3)
+    assert [([p.wind for p in c.points], c.after) for c in ch3] == [([8, 9], None), ([7], 0), ([5, 6], None),
+                                                                    ([11, 12], None), ([10], 3)]
+    # the default layout is unchanged: one anchor per line
+    assert [len(c.points) for c in chains(pts)] == [5, 3, 5, 3]
+    # the failure budget and the fallback are point parameters (their own ids) but the
+    # defaults keep the ids of earlier stores
+    p = pts[0]
+    assert Point(**{**p.__dict__, "warm_fallback": "one"}).id != p.id
+    assert Point(**{**p.__dict__, "max_iter_total": 500}).id != p.id
+    assert p.id == "2ff779eebc59646d"  # as computed before these fields existed
+    for bad, what in ((dict(anchor_every=-1), "anchor_every"), (dict(warm_fallback="some"), "warm fallback"),
+                      (dict(max_iter_total=5), "max_iter_total")):
+        with pytest.raises(InputError, match=what):
+            SweepSpec(winds=(5.0,), **bad).points()
 
 
 # --------------------------------------------------------------------------- Dask runs
@@ -251,3 +285,44 @@ def test_custom_glider_nlp_is_built_once_per_variant():
     assert built3 > 0.0 and nlp3 is not nlp1
     assert nlp1.model.rec_airframe.aero.b == pytest.approx(0.4)
     assert nlp3.model.rec_airframe.aero.b == pytest.approx(0.6)
+
+
+def test_anchored_chains_identical_on_one_and_two_workers(tmp_path):
+    """Several anchors per line (anchor_every = 2 over 7..10 m/s: anchors 8 and 10; 9 and 7
+    warm-start from 8): the same numbers on one and on two workers, and the warm starts follow
+    the layout."""
+    from fdm_awe.sweep.execute import run_sweep
+
+    spec = SweepSpec(winds=(7.0, 8.0, 9.0, 10.0), configs=("nominal",), mesh=MESH, anchor_every=2)
+    one = run_sweep(spec, str(tmp_path / "one"), workers=1, progress=False)
+    two = run_sweep(spec, str(tmp_path / "two"), workers=2, progress=False)
+    assert one.complete and two.complete and not one.errors and not two.errors
+    assert _numbers(one.records) == _numbers(two.records)
+    ids = {p.wind: p.id for p in spec.points()}
+    warm_from = {r["wind_mps"]: r["warm_from"] for r in two.records.values()}
+    assert warm_from == {8.0: None, 10.0: None, 9.0: ids[8.0], 7.0: ids[8.0]}
+    assert all(r["status"] == "ok" for r in two.records.values())
+
+
+def test_failed_warm_start_fails_early():
+    """A warm start that cannot converge (here: 10 IPOPT iterations per solve) costs the point
+    only that solve with ``warm_fallback = none``, one more cold solve with ``one``, and the
+    whole cold strategy within the point's budget with ``all``; the point is ``failed`` with a
+    one-line reason and hands the warm start it was given to the next point."""
+    from fdm_awe.sweep.runner import run_point
+
+    base = SweepSpec(winds=(8.0,), configs=("nominal",), mesh=MESH).points()[0]
+    rec8, warm8 = run_point(base)
+    assert rec8["status"] == "ok" and warm8 is not None and warm8.point_id == base.id
+    out = {}
+    for fb in ("none", "one", "all"):
+        p = Point(**{**base.__dict__, "wind": 9.0, "max_iter": 10, "max_iter_total": 200, "warm_fallback": fb})
+        rec, warm = run_point(p, warm8)
+        assert rec["status"] == "failed" and rec["P_avg_W"] is None and warm is warm8, fb
+        assert "\n" not in rec["reason"] and rec["reason"].startswith("warm start: Maximum_Iterations_Exceeded"), rec["reason"]
+        assert rec["warm_fallback"] == fb and rec["max_iter_total"] == 200 and rec["warm_from"] == base.id
+        out[fb] = rec
+    assert out["none"]["iterations"] == 10
+    assert out["one"]["iterations"] == 20 and "one cold solve" in out["one"]["reason"]
+    # the whole strategy: three starts (with the tether-drag continuation) until 200 iterations are spent
+    assert 20 < out["all"]["iterations"] <= 200 + 10

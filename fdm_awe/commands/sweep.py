@@ -31,6 +31,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fold-time", default="0", metavar="LIST", help="fold times [s]; only 0 is supported (instant fold)")
     p.add_argument("--mesh", default=None, metavar="NGEN,NREC[,DEG]", help="collocation mesh (default: the optimiser's)")
     p.add_argument("--max-iter", type=int, default=None, help="IPOPT iteration limit per solve (default 1000)")
+    p.add_argument("--max-iter-total", type=int, default=None,
+                   help="IPOPT iterations over all solves of one point (default 3000)")
+    p.add_argument("--warm-fallback", default="all", choices=("all", "one", "none"),
+                   help="after a failed warm start: the whole cold strategy (all, default), one cold solve from the "
+                        "first start (one), or fail at once (none)")
+    p.add_argument("--anchor-every", type=int, default=0, metavar="N",
+                   help="a cold-started anchor every N winds of a line (more, shorter warm-start chains; "
+                        "default 0: one anchor per line, the wind nearest 8 m/s)")
     p.add_argument("--workers", type=int, default=None, help="local Dask worker processes (default: number of cores)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="use this Dask scheduler instead of a local cluster")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (point files, table, plots, summary)")
@@ -49,7 +57,7 @@ def build_spec(args: argparse.Namespace):
     from ..errors import InputError
     from ..ocp.problem import Mesh
     from ..sweep.runner import canonical_spec
-    from ..sweep.spec import DEFAULT_MAX_ITER, SweepSpec, parse_floats, parse_tether_ranges
+    from ..sweep.spec import DEFAULT_MAX_ITER, DEFAULT_MAX_ITER_TOTAL, SweepSpec, parse_floats, parse_tether_ranges
 
     if args.mesh is None:
         mesh = Mesh()
@@ -74,6 +82,8 @@ def build_spec(args: argparse.Namespace):
         tether_ranges=parse_tether_ranges(args.tether_range),
         fold_times=parse_floats(args.fold_time, "--fold-time", "s"),
         scenario=args.scenario, mesh=mesh, max_iter=args.max_iter if args.max_iter is not None else DEFAULT_MAX_ITER,
+        max_iter_total=args.max_iter_total if args.max_iter_total is not None else DEFAULT_MAX_ITER_TOTAL,
+        warm_fallback=args.warm_fallback, anchor_every=args.anchor_every,
     ).validate()
     return canonical_spec(spec)
 

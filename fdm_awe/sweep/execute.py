@@ -112,7 +112,7 @@ def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, sche
     run.scheduler = scheduler or "local"
     t1 = time.perf_counter()
     try:
-        chain_list = chains(points) if warm_start else [Chain((p,)) for p in points]
+        chain_list = chains(points, spec.anchor_every) if warm_start else [Chain((p,)) for p in points]
         futures, by_key = _submit(client, chain_list, done, store)
         _collect(futures, by_key, store, run, done, progress, stop_after, on_point, client)
     finally:

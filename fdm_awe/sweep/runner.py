@@ -27,7 +27,7 @@ from .spec import Point
 #: columns of a point record, in table order
 RECORD_FIELDS = (
     "id", "scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2", "wing_area_m2",
-    "fold_time_s", "mesh", "max_iter", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
+    "fold_time_s", "mesh", "max_iter", "max_iter_total", "warm_fallback", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
     "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "worker", "warm_from", "start", "max_violation",
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
 )
@@ -111,7 +111,8 @@ def base_record(point: Point) -> dict[str, Any]:
                 "d0_m": point.d0, "d_tf_m": point.d_tf, "folded_span_m": point.folded_span,
                 "folded_drag_area_m2": point.folded_drag_area, "wing_area_m2": point.wing_area,
                 "fold_time_s": point.fold_time, "mesh": "x".join(str(v) for v in point.mesh),
-                "max_iter": point.max_iter})
+                "max_iter": point.max_iter, "max_iter_total": point.max_iter_total,
+                "warm_fallback": point.warm_fallback})
     return rec
 
 
@@ -143,7 +144,8 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
         # the iteration limit decides failures; the CPU-time limit is lifted so that a busy
         # machine cannot change a result
         opts = {"ipopt.max_iter": int(point.max_iter), "ipopt.max_cpu_time": 1e6}
-        res = solve_cycle(problem, warm=warm, glider=glider if custom else None, ipopt_options=opts)
+        res = solve_cycle(problem, warm=warm, glider=glider if custom else None, ipopt_options=opts,
+                          max_iter_total=int(point.max_iter_total), warm_fallback=point.warm_fallback)
         s = res.summary()
         rec.update({"status": "ok" if res.ok else "failed", "reason": str(res.reason), "iterations": int(res.iterations),
                     "solve_s": _num(res.solve_s), "build_s": _num(res.build_s), "start": res.start or None,

@@ -10,18 +10,28 @@ A :class:`SweepSpec` holds the axes (SI units):
 - ``tether_ranges``: reel-out range ``(d0, d_tf)`` [m];
 - ``fold_times`` [s]: only ``0`` (the cycle optimiser folds the wing instantly at the phase
   switch; any other value is refused with an :class:`~fdm_awe.errors.InputError`);
-- ``scenario`` (``physical`` default, ``paper``), the collocation ``mesh`` and the IPOPT
-  iteration limit ``max_iter`` (:data:`DEFAULT_MAX_ITER`).
+- ``scenario`` (``physical`` default, ``paper``), the collocation ``mesh``;
+- the per-point solver budget: ``max_iter`` IPOPT iterations per solve
+  (:data:`DEFAULT_MAX_ITER`), ``max_iter_total`` over all solves of the point
+  (:data:`DEFAULT_MAX_ITER_TOTAL`), and ``warm_fallback``, what follows a failed warm start
+  (``all``: the whole cold strategy, default; ``one``: one cold solve from the first start;
+  ``none``: the point fails at once). The cheaper fallbacks bound the cost of points that
+  cannot converge, at the risk of missing a cycle only a later start finds;
+- ``anchor_every``: chain layout (below).
 
 Nominal points do not depend on the folded-wing axes, so they are not repeated over them.
 
 Every :class:`Point` has a stable id (a hash of its parameters, the scenario and the mesh),
 used as its file name: a rerun with the same (or an overlapping) sweep finds finished points.
 
-Points that differ only in wind form a *line*. Each line is solved as a warm-start chain: the
-*anchor* (the wind nearest :data:`ANCHOR_WIND`) starts cold, then two branches walk up and down
-in wind, each point warm-started from the previous successful one. The chain structure depends
-only on the spec, never on the number of workers, so results do not either.
+Points that differ only in wind form a *line*. Each line is solved as warm-start chains: an
+*anchor* starts cold, then two branches walk up and down in wind, each point warm-started from
+the previous successful one. By default (``anchor_every = 0``) a line has one anchor, the wind
+nearest :data:`ANCHOR_WIND`. With ``anchor_every = n`` every n-th wind of the line counted from
+that one is an anchor too, and every other point joins its nearest anchor (on a tie the one
+nearer the main anchor): more, shorter chains that several workers can share, but more cold
+starts, which may land on other local optima than a warm start would. The chain structure
+depends only on the spec, never on the number of workers, so results do not either.
 """
 
 from __future__ import annotations
@@ -37,6 +47,16 @@ from ..ocp.problem import CONFIGS, SCENARIOS, Mesh
 #: IPOPT iteration limit per solve in a sweep. It replaces the optimiser's CPU-time limit, so
 #: whether a point converges never depends on how busy the machine is (reproducible results).
 DEFAULT_MAX_ITER = 1000
+
+#: IPOPT iterations over all solves of one point (the cycle optimiser's default)
+DEFAULT_MAX_ITER_TOTAL = 3000
+
+#: what may follow a failed warm start (see the module docstring)
+WARM_FALLBACKS = ("all", "one", "none")
+
+#: Point fields added after the first stores were written: they enter the point id only when
+#: they differ from these defaults, so finished points of earlier sweeps keep their ids
+_ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all"}
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -57,11 +77,17 @@ class Point:
     fold_time: float = 0.0  #: [s]
     mesh: tuple[int, int, int] = (60, 20, 4)  #: (n_gen, n_rec, degree); sweeps set it from their Mesh
     max_iter: int = DEFAULT_MAX_ITER  #: IPOPT iteration limit per solve
+    max_iter_total: int = DEFAULT_MAX_ITER_TOTAL  #: IPOPT iterations over all solves of the point
+    warm_fallback: str = "all"  #: after a failed warm start: all / one / none (cold solves)
 
     @property
     def id(self) -> str:
         """Stable identifier (16 hex digits of a SHA-1 of the canonical parameters)."""
-        doc = json.dumps(asdict(self), sort_keys=True, separators=(",", ":"))
+        d = asdict(self)
+        for k, v in _ID_DEFAULTS.items():
+            if d[k] == v:
+                del d[k]
+        doc = json.dumps(d, sort_keys=True, separators=(",", ":"))
         return hashlib.sha1(doc.encode()).hexdigest()[:16]
 
     @property
@@ -97,6 +123,9 @@ class SweepSpec:
     scenario: str = "physical"
     mesh: Mesh = field(default_factory=Mesh)
     max_iter: int = DEFAULT_MAX_ITER
+    max_iter_total: int = DEFAULT_MAX_ITER_TOTAL
+    warm_fallback: str = "all"
+    anchor_every: int = 0
 
     def validate(self) -> "SweepSpec":
         if self.scenario not in SCENARIOS:
@@ -121,6 +150,12 @@ class SweepSpec:
         self.mesh.validate()
         if not (isinstance(self.max_iter, int) and 10 <= self.max_iter <= 100000):
             raise InputError(f"max_iter = {self.max_iter!r} out of range (allowed integer 10..100000)")
+        if not (isinstance(self.max_iter_total, int) and 10 <= self.max_iter_total <= 1000000):
+            raise InputError(f"max_iter_total = {self.max_iter_total!r} out of range (allowed integer 10..1000000)")
+        if self.warm_fallback not in WARM_FALLBACKS:
+            raise InputError(f"warm fallback {self.warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
+        if not (isinstance(self.anchor_every, int) and 0 <= self.anchor_every <= 1000):
+            raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer 0..1000; 0 = one anchor per line)")
         return self
 
     def points(self) -> list[Point]:
@@ -136,7 +171,8 @@ class SweepSpec:
                 for d0, dtf in self.tether_ranges:
                     for b, a, t in fold_axes:
                         for v in sorted(self.winds):
-                            p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh, self.max_iter)
+                            p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh, self.max_iter,
+                                      self.max_iter_total, self.warm_fallback)
                             if p.id not in seen:
                                 seen.add(p.id)
                                 out.append(p)
@@ -160,9 +196,18 @@ class Chain:
     after: int | None = None
 
 
-def chains(points: list[Point], anchor_wind: float = ANCHOR_WIND) -> list[Chain]:
-    """Warm-start chains of ``points``: per line an anchor chain (anchor, then upwards in wind)
-    and a downward chain seeded by the anchor (see the module docstring)."""
+def anchors(n: int, main: int, every: int = 0) -> list[int]:
+    """Indices of the anchors among ``n`` winds of a line (ascending): ``main`` and, when
+    ``every`` > 0, every ``every``-th index counted from it."""
+    if every <= 0:
+        return [main]
+    return [i for i in range(n) if (i - main) % every == 0]
+
+
+def chains(points: list[Point], anchor_every: int = 0, anchor_wind: float = ANCHOR_WIND) -> list[Chain]:
+    """Warm-start chains of ``points``: per anchor of a line (see :func:`anchors` and the module
+    docstring) an upward chain (the anchor, then its points above it in wind) and a downward
+    chain seeded by the anchor (its points below it, downwards)."""
     lines: dict[tuple, list[Point]] = {}
     for p in points:
         lines.setdefault(p.line_key, []).append(p)
@@ -170,9 +215,14 @@ def chains(points: list[Point], anchor_wind: float = ANCHOR_WIND) -> list[Chain]
     for pts in lines.values():
         pts = sorted(pts, key=lambda p: p.wind)
         ia = min(range(len(pts)), key=lambda i: (abs(pts[i].wind - anchor_wind), pts[i].wind))
-        out.append(Chain(tuple(pts[ia:])))
-        if ia > 0:
-            out.append(Chain(tuple(reversed(pts[:ia])), after=len(out) - 1))
+        anc = anchors(len(pts), ia, anchor_every)
+        # every point joins its nearest anchor; a tie goes to the anchor nearer the main one
+        owner = [min(anc, key=lambda a: (abs(a - i), abs(a - ia))) for i in range(len(pts))]
+        for a in sorted(anc, key=lambda a: (abs(a - ia), a)):  # the main anchor's chains first
+            out.append(Chain(tuple(pts[i] for i in range(a, len(pts)) if owner[i] == a)))
+            below = tuple(pts[i] for i in range(a - 1, -1, -1) if owner[i] == a)
+            if below:
+                out.append(Chain(below, after=len(out) - 1))
     return out
 
 
