@@ -142,6 +142,10 @@ def test_chains_with_several_anchors():
     assert layout == line + [(w, None if a is None else a + 6) for w, a in line]
     cold = [c.points[0].wind for c in ch if c.after is None]
     assert cold == [8, 6, 10, 12] * 2
+    # Dask priorities: lower winds first (both lines' 6 m/s anchors, then 8, 10, 12), a seeded chain as its seed
+    from fdm_awe.sweep.execute import chain_priorities
+
+    assert chain_priorities(ch) == [6, 6, 8, 8, 4, 2, 5, 5, 7, 7, 3, 1]
     # anchors every 3 winds: 5, 8, 11; 6 -> 5, 7 -> 8, 9 -> 8, 10 -> 11
     assert anchors(8, 3, 3) == [0, 3, 6] and anchors(8, 3, 0) == [3]
     ch3 = chains(pts[:8], 3)

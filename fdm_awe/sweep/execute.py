@@ -5,7 +5,8 @@ each; ``workers`` defaults to the number of cores) or an existing cluster given 
 scheduler address (``tcp://HOST:PORT``). Each point is one task
 (:func:`fdm_awe.sweep.runner.run_point`); the next point of its chain takes the task's output
 as an argument, so Dask runs a chain in order (normally on one worker, where the data is) and
-different chains in parallel.
+different chains in parallel. Chains starting at lower winds get a higher Dask priority (see
+:func:`chain_priorities`); the order changes when a point is computed, never its result.
 
 The client writes each point's record as soon as its task finishes
 (:class:`~fdm_awe.sweep.store.PointStore`), so an interrupted sweep resumes without
@@ -124,13 +125,32 @@ def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, sche
     return run
 
 
+def chain_priorities(chain_list: list[Chain]) -> list[int]:
+    """Dask priority of each chain (higher runs first): cold-started chains by ascending wind of
+    their first point (ties in list order); a seeded chain has the priority of its seed.
+
+    Low winds first: near the cut-in wind cycles are marginal and their solves the longest
+    (and failures use the whole budget), so starting them first keeps one long chain from
+    finishing alone at the end while the other workers are idle.
+    """
+    roots = sorted((i for i, c in enumerate(chain_list) if c.after is None), key=lambda i: (chain_list[i].points[0].wind, i))
+    prio = {i: len(roots) - rank for rank, i in enumerate(roots)}
+    out = []
+    for i, c in enumerate(chain_list):
+        j = i
+        while chain_list[j].after is not None:
+            j = chain_list[j].after
+        out.append(prio[j])
+    return out
+
+
 def _submit(client: Any, chain_list: list, done: dict[str, dict], store: PointStore) -> tuple[list, dict[str, Point]]:
     """Submit every missing point, chained to its warm-start predecessor (a future, a stored
     warm start, or nothing)."""
     after_point: dict[str, Any] = {}  # point id -> warm start for the next point (Warm, Future or None)
     futures = []
     by_key: dict[str, Point] = {}
-    for ch in chain_list:
+    for ch, prio in zip(chain_list, chain_priorities(chain_list)):
         cur = None if ch.after is None else after_point[chain_list[ch.after].points[0].id]
         for p in ch.points:
             rec = done.get(p.id)
@@ -141,7 +161,7 @@ def _submit(client: Any, chain_list: list, done: dict[str, dict], store: PointSt
                         cur = w
             else:
                 key = f"sweep-point-{p.id}"
-                fut = client.submit(run_point, p, cur, key=key, pure=False, retries=0)
+                fut = client.submit(run_point, p, cur, key=key, pure=False, retries=0, priority=prio)
                 futures.append(fut)
                 by_key[fut.key] = p
                 cur = fut
