@@ -262,7 +262,7 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         if elastic_slack and min(elastic_slack) > ELASTIC_SLACK_TOL:
             reason = (f"no feasible cycle found: the elastic feasibility solves end with a fictitious acceleration "
                       f"of {min(elastic_slack):.3g} (scaled) left in the folded recovery (locally infeasible; README: "
-                      f"the folded glider and T <= T_avail(V)); {reason}")
+                      f"folding, line drag and T <= T_avail(V)); {reason}")
         return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
                            reason, total_s, build_s, total_it, problem=problem, key=structure_key(problem))
     _, r, k, label = best
