@@ -219,6 +219,8 @@ class CoSim:
                 step()
                 return state()
         update, gs_step = ctrl.update, gs.step
+        gsrec_add = gsrec.fromlist
+        raws_add = raws.fromlist if type(raw0) is list else raws.extend
         has_phase = hasattr(ctrl, "phase")
         last_phase, last_code = None, -1
         check_v = v_max is not None or v_min is not None
@@ -258,10 +260,10 @@ class CoSim:
                 k += 1
                 s = s_new
                 r = s._r
-                raws.extend(r)
+                raws_add(r)  # array.fromlist: the list fast path (extend iterates item by item)
                 tension = gs_out.tension
-                gsrec.extend((tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
-                              gs_out.duty, gs_out.p_electrical, fx, fy, fz))
+                gsrec_add([tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
+                           gs_out.duty, gs_out.p_electrical, fx, fy, fz])
                 ctl.append(surf)
                 if has_phase:
                     ph = ctrl.phase
