@@ -265,3 +265,21 @@ def test_reset_starts_the_actuators_at_their_commands():
     s = g.reset((0.0, 0.0, -100.0), 12.0, fold=0.0)
     assert s.fold == 0.0
     np.testing.assert_allclose(g.inertia(), TABLE2["unfolded"], rtol=1e-3, atol=2e-6)
+
+
+def test_advance_is_force_step_and_state_and_reads_every_property():
+    """advance(fx, fy, fz) (the co-simulation's hot path) gives exactly set_tether_force + step +
+    state, and its one-call property reader gives each property's own value."""
+    a, b = JSBSimGlider("glider_foldable"), JSBSimGlider("glider_foldable")
+    for g in (a, b):
+        g.reset((40.0, 0.0, -60.0), 14.0, psi=math.pi)
+        g.set_controls(Surfaces(elevator=0.1, aileron=0.05, fold_cmd=1.0))
+    for k in range(120):
+        f = (-3.0 - 0.01 * k, 0.5, 4.0)
+        sa = a.advance(*f)
+        b.set_tether_force(f)
+        b.step()
+        sb = b.state()
+        assert sa._r == sb._r and sa._hook == sb._hook and sa._force == sb._force
+        assert sa is a.state()
+    assert a.raw() == [get() for get in a._get] and a.state().fold > 0.4
