@@ -40,6 +40,15 @@ from .substeps import EVENTS, STATE, compiled as compiled_substeps
 from .winch import solve_drum_speed
 
 
+_NS = len(STATE)
+_LI = {name: i for i, name in enumerate(LEDGER_FIELDS)}
+(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _COULOMB, _VISCOUS, _END_STOP, _BREAK, _NUMERICAL,
+ _DRUM, _AIRGAP) = (_LI[n] for n in ("glider_work", "supply", "wound_line_kinetic", "strain_payout", "load", "copper",
+                                     "semiconductor", "coulomb", "viscous", "end_stop", "break_release", "numerical",
+                                     "drum_work", "airgap"))
+_STORED = _LI["stored_kinetic"]  # stored_kinetic, _inductor, _capacitor, _elastic follow
+
+
 def _state_float(i: int, name: str) -> property:
     def get(self: "Drivetrain") -> float:
         return self._s.item(i)
@@ -177,10 +186,15 @@ class Drivetrain:
         (r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax, K, R, L, two_ud, Va, C) = self._const
         h = dt / n
         motor = mode == MOTOR
-        if mode != self.mode:
+        st = self._s
+        if motor != (st[9] != 0.0):  # mode switch: the PI integrator restarts at 0
             if motor:
-                self.integ = 0.0
-            self.mode = mode
+                st[4] = 0.0
+            st[9] = 1.0 if motor else 0.0
+        # the states, read through one list (length, omega, current, u_link, integ, duty, broken,
+        # at_stop, stretch)
+        l_start, w0, i0, u0, integ, duty, broken, at_stop, stretch0 = st[:9].tolist()
+        broken, at_stop = broken != 0.0, at_stop != 0.0
         # converter / armature / drum coefficients, constant while h, R_L and the mode are
         s_cpl = 0.0 if motor else 1.0 - boost_duty  # converter module: v_src = duty V_a in the loop
         key = (h, RL, s_cpl)
@@ -195,12 +209,10 @@ class Drivetrain:
                 ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max))  # substeps.CONSTANTS
         q, cu, aL, aH, aS, iB, hr, hK, hM, hB = self._coef
         # drum (winch module): backward Euler with set-valued Coulomb friction
-        l_start = self.length
         J = Jw + mu * l_start * r * r
         Jb = J + hB
 
-        l0, w0, i0, u0 = l_start, self.omega, self.current, self.u_link
-        integ, duty, broken, at_stop = self.integ, self.duty, self.broken, self.at_stop
+        l0 = l_start
         event = None
         e_glider = e_supply = e_stop = e_brk = e_numel = 0.0
         S_u2 = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
@@ -210,14 +222,14 @@ class Drivetrain:
         tB = 0.0 if (fixed or broken) else k * hr
         if fixed or broken:
             s0 = d0 = 0.0
-            if not broken and self.stretch > 0.0:  # line replaced by a prescribed tension
-                e_glider -= 0.5 * k * self.stretch * self.stretch
+            if not broken and stretch0 > 0.0:  # line replaced by a prescribed tension
+                e_glider -= 0.5 * k * stretch0 * stretch0
         else:
             d0 = math.sqrt(x * x + y * y + z * z)
             s0 = d0 - l0
             # the glider's real position differs from the last prediction: work at the line end
             a_ = s0 if s0 > 0.0 else 0.0
-            b_ = self.stretch if self.stretch > 0.0 else 0.0
+            b_ = stretch0 if stretch0 > 0.0 else 0.0
             e_glider += 0.5 * k * (a_ * a_ - b_ * b_)
         v_src = 0.0
         pi = motor and duty_cmd is None  # controller module: PI sample on the measured drum speed
@@ -362,27 +374,27 @@ class Drivetrain:
             t_sum += T1
             l0, w0, i0, u0 = l1, w1, i1, u1
 
-        self.at_stop = at_stop
-        self.length, self.omega, self.current, self.u_link = l0, w0, i0, u0
-        self.integ, self.duty, self.broken = integ, duty, broken
-        self.stretch = s0 if not (fixed or broken) else 0.0
-        lg = self.ledger
-        lg.glider_work += e_glider
-        lg.supply += h * e_supply
+        stretch = s0 if not (fixed or broken) else 0.0
+        # states and ledger written through plain lists (one array read and write each)
+        st[:9] = (l0, w0, i0, u0, integ, duty, 1.0 if broken else 0.0, 1.0 if at_stop else 0.0, stretch)
+        lg = st[_NS:].tolist()  # ledger terms (ledger.FIELDS order)
+        lg[_GLIDER_WORK] += e_glider
+        lg[_SUPPLY] += h * e_supply
         J_end = Jw + mu * l0 * r * r
-        lg.wound_line_kinetic += 0.5 * (J_end - J) * w0 * w0
-        sp = self.stretch if self.stretch > 0.0 else 0.0
+        lg[_WOUND] += 0.5 * (J_end - J) * w0 * w0
+        sp = stretch if stretch > 0.0 else 0.0
         k_end = 0.0 if broken else EA / l0
-        lg.strain_payout += 0.5 * (k_end - k) * sp * sp
-        lg.load += h * S_u2 / RL
-        lg.copper += h * R * S_i2
-        lg.semiconductor += h * two_ud * S_i
-        lg.coulomb += h * S_fw
-        lg.viscous += h * B * S_w2
-        lg.end_stop += e_stop
-        lg.break_release += e_brk
-        lg.numerical += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
-        lg.drum_work += h * r * S_Tw
-        lg.airgap += h * K * S_iw
-        lg.set_stored(0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp)
+        lg[_STRAIN] += 0.5 * (k_end - k) * sp * sp
+        lg[_LOAD] += h * S_u2 / RL
+        lg[_COPPER] += h * R * S_i2
+        lg[_SEMI] += h * two_ud * S_i
+        lg[_COULOMB] += h * S_fw
+        lg[_VISCOUS] += h * B * S_w2
+        lg[_END_STOP] += e_stop
+        lg[_BREAK] += e_brk
+        lg[_NUMERICAL] += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
+        lg[_DRUM] += h * r * S_Tw
+        lg[_AIRGAP] += h * K * S_iw
+        lg[_STORED:] = (0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp)
+        st[_NS:] = lg
         return t_sum / n, S_u2 / (RL * n), e_supply / n, event

@@ -313,15 +313,18 @@ class GroundStation:
         RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
         d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         r = self._r
-        l_start = dtr.length
+        st = dtr._s  # the drivetrain's states (substeps.STATE) and ledger
+        l_start = st.item(0)
         mode = cmd.mode
         tmean, pload, psup, event = dtr.advance(
             dt, n, x, y, z, vx, vy, vz, mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
+        length, w, i, u_link, _, duty, broken, _, stretch = st[:9].tolist()
+        broken = broken != 0.0
         # force on the glider: mean tension along the line, plus drag and weight shares
         # (tether module's line_drag_share and line_weight_share, written out)
         d = math.sqrt(x * x + y * y + z * z)
         lg = dtr.ledger
-        if dtr.broken and event != "tether_break":
+        if broken and event != "tether_break":
             fx = fy = fz = 0.0
         else:
             if d <= 0.0 or not self._drag_on:
@@ -343,11 +346,9 @@ class GroundStation:
                 fx += c * x
                 fy += c * y
                 fz += c * z
-        w = dtr.omega
-        i = dtr.current
         # machine_mode (machine module, eq. 17 sign rule), written out
         mm = "idle" if (w == 0.0 or i <= 0.0) else ("generator" if -(1.0 if w > 0.0 else -1.0) * self._k * i < 0.0
                                                   else "motor")
         return GroundStationOutput(
-            (fx, fy, fz), tmean, dtr.length, r * w, w, i, dtr.duty, mode,
-            dtr.u_link, pload - psup, event, mm, tmean * r * w, d, dtr.stretch <= 0.0, dtr.broken)
+            (fx, fy, fz), tmean, length, r * w, w, i, duty, mode,
+            u_link, pload - psup, event, mm, tmean * r * w, d, stretch <= 0.0, broken)
