@@ -86,7 +86,10 @@ class Stabilizer:
         # written for the co-simulation's hot path: the same arithmetic as the plain form, with
         # max/min spelled out (max(a, b) is ``b if b > a else a``, min(a, b) ``b if b < a else a``)
         gn = self.gains
-        fold = s.fold
+        # the state's values straight from its raw row (SixDofState's properties written out:
+        # the same numbers without a call each)
+        rw, kk = s._r, s._k
+        fold = rw[30]
         if not abs(fold - self._coef_fold) < 1e-3:
             self._refresh(fold)
         tl = self._t_last
@@ -97,13 +100,13 @@ class Stabilizer:
             if not dt > 0.0:
                 dt = 0.0
         self._t_last = t
-        qbar = s.qbar
+        qbar = rw[23] * kk[23]
         if 1.0 > qbar:
             qbar = 1.0
-        p, q, r = s.p, s.q, s.r
+        p, q, r = rw[10], rw[11], rw[12]
         S = self._S
         # pitch: alpha second-order response + integral, feed-forward trim
-        e_a = self.alpha_cmd - s.alpha
+        e_a = self.alpha_cmd - rw[14]
         ia = self._int + e_a * dt
         ia = ia if ia < 0.2 else 0.2
         ia = ia if ia > -0.2 else -0.2
@@ -112,7 +115,7 @@ class Stabilizer:
         m_des = self._iyy * (w**2 * (e_a + gn.ki_alpha * ia) - 2 * gn.z_alpha * w * q)
         de = self._de_trim + m_des / (qbar * S * self._c * self._cm_de)
         # roll: bank response
-        phi, theta, psi = s.phi, s.theta, s.psi
+        phi, theta, psi = rw[7], rw[8], rw[9]
         phi_c = self.phi_cmd
         psi_cmd = self.psi_cmd
         if psi_cmd is not None:
@@ -131,11 +134,11 @@ class Stabilizer:
         qSb = qbar * S * self._b
         da = l_des / (qSb * self._cl_da)
         # yaw: damp r about the coordinated-turn rate, null sideslip
-        v = s.airspeed
+        v = rw[13] * kk[13]
         if 1.0 > v:
             v = 1.0
         r_c = 9.81 * sin(phi) * cos(theta) / v
-        n_des = -self._izz * 2 * gn.w_r * (r - r_c) + gn.k_beta * qbar * S * self._b * self._cn_beta * s.beta
+        n_des = -self._izz * 2 * gn.w_r * (r - r_c) + gn.k_beta * qbar * S * self._b * self._cn_beta * rw[15]
         dr = n_des / (qSb * self._cn_dr)
         a, e, rr = da / self._lim_a, de / self._lim_e, dr / self._lim_r
         surf = Surfaces._checked_fast(
