@@ -32,6 +32,7 @@ from .substeps import EVENTS, compiled_station
 from .tether import line_drag_share, line_weight_share
 
 _MACHINE_MODES = ("idle", "generator", "motor")
+_new = object.__new__
 _NAN = float("nan")
 
 
@@ -307,9 +308,25 @@ class GroundStation:
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
                 dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
             r = self._r
-            return GroundStationOutput(
-                (fx, fy, fz), tmean, length, r * w, w, i, duty, mode, u_link, p_el, EVENTS[ev], _MACHINE_MODES[mm],
-                tmean * r * w, d, slack, broken)
+            # GroundStationOutput(...) with its slots set here (no __init__ call: the hot path)
+            o = _new(GroundStationOutput)
+            o._force = (fx, fy, fz)
+            o.tension = tmean
+            o.length = length
+            o.reel_speed = r * w
+            o.omega = w
+            o.current = i
+            o.duty = duty
+            o.mode = mode
+            o.u_link = u_link
+            o.p_electrical = p_el
+            o.event = EVENTS[ev]
+            o.machine_mode = _MACHINE_MODES[mm]
+            o.p_mechanical = tmean * r * w
+            o.distance = d
+            o.slack = slack
+            o.broken = broken
+            return o
         RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
         d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         r = self._r
