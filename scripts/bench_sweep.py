@@ -74,6 +74,8 @@ def main() -> int:
                           "sum_point_cpu_s": sum(x.get("cpu_s") or 0.0 for x in recs),
                           "points_per_worker": sorted(sum(1 for x in recs if x.get("worker") == w)
                                                       for w in {x.get("worker") for x in recs}),
+                          "busy_s_per_worker": sorted(round(sum(x["wall_s"] or 0.0 for x in recs if x.get("worker") == w), 1)
+                                                      for w in {x.get("worker") for x in recs}),
                           "sum_iterations": sum(x["iterations"] or 0 for x in recs),
                           "P_avg_W": {f"{x['d0_m']:g}-{x['d_tf_m']:g}@{x['wind_mps']:g}": x["P_avg_W"] for x in recs},
                           "loadavg_1min_before": load_run, "loadavg_1min_after": os.getloadavg()[0],
@@ -85,7 +87,7 @@ def main() -> int:
                   f"(+{r.startup_s:.1f} s start-up), {runs[name]['n_ok']} ok, {runs[name]['n_failed']} failed, "
                   f"sum of point times {runs[name]['sum_point_wall_s']:.1f} s (CPU {runs[name]['sum_point_cpu_s']:.1f} s, "
                   f"{100 * (runs[name]['cpu_share'] or 0):.0f} % of {workers} core(s)), {runs[name]['sum_iterations']} iterations, "
-                  f"points per worker {runs[name]['points_per_worker']}, load {load_run:.2f} -> {os.getloadavg()[0]:.2f}",
+                  f"points per worker {runs[name]['points_per_worker']} (busy {runs[name]['busy_s_per_worker']} s), load {load_run:.2f} -> {os.getloadavg()[0]:.2f}",
                   flush=True)
     load_after = os.getloadavg()
     speedup_workers = runs["warm_1w"]["wall_s"] / runs["warm_2w"]["wall_s"]

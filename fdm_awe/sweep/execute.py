@@ -75,9 +75,15 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"workers = {n} out of range (allowed >= 1)")
-    # the scheduler always serves HTTP (health routes): a free port avoids clashes with other clusters
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
-                           silence_logs=logging.ERROR)
+    # the scheduler always serves HTTP (health routes): a free port avoids clashes with other clusters.
+    # worker-saturation 1.0: a worker holds one queued root task (an anchor) at a time, not two
+    # (Dask's default 1.1 rounds up to 2 per single-threaded worker), so the first anchors go to
+    # different workers instead of both waiting on the first worker that registered
+    import dask
+
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
+                               silence_logs=logging.ERROR)
     return Client(cluster), cluster, n
 
 
