@@ -296,6 +296,62 @@ def test_line_drag_share_equals_distributed_drag_moment():
     assert line_drag_share(tp, l, l, 0.0, 0.0, v, 0.0, 0.0) == (0.0, 0.0, 0.0)
 
 
+def test_tether_drag_scale_is_validated():
+    for bad in (-0.1, 10.5, float("nan"), float("inf"), "half"):
+        with pytest.raises(InputError, match=r"tether_drag_scale .* out of range \(allowed 0 \.\. 10\)"):
+            GroundStation(P, tether_drag_scale=bad)
+    assert GroundStation(P).tether_drag_scale == 1.0
+    assert GroundStation(P, tether_drag_scale=10).tether_drag_scale == 10.0
+
+
+def _slack_drag_step(scale: float | None, l: float = 160.0, d: float = 150.0, v: float = 20.0):
+    """One step of a station (line slack: no tension) with the glider on the x axis at ``d``
+    (m), moving east at ``v`` (m/s) in calm air: the force is line drag (y) + line weight (z)."""
+    gs = GroundStation(P) if scale is None else GroundStation(P, tether_drag_scale=scale)
+    gs.reset(l, 0.0, "generator")
+    return gs.step(1 / 120, (d, 0.0, 0.0), (0.0, v, 0.0), GEN), gs
+
+
+def test_line_drag_scales_linearly_with_tether_drag_scale():
+    """The glider's line-drag share at a known perpendicular airspeed is
+    scale 0.5 rho C_D_perp d_t l v^2 share, opposite to the motion (both step paths)."""
+    tp = P.tether
+    l, d, v = 160.0, 150.0, 20.0
+    full = 0.5 * tp.air_density * tp.cd_perpendicular * tp.diameter * l * v * v * tp.drag_share
+    assert full > 0.1  # a force worth checking (N)
+    for scale in (0.0, 0.25, 0.5, 1.0, 2.0, 10.0):
+        o, gs = _slack_drag_step(scale, l, d, v)
+        fx, fy, fz = o.force_xyz
+        assert o.tension == 0.0 and fx == 0.0
+        assert fy == pytest.approx(-scale * full, rel=1e-12, abs=1e-300)
+        assert fz == pytest.approx(tp.weight_share * tp.mass_per_length * l * tp.gravity, rel=1e-12)  # weight unscaled
+        assert gs.ledger.line_drag_work_on_glider == pytest.approx(-scale * full * v / 120, rel=1e-12, abs=1e-300)
+        assert line_drag_share(tp, l, d, 0.0, 0.0, 0.0, v, 0.0, scale)[1] == pytest.approx(-scale * full, rel=1e-12,
+                                                                                          abs=1e-300)
+
+
+def test_tether_drag_scale_one_is_the_defined_line_bit_for_bit():
+    """Scale 1 (the default) gives exactly the unscaled line's numbers: the force equals the
+    defined line's product in its original order, and a whole crosswind run equals the
+    default station's, every output and ledger term."""
+    tp = P.tether
+    l, d, v = 160.0, 150.0, 20.0
+    o, _ = _slack_drag_step(1.0, l, d, v)
+    c = -0.5 * tp.drag_share * tp.air_density * tp.cd_perpendicular * tp.diameter * l * v
+    assert o.force_xyz[1] == c * v
+    assert line_drag_share(tp, l, d, 0.0, 0.0, 0.0, v, 0.0) == line_drag_share(tp, l, d, 0.0, 0.0, 0.0, v, 0.0, 1.0)
+    a, b = GroundStation(P, wind_ned=(3.0, 0.0, 0.0)), GroundStation(P, wind_ned=(3.0, 0.0, 0.0), tether_drag_scale=1.0)
+    for g in (a, b):
+        g.reset(200.0, 0.0, "generator")
+    dt = 1 / 120
+    for k in range(240):
+        t = k * dt
+        pos = tuple((U * (200.0 + 3.0 * t) + E * 20.0 * math.sin(0.8 * t)).tolist())
+        vel = tuple((U * 3.0 + E * 16.0 * math.cos(0.8 * t)).tolist())
+        assert a.step(dt, pos, vel, GEN) == b.step(dt, pos, vel, GEN)
+    assert a.ledger.as_dict() == b.ledger.as_dict() and a.ledger.line_drag_work_on_glider < 0.0
+
+
 def test_tether_break_event_and_zero_force_after():
     params = dataclasses.replace(P, tether=dataclasses.replace(P.tether, breaking_load=40.0))
     gs = GroundStation(params)

@@ -20,11 +20,11 @@ E = np.array([0.0, 1.0, 0.0])
 GEN = WinchCommand("generator")
 
 
-def _pair():
+def _pair(tether_drag_scale: float = 1.0):
     """Two stations from the same start: the Python loop and the compiled loop."""
     if compiled() is None:
         pytest.skip("numba not installed (or FDM_AWE_JIT=0): only the Python loop runs")
-    py, jit = GroundStation(P, wind_ned=(3.0, 0.0, 0.0)), GroundStation(P, wind_ned=(3.0, 0.0, 0.0))
+    py, jit = (GroundStation(P, wind_ned=(3.0, 0.0, 0.0), tether_drag_scale=tether_drag_scale) for _ in range(2))
     py.drivetrain._kernel = None
     assert jit.drivetrain._kernel is not None and jit._step_kernel is not None  # the whole step compiled
     return py, jit
@@ -77,6 +77,23 @@ def test_generation_then_pi_reel_in_at_several_flight_steps():
                 cmd = WinchCommand("motor", reel_speed_ref=-3.0)
             steps.append((dt, tuple(pos.tolist()), tuple(vel.tolist()), cmd))
         assert _run(st, steps) == len(steps)
+
+
+def test_scaled_line_drag_compiled_equals_python():
+    """With a line-drag scale (0.5, 0: no drag at all, 3) both paths still agree bit for bit."""
+    dt = 1 / 120
+    for scale in (0.5, 0.0, 3.0):
+        st = _pair(scale)
+        for g in st:
+            g.reset(200.0, 0.0, "generator")
+        steps = []
+        for k in range(240):
+            t = k * dt
+            pos = U * (200.0 + 3.0 * t) + E * 20.0 * math.sin(0.8 * t)
+            vel = U * 3.0 + E * 16.0 * math.cos(0.8 * t)
+            steps.append((dt, tuple(pos.tolist()), tuple(vel.tolist()), GEN))
+        assert _run(st, steps) == len(steps)
+        assert (st[1].ledger.line_drag_work_on_glider < 0.0) == (scale > 0.0)
 
 
 def test_open_loop_duty_boost_stage_and_prescribed_tension():

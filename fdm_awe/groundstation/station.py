@@ -166,10 +166,17 @@ class GroundStation:
     """Tether + winch + DC machine + half-bridge converter + PI, steppable with a flight model.
 
     ``wind_ned`` (m/s, NED) is only used for the line drag share (air-relative glider velocity).
+    ``tether_drag_scale`` (-, 0 .. 10, default 1 = the defined line) multiplies the line drag
+    share on the glider: a sensitivity knob, the ground-station twin of
+    :attr:`fdm_awe.ocp.problem.CycleProblem.tether_drag_scale` (e.g. 0.5 ~ half the diameter).
     """
 
     def __init__(self, params: GroundStationParams | None = None,
-                 wind_ned: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+                 wind_ned: Sequence[float] = (0.0, 0.0, 0.0), tether_drag_scale: float = 1.0) -> None:
+        if not (isinstance(tether_drag_scale, (int, float)) and math.isfinite(tether_drag_scale)
+                and 0.0 <= tether_drag_scale <= 10.0):
+            raise InputError(f"tether_drag_scale = {tether_drag_scale!r} out of range (allowed 0 .. 10)")
+        self.tether_drag_scale = float(tether_drag_scale)
         self.params = params if params is not None else load_ground_station()
         self.drivetrain = Drivetrain(self.params)
         self.set_wind(wind_ned)
@@ -182,9 +189,11 @@ class GroundStation:
         self._RL = self.params.converter.load_resistance
         self._d2 = self.params.converter.boost_duty
         # hot-path constants of the line shares (tether module), factored in the same order so
-        # the products round exactly as line_drag_share / line_weight_share do
-        self._drag_c = -0.5 * tp.drag_share * tp.air_density * tp.cd_perpendicular * tp.diameter
-        self._drag_on = tp.drag_share > 0.0
+        # the products round exactly as line_drag_share / line_weight_share do (a scale of 1
+        # multiplies exactly: the defined line's numbers are unchanged)
+        self._drag_c = (-0.5 * tp.drag_share * tp.air_density * tp.cd_perpendicular * tp.diameter
+                        * self.tether_drag_scale)
+        self._drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
         self._weight_c = tp.weight_share * tp.mass_per_length
         self._g = tp.gravity
         # the compiled step (substeps.station_step): constants in the order of STATION_CONSTANTS

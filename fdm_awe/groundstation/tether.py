@@ -54,21 +54,24 @@ def line_drag_share(
     length: float,
     x: float, y: float, z: float,
     vax: float, vay: float, vaz: float,
+    scale: float = 1.0,
 ) -> tuple[float, float, float]:
     """Share of the line drag acting on the glider, NED, N.
 
     ``(x, y, z)`` glider position (winch at the origin), ``(vax, vay, vaz)`` glider velocity
     relative to the air (ground velocity minus wind), m/s. Only the component normal to the
-    line counts: ``F = -share 0.5 rho C_D_perp d_t l |v_perp| v_perp``.
+    line counts: ``F = -scale share 0.5 rho C_D_perp d_t l |v_perp| v_perp``; ``scale`` (-,
+    default 1 = the defined line) is the line-drag sensitivity factor of
+    :class:`fdm_awe.groundstation.station.GroundStation` (``tether_drag_scale``).
     """
     d = math.sqrt(x * x + y * y + z * z)
-    if d <= 0.0 or p.drag_share <= 0.0:
+    if d <= 0.0 or p.drag_share <= 0.0 or scale <= 0.0:
         return 0.0, 0.0, 0.0
     ux, uy, uz = x / d, y / d, z / d
     vr = vax * ux + vay * uy + vaz * uz
     px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
     vp = math.sqrt(px * px + py * py + pz * pz)
-    c = -0.5 * p.drag_share * p.air_density * p.cd_perpendicular * p.diameter * length * vp
+    c = -0.5 * p.drag_share * p.air_density * p.cd_perpendicular * p.diameter * scale * length * vp
     return c * px, c * py, c * pz
 
 
