@@ -128,6 +128,7 @@ class FlightReport:
     reference_pos: np.ndarray | None = field(repr=False, default=None)
     autopilot_log: list[tuple[float, str]] = field(default_factory=list)
     plant: str = "physical"  #: "physical" or "paper" (see PLANT_NOTES)
+    tether_drag_scale: float = 1.0  #: factor on the line drag the ground station applied (1 = the defined line)
 
     @property
     def realtime_factor(self) -> float:
@@ -137,7 +138,8 @@ class FlightReport:
         """DESIGN.md section 1 output contract of ``fdm-awe fly``."""
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
-            "config": self.config, "wind_mps": self.wind_mps, "status": self.status,
+            "config": self.config, "wind_mps": self.wind_mps, "tether_drag_scale": self.tether_drag_scale,
+            "status": self.status,
             "message": self.message, "sim_time_s": round(self.sim_time_s, 6), "wall_s": round(self.wall_s, 3),
             "realtime_factor": round(self.realtime_factor, 1), "ledger_residual_rel": float(f"{self.ledger_residual_rel:.3e}"),
             "ledger": {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.ledger.items()},
@@ -156,13 +158,16 @@ def fly(
     setup: Callable[[Any, Any], None] | None = None,
     t_end: float | None = None,
     plant: str = "physical",
+    tether_drag_scale: float = 1.0,
 ) -> FlightReport:
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
     ``setup(autopilot, cosim)`` is called before the run (e.g. to attach a MAVLink endpoint);
     ``on_step(k, state, gs_output)`` after every step. ``t_end`` overrides the flight length.
     ``plant``: ``"physical"`` (JSBSim propeller + ground station) or ``"paper"`` (ideal thruster +
-    kinematic winch, :mod:`fdm_awe.paper_plant`).
+    kinematic winch, :mod:`fdm_awe.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
+    the defined line) scales the ground station's line drag on the glider, as
+    ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
     """
     from .autopilot.autopilot import Autopilot
     from .autopilot.guidance import norm3
@@ -176,6 +181,11 @@ def fly(
 
     if plant not in PLANTS:
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
+    if not (isinstance(tether_drag_scale, (int, float)) and math.isfinite(tether_drag_scale)
+            and 0.0 <= tether_drag_scale <= 10.0):
+        from .errors import InputError
+
+        raise InputError(f"tether_drag_scale = {tether_drag_scale!r} out of range (allowed 0 .. 10)")
     paper = plant == "paper"
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))
@@ -187,7 +197,7 @@ def fly(
 
         gs = IdealWinch(gsp, P_rw=Scenario.named("paper").P_rw, wind_ned=wind)
     else:
-        gs = GroundStation(gsp, wind_ned=wind)
+        gs = GroundStation(gsp, wind_ned=wind, tether_drag_scale=tether_drag_scale)
     r0 = reference.sample(0.0)
     va = r0.vel - np.asarray(wind)
     V = float(np.linalg.norm(va))
@@ -305,5 +315,5 @@ def fly(
         scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind[0], wind[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
-        autopilot_log=list(ap.log), plant=plant,
+        autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale),
     )

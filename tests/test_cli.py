@@ -92,3 +92,38 @@ def test_fly_command_streams_mavlink_paced_in_real_time(tmp_path):
     assert 50 <= seen["HEARTBEAT"] <= 70
     for t in ("ATTITUDE", "GLOBAL_POSITION_INT", "VFR_HUD", "SYS_STATUS", "NAMED_VALUE_FLOAT"):
         assert seen[t] > 0, t
+
+
+def test_fly_flies_the_line_drag_scale_of_the_reference(tmp_path, monkeypatch, capsys):
+    """`fdm-awe fly` takes the line-drag factor from the reference's metadata (an info line, no
+    warning), records it in the JSON, and warns only when --tether-drag-scale overrides it.
+    Short flights (3 s) of the stored reference with its metadata set to 0.5."""
+    import json
+    from pathlib import Path
+
+    import fdm_awe.flight as flight
+
+    doc = json.loads((Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json").read_text())
+    doc["metadata"]["tether_drag_scale"] = 0.5
+    ref = tmp_path / "ref_scaled.json"
+    ref.write_text(json.dumps(doc))
+    seen = []
+    real_fly = flight.fly
+
+    def short_fly(*a, **kw):
+        seen.append(kw["tether_drag_scale"])
+        return real_fly(*a, **{**kw, "t_end": 3.0})
+
+    monkeypatch.setattr(flight, "fly", short_fly)
+    out = tmp_path / "run.json"
+    assert main(["fly", "--reference", str(ref), "--quiet", "--json", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert seen == [0.5] and json.loads(out.read_text())["tether_drag_scale"] == 0.5
+    assert "line drag x 0.5" in err and "warning" not in err
+    assert main(["fly", "--reference", str(ref), "--quiet", "--tether-drag-scale", "1", "--json", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert seen == [0.5, 1.0] and json.loads(out.read_text())["tether_drag_scale"] == 1.0
+    assert "warning" in err and "tether_drag_scale 0.5" in err
+    assert main(["fly", "--reference", str(ref), "--tether-drag-scale", "-1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--tether-drag-scale" in err and "0..10" in err

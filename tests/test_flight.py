@@ -172,3 +172,11 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
     assert rep.status in ("ok", "landed"), rep.message
     e = rep.track_error[holder["k_upload"]:]
     assert np.nanmax(e) < 60.0
+
+
+def test_fly_validates_the_line_drag_scale(reference):
+    from fdm_awe.errors import InputError
+
+    for bad in (-0.5, 10.5, float("nan")):
+        with pytest.raises(InputError, match=r"tether_drag_scale .* out of range \(allowed 0 \.\. 10\)"):
+            fly(reference, config="nominal", tether_drag_scale=bad)

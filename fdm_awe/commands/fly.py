@@ -52,6 +52,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="foldable folds for recovery, nominal never folds; default foldable, or the --reference file's")
     p.add_argument("--wind", type=float, default=8.0, metavar="M/S", help="wind speed for the optimised reference (default 8)")
     p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG", help="wind direction, blowing from (default 180 = south)")
+    p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
+                   help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
+                        "reference); default: the --reference file's tether_drag_scale, else 1 = the defined line")
     p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles (default 3)")
     p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s (default 1/120)")
     p.add_argument("--turbulence", type=_turbulence, metavar="LEVEL[:SEED]", help="JSBSim turbulence: light|moderate|severe, seeded")
@@ -77,6 +80,9 @@ def _check(args: argparse.Namespace) -> None:
         raise InputError(f"--wind {args.wind} out of range (allowed 0..25 m/s)")
     if args.realtime is not None and not (0.0 < args.realtime <= 1000.0):
         raise InputError(f"--realtime {args.realtime} out of range (allowed > 0 and <= 1000)")
+    s = getattr(args, "tether_drag_scale", None)
+    if s is not None and not (math.isfinite(s) and 0.0 <= s <= 10.0):
+        raise InputError(f"--tether-drag-scale {s} out of range (allowed 0..10)")
 
 
 def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
@@ -96,15 +102,32 @@ def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
     from ..ocp.solve import solve_cycle
 
     b = _flyable_bounds()
+    scale = 1.0 if getattr(args, "tether_drag_scale", None) is None else args.tether_drag_scale
     print(f"optimising a {args.scenario} {args.config} cycle at {args.wind:g} m/s (flyable bounds: "
-          f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad) ...", file=sys.stderr)
+          f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad; line drag x {scale:g}) ...", file=sys.stderr)
     res = solve_cycle(CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind,
-                                   wind_from_deg=args.wind_from, bounds=b))
+                                   wind_from_deg=args.wind_from, bounds=b, tether_drag_scale=scale))
     if not res.ok:
         raise InputError(f"the optimiser found no cycle: {res.status} ({getattr(res, 'reason', '')})")
     path = (out_dir or Path(".")) / f"reference_{args.scenario}_{args.config}_{args.wind:g}.json"
     write_reference(res, path)
     return TrackingReference.from_ocp_file(str(path)), path
+
+
+def flight_drag_scale(meta: dict, requested: float | None, ref_path: Path) -> float:
+    """The line-drag factor of the flight: the reference's ``tether_drag_scale`` (metadata; 1
+    for files written before it existed) unless ``requested`` overrides it. Prints an info line
+    with the scale, and a warning when an override makes the flight's line differ from the one
+    the reference was optimised with."""
+    ref_scale = float(meta.get("tether_drag_scale", 1.0))
+    scale = ref_scale if requested is None else float(requested)
+    if scale != ref_scale:
+        print(f"warning: {ref_path} was optimised with tether_drag_scale {ref_scale:g}; the flight uses "
+              f"{scale:g} (--tether-drag-scale), so its line drag differs from the reference's", file=sys.stderr)
+    else:
+        print(f"line drag x {scale:g} ({'the defined line' if scale == 1.0 else 'scaled line'}), "
+              f"as {ref_path} was optimised with", file=sys.stderr)
+    return scale
 
 
 def run(args: argparse.Namespace) -> int:
@@ -114,10 +137,7 @@ def run(args: argparse.Namespace) -> int:
         out_dir.mkdir(parents=True, exist_ok=True)
     ref, ref_path = load_or_optimise_reference(args, out_dir)
     plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
-    scale = ref.meta.get("tether_drag_scale", 1.0)
-    if scale != 1.0:
-        print(f"warning: {ref_path} was optimised with tether_drag_scale {scale:g}; the flight uses the defined line "
-              f"(scale 1), so its line drag differs from the reference's", file=sys.stderr)
+    scale = flight_drag_scale(ref.meta, getattr(args, "tether_drag_scale", None), ref_path)
     from ..autopilot.config import autopilot_params
     from ..flight import fly
     from ..mavlink.params import ParamStore
@@ -163,7 +183,7 @@ def run(args: argparse.Namespace) -> int:
 
     t0 = time.perf_counter()
     report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                 on_step=on_step, params=params, setup=setup, plant=plant)
+                 on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale)
     if bar is not None:
         bar.close()
     if endpoint is not None:
@@ -200,7 +220,8 @@ def _write_outputs(args, report, ref, out_dir: Path | None) -> dict:
 
 
 def _print_summary(report, ref_path: Path) -> None:
-    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_path}  plant {report.plant}")
+    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_path}  plant {report.plant}"
+          f"  line drag x {report.tether_drag_scale:g}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
           f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
     print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
