@@ -65,7 +65,9 @@ CACHE_SIZE = 8
 
 #: warm start: primal-dual restart with a small monotone barrier (measured at the default mesh,
 #: physical nominal 8 -> 8.25 / 8.5 m/s: 188 / 199 iterations where the adaptive barrier from
-#: mu 1e-4 took 211 and at +0.5 m/s lost the warm start)
+#: mu 1e-4 took 211 and at +0.5 m/s lost the warm start; with the 1e-6 tolerances 198 / 196,
+#: because the neighbouring wind's optimum is another local optimum: -11.8 -> -5.9 W; paper
+#: foldable 3 -> 3.25 m/s: 20 iterations)
 WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-6,
                 "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-5, "ipopt.mu_strategy": "monotone"}
 
