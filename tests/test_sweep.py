@@ -330,3 +330,29 @@ def test_failed_warm_start_fails_early():
     assert out["one"]["iterations"] == 20 and "one cold solve" in out["one"]["reason"]
     # the whole strategy: three starts (with the tether-drag continuation) until 200 iterations are spent
     assert 20 < out["all"]["iterations"] <= 200 + 10
+
+
+def test_point_after_a_failed_neighbour_without_warm_start():
+    """A chain's previous point failed and passes no warm start (a failed anchor): with
+    ``warm_fallback`` one or none the point makes a single cold solve (its cost is bounded like
+    a failed warm start's); with ``all`` it runs the whole cold strategy. The same holds when the
+    failure is read back from disk on a resumed sweep (FailedUpstream)."""
+    from fdm_awe.sweep.runner import FailedUpstream, run_point
+
+    base = SweepSpec(winds=(8.0,), configs=("nominal",), mesh=MESH).points()[0]
+    failed_rec = {"status": "failed", "id": "upstream"}
+    out = {}
+    for fb in ("none", "one", "all"):
+        p = Point(**{**base.__dict__, "max_iter": 10, "max_iter_total": 200, "warm_fallback": fb})
+        for upstream in ((failed_rec, None), FailedUpstream(None)):
+            rec, warm = run_point(p, upstream)
+            assert rec["status"] == "failed" and warm is None and rec["warm_from"] is None
+            out.setdefault(fb, []).append(rec)
+    for fb in ("none", "one"):
+        assert [r["iterations"] for r in out[fb]] == [10, 10]
+        assert all("one cold solve" in r["reason"] for r in out[fb])
+    assert all(20 < r["iterations"] <= 200 + 10 for r in out["all"])
+    # a neighbour that succeeded, or no neighbour at all: the usual cold strategy
+    p = Point(**{**base.__dict__, "max_iter": 10, "max_iter_total": 200, "warm_fallback": "one"})
+    rec, _ = run_point(p, None)
+    assert rec["iterations"] > 20

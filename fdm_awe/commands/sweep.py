@@ -35,7 +35,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="IPOPT iterations over all solves of one point (default 3000)")
     p.add_argument("--warm-fallback", default="all", choices=("all", "one", "none"),
                    help="after a failed warm start: the whole cold strategy (all, default), one cold solve from the "
-                        "first start (one), or fail at once (none)")
+                        "first start (one), or fail at once (none); with one or none, a point after a failed neighbour that "
+                        "passes on no warm start also gets a single cold solve")
     p.add_argument("--anchor-every", type=int, default=0, metavar="N",
                    help="a cold-started anchor every N winds of a line (more, shorter warm-start chains; "
                         "default 0: one anchor per line, the wind nearest 8 m/s)")

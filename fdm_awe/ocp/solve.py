@@ -107,7 +107,7 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
                 n_starts: int = 1, glider: Glider | None = None, winch: WinchElectrics | None = None,
                 ipopt_options: dict | None = None, cache: bool = True, coarse: Mesh | None | bool = True,
                 time_budget_s: float = SAFETY_WALL_S, max_iter: int = MAX_ITER, max_iter_total: int = MAX_ITER_TOTAL,
-                warm_fallback: str = "all") -> CycleResult:
+                warm_fallback: str = "all", cold: str = "all") -> CycleResult:
     """Optimise one pumping cycle (see the module docstring).
 
     ``warm``: a previous result; the same NLP structure restarts with its multipliers, any
@@ -127,9 +127,15 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     ``"none"`` nothing (the result is ``failed`` at once). The cheaper settings bound the cost of
     a point that cannot converge (a sweep's failure), at the risk of missing a cycle that only
     a later start or a continuation finds.
+
+    ``cold``: the strategy without a warm start: ``"all"`` (every start with its continuations)
+    or ``"one"`` (a single IPOPT solve from the first start, the same as ``warm_fallback="one"``
+    after a failed warm start; a sweep uses it after a failed neighbour).
     """
     if warm_fallback not in WARM_FALLBACKS:
         raise ValueError(f"warm_fallback {warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
+    if cold not in ("all", "one"):
+        raise ValueError(f"cold {cold!r} unknown (allowed: all, one)")
     problem = problem.validate()
     if coarse is True:
         coarse = COARSE_MESH if problem.mesh.n_gen > COARSE_MESH.n_gen else None
@@ -138,7 +144,8 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
 
         first = solve_cycle(_replace(problem, mesh=coarse), starts=starts, n_starts=n_starts, glider=glider,
                             winch=winch, ipopt_options=ipopt_options, cache=cache, coarse=None,
-                            time_budget_s=time_budget_s, max_iter=max_iter, max_iter_total=max_iter_total)
+                            time_budget_s=time_budget_s, max_iter=max_iter, max_iter_total=max_iter_total,
+                            cold=cold)
         if first.ok:
             res = solve_cycle(problem, warm=first, glider=glider, winch=winch, ipopt_options=ipopt_options,
                               cache=cache, coarse=None,
@@ -197,8 +204,9 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         if _accept(nlp, r):
             return _finish(problem, nlp, k, "from a previous solution", r, build_s, total_s, total_it)
         reasons.append(f"from a previous solution: {r.reason}")
-    if reasons and warm_fallback != "all":
-        if warm_fallback == "one":
+    one_cold = warm is None and cold == "one"
+    if (reasons and warm_fallback != "all") or one_cold:
+        if warm_fallback == "one" or one_cold:
             st = (starts or default_starts(problem))[0]
             phases, k = loop_guess(problem, nlp.model, st, wind)
             r = run(nlp.pack(phases), k, 1.0, 1.0)

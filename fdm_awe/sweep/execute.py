@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 from ..errors import InputError
-from .runner import run_point
+from .runner import FailedUpstream, run_point
 from .spec import Chain, Point, SweepSpec, chains
 from .store import PointStore
 
@@ -152,7 +152,9 @@ def chain_priorities(chain_list: list[Chain]) -> list[int]:
 
 def _submit(client: Any, chain_list: list, done: dict[str, dict], store: PointStore) -> tuple[list, dict[str, Point]]:
     """Submit every missing point, chained to its warm-start predecessor (a future, a stored
-    warm start, or nothing)."""
+    warm start, a stored failure, or nothing)."""
+    from dask.distributed import Future
+
     after_point: dict[str, Any] = {}  # point id -> warm start for the next point (Warm, Future or None)
     futures = []
     by_key: dict[str, Point] = {}
@@ -165,6 +167,8 @@ def _submit(client: Any, chain_list: list, done: dict[str, dict], store: PointSt
                     w = store.load_warm(p.id)
                     if w is not None:
                         cur = w
+                elif not isinstance(cur, Future):  # failed on disk: the next point is told so
+                    cur = FailedUpstream(cur.warm if isinstance(cur, FailedUpstream) else cur)
             else:
                 key = f"sweep-point-{p.id}"
                 fut = client.submit(run_point, p, cur, key=key, pure=False, retries=0, priority=prio)

@@ -53,6 +53,24 @@ class Warm:
                            key=structure_key(problem))
 
 
+@dataclass
+class FailedUpstream:
+    """The previous point of the chain failed (read back from disk on a resumed sweep): the
+    warm start it passes on (its own input, possibly ``None``) and the fact that it failed."""
+
+    warm: Warm | None
+
+
+def upstream_input(upstream: Any) -> tuple[Warm | None, bool]:
+    """``(warm start, previous point failed)`` from what :func:`run_point` receives: the previous
+    task's ``(record, warm)``, a :class:`Warm` or :class:`FailedUpstream` from disk, or ``None``."""
+    if isinstance(upstream, tuple):
+        return upstream[1], upstream[0].get("status") != "ok"
+    if isinstance(upstream, FailedUpstream):
+        return upstream.warm, True
+    return upstream, False
+
+
 @functools.lru_cache(maxsize=1)
 def _base_glider() -> Any:
     from ..definitions.aircraft import load_glider
@@ -124,11 +142,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
     """Solve ``point`` warm-started from ``upstream`` (see the module docstring)."""
     t0 = time.perf_counter()
     c0 = time.process_time()
-    warm_in: Warm | None
-    if isinstance(upstream, tuple):
-        warm_in = upstream[1]
-    else:
-        warm_in = upstream
+    warm_in, upstream_failed = upstream_input(upstream)
     rec = base_record(point)
     try:
         glider = point_glider(point)
@@ -144,8 +158,11 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
         # the iteration limit decides failures; the CPU-time limit is lifted so that a busy
         # machine cannot change a result
         opts = {"ipopt.max_iter": int(point.max_iter), "ipopt.max_cpu_time": 1e6}
+        # after a failed neighbour that leaves no warm start, a cheap failure policy
+        # (warm_fallback one / none) also bounds this point's cold search: one cold solve
+        cold = "one" if upstream_failed and warm is None and point.warm_fallback != "all" else "all"
         res = solve_cycle(problem, warm=warm, glider=glider if custom else None, ipopt_options=opts,
-                          max_iter_total=int(point.max_iter_total), warm_fallback=point.warm_fallback)
+                          max_iter_total=int(point.max_iter_total), warm_fallback=point.warm_fallback, cold=cold)
         s = res.summary()
         rec.update({"status": "ok" if res.ok else "failed", "reason": str(res.reason), "iterations": int(res.iterations),
                     "solve_s": _num(res.solve_s), "build_s": _num(res.build_s), "start": res.start or None,

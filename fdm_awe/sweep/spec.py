@@ -78,7 +78,7 @@ class Point:
     mesh: tuple[int, int, int] = (60, 20, 4)  #: (n_gen, n_rec, degree); sweeps set it from their Mesh
     max_iter: int = DEFAULT_MAX_ITER  #: IPOPT iteration limit per solve
     max_iter_total: int = DEFAULT_MAX_ITER_TOTAL  #: IPOPT iterations over all solves of the point
-    warm_fallback: str = "all"  #: after a failed warm start: all / one / none (cold solves)
+    warm_fallback: str = "all"  #: after a failed warm start: all / one / none (cold solves); one/none: a single cold solve after a failed neighbour without warm start
 
     @property
     def id(self) -> str:
