@@ -7,8 +7,9 @@ Plants (``plant``): ``physical`` = the JSBSim propeller and the ground station o
 
 Energy terms per cycle (J, all >= 0 except ``E_net_J``), counted as the plant's scenario
 counts them. Physical plant, electrically: ``E_generated_J`` into the load resistor,
-``E_thrust_J`` drawn by the glider's motor, ``E_reel_in_J`` drawn from the ground station's
-supply. Paper plant: ``E_generated_J`` = mechanical tension x reel speed in generation,
+``E_thrust_J`` drawn by the glider's motor (its electrical input plus the constant P0 of
+ESC and avionics that the optimiser's propulsion model also books), ``E_reel_in_J`` drawn
+from the ground station's supply. Paper plant: ``E_generated_J`` = mechanical tension x reel speed in generation,
 ``E_thrust_J`` = the paper's P(T) fit of the commanded thrust, ``E_reel_in_J`` = the constant
 reel-in power x recovery time. ``E_net_J = E_generated_J - E_thrust_J - E_reel_in_J``.
 
@@ -269,6 +270,10 @@ def fly(
         res.data[1:, COLUMNS.index("thrust")] = t_ideal[1: k_end + 1]
         res.data[1:, COLUMNS.index("p_prop")] = [thruster.power(t) for t in t_ideal[1: k_end + 1]]
     else:
+        # the logged propulsion power: the motor's electrical input (JSBSim: throttle x battery
+        # voltage x current) plus the constant draw the optimiser's propulsion model books
+        # (P0: ESC and avionics), so that flight and optimiser count the same consumers
+        res.data[:, COLUMNS.index("p_prop")] += airframes.unfolded.propulsion.P0
         p_prop = np.nan_to_num(res.p_prop)
         e_thrust = np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
     mets: list[CycleMetrics] = []
