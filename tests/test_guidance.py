@@ -124,3 +124,90 @@ def test_a_push_over_is_flown_with_negative_lift(negative_lift):
         assert c.lift_coefficient == pytest.approx(cl, rel=1e-6)
     else:
         assert abs(c.mu) == pytest.approx(1.1)
+
+
+def _lift_vector(gd, cmd, vel, wind=np.zeros(3)):
+    """Lift force [N, NED] the command asks for (fold 0): q S CL along the banked lift axis."""
+    va = vel - wind
+    V = float(np.linalg.norm(va))
+    e1 = va / V
+    h = math.hypot(e1[0], e1[1])
+    right0 = np.array([-e1[1], e1[0], 0.0]) / h
+    up0 = np.cross(right0, e1)
+    eL = math.cos(cmd.mu) * up0 + math.sin(cmd.mu) * right0
+    return 0.5 * 1.225 * V * V * gd.aero_u.S * cmd.lift_coefficient * eL
+
+
+def test_a_faster_glider_turns_on_the_paths_radius():
+    """Level 2 g turn of the reference at 20 m/s, the glider on the path at 26 m/s: with the
+    curvature scaling the turn asks (26/20)^2 of the reference's centripetal acceleration (the
+    path's radius at the glider's speed); without it, the reference's acceleration as it stands."""
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    m = g.unfolded.mass.mass
+    V, Vg, a = 20.0, 26.0, 2.0 * 9.81
+    ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, a, 0.0]),
+                   V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
+    vel = np.array([Vg, 0.0, 0.0])
+    for scale_max, factor in ((2.25, (Vg / V) ** 2), (None, 1.0), (1.2, 1.2)):
+        gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35,
+                              phi_max=1.4, thrust_max=8.0, energy_trade=0.0, curv_scale_max=scale_max)
+        gd = Guidance(gains, m, g.unfolded.aero, g.folded.aero)
+        c = gd.update(ref, ref.pos, vel, np.zeros(3), np.zeros(3), 0.0, 0.0)
+        lift = _lift_vector(gd, c, vel)
+        assert lift[1] == pytest.approx(m * a * factor, rel=1e-6)
+        assert -lift[2] == pytest.approx(m * 9.81, rel=1e-6)
+
+
+def test_the_bank_limit_opens_in_a_steep_dive():
+    """A 3 g turn to the east asked in a 60 deg dive needs 81 deg of wind-axis bank: the level
+    flight limit (63 deg) would tilt the lift away from the turn; LIM_BANK_VERT lets it bank
+    there, while the same demand in level flight stays at the level-flight limit."""
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    m = g.unfolded.mass.mass
+    gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35,
+                          phi_max=1.1, thrust_max=8.0, energy_trade=0.0, phi_max_vertical=2.2)
+    V, a = 25.0, 3.0 * 9.81
+    gam = math.radians(-60.0)
+    vel = V * np.array([math.cos(gam), 0.0, -math.sin(gam)])
+    for v, expect in ((vel, None), (np.array([V, 0.0, 0.0]), 1.1)):
+        gd = Guidance(gains, m, g.unfolded.aero, g.folded.aero)
+        ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), v, np.array([0.0, a, 0.0]), V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
+        c = gd.update(ref, ref.pos, v, np.zeros(3), np.zeros(3), 0.0, 0.0)
+        if expect is None:
+            e1 = v / V
+            F = m * (np.array([0.0, a, 0.0]) - np.array([0.0, 0.0, 9.81]))
+            F_perp = F - float(F @ e1) * e1
+            assert c.mu > 1.3  # past the level-flight limit, inside 1.1 + 1.1 * sin^2(60 deg)
+            np.testing.assert_allclose(_lift_vector(gd, c, v), F_perp, rtol=1e-6, atol=1e-9)
+        else:
+            assert c.mu == pytest.approx(expect)
+
+
+def test_overspeed_on_a_taut_line_pulls_harder():
+    """Taut line, glider 10 m/s faster than its reference: GUID_VTENS = 8 N s/m over a 3 m/s
+    margin asks 8 * 7 = 56 N more radial (lift) force than the reference's; at the reference's
+    speed it asks nothing more."""
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    m = g.unfolded.mass.mass
+    pos = np.array([100.0, 0.0, -173.2])
+    e_r = pos / np.linalg.norm(pos)
+    V = 22.0
+    ref = RefPoint(0.0, 0, 0, pos, np.array([0.0, V, 0.0]), np.zeros(3), V, 0.0, 0.0, 0.0, 50.0, 200.0, 0.0)
+    tf = -50.0 * e_r
+    radial = {}
+    for k_v in (0.0, 8.0):
+        gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35,
+                              phi_max=1.1, thrust_max=8.0, energy_trade=0.0, overspeed_tension=k_v, overspeed_margin=3.0)
+        for dv in (0.0, 10.0):
+            gd = Guidance(gains, m, g.unfolded.aero, g.folded.aero)
+            vel = np.array([0.0, V + dv, 0.0])
+            c = gd.update(ref, pos, vel, np.zeros(3), tf, 0.0, 0.0, taut=True)
+            radial[k_v, dv] = float(_lift_vector(gd, c, vel) @ e_r)
+    assert radial[8.0, 0.0] == pytest.approx(radial[0.0, 0.0], rel=1e-9)
+    assert radial[8.0, 10.0] - radial[0.0, 10.0] == pytest.approx(56.0, rel=1e-6)

@@ -132,7 +132,9 @@ class Autopilot:
         return GuidanceGains(
             kp=p["GUID_KP"], kd=p["GUID_KD"], ki=p["GUID_KI"], a_max=p["GUID_AMAX"], int_max=p["GUID_IMAX"],
             alpha_min=p["LIM_ALPHA_MIN"], alpha_max=p["LIM_ALPHA_MAX"], phi_max=p["LIM_BANK"], thrust_max=p["LIM_THRUST"],
-            energy_trade=p["GUID_ETRADE"], negative_lift=p["GUID_NEGLIFT"] > 0.5,
+            energy_trade=p["GUID_ETRADE"], negative_lift=p["GUID_NEGLIFT"] > 0.5, phi_max_vertical=p["LIM_BANK_VERT"],
+            curv_scale_max=p["GUID_CURVMAX"],
+            overspeed_tension=p["GUID_VTENS"], overspeed_margin=p["GUID_VMARGIN"],
         )
 
     def _on_param(self, name: str, value: float) -> None:

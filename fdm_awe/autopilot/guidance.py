@@ -35,6 +35,10 @@ class GuidanceGains:
     thrust_max: float  #: [N]
     energy_trade: float = 1.0  #: share of an unachievable along-path force turned into climb/dive [-]
     negative_lift: bool = False  #: fly a lift demand pointing below the horizon with negative lift (push-over) instead of banking past the limit
+    curv_scale_max: float | None = None  #: bound of the feed-forward turn's (v/v_ref)^2 scaling [-] (None: no scaling)
+    overspeed_tension: float = 0.0  #: taut line: extra radial force per m/s of airspeed above the reference's plus the margin [N s/m]
+    overspeed_margin: float = 3.0  #: airspeed excess over the reference's tolerated before overspeed_tension acts [m/s]
+    phi_max_vertical: float | None = None  #: wind-axis bank limit in vertical flight [rad] (None = phi_max); blended with sin^2 of the flight-path angle
 
 
 @dataclass(frozen=True)
@@ -133,13 +137,23 @@ class Guidance:
             a_p = a_n - float(a_n @ t_now) * t_now
             n_p, n_n = norm3(a_p), norm3(a_n)
             if n_p > 1e-9:
-                a_p = a_p * (n_n / n_p)  # the turn keeps its rate
+                # the turn keeps the path's curvature: the glider follows the reference path
+                # (its point moves with the glider), so a faster glider needs (v/v_ref)^2 of the
+                # reference's centripetal acceleration to fly the same radius (bounded by
+                # curv_scale_max; None: the reference's acceleration as it stands)
+                scale = 1.0 if k.curv_scale_max is None else min((v0 / v_ref) ** 2, k.curv_scale_max)
+                a_p = a_p * (n_n / n_p * scale)
             a_ff = a_t * t_now + a_p
         a_cmd = a_ff + corr
         F = self.m * (a_cmd - g_vec) - tether_force
         if taut:
             e_rr = ref.pos / max(norm3(ref.pos), 1e-6)
             F_r_ref = float(self.m * (ref.acc - g_vec) @ e_rr) + ref.tension
+            if k.overspeed_tension > 0.0 and v_ref > 1.0:
+                # overspeed protection: on a taut line the glider sheds speed through the line,
+                # not through its drag: pull harder than the reference (more lift, more induced
+                # drag) and the winch pays out faster, taking the excess energy at the drum
+                F_r_ref += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
             F = F - float(F @ e_r) * e_r + F_r_ref * e_r
         va = vel - wind
         V = max(norm3(va), 1.0)
@@ -185,7 +199,13 @@ class Guidance:
         alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
         thrust = min(max(F_par + drag, 0.0), k.thrust_max)
-        mu = min(max(mu, -k.phi_max), k.phi_max)
+        # the bank limit keeps the lift above the horizon in level flight; climbing or diving
+        # steeply the wind-axis bank no longer says where the lift points relative to gravity
+        # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical
+        phi_lim = k.phi_max
+        if k.phi_max_vertical is not None and k.phi_max_vertical > k.phi_max:
+            phi_lim += (k.phi_max_vertical - k.phi_max) * (1.0 - horiz * horiz)
+        mu = min(max(mu, -phi_lim), phi_lim)
         eL = math.cos(mu) * up0 + math.sin(mu) * right0
         # body axes: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL
         ca, sa = math.cos(alpha), math.sin(alpha)
