@@ -157,3 +157,20 @@ def test_paper_plant_flight_is_deterministic():
         d.pop("wall_s")
         d.pop("realtime_factor")
     assert json.dumps(docs[0], sort_keys=True) == json.dumps(docs[1], sort_keys=True)
+
+
+@pytest.mark.parametrize("seed", [1, 7])
+def test_paper_plant_flies_three_cycles_in_moderate_turbulence(seed):
+    """The paper foldable 3 m/s cycle in JSBSim's moderate turbulence (fixed seeds) flies its
+    3 cycles without an event. Before the overspeed protection on the taut line (GUID_VTENS),
+    the curvature-keeping turn feed-forward (GUID_CURVMAX) and the bank limit opening in steep
+    flight (LIM_BANK_VERT), seed 7 ended at the recovery -> generation dive (t = 37 s) and
+    seed 1 in the third cycle (t = 81 s), both on the 40 m/s airspeed limit."""
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import fly
+
+    ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_foldable_3mps.json"))
+    rep = fly(ref, config="foldable", cycles=3, plant="paper", turbulence=("moderate", seed))
+    assert rep.status == "ok", rep.message
+    assert len(rep.cycles) == 3 and all(c.complete for c in rep.cycles)
+    assert rep.ledger_residual_rel < 0.01
