@@ -140,8 +140,10 @@ class Guidance:
                 # the turn keeps the path's curvature: the glider follows the reference path
                 # (its point moves with the glider), so a faster glider needs (v/v_ref)^2 of the
                 # reference's centripetal acceleration to fly the same radius (bounded by
-                # curv_scale_max; None: the reference's acceleration as it stands)
-                scale = 1.0 if k.curv_scale_max is None else min((v0 / v_ref) ** 2, k.curv_scale_max)
+                # curv_scale_max; None: the reference's acceleration as it stands). Only scaled
+                # up: a slower glider keeps the reference's turn (scaling it down weakened the
+                # turn of a glider lagging on a slack line in turbulence)
+                scale = 1.0 if k.curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), k.curv_scale_max)
                 a_p = a_p * (n_n / n_p * scale)
             a_ff = a_t * t_now + a_p
         a_cmd = a_ff + corr
