@@ -291,3 +291,24 @@ def test_warm_start_from_neighbouring_wind():
     again = solve_cycle(pr.with_wind(3.5), warm=first)
     assert again.ok and again.start == "warm start"
     assert again.iterations < first.iterations
+
+
+def test_alpha_bounds_keep_the_negative_stall():
+    """The aircraft definitions clip C_L at -C_Lmax; the stall-limited (physical) scenario keeps
+    alpha above it, a reference to be flown (cl_margin < 1) keeps the same margin from the
+    negative stall as from the positive one, and the paper scenario keeps Table 3's |alpha|."""
+    for scn, cfg in (("physical", "nominal"), ("physical", "foldable"), ("paper", "foldable")):
+        for margin in (1.0, 0.85):
+            pr = CycleProblem(scenario=scn, config=cfg, wind_speed=8.0, mesh=COARSE, bounds=Bounds(cl_margin=margin))
+            m = get_nlp(pr)[0].model
+            for ip in (0, 1):
+                a = (m.gen_airframe if ip == 0 else m.rec_airframe).aero
+                lo, hi = m.alpha_lower(ip, 0.35, margin), m.alpha_upper(ip, 0.35, margin)
+                cl_lo = a.CL0 + a.CLalpha * lo
+                if margin < 1.0:
+                    assert cl_lo >= -margin * a.CLmax - 1e-12 and a.CL0 + a.CLalpha * hi <= margin * a.CLmax + 1e-12
+                if scn == "physical":
+                    assert cl_lo >= -a.CLmax - 1e-12
+                elif margin == 1.0:
+                    assert lo == -0.35
+                assert -0.35 <= lo < 0.0 < hi

@@ -192,7 +192,8 @@ class CycleNLP:
         self.idx_slack: list[int] = []
         for ip, ph in enumerate(self.phases):
             a_hi = m.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
-            ctrl_bounds = {"alpha": (-bnd.alpha_max, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
+            a_lo = m.alpha_lower(ip, bnd.alpha_max, bnd.cl_margin)
+            ctrl_bounds = {"alpha": (a_lo, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
                            "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0)}
             ph.T, ph.idx_T = new_var(f"T{ip + 1}", TIME_SCALE, bnd.T_phase_min, bnd.t_max)
             nx, nu = len(ph.states), len(ph.controls)

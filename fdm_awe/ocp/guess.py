@@ -127,7 +127,8 @@ def loop_guess(problem: CycleProblem, model: CycleModel, start: LoopStart, wind_
         else:
             G = np.zeros(n)
         CL = 2 * (af.mass.mass * model.g + G) / (model.rho * a.S * Vc**2 * np.cos(phi))
-        alpha = np.clip((CL - a.CL0) / a.CLalpha, -0.1, 0.8 * model.alpha_upper(ip, b.alpha_max, b.cl_margin))
+        alpha = np.clip((CL - a.CL0) / a.CLalpha, max(-0.1, model.alpha_lower(ip, b.alpha_max, b.cl_margin)),
+                        0.8 * model.alpha_upper(ip, b.alpha_max, b.cl_margin))
         X = np.column_stack([P, Vc, gamma, psi] + ([l_rec] if ip == 1 else []))
         if ip == 0:
             U = np.column_stack([alpha, phi, np.full(n, 1.0)] + ([G] if model.scenario.tension_control else []))

@@ -138,6 +138,19 @@ class CycleModel:
         """The block of phase ``index`` (0 generation, 1 recovery)."""
         return self.generation if index == 0 else self.recovery
 
+    def alpha_lower(self, index: int, alpha_max: float, cl_margin: float = 1.0) -> float:
+        """Lower bound on alpha [rad]: -alpha_max (Table 3), tightened by the negative stall
+        C_L >= -C_Lmax if enabled (the aircraft definitions clip C_L there) and by
+        C_L >= -cl_margin C_Lmax of the phase's own wing when ``cl_margin`` < 1 (a reference to
+        be flown keeps the same margin from the negative stall as from the positive one)."""
+        a = (self.gen_airframe if index == 0 else self.rec_airframe).aero
+        lo = -alpha_max
+        if self.scenario.stall_limit:
+            lo = max(lo, (-a.CLmax - a.CL0) / a.CLalpha)
+        if cl_margin < 1.0:
+            lo = max(lo, (-cl_margin * a.CLmax - a.CL0) / a.CLalpha)
+        return lo
+
     def alpha_upper(self, index: int, alpha_max: float, cl_margin: float = 1.0) -> float:
         """Upper bound on alpha [rad]: Table 3's bound, tightened by C_L <= C_Lmax if enabled,
         and by C_L <= cl_margin C_Lmax of the phase's own wing when ``cl_margin`` < 1."""
