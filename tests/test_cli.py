@@ -127,3 +127,6 @@ def test_fly_flies_the_line_drag_scale_of_the_reference(tmp_path, monkeypatch, c
     assert main(["fly", "--reference", str(ref), "--tether-drag-scale", "-1"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "--tether-drag-scale" in err and "0..10" in err
+    assert main(["fly", "--reference", str(ref), "--gamma-max", "2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "--gamma-max" in err and "0.1..1.5" in err

@@ -174,3 +174,23 @@ def test_paper_plant_flies_three_cycles_in_moderate_turbulence(seed):
     assert rep.status == "ok", rep.message
     assert len(rep.cycles) == 3 and all(c.complete for c in rep.cycles)
     assert rep.ledger_residual_rel < 0.01
+
+
+def test_paper_nominal_cycle_with_a_flight_path_bound_is_flown():
+    """The paper nominal cycle at 3 m/s as ``fdm-awe fly --gamma-max 0.7`` optimises it (flyable
+    bounds plus |gamma| <= 0.7 rad; stored): flown on the paper plant within the issue's
+    acceptance (no event, tracking RMS <= 5 m and max <= 15 m, net energy within 15 %).
+    Without the bound the cycle dives at -1 rad and climbs at +1 rad within its recovery, and
+    the 6-DOF glider stalls in that climb."""
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import fly
+
+    ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_nominal_3mps_gamma07.json"))
+    assert ref.meta["bounds"]["gamma_max"] == 0.7 and ref.meta["config"] == "nominal"
+    rep = fly(ref, config="nominal", cycles=1, plant="paper")
+    assert rep.status == "ok", rep.message
+    c = rep.cycles[0]
+    assert c.complete
+    assert c.track_rms_m <= 5.0 and c.track_max_m <= 15.0, (c.track_rms_m, c.track_max_m)
+    assert c.E_net_J == pytest.approx(ref.meta["energies"]["E_net_J"], rel=0.15)
+    assert rep.ledger_residual_rel < 0.01
