@@ -182,15 +182,11 @@ def test_paper_nominal_cycle_with_a_flight_path_bound_is_flown():
     acceptance (no event, tracking RMS <= 5 m and max <= 15 m, net energy within 15 %).
     Without the bound the cycle dives at -1 rad and climbs at +1 rad within its recovery, and
     the 6-DOF glider stalls in that climb."""
+    from flight_helpers import DATA, assert_cycle_accepted
+
     from fdm_awe.autopilot.tracking import TrackingReference
     from fdm_awe.flight import fly
 
-    ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_nominal_3mps_gamma07.json"))
+    ref = TrackingReference.from_ocp_file(str(DATA / "ref_paper_nominal_3mps_gamma07.json"))
     assert ref.meta["bounds"]["gamma_max"] == 0.7 and ref.meta["config"] == "nominal"
-    rep = fly(ref, config="nominal", cycles=1, plant="paper")
-    assert rep.status == "ok", rep.message
-    c = rep.cycles[0]
-    assert c.complete
-    assert c.track_rms_m <= 5.0 and c.track_max_m <= 15.0, (c.track_rms_m, c.track_max_m)
-    assert c.E_net_J == pytest.approx(ref.meta["energies"]["E_net_J"], rel=0.15)
-    assert rep.ledger_residual_rel < 0.01
+    assert_cycle_accepted(fly(ref, config="nominal", cycles=1, plant="paper"), ref)
