@@ -182,11 +182,9 @@ def fly(
 
     if plant not in PLANTS:
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
-    if not (isinstance(tether_drag_scale, (int, float)) and math.isfinite(tether_drag_scale)
-            and 0.0 <= tether_drag_scale <= 10.0):
-        from .errors import InputError
+    from .groundstation.tether import check_tether_drag_scale
 
-        raise InputError(f"tether_drag_scale = {tether_drag_scale!r} out of range (allowed 0 .. 10)")
+    tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
     paper = plant == "paper"
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))

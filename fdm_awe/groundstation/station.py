@@ -29,7 +29,7 @@ from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
 from .machine import machine_mode
 from .substeps import EVENTS, compiled_station
-from .tether import line_drag_share, line_weight_share
+from .tether import check_tether_drag_scale, line_drag_share, line_weight_share
 
 _MACHINE_MODES = ("idle", "generator", "motor")
 _new = object.__new__
@@ -173,10 +173,7 @@ class GroundStation:
 
     def __init__(self, params: GroundStationParams | None = None,
                  wind_ned: Sequence[float] = (0.0, 0.0, 0.0), tether_drag_scale: float = 1.0) -> None:
-        if not (isinstance(tether_drag_scale, (int, float)) and math.isfinite(tether_drag_scale)
-                and 0.0 <= tether_drag_scale <= 10.0):
-            raise InputError(f"tether_drag_scale = {tether_drag_scale!r} out of range (allowed 0 .. 10)")
-        self.tether_drag_scale = float(tether_drag_scale)
+        self.tether_drag_scale = check_tether_drag_scale(tether_drag_scale)
         self.params = params if params is not None else load_ground_station()
         self.drivetrain = Drivetrain(self.params)
         self.set_wind(wind_ned)

@@ -24,7 +24,20 @@ from __future__ import annotations
 
 import math
 
+from ..errors import InputError
 from .definitions import TetherParams
+
+#: allowed line-drag sensitivity factor (``tether_drag_scale`` of the optimiser and of the
+#: ground station; 1 = the defined line)
+TETHER_DRAG_SCALE_MAX = 10.0
+
+
+def check_tether_drag_scale(value: float) -> float:
+    """``value`` as a float if it is an allowed line-drag factor (0 .. 10), else a one-line
+    :class:`~fdm_awe.errors.InputError`."""
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and 0.0 <= value <= TETHER_DRAG_SCALE_MAX):
+        raise InputError(f"tether_drag_scale = {value!r} out of range (allowed 0 .. {TETHER_DRAG_SCALE_MAX:g})")
+    return float(value)
 
 
 def distance(x: float, y: float, z: float) -> float:

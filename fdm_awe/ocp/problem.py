@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field, replace
 
 from ..errors import InputError
+from ..groundstation.tether import check_tether_drag_scale
 
 SCENARIOS = ("physical", "paper")
 CONFIGS = ("nominal", "foldable")
@@ -168,8 +169,7 @@ class CycleProblem:
             raise InputError(f"elevation0 = {self.elevation0_deg!r} deg out of range (allowed 0 < elevation < 90)")
         if not math.isfinite(self.azimuth0_deg) or abs(self.azimuth0_deg) >= 90:
             raise InputError(f"azimuth0 = {self.azimuth0_deg!r} deg out of range (allowed |azimuth| < 90)")
-        if not (math.isfinite(self.tether_drag_scale) and 0.0 <= self.tether_drag_scale <= 10.0):
-            raise InputError(f"tether_drag_scale = {self.tether_drag_scale!r} out of range (allowed 0 .. 10)")
+        check_tether_drag_scale(self.tether_drag_scale)
         self.bounds.validate()
         self.mesh.validate()
         h0 = self.d0 * math.sin(math.radians(self.elevation0_deg))
