@@ -162,7 +162,7 @@ class CoSim:
     """
 
     def __init__(self, glider: JSBSimGlider, ground_station: GroundStationLike, controller: Controller,
-                 dt: float | None = None, limits: Limits | None = None) -> None:
+                 dt: float | None = None, limits: Limits | None = None, compiled: bool | None = None) -> None:
         dt = glider.dt if dt is None else float(dt)
         if abs(dt - glider.dt) > 1e-12:
             raise InputError(f"dt: {dt!r} differs from the glider's JSBSim step {glider.dt!r}")
@@ -172,6 +172,31 @@ class CoSim:
         self.dt = dt
         self.limits = limits or Limits()
         self.last_gs_output: Any = None
+        self.compiled = compiled
+        #: which loop the last :meth:`run` used: "compiled" or "python", and why not compiled
+        self.loop = ""
+        self.loop_reason = ""
+
+    def _compiled_loop(self) -> tuple[Any, Any, Any] | str:
+        """(kernel, handles, ground-station arrays) of the compiled loop, or why it can't run."""
+        if self.compiled is False:
+            return "compiled=False"
+        if not isinstance(self.glider, JSBSimGlider):
+            return "not a JSBSimGlider"
+        if not hasattr(self.gs, "compiled_step_args"):
+            return "ground station without a compiled step"
+        gsa = self.gs.compiled_step_args(self.dt)
+        if gsa is None:
+            return "ground station steps in Python"
+        h, why = self.glider.native_handles()
+        if h is None:
+            return why
+        from .cosim_kernel import compiled_kernel
+
+        kern = compiled_kernel()
+        if kern is None:
+            return "numba not available"
+        return kern, h, gsa
 
     def run(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None = None) -> FlightResult:
         """Run for ``t_end`` s of simulated time (or until an event); ``on_step(k, state, gs_out)``
@@ -179,6 +204,13 @@ class CoSim:
         with status ``ok``."""
         if not (t_end > 0.0 and math.isfinite(t_end)):
             raise InputError(f"t_end: {t_end!r} out of range (allowed > 0 s)")
+        loop = self._compiled_loop()
+        if type(loop) is tuple:
+            self.loop, self.loop_reason = "compiled", ""
+            return self._run_compiled(t_end, on_step, *loop)
+        if self.compiled:
+            raise InputError(f"compiled: the compiled loop is not available here ({loop})")
+        self.loop, self.loop_reason = "python", str(loop)
         g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
         n = int(round(t_end / dt))
         # per-step records: raw JSBSim rows, ground-station tuples, commands (converted at the end)
@@ -316,6 +348,137 @@ class CoSim:
         status = "ok" if event is None else event.kind
         return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
                             steps=m - 1)
+
+    def _run_compiled(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None,
+                      kern: Any, h: Any, gsa: tuple) -> FlightResult:
+        """:meth:`run` with the loop body compiled (:mod:`.cosim_kernel`): the same steps, the
+        same order, identical results. The controller is called every step from Python, unless
+        it declares ``constant_commands = True`` (fixed commands, no ``phase`` changes) and no
+        ``on_step`` is given: then blocks of up to one simulated second run in one call."""
+        from . import cosim_kernel as ck
+        from .units import FT, LBF
+
+        g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
+        n = int(round(t_end / dt))
+        s = g.state()
+        raw0 = g.raw()
+        raws = np.empty((n + 1, len(raw0)))
+        raws[0] = raw0
+        gsx = np.full((n + 1, len(ck.GS_COLUMNS)), math.nan)
+        s_gs, c_gs, nsub = gsa
+        lat0, m0, n0cos, off = g.native_constants()
+        p = np.zeros(ck.N_PARAMS)
+        p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = dt, nsub, lat0, m0, n0cos
+        p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
+        p[ck.P_FT], p[ck.P_LBF] = FT, LBF
+        inf = math.inf
+        p[ck.P_VHI] = inf if lim.airspeed_max is None else lim.airspeed_max
+        p[ck.P_VLO] = -inf if lim.airspeed_min is None else lim.airspeed_min
+        p[ck.P_THI] = inf if lim.max_tension is None else lim.max_tension
+        p[ck.P_NMAX] = math.nan if lim.max_load_factor is None else lim.max_load_factor
+        p[ck.P_GRACE], p[ck.P_T0] = lim.grace_s, s.t
+        p[ck.P_CHECKV] = 1.0 if (lim.airspeed_max is not None or lim.airspeed_min is not None) else 0.0
+        p[ck.P_GROUND] = 1.0 if lim.ground_contact else 0.0
+        p[ck.P_AIRBORNE] = 0.0 if s.on_ground else 1.0
+        p[ck.P_KV], p[ck.P_KFZ], p[ck.P_KM] = s._k[13], s._k[21], s._k[22]
+        (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s._hook
+        p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g._force
+        ctl: list[Surfaces] = [g.controls]
+        phases: list[int] = []
+        labels: list[str] = []
+        codes: dict[str, int] = {}
+        phases.append(self._phase_code(ctrl, labels, codes))
+        has_phase = hasattr(ctrl, "phase")
+        last_phase, last_code = None, -1
+        block = (max(1, int(round(1.0 / dt))) if getattr(ctrl, "constant_commands", False) and on_step is None
+                 else 1)
+        gs_out = self.last_gs_output
+        update, set_controls, command_terms = ctrl.update, g.set_controls, gs.command_terms
+        output_from_row, make_state, sync = gs.output_from_row, g.make_state, g.sync_from_native
+        # the compiled function without numba's argument-type dispatch (its one signature)
+        call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
+        tail = p[ck.P_HX:ck.P_FZ + 1]  # a view: hook position, velocity and line force after a step
+        i_motor = ck.P_MOTOR
+        e_none = ck.E_NONE
+        last_wcmd: Any = None
+        mode = ""
+        event: Event | None = None
+        k = 0
+        t = s.t
+        wall0 = time.perf_counter()
+        try:
+            while k < n:
+                surf, wcmd = update(t, s, gs_out)
+                set_controls(surf)
+                if wcmd is not last_wcmd:
+                    mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
+                    p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
+                    last_wcmd = wcmd
+                done, code = call(h, p, raws, gsx, s_gs, c_gs, k, block if n - k > block else n - k)
+                if done:
+                    k += done
+                    if done == 1:
+                        ctl.append(surf)
+                    else:
+                        ctl.extend([surf] * done)
+                    if has_phase:
+                        ph = ctrl.phase
+                        if ph is not last_phase:
+                            last_phase = ph
+                            last_code = self._phase_code(ctrl, labels, codes)
+                        if done == 1:
+                            phases.append(last_code)
+                        else:
+                            phases.extend([last_code] * done)
+                    r = raws[k].tolist()
+                    hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = tail.tolist()
+                    hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
+                    s = make_state(r, hook, force)
+                    sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
+                    t = r[0]
+                    gs_out = output_from_row(gsx[k].tolist(), mode)
+                    if on_step is not None and on_step(k, s, gs_out):
+                        code = e_none
+                        break  # the caller's end condition: status "ok"
+                if code != e_none:
+                    event = self._compiled_event(code, s, gs_out, p)
+                    break
+        except KeyboardInterrupt:
+            event = Event("interrupted", s.t, "interrupted by the user")
+        wall = time.perf_counter() - wall0
+        self.last_gs_output = gs_out
+        data = self._assemble(raws[: k + 1], gsx[: k + 1, :10], ctl[: k + 1], phases if has_phase else None)
+        status = "ok" if event is None else event.kind
+        return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall, steps=k)
+
+    def _compiled_event(self, code: int, s: SixDofState, gs_out: Any, p: np.ndarray) -> Event:
+        """The :class:`Event` (with the Python loop's message) of a compiled loop's event code."""
+        from . import cosim_kernel as ck
+
+        lim = self.limits
+        if code == ck.E_HOOK:
+            hp, hv = s._hook
+            return Event("nonfinite", s.t, "ground station rejected the glider state: glider position/velocity "
+                         f"must be finite, got pos={tuple(hp)!r} vel={tuple(hv)!r}")
+        if code == ck.E_FORCE:
+            f = (float(p[ck.P_FX]), float(p[ck.P_FY]), float(p[ck.P_FZ]))
+            return Event("nonfinite", s.t, f"non-finite tether force {f!r}")
+        if code == ck.E_STATE:
+            return Event("nonfinite", s.t, "non-finite glider state")
+        if code == ck.E_GS:
+            gev = gs_out.event
+            kind = "tether_break" if gev == "tether_break" else str(gev)
+            return Event(kind, s.t, f"ground station event: {gev}")
+        if code == ck.E_GROUND:
+            return Event("ground_contact", s.t, f"ground contact at x={s.x:.1f} m, y={s.y:.1f} m, {s.airspeed:.1f} m/s")
+        if code == ck.E_VHI:
+            return Event("airspeed_limit", s.t, f"airspeed {s.airspeed:.2f} m/s above {lim.airspeed_max:g} m/s")
+        if code == ck.E_VLO:
+            return Event("airspeed_limit", s.t, f"airspeed {s.airspeed:.2f} m/s below {lim.airspeed_min:g} m/s")
+        if code == ck.E_TENSION:
+            return Event("load_limit", s.t, f"tether tension {gs_out.tension:.1f} N above {lim.max_tension:g} N")
+        nz = s.load_factor
+        return Event("load_limit", s.t, f"load factor {nz:.2f} g beyond {lim.max_load_factor:g} g")
 
     @staticmethod
     def _phase_code(ctrl: Any, labels: list[str], codes: dict[str, int]) -> int:

@@ -1,6 +1,8 @@
 #!/usr/bin/env python
 """Where a co-simulation step goes: the split of one step of the benchmark flight (the kite on
-50 m of line in 14 m/s wind of ``bench_cosim.py``), measured piece by piece in one run.
+50 m of line in 14 m/s wind of ``bench_cosim.py``), measured piece by piece in one run, for the
+Python loop (``CoSim(compiled=False)``, the reference of the compiled loop; ``bench_cosim.py``
+times both).
 
 Pieces (microseconds per step, best of ``--repeat`` rounds, each over the same 30 s flight):
 
@@ -60,8 +62,8 @@ def record(seconds: float) -> dict:
         return o
 
     gs.step = rec  # type: ignore[method-assign]
-    CoSim(g, gs, bc.FixedCommands(g.controls, hold), limits=Limits(max_tension=200.0)).run(
-        seconds, on_step=lambda k, s, o: states.append(s) and False)
+    CoSim(g, gs, bc.FixedCommands(g.controls, hold), limits=Limits(max_tension=200.0),
+          compiled=False).run(seconds, on_step=lambda k, s, o: states.append(s) and False)
     return {"calls": calls, "outs": outs, "states": states, "hold": hold}
 
 
@@ -127,14 +129,14 @@ def split(rec: dict) -> dict[str, float]:
         ctrl.update(s.t, s, outs[k])
     res["controller"] = (pc() - t) / len(rec["states"])
     g = bc.make_glider()
-    r = CoSim(g, _Replay(outs), bc.FixedCommands(g.controls, rec["hold"]), limits=Limits(max_tension=200.0)).run(
-        n * DT)
+    r = CoSim(g, _Replay(outs), bc.FixedCommands(g.controls, rec["hold"]), limits=Limits(max_tension=200.0),
+              compiled=False).run(n * DT)
     res["cosim_replayed_ground_station"] = r.wall_s / r.steps
     res["loop"] = res["cosim_replayed_ground_station"] - (res["jsbsim_run"] + res["force_set"]
                                                           + res["property_reads"] + res["hook_and_state"])
     g = bc.make_glider()
     gs, hold = _station()
-    r = CoSim(g, gs, bc.FixedCommands(g.controls, hold), limits=Limits(max_tension=200.0)).run(n * DT)
+    r = CoSim(g, gs, bc.FixedCommands(g.controls, hold), limits=Limits(max_tension=200.0), compiled=False).run(n * DT)
     res["cosim_step"] = r.wall_s / r.steps
     return res
 

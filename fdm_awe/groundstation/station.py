@@ -162,6 +162,89 @@ class GroundStationOutput:
     __hash__ = None  # type: ignore[assignment]  # mutable, like the dataclass it replaces
 
 
+def _output(fx: float, fy: float, fz: float, tension: float, length: float, reel_speed: float, omega: float,
+            current: float, duty: float, mode: str, u_link: float, p_el: float, ev: int, mm: int, p_mech: float,
+            distance: float, slack: bool, broken: bool) -> GroundStationOutput:
+    """GroundStationOutput(...) of a compiled step, its slots set here (no __init__ call: the
+    hot path); ``ev`` and ``mm`` the event and machine-mode codes."""
+    o = _new(GroundStationOutput)
+    o._force = (fx, fy, fz)
+    o.tension = tension
+    o.length = length
+    o.reel_speed = reel_speed
+    o.omega = omega
+    o.current = current
+    o.duty = duty
+    o.mode = mode
+    o.u_link = u_link
+    o.p_electrical = p_el
+    o.event = EVENTS[ev]
+    o.machine_mode = _MACHINE_MODES[mm]
+    o.p_mechanical = p_mech
+    o.distance = distance
+    o.slack = slack
+    o.broken = broken
+    return o
+
+
+class _RowOutput(GroundStationOutput):
+    """A :class:`GroundStationOutput` of a compiled step whose fields are filled from the
+    step's row (``_force`` holds it until then) on first read; it then becomes a plain
+    GroundStationOutput (same slots)."""
+
+    __slots__ = ()
+
+    def _fill(self) -> None:
+        (tmean, length, rr, w, i, duty, p_el, fx, fy, fz, u_link, ev, mm, p_mech, d, slack, broken) = self._force
+        self._force = (fx, fy, fz)
+        self.tension = tmean
+        self.length = length
+        self.reel_speed = rr
+        self.omega = w
+        self.current = i
+        self.duty = duty
+        self.u_link = u_link
+        self.p_electrical = p_el
+        self.event = EVENTS[int(ev)]
+        self.machine_mode = _MACHINE_MODES[int(mm)]
+        self.p_mechanical = p_mech
+        self.distance = d
+        self.slack = slack != 0.0
+        self.broken = broken != 0.0
+        self.__class__ = GroundStationOutput
+
+    def __getattr__(self, name: str) -> Any:  # an unfilled slot
+        if name in GroundStationOutput.__slots__:
+            self._fill()
+            return getattr(self, name)
+        raise AttributeError(name)
+
+    @property
+    def force_on_glider_ned(self) -> np.ndarray:
+        self._fill()
+        return self.force_on_glider_ned
+
+    @force_on_glider_ned.setter
+    def force_on_glider_ned(self, value: Any) -> None:
+        self._fill()
+        self._force = value
+
+    @property
+    def force_xyz(self) -> tuple[float, float, float]:
+        self._fill()
+        return self._force
+
+    def __repr__(self) -> str:
+        self._fill()
+        return repr(self)
+
+    def __eq__(self, other: object) -> bool:
+        self._fill()
+        return self == other
+
+    __hash__ = None  # type: ignore[assignment]
+
+
 class GroundStation:
     """Tether + winch + DC machine + half-bridge converter + PI, steppable with a flight model.
 
@@ -278,6 +361,47 @@ class GroundStation:
             machine_mode(dtr.omega, dtr.current, tmean, self.params.machine.k, r),
             tmean * r * dtr.omega, 0.0, False, dtr.broken)
 
+    def _set_command(self, cmd: WinchCommand) -> None:
+        if not isinstance(cmd, WinchCommand):
+            raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
+        self._last_cmd = cmd
+        # the command's terms of the step (a WinchCommand is immutable): converter mode,
+        # motor flag, drum speed reference, open-loop duty (NaN: PI), boost duty, load resistance
+        self._cmd_terms = (cmd.mode, cmd.mode == MOTOR, cmd.reel_speed_ref / self._r,
+                           _NAN if cmd.duty is None else cmd.duty,
+                           self._d2 if cmd.boost_duty is None else cmd.boost_duty,
+                           self._RL if cmd.load_resistance is None else cmd.load_resistance)
+
+    def compiled_step_args(self, dt: float) -> tuple[np.ndarray, np.ndarray, int] | None:
+        """For a compiled loop that calls :func:`.substeps.station_step` itself (the
+        co-simulation kernel): the state array (updated in place: the ledger and
+        :attr:`drivetrain` follow), the constants and the sub-step count for steps of ``dt`` s;
+        None when this station steps in Python (numba missing, ``FDM_AWE_JIT=0``, a replaced
+        PI law). Per step the loop also needs :meth:`command_terms`."""
+        if not (0.0 < dt <= 1.0):
+            raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
+        dtr = self.drivetrain
+        if self._step_kernel is None or dtr._kernel is None or _controller.pi_update is not _pi_update:
+            return None
+        return dtr._s, self._sc, self._substeps(dt)
+
+    def command_terms(self, cmd: WinchCommand) -> tuple[str, bool, float, float, float, float]:
+        """The terms of :func:`.substeps.station_step` for ``cmd``: converter mode, motor flag,
+        drum speed reference rad/s, open-loop duty (NaN: PI), boost duty, load resistance ohm
+        (checked as in :meth:`step`)."""
+        if cmd is not self._last_cmd:
+            self._set_command(cmd)
+        return self._cmd_terms
+
+    @staticmethod
+    def output_from_row(row: list[float], mode: str) -> GroundStationOutput:
+        """The step's output from a compiled loop's row (``fdm_awe.cosim_kernel.GS_COLUMNS``, a
+        list of floats), filled in when first read (a controller that ignores it pays nothing)."""
+        o = _new(_RowOutput)
+        o._force = row  # the row waits in the force slot until the first read
+        o.mode = mode
+        return o
+
     def step(self, dt: float, pos_ned: Sequence[float], vel_ned: Sequence[float],
              cmd: WinchCommand) -> GroundStationOutput:
         """Advance the ground station by ``dt`` s with the glider's tether attachment point at
@@ -296,15 +420,7 @@ class GroundStation:
         if not (isfinite(x + y + z) and isfinite(vx + vy + vz)):
             raise InputError(f"glider position/velocity must be finite, got pos={tuple(pos_ned)!r} vel={tuple(vel_ned)!r}")
         if cmd is not self._last_cmd:
-            if not isinstance(cmd, WinchCommand):
-                raise InputError(f"cmd: expected WinchCommand, got {type(cmd).__name__}")
-            self._last_cmd = cmd
-            # the command's terms of the step (a WinchCommand is immutable): converter mode,
-            # motor flag, drum speed reference, open-loop duty (NaN: PI), boost duty, load resistance
-            self._cmd_terms = (cmd.mode, cmd.mode == MOTOR, cmd.reel_speed_ref / self._r,
-                               _NAN if cmd.duty is None else cmd.duty,
-                               self._d2 if cmd.boost_duty is None else cmd.boost_duty,
-                               self._RL if cmd.load_resistance is None else cmd.load_resistance)
+            self._set_command(cmd)
         n = self._n if dt == self._dt else self._substeps(dt)
         dtr = self.drivetrain
         kern = self._step_kernel
@@ -314,25 +430,8 @@ class GroundStation:
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
                 dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
             r = self._r
-            # GroundStationOutput(...) with its slots set here (no __init__ call: the hot path)
-            o = _new(GroundStationOutput)
-            o._force = (fx, fy, fz)
-            o.tension = tmean
-            o.length = length
-            o.reel_speed = r * w
-            o.omega = w
-            o.current = i
-            o.duty = duty
-            o.mode = mode
-            o.u_link = u_link
-            o.p_electrical = p_el
-            o.event = EVENTS[ev]
-            o.machine_mode = _MACHINE_MODES[mm]
-            o.p_mechanical = tmean * r * w
-            o.distance = d
-            o.slack = slack
-            o.broken = broken
-            return o
+            return _output(fx, fy, fz, tmean, length, r * w, w, i, duty, mode, u_link, p_el, ev, mm,
+                           tmean * r * w, d, slack, broken)
         RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
         d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
         r = self._r

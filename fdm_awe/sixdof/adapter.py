@@ -164,6 +164,39 @@ class JSBSimGlider:
         self._raw: list[float] | None = None
         self._state: SixDofState | None = None
         self._controls = Surfaces()
+        self._native: tuple[np.ndarray | None, str] | None = None
+
+    def native_handles(self) -> tuple[np.ndarray | None, str]:
+        """Handles for the compiled co-simulation step (:mod:`fdm_awe.cosim_kernel` layout:
+        Run, getDoubleValue, setDoubleValue, FGFDMExec*, tether x/y/z nodes, then the nodes of
+        :meth:`raw` in order) and ``""``, or ``(None, reason)`` where JSBSim cannot be called
+        directly (see :mod:`.native`). Checked once per glider."""
+        if self._native is None:
+            from .native import native_jsbsim
+
+            getters = list(_READ) + (["fcs/wing-fold-norm"] if self._foldable else [None])
+            h, why = native_jsbsim(self.fdm, getters, ["external_reactions/tether/x", "external_reactions/tether/y",
+                                                       "external_reactions/tether/z"])
+            self._native = ((np.concatenate([h.calls, h.setters, h.getters]), "") if h is not None else (None, why))
+        return self._native
+
+    def native_constants(self) -> tuple[float, float, float, tuple[float, float, float]]:
+        """Frame constants of the compiled step: home latitude rad, meridian radius M0 m,
+        N0 cos(lat0) m, hook offset from the CG in body axes m."""
+        return self._lat0, self._M0, self._N0cos, self._hook_off
+
+    def sync_from_native(self, raw: list[float], hook: tuple, force: tuple[float, float, float],
+                         state: SixDofState | None = None) -> None:
+        """After compiled steps: the last raw row, hook kinematics and applied force, so that
+        :meth:`raw`, :meth:`state` and :meth:`hook_kinematics` continue from there."""
+        self._raw = raw
+        self._hook = hook
+        self._force = force
+        self._state = state
+
+    def make_state(self, raw: list[float], hook: tuple, force: tuple[float, float, float]) -> SixDofState:
+        """A :class:`SixDofState` of this glider from a raw row, hook kinematics and force."""
+        return SixDofState(raw, self._scale_l, self._offset_l, hook, force, self._maxvolts)
 
     # ------------------------------------------------------------------ setup helpers
     def _has(self, prop: str) -> bool:

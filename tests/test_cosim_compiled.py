@@ -1,0 +1,174 @@
+"""The compiled co-simulation loop (fdm_awe.cosim_kernel + fdm_awe.sixdof.native) against the
+Python loop it replaces: the same flights, bit for bit, the same events and messages, the same
+ground-station state and energy ledger; and the fall-backs where it cannot run."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from fdm_awe.cosim import CoSim, Limits
+from fdm_awe.errors import InputError
+from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
+from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
+
+pytestmark = pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")
+
+ALPHA = 0.10436  # rad
+WIND = 14.0  # m/s
+LINE = 50.0  # m
+HOLD = WinchCommand(mode="motor", reel_speed_ref=0.0)
+
+
+class Fixed:
+    """Constant commands; ``constant_commands`` lets the compiled loop run in blocks."""
+
+    def __init__(self, surfaces: Surfaces, winch: WinchCommand, constant: bool = True) -> None:
+        self.out = (surfaces, winch)
+        self.constant_commands = constant
+
+    def update(self, t, s, gs_output):
+        return self.out
+
+
+class Phased(Stabilizer):
+    """A stabiliser that reels out after 2 s (a command change) and names its phases."""
+
+    phase = "hold"
+
+    def update(self, t, s, gs_output):
+        surf, _ = super().update(t, s, gs_output)
+        if t > 2.0:
+            self.phase = "reel-out"
+            return surf, WinchCommand(mode="generator", load_resistance=5.0)
+        return surf, HOLD
+
+
+def _setup(name="glider_foldable", line=LINE, elevation_deg=80.0, params=None, reel_speed=0.0, mode="motor"):
+    g = JSBSimGlider(name, wind_ned=(WIND, 0.0, 0.0))
+    el = math.radians(elevation_deg)
+    g.reset((line * math.cos(el), 0.0, -line * math.sin(el)), WIND, gamma=0.0, psi=math.pi, alpha=ALPHA)
+    gs = GroundStation(params or load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
+    gs.reset(tether_length=line, reel_speed=reel_speed, mode=mode)
+    return g, gs
+
+
+def _both(make_ctrl, t_end, limits=None, on_step=None, **setup):
+    """The same flight with the Python loop and with the compiled loop."""
+    out = []
+    for compiled in (False, True):
+        g, gs = _setup(**setup)
+        sim = CoSim(g, gs, make_ctrl(g), limits=limits or Limits(max_tension=200.0), compiled=compiled)
+        res = sim.run(t_end, on_step=on_step)
+        assert sim.loop == ("compiled" if compiled else "python")
+        out.append((res, g, gs, sim))
+    return out
+
+
+def _assert_same(a, b):
+    (ra, ga, gsa, sa), (rb, gb, gsb, sb) = a, b
+    assert ra.status == rb.status
+    assert (ra.event is None) == (rb.event is None)
+    if ra.event is not None:
+        assert ra.event == rb.event  # kind, time and message
+    assert ra.steps == rb.steps
+    assert np.array_equal(ra.data, rb.data, equal_nan=True)
+    assert ra.phase == rb.phase
+    # what continues after the run: the glider's state and the station's states and ledger
+    assert ga.raw() == gb.raw()
+    assert ga.hook_kinematics() == gb.hook_kinematics()
+    assert ga.state().tether_force_ned.tolist() == gb.state().tether_force_ned.tolist()
+    assert np.array_equal(gsa.drivetrain._s, gsb.drivetrain._s)
+    assert sa.last_gs_output == sb.last_gs_output
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _compiled_available():
+    g, gs = _setup()
+    sim = CoSim(g, gs, Fixed(g.controls, HOLD))
+    sim.run(g.dt)
+    if sim.loop != "compiled":
+        pytest.skip(f"compiled loop not available here: {sim.loop_reason}")
+
+
+def test_native_handles_are_checked_against_the_bindings():
+    g, _ = _setup()
+    h, why = g.native_handles()
+    assert why == "" and h is not None
+    assert h.dtype == np.int64 and len(h) == 7 + len(g.raw())
+    assert np.all(h[:7] != 0) and len(set(h[4:].tolist()) - {0}) == len(h) - 4  # distinct nodes
+
+
+def test_stabilised_kite_is_bit_identical():
+    """Per-step mode: the stabiliser runs in Python every step (10 s on the line)."""
+    a, b = _both(lambda g: Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=HOLD), 10.0)
+    assert a[0].status == "ok" and a[0].steps == 1200
+    _assert_same(a, b)
+
+
+def test_command_change_and_phases_are_bit_identical():
+    """A winch command change (motor hold -> generator reel-out) and phase labels mid-run."""
+    a, b = _both(lambda g: Phased(g, alpha_cmd=ALPHA, psi_cmd=math.pi), 5.0)
+    assert set(a[0].phase[1:]) == {"hold", "reel-out"}
+    _assert_same(a, b)
+
+
+def test_constant_commands_run_in_blocks_bit_identical():
+    """Block mode (constant commands, no on_step): 30 s in blocks of one second."""
+    a, b = _both(lambda g: Fixed(g.controls, HOLD), 30.0)
+    assert a[0].steps == 3600
+    _assert_same(a, b)
+
+
+def test_on_step_ends_the_compiled_run_like_the_python_one():
+    seen = []
+
+    def stop(k, s, gs_out):
+        seen.append((k, s.t, gs_out.tension))
+        return k == 100
+
+    a, b = _both(lambda g: Fixed(g.controls, HOLD), 5.0, on_step=stop)
+    assert a[0].steps == 100 and a[0].status == "ok"
+    assert seen[:100] == seen[100:]
+    _assert_same(a, b)
+
+
+@pytest.mark.parametrize("limits, kind", [
+    (Limits(max_tension=4.0), "load_limit"),
+    (Limits(airspeed_max=14.5), "airspeed_limit"),
+    (Limits(airspeed_min=13.9), "airspeed_limit"),
+    (Limits(max_load_factor=1.02), "load_limit"),
+])
+def test_limit_events_match(limits, kind):
+    a, b = _both(lambda g: Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=HOLD), 10.0, limits=limits)
+    assert a[0].status == kind and a[0].steps < 1200
+    _assert_same(a, b)
+
+
+def test_tether_break_matches():
+    p = load_ground_station()
+    weak = dataclasses.replace(p, tether=dataclasses.replace(p.tether, breaking_load=6.0))
+    a, b = _both(lambda g: Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=HOLD), 10.0, params=weak)
+    assert a[0].status == "tether_break"
+    _assert_same(a, b)
+
+
+def test_ground_contact_matches():
+    """Nose down on a paying-out line: the glider flies into the ground."""
+    a, b = _both(lambda g: Fixed(Surfaces(elevator=0.6), WinchCommand(mode="generator", load_resistance=0.5)), 30.0,
+                 elevation_deg=20.0, line=30.0, limits=Limits(max_tension=200.0, airspeed_max=None))
+    assert a[0].status == "ground_contact"
+    _assert_same(a, b)
+
+
+def test_python_loop_where_the_compiled_one_cannot_run(monkeypatch):
+    monkeypatch.setenv("FDM_AWE_JIT", "0")
+    g, gs = _setup()  # a new glider: its native handles are checked under FDM_AWE_JIT=0
+    sim = CoSim(g, gs, Fixed(g.controls, HOLD))
+    assert sim.run(0.1).steps == 12
+    assert sim.loop == "python" and "FDM_AWE_JIT=0" in sim.loop_reason
+    with pytest.raises(InputError, match="compiled loop is not available"):
+        CoSim(g, gs, Fixed(g.controls, HOLD), compiled=True).run(0.1)
