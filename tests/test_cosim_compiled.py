@@ -47,8 +47,9 @@ class Phased(Stabilizer):
         return surf, HOLD
 
 
-def _setup(name="glider_foldable", line=LINE, elevation_deg=80.0, params=None, reel_speed=0.0, mode="motor"):
-    g = JSBSimGlider(name, wind_ned=(WIND, 0.0, 0.0))
+def _setup(name="glider_foldable", line=LINE, elevation_deg=80.0, params=None, reel_speed=0.0, mode="motor",
+           turbulence=None):
+    g = JSBSimGlider(name, wind_ned=(WIND, 0.0, 0.0), turbulence=turbulence)
     el = math.radians(elevation_deg)
     g.reset((line * math.cos(el), 0.0, -line * math.sin(el)), WIND, gamma=0.0, psi=math.pi, alpha=ALPHA)
     gs = GroundStation(params or load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
@@ -102,9 +103,13 @@ def test_native_handles_are_checked_against_the_bindings():
     assert np.all(h[:7] != 0) and len(set(h[4:].tolist()) - {0}) == len(h) - 4  # distinct nodes
 
 
-def test_stabilised_kite_is_bit_identical():
-    """Per-step mode: the stabiliser runs in Python every step (10 s on the line)."""
-    a, b = _both(lambda g: Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=HOLD), 10.0)
+@pytest.mark.parametrize("name, turbulence", [("glider_foldable", None), ("glider_unfolded", None),
+                                              ("glider_foldable", ("moderate", 3))])
+def test_stabilised_kite_is_bit_identical(name, turbulence):
+    """Per-step mode: the stabiliser runs in Python every step (10 s on the line); the static
+    aircraft (no fold property) and JSBSim's seeded turbulence included."""
+    a, b = _both(lambda g: Stabilizer(g, alpha_cmd=ALPHA, psi_cmd=math.pi, winch=HOLD), 10.0, name=name,
+                 turbulence=turbulence)
     assert a[0].status == "ok" and a[0].steps == 1200
     _assert_same(a, b)
 
