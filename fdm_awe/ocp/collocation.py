@@ -138,8 +138,16 @@ class CycleNLP:
         self._build()
         self._extra = dict(ipopt_options or {})
         self._solvers: dict[tuple, Any] = {}
-        self.solver = self._solver(None)
+        #: wall time [s] spent creating IPOPT instances so far (one per option set, created on
+        #: first use: about as long as the transcription each, so a caller that always passes
+        #: options, like a sweep, does not pay for the default instance)
+        self.solvers_build_s = 0.0
         self.build_s = time.perf_counter() - t0
+
+    @property
+    def solver(self) -> Any:
+        """The IPOPT instance with the default options."""
+        return self._solver(None)
 
     # ------------------------------------------------------------------ build
     def _build(self) -> None:
@@ -371,7 +379,9 @@ class CycleNLP:
         """IPOPT instance for these extra options (built once per option set)."""
         key = tuple(sorted((options or {}).items()))
         if key not in self._solvers:
+            t0 = time.perf_counter()
             self._solvers[key] = ca.nlpsol("cycle", "ipopt", self.nlp, {**self._base_opts(), **self._extra, **(options or {})})
+            self.solvers_build_s += time.perf_counter() - t0
         return self._solvers[key]
 
     def _base_opts(self) -> dict:

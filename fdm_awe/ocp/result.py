@@ -61,7 +61,7 @@ class CycleResult:
     status: str  #: "ok" or "failed"
     reason: str  #: solver return status or failure reason
     solve_s: float  #: wall time of the solves [s] (excluding the NLP build)
-    build_s: float  #: wall time of building the NLP [s] (0 when reused)
+    build_s: float  #: wall time of building the NLP and the IPOPT instances this solve created [s] (0 when all reused)
     iterations: int  #: IPOPT iterations summed over homotopy steps/starts that led here
     T1_s: float = math.nan
     T2_s: float = math.nan

@@ -162,7 +162,13 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         first.reason = f"mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}: {first.reason}"
         first.problem, first.key = problem, structure_key(problem)
         return first
-    nlp, build_s = get_nlp(problem, glider, winch, cache)
+    nlp, nlp_build_s = get_nlp(problem, glider, winch, cache)
+    solvers_s0 = nlp.solvers_build_s
+
+    def built() -> float:
+        """Build time of this call [s]: the NLP (if not cached) and the IPOPT instances created."""
+        return nlp_build_s + nlp.solvers_build_s - solvers_s0
+
     wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
     total_s = 0.0
     total_it = 0
@@ -196,13 +202,13 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     if warm is not None and warm.ok and warm.key == structure_key(problem) and warm.w is not None:
         r = run(warm.w, warm.k_wrap, 1.0, 1.0, warm.lam_x, warm.lam_g, WARM_OPTIONS)
         if _accept(nlp, r):
-            return _finish(problem, nlp, warm.k_wrap, "warm start", r, build_s, total_s, total_it)
+            return _finish(problem, nlp, warm.k_wrap, "warm start", r, built(), total_s, total_it)
         reasons.append(f"warm start: {r.reason}")
     elif warm is not None and warm.ok:
         phases, k = guess_from_result(warm, nlp.model)
         r = run(nlp.pack(phases), k, 1.0, 1.0)
         if _accept(nlp, r):
-            return _finish(problem, nlp, k, "from a previous solution", r, build_s, total_s, total_it)
+            return _finish(problem, nlp, k, "from a previous solution", r, built(), total_s, total_it)
         reasons.append(f"from a previous solution: {r.reason}")
     one_cold = warm is None and cold == "one"
     if (reasons and warm_fallback != "all") or one_cold:
@@ -211,10 +217,10 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
             phases, k = loop_guess(problem, nlp.model, st, wind)
             r = run(nlp.pack(phases), k, 1.0, 1.0)
             if _accept(nlp, r):
-                return _finish(problem, nlp, k, st.label(), r, build_s, total_s, total_it)
+                return _finish(problem, nlp, k, st.label(), r, built(), total_s, total_it)
             reasons.append(f"{st.label()} (one cold solve): {r.reason}")
         return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
-                           "; ".join(reasons), total_s, build_s, total_it, problem=problem, key=structure_key(problem))
+                           "; ".join(reasons), total_s, built(), total_it, problem=problem, key=structure_key(problem))
 
     foldable = problem.config == "foldable"
     drag_homotopy = nlp.model.scenario.tether_drag
@@ -274,9 +280,9 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
                       f"of {min(elastic_slack):.3g} (scaled) left in the folded recovery (locally infeasible; README: "
                       f"folding, line drag and T <= T_avail(V)); {reason}")
         return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
-                           reason, total_s, build_s, total_it, problem=problem, key=structure_key(problem))
+                           reason, total_s, built(), total_it, problem=problem, key=structure_key(problem))
     _, r, k, label = best
-    return _finish(problem, nlp, k, label, r, build_s, total_s, total_it)
+    return _finish(problem, nlp, k, label, r, built(), total_s, total_it)
 
 
 def _accept(nlp: CycleNLP, r: RawSolution | None) -> bool:
