@@ -264,6 +264,31 @@ def test_sweep_on_separate_scheduler_and_worker(tmp_path, reference_run):
                 p.wait()
 
 
+def _worker_settings() -> tuple:
+    import dask
+
+    return (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS"),
+            dask.config.get("distributed.worker.profile.enabled"), dask.config.get("distributed.admin.tick.interval"))
+
+
+def test_embedded_cluster_settings():
+    """The embedded cluster's workers run without Dask's profiler and memory trimming, ticks at
+    500 ms, single-threaded BLAS kept; the settings do not leak into the caller's configuration."""
+    import dask
+
+    from fdm_awe.sweep.execute import _client
+
+    client, cluster, n = _client(1, None)
+    try:
+        assert n == 1
+        assert list(client.run(_worker_settings).values()) == [(os.environ.get("MALLOC_TRIM_THRESHOLD_"), "1", False, "500ms")]
+        assert client.run_on_scheduler(lambda dask_scheduler: dask_scheduler.WORKER_SATURATION) == 1.0
+    finally:
+        client.close()
+        cluster.close()
+    assert dask.config.get("distributed.worker.profile.enabled") is True
+
+
 def test_cli_rejects_bad_input(tmp_path, capsys):
     from fdm_awe.cli import main
 

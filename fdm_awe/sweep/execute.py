@@ -59,6 +59,39 @@ class SweepRun:
         return sum(1 for r in self.records.values() if r.get("status") != "ok")
 
 
+#: Dask settings of the embedded LocalCluster (an external cluster, ``--scheduler``, is configured
+#: by its owner). None of them changes what a point computes.
+#:
+#: - ``worker-saturation`` 1.0: a worker holds one queued root task (an anchor) at a time, not
+#:   two (Dask's default 1.1 rounds up to 2 per single-threaded worker), so the first anchors go
+#:   to different workers instead of both waiting on the first worker that registered.
+#: - the rest removes background CPU load. With as many workers as cores, every CPU second the
+#:   cluster spends besides the points is taken from a worker; with fewer workers it runs on an
+#:   idle core. Measured on a 2-core machine (8 points, mesh 10/8, 2 workers,
+#:   ``scripts/profile_sweep.py``, three runs each): Dask itself used 0.22-0.24 cores of the 2
+#:   (each worker's statistical profiler sampling every 10 ms, event-loop health ticks every
+#:   20 ms in the scheduler, the nannies and the workers, memory monitors every 100 ms, system
+#:   monitors every 500 ms), 0.04-0.10 cores with these settings. The profiler
+#:   (``distributed.worker.profile``) only feeds the dashboard's profile page; the ticks only
+#:   detect a blocked event loop (warning after 3 s); the monitors guard the memory limits
+#:   (checked every second instead of ten times a second) and feed dashboard metrics.
+#: - ``MALLOC_TRIM_THRESHOLD_`` is not set in the worker processes: with Dask's 64 kB the C
+#:   library hands freed memory back to the system at once and maps every large block anew
+#:   (4.4 times the page faults; the workers' system CPU of that sweep 1.2-1.4 s instead of
+#:   0.2-0.3 s). The C library's default keeps a few MB more per worker; results are
+#:   bit-identical either way. The single-threaded BLAS/OpenMP settings of
+#:   ``distributed.nanny.pre-spawn-environ`` stay.
+LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
+    "distributed.scheduler.worker-saturation": 1.0,
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "500ms",
+    "distributed.admin.tick.cycle": "5s",
+    "distributed.admin.system-monitor.interval": "5s",
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+}
+
+
 def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     from dask.distributed import Client, LocalCluster
 
@@ -75,13 +108,10 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     n = workers or os.cpu_count() or 1
     if n < 1:
         raise InputError(f"workers = {n} out of range (allowed >= 1)")
-    # the scheduler always serves HTTP (health routes): a free port avoids clashes with other clusters.
-    # worker-saturation 1.0: a worker holds one queued root task (an anchor) at a time, not two
-    # (Dask's default 1.1 rounds up to 2 per single-threaded worker), so the first anchors go to
-    # different workers instead of both waiting on the first worker that registered
+    # the scheduler always serves HTTP (health routes): a free port avoids clashes with other clusters
     import dask
 
-    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):  # read by the scheduler, the nannies and (passed on) the workers
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
     return Client(cluster), cluster, n
