@@ -312,3 +312,24 @@ def test_alpha_bounds_keep_the_negative_stall():
                 elif margin == 1.0:
                     assert lo == -0.35
                 assert -0.35 <= lo < 0.0 < hi
+
+
+def test_ipopt_instances_share_derivatives_bit_identically():
+    """The IPOPT instances of one NLP (one per option set) reuse the derivative functions the
+    first one generated: a warm solve with such an instance is bit-identical to one with an
+    instance that generated its own."""
+    from fdm_awe.ocp.solve import WARM_OPTIONS
+    from fdm_awe.pointmass import wind_vector
+
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, mesh=Mesh(6, 4, 3))
+    first = solve_cycle(pr, coarse=None, cache=False)
+    assert first.ok
+    own, _ = get_nlp(pr, cache=False)
+    shared, _ = get_nlp(pr, cache=False)
+    shared._solver(None)  # generates the derivatives; the warm instance below reuses them
+    assert sorted(shared._derivatives) == ["grad_f", "hess_lag", "jac_g"] and not own._derivatives
+    params = own.params(wind_vector(8.5, pr.wind_from_deg)[:2], 1.0, first.k_wrap)
+    a = own.solve(first.w, params, first.lam_x, first.lam_g, WARM_OPTIONS)
+    b = shared.solve(first.w, params, first.lam_x, first.lam_g, WARM_OPTIONS)
+    assert a.status == "ok" and (a.status, a.iterations, a.objective) == (b.status, b.iterations, b.objective)
+    assert np.array_equal(a.w, b.w) and np.array_equal(a.lam_x, b.lam_x) and np.array_equal(a.lam_g, b.lam_g)
