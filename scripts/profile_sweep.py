@@ -3,16 +3,21 @@
 
 Runs one small sweep (default 4 points of one line, mesh 10/8, anchors every 2 winds,
 ``--warm-fallback one``, 2 local workers) into a temporary folder while a sampler thread reads
-the CPU seconds (user + system) of this process and of every process below it every 0.25 s.
-Reports for the computation window (cluster start-up excluded, as in ``scripts/bench_sweep.py``):
+the CPU seconds (user + system, and system alone) of this process, of its threads and of every
+process below it every 0.25 s, and the whole machine's busy / idle / steal seconds. Reports for
+the computation window (cluster start-up excluded, as in ``scripts/bench_sweep.py``):
 
-- CPU seconds per process: the client process (it also runs the embedded scheduler; split
-  into its threads), each nanny, each worker (split into the thread that ran the points and
-  the rest: event loop, profiler, monitors), any other helper process;
+- CPU seconds per process: the client process (it also runs the embedded scheduler and the
+  nannies, which live in its event loop; split into its threads), each worker process (split
+  into the thread that ran the points and the rest: event loop, heartbeats, monitors,
+  profiler if enabled), any other helper process (multiprocessing's resource tracker), and
+  what the rest of the machine used meanwhile;
+- the CPU not spent by the point threads, in cores, over the whole window and its second half;
 - per worker: seconds from the start of the computation to the start of its first point
-  (task transfer, unpickling, imports), and of that first point the seconds outside the
-  solver (imports inside the point, NLP build, solver creation) next to its NLP build time;
-- the points' own CPU seconds (summed ``cpu_s`` of the records).
+  (task transfer, unpickling, imports), and of that first point the seconds outside IPOPT
+  next to its build time (NLP transcription and IPOPT instances created);
+- the points' own CPU seconds (summed ``cpu_s`` of the records: the worker process's CPU
+  while it ran the point, all its threads) and the results (to compare runs).
 
 CPU seconds [s], wall seconds [s]. The numbers depend on how busy the machine is.
 
@@ -48,7 +53,7 @@ class TreeSampler:
     def __init__(self) -> None:
         self.me = psutil.Process()
         self.samples: list[tuple[float, dict[tuple[int, int], float]]] = []
-        self.info: dict[int, dict] = {}  # pid -> role, parent, create_time
+        self.info: dict[int, dict] = {}  # pid -> parent pid, create time, command line
         self.thread_names: dict[int, str] = {}  # native id -> name, threads of this process
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, name="profile-sweep-sampler", daemon=True)
@@ -109,14 +114,18 @@ def roles(info: dict[int, dict], me: int, worker_pids: set[int]) -> dict[int, st
 
 
 def window(samples: list, t_a: float, t_b: float) -> dict[tuple[int, int], float]:
-    """CPU seconds of every key between the samples nearest ``t_a`` and ``t_b`` (a process
-    that appears later counts from 0; one that ended counts up to its last sample)."""
-    first = min(samples, key=lambda s: abs(s[0] - t_a))[1]
-    inside = [s for s in samples if s[0] <= t_b + SAMPLE_S]
+    """CPU seconds of every key between ``t_a`` and ``t_b``: each key's last value sampled up to
+    ``t_b`` minus its last value sampled up to ``t_a`` (0 for a process or thread that did not
+    exist yet; one that ended counts up to its last sample). The end of the computation is
+    sampled when the last point arrives, so the cluster's shutdown is not counted."""
+    before: dict[tuple[int, int], float] = {}
     last: dict[tuple[int, int], float] = {}
-    for _, snap in inside:
-        last.update(snap)
-    return {k: v - first.get(k, 0.0) for k, v in last.items()}
+    for t, snap in samples:
+        if t <= t_a:
+            before.update(snap)
+        if t <= t_b:
+            last.update(snap)
+    return {k: v - before.get(k, 0.0) for k, v in last.items()}
 
 
 def main() -> int:
@@ -186,7 +195,7 @@ def main() -> int:
     print(f"  total {total:.2f} s CPU in {t_b - t_a:.1f} s on {os.cpu_count()} cores"
           + (f"; other processes of the machine {cpu[(-1, 0)] - total:.2f} s" if (-1, 0) in cpu else ""))
     # CPU not spent by the threads that ran points, per second of computation: over the whole
-    # window and over its second half (imports and first builds are over by then)
+    # window and over its second half (after most of the imports and first builds)
     point_tids = {max((k for k in cpu if k[0] == pid and k[1] > 0), key=cpu.get) for pid in by_worker}
     for name, a in (("whole", t_a), ("second half", 0.5 * (t_a + t_b))):
         c = window(sampler.samples, a, t_b)
@@ -213,7 +222,7 @@ def main() -> int:
              "later_points_outside_solver_s": sum(x["wall_s"] - (x["solve_s"] or 0.0) for x in xs[1:])}
         out["workers_detail"].append(d)
         print(f"  worker {pid}: {len(xs)} points, first starts {start_first:.2f} s into the computation; first point "
-              f"{first['wall_s']:.2f} s of which {outside:.2f} s outside IPOPT (NLP build {first['build_s'] or 0:.2f} s); "
+              f"{first['wall_s']:.2f} s of which {outside:.2f} s outside IPOPT (build {first['build_s'] or 0:.2f} s); "
               f"later points {d['later_points_outside_solver_s']:.2f} s outside IPOPT; busy {d['busy_s']:.1f} s, CPU {d['cpu_s']:.1f} s")
     if args.json:
         with open(args.json, "w") as fh:

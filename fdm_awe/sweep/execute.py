@@ -68,18 +68,18 @@ class SweepRun:
 #: - the rest removes background CPU load. With as many workers as cores, every CPU second the
 #:   cluster spends besides the points is taken from a worker; with fewer workers it runs on an
 #:   idle core. Measured on a 2-core machine (8 points, mesh 10/8, 2 workers,
-#:   ``scripts/profile_sweep.py``, three runs each): Dask itself used 0.22-0.24 cores of the 2
-#:   (each worker's statistical profiler sampling every 10 ms, event-loop health ticks every
-#:   20 ms in the scheduler, the nannies and the workers, memory monitors every 100 ms, system
-#:   monitors every 500 ms), 0.04-0.10 cores with these settings. The profiler
-#:   (``distributed.worker.profile``) only feeds the dashboard's profile page; the ticks only
-#:   detect a blocked event loop (warning after 3 s); the monitors guard the memory limits
-#:   (checked every second instead of ten times a second) and feed dashboard metrics.
+#:   ``scripts/profile_sweep.py``, three runs each): Dask itself used 0.23 cores of the 2 (each
+#:   worker's statistical profiler sampling every 10 ms, event-loop health ticks every 20 ms in
+#:   the scheduler, the nannies and the workers, memory monitors every 100 ms, system monitors
+#:   every 500 ms), 0.07 cores with these settings. The profiler (``distributed.worker.profile``)
+#:   only feeds the dashboard's profile page; the ticks only detect a blocked event loop
+#:   (warning after 3 s); the monitors guard the memory limits (checked every second instead of
+#:   ten times a second) and feed dashboard metrics.
 #: - ``MALLOC_TRIM_THRESHOLD_`` is not set in the worker processes: with Dask's 64 kB the C
 #:   library hands freed memory back to the system at once and maps every large block anew
-#:   (4.4 times the page faults; the workers' system CPU of that sweep 1.2-1.4 s instead of
-#:   0.2-0.3 s). The C library's default keeps a few MB more per worker; results are
-#:   bit-identical either way. The single-threaded BLAS/OpenMP settings of
+#:   (4.4 times the page faults; the workers' system CPU of that sweep 1.3-1.5 s instead of
+#:   0.1-0.2 s). With the C library's default, freed memory is kept for reuse (peak memory of
+#:   a process solving two points 145 MB instead of 142 MB); results are bit-identical either way. The single-threaded BLAS/OpenMP settings of
 #:   ``distributed.nanny.pre-spawn-environ`` stay.
 LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
     "distributed.scheduler.worker-saturation": 1.0,
