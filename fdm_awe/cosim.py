@@ -362,9 +362,10 @@ class CoSim:
         n = int(round(t_end / dt))
         s = g.state()
         raw0 = g.raw()
-        raws = np.empty((n + 1, len(raw0)))
-        raws[0] = raw0
-        gsx = np.full((n + 1, len(ck.GS_COLUMNS)), math.nan)
+        nr = len(raw0)
+        ng = nr + len(ck.GS_COLUMNS)
+        log = np.full((n + 1, ng + len(ck.TAIL_COLUMNS)), math.nan)  # see cosim_kernel: raw | station | tail
+        log[0, :nr] = raw0
         s_gs, c_gs, nsub = gsa
         lat0, m0, n0cos, off = g.native_constants()
         p = np.zeros(ck.N_PARAMS)
@@ -397,7 +398,6 @@ class CoSim:
         output_from_row, make_state, sync = gs.output_from_row, g.make_state, g.sync_from_native
         # the compiled function without numba's argument-type dispatch (its one signature)
         call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
-        tail = p[ck.P_HX:ck.P_FZ + 1]  # a view: hook position, velocity and line force after a step
         i_motor = ck.P_MOTOR
         e_none = ck.E_NONE
         last_wcmd: Any = None
@@ -414,7 +414,7 @@ class CoSim:
                     mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
                     p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
                     last_wcmd = wcmd
-                done, code = call(h, p, raws, gsx, s_gs, c_gs, k, block if n - k > block else n - k)
+                done, code = call(h, p, log, s_gs, c_gs, k, block if n - k > block else n - k)
                 if done:
                     k += done
                     if done == 1:
@@ -430,13 +430,14 @@ class CoSim:
                             phases.append(last_code)
                         else:
                             phases.extend([last_code] * done)
-                    r = raws[k].tolist()
-                    hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = tail.tolist()
+                    row = log[k].tolist()
+                    r = row[:nr]
+                    hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]
                     hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
                     s = make_state(r, hook, force)
                     sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
                     t = r[0]
-                    gs_out = output_from_row(gsx[k].tolist(), mode)
+                    gs_out = output_from_row(row[nr:ng], mode)
                     if on_step is not None and on_step(k, s, gs_out):
                         code = e_none
                         break  # the caller's end condition: status "ok"
@@ -447,7 +448,7 @@ class CoSim:
             event = Event("interrupted", s.t, "interrupted by the user")
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
-        data = self._assemble(raws[: k + 1], gsx[: k + 1, :10], ctl[: k + 1], phases if has_phase else None)
+        data = self._assemble(log[: k + 1, :nr], log[: k + 1, nr:nr + 10], ctl[: k + 1], phases if has_phase else None)
         status = "ok" if event is None else event.kind
         return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall, steps=k)
 

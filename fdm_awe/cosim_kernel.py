@@ -16,8 +16,10 @@ Arguments are packed to keep a one-step call cheap:
 - ``p`` float64 parameters (``P_*`` offsets): step, sub-steps, frame and hook constants,
   limits, the winch command's terms, the airborne flag (updated), the current hook
   kinematics (updated) and the last line force (updated);
-- ``raws`` (rows x properties) JSBSim values per row, row ``k0`` the current state; ``gsx``
-  (rows x :data:`GS_COLUMNS`) ground-station outputs per row;
+- ``log`` one row per step (row ``k0``: the current state), each row the JSBSim values (one
+  per read node), then the ground-station outputs (:data:`GS_COLUMNS`), then the hook
+  kinematics after the step and the line force applied during it (:data:`TAIL_COLUMNS`), so
+  that one ``log[k].tolist()`` hands a step over to Python;
 - ``s_gs``, ``c_gs`` the ground station's state and constants (updated in place).
 
 Returns ``(steps done, event code)``; the event code (:data:`EVENT_CODES`) belongs to the last
@@ -41,6 +43,8 @@ H_GETTERS = 7
 #: ground-station output columns per row (the first ten are CoSim's logged columns)
 GS_COLUMNS = ("tension", "length", "reel_speed", "omega", "current", "duty", "p_electrical", "fx", "fy", "fz",
               "u_link", "event", "machine_mode", "p_mechanical", "distance", "slack", "broken")
+#: the row's last columns: hook position and velocity after the step, line force during it
+TAIL_COLUMNS = ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "fx", "fy", "fz")
 #: event codes returned by :func:`cosim_steps`
 EVENT_CODES = ("none", "hook_rejected", "nonfinite_force", "nonfinite_state", "ground_station", "ground_contact",
                "airspeed_high", "airspeed_low", "tension", "load_factor")
@@ -92,7 +96,7 @@ station, native_run, native_get, native_set = _globals()
 hook = _hook
 
 
-def cosim_steps(h, p, raws, gsx, s_gs, c_gs, k0, n):  # noqa: C901
+def cosim_steps(h, p, log, s_gs, c_gs, k0, n):  # noqa: C901
     f_run, f_get, f_set, fdm = h[0], h[1], h[2], h[3]
     nget = h.shape[0] - H_GETTERS
     dt = p[P_DT]
@@ -118,16 +122,21 @@ def cosim_steps(h, p, raws, gsx, s_gs, c_gs, k0, n):  # noqa: C901
         native_set(f_set, h[6], fz / lbf)
         native_run(f_run, fdm)
         k += 1
-        r = raws[k]
+        r = log[k]
         for j in range(nget):
             a = h[H_GETTERS + j]
             r[j] = native_get(f_get, a) if a != 0 else 0.0
-        g = gsx[k]
         rr = c_gs[0] * w
-        g[0], g[1], g[2], g[3], g[4], g[5], g[6] = tmean, length, rr, w, i, duty, p_el
-        g[7], g[8], g[9], g[10], g[11], g[12] = fx, fy, fz, u_link, ev, mm
-        g[13], g[14], g[15], g[16] = tmean * c_gs[0] * w, d, 1.0 if slack else 0.0, 1.0 if broken else 0.0
+        j = nget
+        r[j], r[j + 1], r[j + 2], r[j + 3], r[j + 4], r[j + 5], r[j + 6] = tmean, length, rr, w, i, duty, p_el
+        r[j + 7], r[j + 8], r[j + 9], r[j + 10], r[j + 11], r[j + 12] = fx, fy, fz, u_link, ev, mm
+        r[j + 13], r[j + 14] = tmean * c_gs[0] * w, d
+        r[j + 15], r[j + 16] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
         hook(r, p)
+        j += 17
+        r[j], r[j + 1], r[j + 2], r[j + 3], r[j + 4], r[j + 5] = (p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY],
+                                                              p[P_HVZ])
+        r[j + 6], r[j + 7], r[j + 8] = fx, fy, fz
         # ---- events, in the order of CoSim.run
         sm = 0.0
         for j in range(1, 16):
@@ -176,7 +185,7 @@ def compiled_kernel() -> Callable | None:
 
         register_jitable(_hook)
         f8, i8 = numba.float64, numba.int64
-        sig = numba.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[:, ::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
+        sig = numba.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
         return numba.njit(sig, cache=True)(cosim_steps)
     except Exception as exc:  # a broken numba install must not stop a simulation
         warnings.warn(f"fdm_awe.cosim_kernel: numba failed ({exc}); the Python loop runs instead",
@@ -184,4 +193,4 @@ def compiled_kernel() -> Callable | None:
         return None
 
 
-__all__ = ["EVENT_CODES", "GS_COLUMNS", "N_PARAMS", "compiled_kernel"]
+__all__ = ["EVENT_CODES", "GS_COLUMNS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
