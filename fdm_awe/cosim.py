@@ -364,7 +364,10 @@ class CoSim:
         raw0 = g.raw()
         nr = len(raw0)
         ng = nr + len(ck.GS_COLUMNS)
-        log = np.full((n + 1, ng + len(ck.TAIL_COLUMNS)), math.nan)  # see cosim_kernel: raw | station | tail
+        width = ng + len(ck.TAIL_COLUMNS)
+        # the log (see cosim_kernel: raw | station | tail), grown by doubling as the run goes: a
+        # long t_end that an event or on_step cuts short does not allocate its whole length
+        log = np.full((min(n + 1, 1 << 14), width), math.nan)
         log[0, :nr] = raw0
         s_gs, c_gs, nsub = gsa
         lat0, m0, n0cos, off = g.native_constants()
@@ -414,7 +417,10 @@ class CoSim:
                     mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
                     p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
                     last_wcmd = wcmd
-                done, code = call(h, p, log, s_gs, c_gs, k, block if n - k > block else n - k)
+                m = block if n - k > block else n - k
+                if k + m >= len(log):
+                    log = np.concatenate((log, np.full((min(n + 1, 2 * len(log)) - len(log), width), math.nan)))
+                done, code = call(h, p, log, s_gs, c_gs, k, m)
                 if done:
                     k += done
                     if done == 1:

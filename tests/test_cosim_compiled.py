@@ -177,3 +177,15 @@ def test_python_loop_where_the_compiled_one_cannot_run(monkeypatch):
     assert sim.loop == "python" and "FDM_AWE_JIT=0" in sim.loop_reason
     with pytest.raises(InputError, match="compiled loop is not available"):
         CoSim(g, gs, Fixed(g.controls, HOLD), compiled=True).run(0.1)
+
+
+def test_long_run_grows_its_log_and_a_long_t_end_costs_nothing_up_front():
+    """The compiled loop's log grows by doubling: 150 s (18000 steps, beyond the first 16384
+    rows) stays bit-identical, and a 1e6 s t_end that on_step ends after 50 steps runs
+    without allocating its length (1.2e8 rows)."""
+    a, b = _both(lambda g: Fixed(g.controls, HOLD), 150.0)
+    assert a[0].steps == 18000
+    _assert_same(a, b)
+    g, gs = _setup()
+    res = CoSim(g, gs, Fixed(g.controls, HOLD), compiled=True).run(1.0e6, on_step=lambda k, s, o: k == 50)
+    assert res.steps == 50 and res.status == "ok"
