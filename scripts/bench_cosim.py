@@ -8,7 +8,10 @@
   Python controller's slot, without its own work), and with the simple stabilising controller;
   the last two also with the Python loop (``CoSim(compiled=False)``), its reference;
 - real-time factor of a 30 s flight at 120 Hz (a kite hovering on 50 m of line in 14 m/s wind,
-  winch held by the PI speed loop at zero reel speed).
+  winch held by the PI speed loop at zero reel speed);
+- for scale, one pumping cycle flown by the autopilot (``fdm_awe.flight.fly`` on the stored
+  physical nominal 8 m/s reference of the tests, no recording), compiled and Python loop: the
+  share of a step that is the autopilot's (DESIGN.md section 9 counts it in the step).
 
 Step timings are the best of ``--repeat`` interleaved short rounds, the real-time factors the best
 of ``--flights`` whole flights (the machine is shared; the 1-minute load average is printed and
@@ -115,6 +118,23 @@ def bench_cosim(seconds: float, controller: str = "stabilizer", compiled: bool |
 
 
 LOOP = ""
+REFERENCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "ref_physical_nominal_8mps.json")
+
+
+def bench_autopilot_cycle(compiled: bool | None = None) -> tuple[float, float, int, str]:
+    """One pumping cycle of the stored reference flown by the autopilot: wall s per step,
+    real-time factor, steps and status (``compiled`` False: the Python loop)."""
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import fly
+
+    ref = TrackingReference.from_ocp_file(REFERENCE)
+
+    def setup(autopilot, sim):
+        sim.compiled = compiled
+
+    rep = fly(ref, config="nominal", cycles=1, setup=setup)
+    n = max(rep.result.steps, 1)
+    return rep.wall_s / n, rep.realtime_factor, rep.result.steps, rep.status
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -147,6 +167,9 @@ def main(argv: list[str] | None = None) -> int:
             rtfs[kind].append(r)
             if kind == ("stabilizer", None):
                 status = st
+    ap = {c: [bench_autopilot_cycle(c) for _ in range(max(1, min(a.flights, 2)))] for c in (None, False)}
+    ap_us = {c: min(x[0] for x in v) * 1e6 for c, v in ap.items()}
+    ap_rt = {c: max(x[1] for x in v) for c, v in ap.items()}
     b = min(bare)
     us = {k: min(v) * 1e6 for k, v in steps.items()}
     rt = {k: max(v) for k, v in rtfs.items()}
@@ -179,6 +202,10 @@ def main(argv: list[str] | None = None) -> int:
         "loadavg_1min": os.getloadavg()[0],
         "python": sys.version.split()[0],
         "machine": platform.machine(),
+        "autopilot_cycle": {"reference": "tests/data/ref_physical_nominal_8mps.json", "steps": ap[None][0][2],
+                            "status": ap[None][0][3], "step_us": ap_us[None], "realtime_factor": ap_rt[None],
+                            "python_loop_step_us": ap_us[False], "python_loop_realtime_factor": ap_rt[False],
+                            "ratio_to_bare": ap_us[None] / (b * 1e6)},
         "all_bare_us": [x * 1e6 for x in bare],
         "all_step_us": {name[k]: [x * 1e6 for x in v] for k, v in steps.items()},
     }
@@ -192,6 +219,9 @@ def main(argv: list[str] | None = None) -> int:
           f"real-time factor of a {a.seconds:g} s flight at 120 Hz:")
     for kind in kinds:
         print(f"  {label[kind]:36s} {us[kind]:7.2f} us  ratio {us[kind] / (b * 1e6):5.2f}  {rt[kind]:6.0f} x")
+    print(f"  {'autopilot, one pumping cycle':36s} {ap_us[None]:7.2f} us  ratio {ap_us[None] / (b * 1e6):5.2f}  "
+          f"{ap_rt[None]:6.0f} x   ({ap[None][0][2]} steps, status {ap[None][0][3]}; "
+          f"Python loop {ap_us[False]:.2f} us, {ap_rt[False]:.0f} x)")
     print(f"targets (co-simulation, fixed commands): ratio <= 3 {'met' if out['ratio_ok'] else 'NOT met'}, "
           f"real-time factor >= 500 {'met' if out['realtime_ok'] else 'NOT met'}; stabilised flight status {status}")
     with open(a.json, "w") as fh:
