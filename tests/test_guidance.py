@@ -213,3 +213,118 @@ def test_overspeed_on_a_taut_line_pulls_harder():
             radial[k_v, dv] = float(_lift_vector(gd, c, vel) @ e_r)
     assert radial[8.0, 0.0] == pytest.approx(radial[0.0, 0.0], rel=1e-9)
     assert radial[8.0, 10.0] - radial[0.0, 10.0] == pytest.approx(56.0, rel=1e-6)
+
+
+# ------------------------------------------------------------------ the scalar form vs the vectors
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
+    """Guidance.update in its vector formulas (numpy on 3-vectors, dots summed left to right):
+    the specification the scalar implementation follows operation by operation."""
+    from fdm_awe.autopilot.guidance import blended_polar, cross, norm3
+
+    k = gd.k
+    e_p, e_v = ref.pos - pos, ref.vel - vel
+    g_vec = np.array([0.0, 0.0, gd.g])
+    if taut:
+        e_r = pos / max(norm3(pos), 1e-6)
+        e_p = e_p - _dot(e_p, e_r) * e_r
+        e_v = e_v - _dot(e_v, e_r) * e_r
+    integral = np.clip(np.array(gd.integral) + e_p * dt, -k.int_max, k.int_max)
+    corr = k.kp * e_p + k.kd * e_v + k.ki * integral
+    n = norm3(corr)
+    if n > k.a_max:
+        corr = corr * (k.a_max / n)
+    a_ff = ref.acc
+    va_ref, va0 = ref.vel - wind, vel - wind
+    v_ref, v0 = norm3(va_ref), norm3(va0)
+    if v_ref > 1.0 and v0 > 1.0:
+        t_ref, t_now = va_ref / v_ref, va0 / v0
+        a_t = _dot(a_ff, t_ref)
+        a_n = a_ff - a_t * t_ref
+        a_p = a_n - _dot(a_n, t_now) * t_now
+        n_p, n_n = norm3(a_p), norm3(a_n)
+        if n_p > 1e-9:
+            scale = 1.0 if k.curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), k.curv_scale_max)
+            a_p = a_p * (n_n / n_p * scale)
+        a_ff = a_t * t_now + a_p
+    F = gd.m * ((a_ff + corr) - g_vec) - tf
+    if taut:
+        e_rr = ref.pos / max(norm3(ref.pos), 1e-6)
+        F_r = _dot(gd.m * (ref.acc - g_vec), e_rr) + ref.tension
+        if k.overspeed_tension > 0.0 and v_ref > 1.0:
+            F_r += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
+        F = F - _dot(F, e_r) * e_r + F_r * e_r
+    va = vel - wind
+    V = max(norm3(va), 1.0)
+    e1 = va / V
+    F_par = _dot(F, e1)
+    F_perp = F - F_par * e1
+    cl0, cla, clmax, cd0, cd1, cd2 = blended_polar(gd.aero_u, gd.aero_f, fold)
+    q = 0.5 * gd.rho * V * V
+    horiz = math.hypot(e1[0], e1[1])
+    right0 = np.array([-e1[1], e1[0], 0.0]) / horiz if horiz > 1e-6 else np.array([0.0, 1.0, 0.0])
+    up0 = cross(right0, e1)
+    a_stall = (clmax - cl0) / cla
+    for _ in range(2):
+        alpha = min(max((norm3(F_perp) / q - cl0) / cla, k.alpha_min), min(k.alpha_max, a_stall))
+        excess = F_par + q * (cd0 + cd1 * alpha + cd2 * alpha * alpha)
+        if excess < 0.0:
+            F_perp = F - F_par * e1 - k.energy_trade * excess * up0
+        elif excess > k.thrust_max:
+            F_perp = F - F_par * e1 - k.energy_trade * (excess - k.thrust_max) * up0
+        else:
+            break
+    L = norm3(F_perp)
+    mu = math.atan2(_dot(F_perp / L, right0), _dot(F_perp / L, up0)) if L > 1e-6 else 0.0
+    if k.negative_lift and abs(mu) > math.pi - k.phi_max:
+        mu -= math.copysign(math.pi, mu)
+        L = -L
+    alpha = min(max((L / q - cl0) / cla, k.alpha_min), min(k.alpha_max, a_stall))
+    thrust = min(max(F_par + q * (cd0 + cd1 * alpha + cd2 * alpha * alpha), 0.0), k.thrust_max)
+    phi_lim = k.phi_max
+    if k.phi_max_vertical is not None and k.phi_max_vertical > k.phi_max:
+        phi_lim += (k.phi_max_vertical - k.phi_max) * (1.0 - horiz * horiz)
+    mu = min(max(mu, -phi_lim), phi_lim)
+    eL = math.cos(mu) * up0 + math.sin(mu) * right0
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    xb, zb = ca * e1 + sa * eL, sa * e1 - ca * eL
+    yb = cross(zb, xb)
+    return (alpha, mu, thrust, math.atan2(float(yb[2]), float(zb[2])), -math.asin(max(-1.0, min(1.0, float(xb[2])))),
+            math.atan2(float(xb[1]), float(xb[0])),
+            (cl0 + cla * alpha) / ((1 - fold) * gd.aero_u.S + fold * gd.aero_f.S), norm3(e_p), integral.tolist())
+
+
+@pytest.mark.parametrize("variant", ["plain", "curvature", "negative_lift", "vertical_bank"])
+def test_scalar_guidance_is_the_vector_formulas_bit_for_bit(variant):
+    """The scalar implementation (written out for speed) gives exactly the numbers of the vector
+    formulas, over random states covering taut/slack line, energy trade both ways, saturated
+    correction, vertical flight and the fold range."""
+    from dataclasses import replace
+
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    gains = replace(GAINS, overspeed_tension=8.0, overspeed_margin=3.0, energy_trade=1.0,
+                    curv_scale_max=2.25 if variant == "curvature" else None,
+                    negative_lift=variant == "negative_lift",
+                    phi_max_vertical=2.2 if variant == "vertical_bank" else None)
+    gd = Guidance(gains, g.unfolded.mass.mass, g.unfolded.aero, g.folded.aero)
+    rng = np.random.default_rng({"plain": 1, "curvature": 2, "negative_lift": 3, "vertical_bank": 4}[variant])
+    for i in range(400):
+        pos = rng.normal(0.0, 80.0, 3) + np.array([0.0, 0.0, -60.0])
+        vel = rng.normal(0.0, 12.0, 3)
+        if i % 50 == 7:
+            vel = np.array([0.0, 0.0, rng.choice([-15.0, 15.0])])  # vertical flight
+        ref = RefPoint(t_cycle=0.0, cycle=0, phase=0, pos=pos + rng.normal(0.0, 5.0 if i % 3 else 40.0, 3),
+                       vel=vel + rng.normal(0.0, 3.0, 3), acc=rng.normal(0.0, 15.0, 3), airspeed=15.0, alpha=0.1,
+                       phi=0.0, thrust=1.0, tension=float(rng.uniform(0.0, 60.0)), length=100.0, reel_speed=1.0)
+        wind = np.array([rng.uniform(0.0, 12.0), rng.normal(0.0, 1.0), 0.0])
+        tf = rng.normal(0.0, 30.0, 3)
+        fold, dt, taut = float(rng.uniform(0.0, 1.0)), 1.0 / 120.0, bool(i % 2)
+        want = _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut)
+        c = gd.update(ref, pos, vel, wind, tf, fold, dt, taut=taut)
+        got = (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error, list(gd.integral))
+        assert got == want, (i, got, want)

@@ -19,7 +19,6 @@ import numpy as np
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState
-from .guidance import cross
 
 
 def _clip(v: float) -> float:
@@ -63,32 +62,42 @@ class AttitudeLoops:
 
     def path_rate_body(self, s: SixDofState) -> np.ndarray:
         """Rotation rate of the air-velocity vector, body axes [rad/s]."""
-        phi, theta, _ = s.euler
-        g_b = self.g * np.array([-math.sin(theta), math.sin(phi) * math.cos(theta), math.cos(phi) * math.cos(theta)])
-        a_b = s.accel_body + g_b
+        return np.array(self._path_rate(s))
+
+    def _path_rate(self, s: SixDofState) -> tuple[float, float, float]:
+        # omega_path = v_b x a_b / V^2, a_b = specific force + gravity (body axes), on scalars
+        phi, theta = s.phi, s.theta
+        g = self.g
+        gbx, gby, gbz = g * -math.sin(theta), g * (math.sin(phi) * math.cos(theta)), g * (math.cos(phi) * math.cos(theta))
+        ax, ay, az = s.accel_body.tolist()
+        ax, ay, az = ax + gbx, ay + gby, az + gbz
         V = max(s.airspeed, 1.0)
-        ca, sa, cb, sb = math.cos(s.alpha), math.sin(s.alpha), math.cos(s.beta), math.sin(s.beta)
-        v_b = V * np.array([ca * cb, sb, sa * cb])
-        return cross(v_b, a_b) / (V * V)
+        alpha, beta = s.alpha, s.beta
+        ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
+        vx, vy, vz = V * (ca * cb), V * sb, V * (sa * cb)
+        V2 = V * V
+        return (vy * az - vz * ay) / V2, (vz * ax - vx * az) / V2, (vx * ay - vy * ax) / V2
 
     def update(self, s: SixDofState, alpha_cmd: float, roll_cmd: float, dt: float) -> tuple[float, float, float]:
         gn = self.gains
         self._refresh(s.fold)
         qbar = max(s.qbar, 1.0)
-        p, q, r = s.omega_body
-        wp = self.path_rate_body(s)
-        e_a = alpha_cmd - s.alpha
+        p, q, r = s.p, s.q, s.r
+        wp0, wp1, wp2 = self._path_rate(s)
+        alpha = s.alpha
+        e_a = alpha_cmd - alpha
         self._int = max(-0.2, min(0.2, self._int + e_a * dt))
         V = max(s.airspeed, 1.0)
         # pitch: dynamic inversion of the static, damping and control moments
-        m_des = self._iyy * (gn.w_alpha**2 * (e_a + gn.ki_alpha * self._int) - 2 * gn.z_alpha * gn.w_alpha * (q - wp[1]))
-        cm_free = self._cm0 + self._cm_a * s.alpha + self._cm_q * q * self._c / (2 * V)
+        m_des = self._iyy * (gn.w_alpha**2 * (e_a + gn.ki_alpha * self._int) - 2 * gn.z_alpha * gn.w_alpha * (q - wp1))
+        cm_free = self._cm0 + self._cm_a * alpha + self._cm_q * q * self._c / (2 * V)
         de = (m_des / (qbar * self._S * self._c) - cm_free) / self._cm_de
-        phi = s.euler[0]
+        phi = s.phi
         e_phi = math.atan2(math.sin(roll_cmd - phi), math.cos(roll_cmd - phi))
-        l_des = self._ixx * (gn.w_phi**2 * e_phi - 2 * gn.z_phi * gn.w_phi * (p - wp[0]))
-        cl_free = self._cl_b * s.beta + (self._cl_p * p + self._cl_r * r) * self._b / (2 * V)
+        l_des = self._ixx * (gn.w_phi**2 * e_phi - 2 * gn.z_phi * gn.w_phi * (p - wp0))
+        beta = s.beta
+        cl_free = self._cl_b * beta + (self._cl_p * p + self._cl_r * r) * self._b / (2 * V)
         da = (l_des / (qbar * self._S * self._b) - cl_free) / self._cl_da
-        n_des = -self._izz * 2 * gn.w_r * (r - wp[2]) + gn.k_beta * qbar * self._S * self._b * self._cn_beta * s.beta
+        n_des = -self._izz * 2 * gn.w_r * (r - wp2) + gn.k_beta * qbar * self._S * self._b * self._cn_beta * beta
         dr = n_des / (qbar * self._S * self._b * self._cn_dr)
         return _clip(da / self._lim_a), _clip(de / self._lim_e), _clip(dr / self._lim_r)

@@ -78,6 +78,17 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
 
 
+def _xyz(v) -> tuple[float, float, float]:
+    """Three Python floats of a 3-vector (array, list or tuple)."""
+    if type(v) is np.ndarray:
+        v = v.tolist()
+    return v[0], v[1], v[2]
+
+
+def _norm(x: float, y: float, z: float) -> float:
+    return math.sqrt(x * x + y * y + z * z)
+
+
 class Guidance:
     """Stateful outer loop (holds the position-error integral)."""
 
@@ -86,10 +97,10 @@ class Guidance:
         self.m = mass
         self.aero_u, self.aero_f = aero_u, aero_f
         self.rho, self.g = rho, g
-        self.integral = np.zeros(3)
+        self.integral = [0.0, 0.0, 0.0]  #: position-error integral, NED [m s]
 
     def reset(self) -> None:
-        self.integral[:] = 0.0
+        self.integral = [0.0, 0.0, 0.0]
 
     def update(
         self,
@@ -106,36 +117,62 @@ class Guidance:
         then acts only on the sphere's tangent plane, and the radial aerodynamic force is the
         reference's (feeding the measured tension back would close a positive loop through
         the line: more pull -> more tension -> more pull)."""
+        # written on scalars (x, y, z components; numpy on 3-vectors cost ~100 us a call):
+        # every operation as in the vector formulas of the comments, in the same order, so the
+        # results are those of the numpy form (tests/test_autopilot_guidance.py)
         k = self.k
-        e_p = ref.pos - pos
-        e_v = ref.vel - vel
-        g_vec = np.array([0.0, 0.0, self.g])
+        rpx, rpy, rpz = _xyz(ref.pos)
+        rvx, rvy, rvz = _xyz(ref.vel)
+        rax, ray, raz = _xyz(ref.acc)
+        px, py, pz = _xyz(pos)
+        vx, vy, vz = _xyz(vel)
+        wx, wy, wz = _xyz(wind)
+        tx, ty, tz = _xyz(tether_force)
+        g = self.g
+        # e_p = p_ref - p, e_v = v_ref - v
+        epx, epy, epz = rpx - px, rpy - py, rpz - pz
+        evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
         if taut:
-            e_r = pos / max(norm3(pos), 1e-6)
-            e_p = e_p - float(e_p @ e_r) * e_r
-            e_v = e_v - float(e_v @ e_r) * e_r
-        self.integral = np.clip(self.integral + e_p * dt, -k.int_max, k.int_max)
-        corr = k.kp * e_p + k.kd * e_v + k.ki * self.integral
-        n = norm3(corr)
+            # position loop on the sphere's tangent plane: e -= (e . e_r) e_r
+            dn = max(_norm(px, py, pz), 1e-6)
+            erx, ery, erz = px / dn, py / dn, pz / dn
+            c = epx * erx + epy * ery + epz * erz
+            epx, epy, epz = epx - c * erx, epy - c * ery, epz - c * erz
+            c = evx * erx + evy * ery + evz * erz
+            evx, evy, evz = evx - c * erx, evy - c * ery, evz - c * erz
+        # integral, clipped to +-int_max
+        im = k.int_max
+        ix, iy, iz = self.integral
+        self.integral = [min(max(ix + epx * dt, -im), im), min(max(iy + epy * dt, -im), im),
+                         min(max(iz + epz * dt, -im), im)]
+        ix, iy, iz = self.integral
+        # corr = kp e_p + kd e_v + ki int, saturated at a_max
+        kp, kd, ki = k.kp, k.kd, k.ki
+        cx = kp * epx + kd * evx + ki * ix
+        cy = kp * epy + kd * evy + ki * iy
+        cz = kp * epz + kd * evz + ki * iz
+        n = _norm(cx, cy, cz)
         if n > k.a_max:
-            corr *= k.a_max / n
+            c = k.a_max / n
+            cx, cy, cz = cx * c, cy * c, cz * c
         # feed-forward of the reference acceleration in the path's own axes: its tangential
         # part along the glider's air velocity, its normal (turning) part, same size, across
         # it. Taken in NED as it stands, a heading error would turn the reference's centripetal
         # acceleration (up to 3 g on a pumping loop) into a demand to brake or to accelerate
         # (thrust cut, lift raised by the energy trade, the glider slows and falls behind).
-        a_ff = ref.acc
-        va_ref = ref.vel - wind
-        v_ref = norm3(va_ref)
-        va0 = vel - wind
-        v0 = norm3(va0)
+        afx, afy, afz = rax, ray, raz
+        vrx, vry, vrz = rvx - wx, rvy - wy, rvz - wz  # reference air velocity
+        v_ref = _norm(vrx, vry, vrz)
+        v0x, v0y, v0z = vx - wx, vy - wy, vz - wz  # air velocity
+        v0 = _norm(v0x, v0y, v0z)
         if v_ref > 1.0 and v0 > 1.0:
-            t_ref = va_ref / v_ref
-            t_now = va0 / v0
-            a_t = float(a_ff @ t_ref)
-            a_n = a_ff - a_t * t_ref
-            a_p = a_n - float(a_n @ t_now) * t_now
-            n_p, n_n = norm3(a_p), norm3(a_n)
+            trx, try_, trz = vrx / v_ref, vry / v_ref, vrz / v_ref
+            tnx, tny, tnz = v0x / v0, v0y / v0, v0z / v0
+            a_t = afx * trx + afy * try_ + afz * trz
+            anx, any_, anz = afx - a_t * trx, afy - a_t * try_, afz - a_t * trz
+            c = anx * tnx + any_ * tny + anz * tnz
+            apx, apy, apz = anx - c * tnx, any_ - c * tny, anz - c * tnz
+            n_p, n_n = _norm(apx, apy, apz), _norm(anx, any_, anz)
             if n_p > 1e-9:
                 # the turn keeps the path's curvature: the glider follows the reference path
                 # (its point moves with the glider), so a faster glider needs (v/v_ref)^2 of the
@@ -144,54 +181,64 @@ class Guidance:
                 # up: a slower glider keeps the reference's turn (scaling it down weakened the
                 # turn of a glider lagging on a slack line in turbulence)
                 scale = 1.0 if k.curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), k.curv_scale_max)
-                a_p = a_p * (n_n / n_p * scale)
-            a_ff = a_t * t_now + a_p
-        a_cmd = a_ff + corr
-        F = self.m * (a_cmd - g_vec) - tether_force
+                c = n_n / n_p * scale
+                apx, apy, apz = apx * c, apy * c, apz * c
+            afx, afy, afz = a_t * tnx + apx, a_t * tny + apy, a_t * tnz + apz
+        # F = m (a_cmd - g) - F_tether, a_cmd = a_ff + corr
+        m = self.m
+        Fx = m * ((afx + cx) - 0.0) - tx
+        Fy = m * ((afy + cy) - 0.0) - ty
+        Fz = m * ((afz + cz) - g) - tz
         if taut:
-            e_rr = ref.pos / max(norm3(ref.pos), 1e-6)
-            F_r_ref = float(self.m * (ref.acc - g_vec) @ e_rr) + ref.tension
+            dn = max(_norm(rpx, rpy, rpz), 1e-6)
+            F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
+                       + m * (raz - g) * (rpz / dn)) + ref.tension
             if k.overspeed_tension > 0.0 and v_ref > 1.0:
                 # overspeed protection: on a taut line the glider sheds speed through the line,
                 # not through its drag: pull harder than the reference (more lift, more induced
                 # drag) and the winch pays out faster, taking the excess energy at the drum
                 F_r_ref += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
-            F = F - float(F @ e_r) * e_r + F_r_ref * e_r
-        va = vel - wind
-        V = max(norm3(va), 1.0)
-        e1 = va / V
-        F_par = float(F @ e1)
-        F_perp = F - F_par * e1
+            # radial component replaced by the reference's: F - (F . e_r) e_r + F_r_ref e_r
+            c = Fx * erx + Fy * ery + Fz * erz
+            Fx, Fy, Fz = (Fx - c * erx + F_r_ref * erx, Fy - c * ery + F_r_ref * ery, Fz - c * erz + F_r_ref * erz)
+        vax, vay, vaz = vx - wx, vy - wy, vz - wz
+        V = max(_norm(vax, vay, vaz), 1.0)
+        e1x, e1y, e1z = vax / V, vay / V, vaz / V
+        F_par = Fx * e1x + Fy * e1y + Fz * e1z
+        Qx, Qy, Qz = Fx - F_par * e1x, Fy - F_par * e1y, Fz - F_par * e1z  # F_perp
         qS_cl0, qS_cla, qS_clmax, qS_cd0, qS_cd1, qS_cd2 = blended_polar(self.aero_u, self.aero_f, fold)
         q = 0.5 * self.rho * V * V
-        horiz = math.hypot(e1[0], e1[1])
+        horiz = math.hypot(e1x, e1y)
         if horiz > 1e-6:
-            right0 = np.array([-e1[1], e1[0], 0.0]) / horiz
+            r0x, r0y, r0z = -e1y / horiz, e1x / horiz, 0.0 / horiz
         else:  # vertical flight: any horizontal axis
-            right0 = np.array([0.0, 1.0, 0.0])
-        up0 = cross(right0, e1)  # = -c3 at zero bank (points up in level flight)
+            r0x, r0y, r0z = 0.0, 1.0, 0.0
+        # up0 = right0 x e1 (= -c3 at zero bank: points up in level flight)
+        u0x, u0y, u0z = r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x
         alpha_stall = (qS_clmax - qS_cl0) / qS_cla
         # energy exchange (TECS-like): an along-path force the propeller cannot give (braking
         # beyond the drag, or more than full thrust) is traded through the flight path: pull up
         # to bleed speed into height, push over to gain speed from height.
         for _ in range(2):
-            L = norm3(F_perp)
+            L = _norm(Qx, Qy, Qz)
             alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
             drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
             excess = F_par + drag
             if excess < 0.0:
-                F_perp = F - F_par * e1 - k.energy_trade * excess * up0
+                c = k.energy_trade * excess
             elif excess > k.thrust_max:
-                F_perp = F - F_par * e1 - k.energy_trade * (excess - k.thrust_max) * up0
+                c = k.energy_trade * (excess - k.thrust_max)
             else:
                 break
-        L = norm3(F_perp)
+            # F_perp = F - F_par e1 - c up0
+            Qx, Qy, Qz = Fx - F_par * e1x - c * u0x, Fy - F_par * e1y - c * u0y, Fz - F_par * e1z - c * u0z
+        L = _norm(Qx, Qy, Qz)
         # bank about the air velocity: lift direction relative to the unbanked "up"
         if L > 1e-6:
-            eL = F_perp / L
-            mu = math.atan2(float(eL @ right0), float(eL @ up0))
+            eLx, eLy, eLz = Qx / L, Qy / L, Qz / L
+            mu = math.atan2(eLx * r0x + eLy * r0y + eLz * r0z, eLx * u0x + eLy * u0y + eLz * u0z)
         else:
-            eL, mu = up0, 0.0
+            mu = 0.0
         if k.negative_lift and abs(mu) > math.pi - k.phi_max:
             # the force points below the horizon, further than the bank limit reaches: push
             # over (negative lift, wings banked the other way) instead of banking past it
@@ -208,13 +255,14 @@ class Guidance:
         if k.phi_max_vertical is not None and k.phi_max_vertical > k.phi_max:
             phi_lim += (k.phi_max_vertical - k.phi_max) * (1.0 - horiz * horiz)
         mu = min(max(mu, -phi_lim), phi_lim)
-        eL = math.cos(mu) * up0 + math.sin(mu) * right0
-        # body axes: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL
+        cm, sm = math.cos(mu), math.sin(mu)
+        eLx, eLy, eLz = cm * u0x + sm * r0x, cm * u0y + sm * r0y, cm * u0z + sm * r0z
+        # body axes: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL, y_b = z_b x x_b
         ca, sa = math.cos(alpha), math.sin(alpha)
-        xb = ca * e1 + sa * eL
-        zb = sa * e1 - ca * eL
-        yb = cross(zb, xb)
-        pitch = -math.asin(max(-1.0, min(1.0, float(xb[2]))))
-        roll = math.atan2(float(yb[2]), float(zb[2]))
-        yaw = math.atan2(float(xb[1]), float(xb[0]))
-        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, (qS_cl0 + qS_cla * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S), norm3(e_p))
+        xbx, xby, xbz = ca * e1x + sa * eLx, ca * e1y + sa * eLy, ca * e1z + sa * eLz
+        zbx, zby, zbz = sa * e1x - ca * eLx, sa * e1y - ca * eLy, sa * e1z - ca * eLz
+        ybz = zbx * xby - zby * xbx
+        pitch = -math.asin(max(-1.0, min(1.0, xbz)))
+        roll = math.atan2(ybz, zbz)
+        yaw = math.atan2(xby, xbx)
+        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, (qS_cl0 + qS_cla * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S), _norm(epx, epy, epz))
