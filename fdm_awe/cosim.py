@@ -17,6 +17,15 @@ force not finite), ``airspeed_limit``, ``load_limit`` (line tension or load fact
 ``tether_fully_reeled_in``) end the run with that name as the status. The result always holds
 the data up to and including the step that raised the event.
 
+Two loops run this step: the loop body compiled (:mod:`.cosim_kernel`: ground station, force,
+JSBSim step, state read and event checks in one numba call that reaches JSBSim through the
+bindings' library, :mod:`.sixdof.native`), chosen whenever the glider, the ground station and
+the machine allow it, and the Python loop, its reference, which gives bit-identical results
+(``CoSim(compiled=False)`` or ``FDM_AWE_JIT=0`` select it; after a run, :attr:`CoSim.loop` and
+:attr:`CoSim.loop_reason` say which ran and why). The controller is called from Python every
+step either way; one that declares ``constant_commands = True`` lets the compiled loop run in
+blocks of one simulated second when no ``on_step`` is given.
+
 This module wires blocks; it holds no physics.
 """
 
