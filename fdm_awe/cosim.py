@@ -49,7 +49,9 @@ STATUSES = ("ok", "ground_contact", "tether_break", "nonfinite", "airspeed_limit
 class Controller(Protocol):
     """Anything with ``update(t, glider_state, gs_output) -> (Surfaces, WinchCommand)``.
 
-    An optional attribute ``phase`` (str) is recorded every step."""
+    An optional attribute ``phase`` (str) is recorded every step. An optional attribute
+    ``constant_commands = True`` promises the same commands (and phase) every step: the
+    compiled loop may then call ``update`` once per block of steps."""
 
     def update(self, t: float, glider_state: SixDofState, gs_output: Any) -> tuple[Surfaces, Any]: ...
 
