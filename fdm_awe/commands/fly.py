@@ -58,6 +58,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
                         "reference); default: the --reference file's tether_drag_scale, else 1 = the defined line")
+    p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
+                   help="propeller model of the optimiser when it optimises the reference (physical scenario): "
+                        "momentum (default) or engine, the 6-DOF glider's own drive")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference (default 1 rad, Table 3's); 0.7 makes "
                         "the paper nominal 3 m/s cycle flyable")
@@ -116,7 +119,8 @@ def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
           f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad; "
           f"line drag x {scale:g}) ...", file=sys.stderr)
     res = solve_cycle(CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind,
-                                   wind_from_deg=args.wind_from, bounds=b, tether_drag_scale=scale))
+                                   wind_from_deg=args.wind_from, bounds=b, tether_drag_scale=scale,
+                                   propeller=getattr(args, "propeller", None) if args.scenario == "physical" else None))
     if not res.ok:
         raise InputError(f"the optimiser found no cycle: {res.status} ({getattr(res, 'reason', '')})")
     path = (out_dir or Path(".")) / f"reference_{args.scenario}_{args.config}_{args.wind:g}.json"

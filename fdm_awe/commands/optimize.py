@@ -26,6 +26,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s]")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario (sensitivity study; default 1 = the defined line)")
+    p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
+                   help="propeller model of the physical scenario: momentum theory + efficiencies (default) or "
+                        "engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts to compare (default 1)")
@@ -54,7 +57,8 @@ def problem_from_args(args: argparse.Namespace):
     bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max)
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
-                        tether_drag_scale=getattr(args, "tether_drag_scale", 1.0)).validate()
+                        tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
+                        propeller=getattr(args, "propeller", None)).validate()
 
 
 def print_summary(res, file=sys.stdout) -> None:

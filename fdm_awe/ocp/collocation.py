@@ -313,7 +313,7 @@ class CycleNLP:
             path = [out["v_reel"], out["G"]]
         else:
             path = [out["l"] - out["d"]]
-        if self.model.scenario.propeller == "physical":
+        if self.model.scenario.propeller in ("physical", "engine"):
             # thrust within what the propeller gives at this airspeed (full throttle); p[6] < 1
             # blends the bound towards the static T_max (a homotopy path only)
             prop = self.model.gen_airframe.propulsion
@@ -329,7 +329,7 @@ class CycleNLP:
                 add(path[1] / 30.0, bnd.G_min / 30.0, bnd.G_max / 30.0, f"G_{tag}")
         else:
             add(path[0] / 100.0, 0.0, ca.inf, f"slack_{tag}")
-        if m.scenario.propeller == "physical":
+        if m.scenario.propeller in ("physical", "engine"):
             add(path[-1] / 5.0, 0.0, ca.inf, f"thrust_avail_{tag}")
 
     # ------------------------------------------------------------------ solve

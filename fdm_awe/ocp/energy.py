@@ -117,9 +117,10 @@ def motor_voltage(v_reel: Any, w: WinchElectrics) -> Any:
     return w.K_e * omega_abs + w.R * motor_current(v_reel, w) + 2 * w.U_d
 
 
-def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: str) -> Any:
-    """Electrical power of the glider's propeller drive [W] (:func:`fdm_awe.propeller.power`)."""
-    return propeller_power(T, V, prop, rho, scenario)
+def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: str, drive: Any = None) -> Any:
+    """Electrical power of the glider's propeller drive [W] (:func:`fdm_awe.propeller.power`;
+    model ``engine`` needs ``drive``, an :class:`fdm_awe.definitions.engine.ElectricDrive`)."""
+    return propeller_power(T, V, prop, rho, scenario, drive)
 
 
 def mechanical_tether_power(G: Any, ddot: Any) -> Any:

@@ -23,6 +23,7 @@ from ..definitions.aircraft import AeroParams, Airframe, Glider
 from ..pointmass import Environment, PointMassModel
 from .energy import (WinchElectrics, generator_load_power, generator_tension, mechanical_tether_power,
                      motor_supply_power, thrust_power)
+from ..definitions.engine import ElectricDrive, load_electric_drive
 from .problem import CycleProblem, Scenario
 
 GEN_STATES = ("x", "y", "z", "V", "gamma", "psi")
@@ -42,11 +43,14 @@ class CycleModel:
     rho: float = 1.225
     g: float = 9.81
     tether_drag_scale: float = 1.0  #: factor on the line drag (CycleProblem.tether_drag_scale)
+    drive: ElectricDrive | None = None  #: the 6-DOF glider's drive (propeller model "engine")
 
     @classmethod
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
         rec = glider.folded if problem.config == "foldable" else glider.unfolded
-        return cls(problem.scenario_spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale)
+        spec = problem.scenario_spec
+        drive = load_electric_drive() if spec.propeller == "engine" else None
+        return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive)
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
@@ -83,7 +87,7 @@ class CycleModel:
         return cdt * v_n / V, -k * v_n * v_r
 
     def _thrust_power(self, T: Any, V: Any) -> Any:
-        return thrust_power(T, V, self.gen_airframe.propulsion, self.rho, self.scenario.propeller)
+        return thrust_power(T, V, self.gen_airframe.propulsion, self.rho, self.scenario.propeller, self.drive)
 
     def generation(self, s: Sequence[Any], u: Sequence[Any], wind: Sequence[Any], drag_factor: Any = 1.0) -> dict[str, Any]:
         """Phase-1 block: ``f`` (6 derivatives), ``G`` [N], ``v_reel`` = ddot [m/s], ``d`` [m],

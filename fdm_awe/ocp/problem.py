@@ -17,6 +17,9 @@ from ..groundstation.tether import check_tether_drag_scale
 
 SCENARIOS = ("physical", "paper")
 CONFIGS = ("nominal", "foldable")
+#: propeller models of the physical scenario: momentum theory + efficiencies (its default) or
+#: the 6-DOF glider's own drive from the engine files (fdm_awe.propeller.power_engine)
+PROPELLERS = ("momentum", "engine")
 
 
 @dataclass(frozen=True)
@@ -31,7 +34,7 @@ class Scenario:
     """
 
     name: str
-    propeller: str  #: "paper" or "physical" (fdm_awe.propeller.power scenario)
+    propeller: str  #: "paper", "physical" (momentum) or "engine" (fdm_awe.propeller.power model)
     tether_drag: bool  #: add the tether's equivalent drag coefficient
     stall_limit: bool  #: enforce C_L <= C_Lmax
     electrical: bool  #: electrical (True) or mechanical (False) energy accounting
@@ -150,6 +153,10 @@ class CycleProblem:
     #: half the length): the 6-DOF flight always uses the defined line
     tether_drag_scale: float = 1.0
     mesh: Mesh = field(default_factory=Mesh)
+    #: propeller model of the physical scenario (:data:`PROPELLERS`; None: momentum theory, the
+    #: scenario's default); "engine" is the 6-DOF glider's own drive, so that an optimised
+    #: cycle books the thrust power the flown one draws
+    propeller: str | None = None
 
     def validate(self) -> "CycleProblem":
         Scenario.named(self.scenario)
@@ -170,6 +177,12 @@ class CycleProblem:
         if not math.isfinite(self.azimuth0_deg) or abs(self.azimuth0_deg) >= 90:
             raise InputError(f"azimuth0 = {self.azimuth0_deg!r} deg out of range (allowed |azimuth| < 90)")
         check_tether_drag_scale(self.tether_drag_scale)
+        if self.propeller is not None:
+            if self.propeller not in PROPELLERS:
+                raise InputError(f"propeller {self.propeller!r} unknown (allowed: {', '.join(PROPELLERS)})")
+            if self.scenario != "physical":
+                raise InputError(f"propeller {self.propeller!r}: only the physical scenario has a choice "
+                                 f"(the paper scenario uses its eq. 39 fit)")
         self.bounds.validate()
         self.mesh.validate()
         h0 = self.d0 * math.sin(math.radians(self.elevation0_deg))
@@ -179,7 +192,10 @@ class CycleProblem:
 
     @property
     def scenario_spec(self) -> Scenario:
-        return Scenario.named(self.scenario)
+        spec = Scenario.named(self.scenario)
+        if self.propeller == "engine":
+            spec = replace(spec, propeller="engine")
+        return spec
 
     @property
     def start_position(self) -> tuple[float, float, float]:
