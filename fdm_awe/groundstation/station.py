@@ -162,12 +162,11 @@ class GroundStationOutput:
     __hash__ = None  # type: ignore[assignment]  # mutable, like the dataclass it replaces
 
 
-def _output(fx: float, fy: float, fz: float, tension: float, length: float, reel_speed: float, omega: float,
-            current: float, duty: float, mode: str, u_link: float, p_el: float, ev: int, mm: int, p_mech: float,
-            distance: float, slack: bool, broken: bool) -> GroundStationOutput:
-    """GroundStationOutput(...) of a compiled step, its slots set here (no __init__ call: the
-    hot path); ``ev`` and ``mm`` the event and machine-mode codes."""
-    o = _new(GroundStationOutput)
+def _set_slots(o: GroundStationOutput, fx: float, fy: float, fz: float, tension: float, length: float,
+               reel_speed: float, omega: float, current: float, duty: float, mode: str, u_link: float, p_el: float,
+               ev: int, mm: int, p_mech: float, distance: float, slack: bool, broken: bool) -> GroundStationOutput:
+    """Set every slot of ``o`` (no __init__ call: the hot path); ``ev`` and ``mm`` the event and
+    machine-mode codes."""
     o._force = (fx, fy, fz)
     o.tension = tension
     o.length = length
@@ -187,6 +186,11 @@ def _output(fx: float, fy: float, fz: float, tension: float, length: float, reel
     return o
 
 
+def _output(*fields: Any) -> GroundStationOutput:
+    """GroundStationOutput(...) of a compiled step (the fields of :func:`_set_slots`)."""
+    return _set_slots(_new(GroundStationOutput), *fields)
+
+
 class _RowOutput(GroundStationOutput):
     """A :class:`GroundStationOutput` of a compiled step whose fields are filled from the
     step's row (``_force`` holds it until then) on first read; it then becomes a plain
@@ -196,21 +200,8 @@ class _RowOutput(GroundStationOutput):
 
     def _fill(self) -> None:
         (tmean, length, rr, w, i, duty, p_el, fx, fy, fz, u_link, ev, mm, p_mech, d, slack, broken) = self._force
-        self._force = (fx, fy, fz)
-        self.tension = tmean
-        self.length = length
-        self.reel_speed = rr
-        self.omega = w
-        self.current = i
-        self.duty = duty
-        self.u_link = u_link
-        self.p_electrical = p_el
-        self.event = EVENTS[int(ev)]
-        self.machine_mode = _MACHINE_MODES[int(mm)]
-        self.p_mechanical = p_mech
-        self.distance = d
-        self.slack = slack != 0.0
-        self.broken = broken != 0.0
+        _set_slots(self, fx, fy, fz, tmean, length, rr, w, i, duty, self.mode, u_link, p_el, int(ev), int(mm), p_mech, d,
+                   slack != 0.0, broken != 0.0)
         self.__class__ = GroundStationOutput
 
     def __getattr__(self, name: str) -> Any:  # an unfilled slot
