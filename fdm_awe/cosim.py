@@ -425,7 +425,11 @@ class CoSim:
                 surf, wcmd = update(t, s, gs_out)
                 set_controls(surf)
                 if wcmd is not last_wcmd:
-                    mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
+                    try:
+                        mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
+                    except InputError as exc:  # as GroundStation.step in the Python loop
+                        event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
+                        break
                     p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
                     last_wcmd = wcmd
                 m = block if n - k > block else n - k

@@ -189,3 +189,13 @@ def test_long_run_grows_its_log_and_a_long_t_end_costs_nothing_up_front():
     g, gs = _setup()
     res = CoSim(g, gs, Fixed(g.controls, HOLD), compiled=True).run(1.0e6, on_step=lambda k, s, o: k == 50)
     assert res.steps == 50 and res.status == "ok"
+
+
+def test_a_bad_winch_command_ends_both_loops_alike():
+    class BadWinch(Fixed):
+        def update(self, t, s, gs_output):
+            return (self.out[0], "reel in") if t > 0.5 else self.out
+
+    a, b = _both(lambda g: BadWinch(g.controls, HOLD, constant=False), 2.0)
+    assert a[0].status == "nonfinite" and "expected WinchCommand" in a[0].event.message
+    _assert_same(a, b)
