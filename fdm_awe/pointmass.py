@@ -75,11 +75,15 @@ class PointMassModel:
         G_c = n_to_c(G_n, gamma, psi, phi)
         return {"L": L, "D": D, "G_n": G_n, "G_c": G_c}
 
-    def dynamics(self, x: Sequence[Any], u: Sequence[Any], cd_extra: Any = 0.0) -> list[Any]:
-        """State derivative (eq. 13 corrected) as a list of 6 expressions."""
+    def dynamics(self, x: Sequence[Any], u: Sequence[Any], cd_extra: Any = 0.0, f_down: Any = 0.0) -> list[Any]:
+        """State derivative (eq. 13 corrected) as a list of 6 expressions. ``f_down`` [N] an
+        extra downward force on the glider that adds no mass (e.g. the share of the line's
+        weight it carries): it enters like gravity, ``g + f_down / m``."""
         px, py, pz, V, gamma, psi = x
         alpha, phi, T, G = u
         m, g = self.mass, self.env.g
+        if not (isinstance(f_down, (int, float)) and f_down == 0.0):
+            g = g + f_down / m
         f = self.forces(x, u, cd_extra)
         L, D = f["L"], f["D"]
         Gxc, Gyc, Gzc = f["G_c"]

@@ -61,6 +61,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
                    help="propeller model of the optimiser when it optimises the reference (physical scenario): "
                         "momentum (default) or engine, the 6-DOF glider's own drive")
+    p.add_argument("--line-weight", action="store_true",
+                   help="when it optimises the reference (physical scenario): the glider carries its share of the "
+                        "line's weight, as the flight's ground station applies it")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference (default 1 rad, Table 3's); 0.7 makes "
                         "the paper nominal 3 m/s cycle flyable")
@@ -120,7 +123,8 @@ def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
           f"line drag x {scale:g}) ...", file=sys.stderr)
     res = solve_cycle(CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind,
                                    wind_from_deg=args.wind_from, bounds=b, tether_drag_scale=scale,
-                                   propeller=getattr(args, "propeller", None) if args.scenario == "physical" else None))
+                                   propeller=getattr(args, "propeller", None) if args.scenario == "physical" else None,
+                                   line_weight=bool(getattr(args, "line_weight", False)) and args.scenario == "physical"))
     if not res.ok:
         raise InputError(f"the optimiser found no cycle: {res.status} ({getattr(res, 'reason', '')})")
     path = (out_dir or Path(".")) / f"reference_{args.scenario}_{args.config}_{args.wind:g}.json"

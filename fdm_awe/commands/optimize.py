@@ -29,6 +29,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
                    help="propeller model of the physical scenario: momentum theory + efficiencies (default) or "
                         "engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
+    p.add_argument("--line-weight", action="store_true",
+                   help="physical scenario: the glider carries its share of the line's weight, as the 6-DOF "
+                        "plant's ground station applies it")
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts to compare (default 1)")
@@ -58,7 +61,8 @@ def problem_from_args(args: argparse.Namespace):
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
-                        propeller=getattr(args, "propeller", None)).validate()
+                        propeller=getattr(args, "propeller", None),
+                        line_weight=bool(getattr(args, "line_weight", False))).validate()
 
 
 def print_summary(res, file=sys.stdout) -> None:

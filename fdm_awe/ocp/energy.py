@@ -46,6 +46,8 @@ class WinchElectrics:
     R_L: float  #: generator load resistance [ohm]
     tether_diameter: float  #: [m]
     tether_cd_perp: float  #: tether drag coefficient normal to the line [-]
+    #: weight per metre of paid-out line the glider carries: weight share x mass per length x g [N/m]
+    line_weight_per_length: float = 0.0
     gs_params: Any = None  #: the full ground-station parameters, when read from the definition
 
     @classmethod
@@ -57,7 +59,8 @@ class WinchElectrics:
         w, m, c, t = gs.winch, gs.machine, gs.converter, gs.tether
         return cls(r_w=w.radius, B=w.viscous_friction, M_c=w.coulomb_friction, K_e=m.k, K_t=m.k, R=m.resistance,
                    U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,
-                   tether_cd_perp=t.cd_perpendicular, gs_params=gs)
+                   tether_cd_perp=t.cd_perpendicular, line_weight_per_length=t.weight_share * t.mass_per_length * t.gravity,
+                   gs_params=gs)
 
     @property
     def R_sum(self) -> float:

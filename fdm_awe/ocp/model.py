@@ -44,13 +44,15 @@ class CycleModel:
     g: float = 9.81
     tether_drag_scale: float = 1.0  #: factor on the line drag (CycleProblem.tether_drag_scale)
     drive: ElectricDrive | None = None  #: the 6-DOF glider's drive (propeller model "engine")
+    line_weight: bool = False  #: the glider carries its share of the line's weight (CycleProblem.line_weight)
 
     @classmethod
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
         rec = glider.folded if problem.config == "foldable" else glider.unfolded
         spec = problem.scenario_spec
         drive = load_electric_drive() if spec.propeller == "engine" else None
-        return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive)
+        return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive,
+                   line_weight=problem.line_weight)
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
@@ -86,6 +88,10 @@ class CycleModel:
         k = 0.5 * self.rho * aero.S * cdt
         return cdt * v_n / V, -k * v_n * v_r
 
+    def _line_weight(self, length: Any) -> Any:
+        """Downward force [N] of the line's weight share on the glider at paid-out ``length`` [m]."""
+        return self.winch.line_weight_per_length * length if self.line_weight else 0.0
+
     def _thrust_power(self, T: Any, V: Any) -> Any:
         return thrust_power(T, V, self.gen_airframe.propulsion, self.rho, self.scenario.propeller, self.drive)
 
@@ -101,7 +107,7 @@ class CycleModel:
         else:
             G = generator_tension(ddot, self.winch)
         cd_t, G_t = self._tether_drag(self.gen_airframe.aero, x, d, d, drag_factor)
-        f = pm.dynamics(x, (u[0], u[1], u[2], G + G_t), cd_t)
+        f = pm.dynamics(x, (u[0], u[1], u[2], G + G_t), cd_t, self._line_weight(d))
         if self.scenario.electrical:
             P_gen = generator_load_power(ddot, self.winch)
         else:
@@ -130,7 +136,7 @@ class CycleModel:
         d = mo.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
         v_reel = u[3]
         cd_t, G_t = self._tether_drag(aero, x, d, l, drag_factor)
-        f = pm.dynamics(x, (u[0], u[1], u[2], G_t), cd_t)
+        f = pm.dynamics(x, (u[0], u[1], u[2], G_t), cd_t, self._line_weight(l))
         if self.scenario.electrical:
             P_rw = motor_supply_power(v_reel, self.winch)
         else:

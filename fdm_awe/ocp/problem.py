@@ -157,6 +157,10 @@ class CycleProblem:
     #: scenario's default); "engine" is the 6-DOF glider's own drive, so that an optimised
     #: cycle books the thrust power the flown one draws
     propeller: str | None = None
+    #: the glider carries its share of the line's weight (physical scenario; the ground station's
+    #: ``weight_share`` x mass per length x g x paid-out length, downwards), as the 6-DOF plant's
+    #: ground station applies it. Off by default until the published tables are re-measured
+    line_weight: bool = False
 
     def validate(self) -> "CycleProblem":
         Scenario.named(self.scenario)
@@ -183,6 +187,8 @@ class CycleProblem:
             if self.scenario != "physical":
                 raise InputError(f"propeller {self.propeller!r}: only the physical scenario has a choice "
                                  f"(the paper scenario uses its eq. 39 fit)")
+        if self.line_weight and self.scenario != "physical":
+            raise InputError("line_weight: only the physical scenario has a line model (the paper's line is massless)")
         self.bounds.validate()
         self.mesh.validate()
         h0 = self.d0 * math.sin(math.radians(self.elevation0_deg))

@@ -125,6 +125,7 @@ class CycleResult:
             md.update({"d0_m": pr.d0, "d_tf_m": pr.d_tf, "elevation0_deg": pr.elevation0_deg, "azimuth0_deg": pr.azimuth0_deg,
                        "tether_drag_scale": pr.tether_drag_scale,
                        "propeller": {"physical": "momentum"}.get(pr.scenario_spec.propeller, pr.scenario_spec.propeller),
+                       "line_weight": pr.line_weight,
                        "mesh": {"n_gen": pr.mesh.n_gen, "n_rec": pr.mesh.n_rec, "degree": pr.mesh.degree},
                        "bounds": {k: v for k, v in pr.bounds.__dict__.items()}})
         return md

@@ -75,7 +75,8 @@ WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_pu
 def structure_key(problem: CycleProblem) -> tuple:
     """Everything that shapes the NLP except the wind (a parameter)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
-            problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller)
+            problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
+            problem.line_weight)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
