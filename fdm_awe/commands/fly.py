@@ -21,6 +21,8 @@ import sys
 import time
 from pathlib import Path
 
+from .optimize import add_plant_model_args
+
 HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + autopilot)"
 
 
@@ -58,12 +60,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
                         "reference); default: the --reference file's tether_drag_scale, else 1 = the defined line")
-    p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
-                   help="propeller model of the optimiser when it optimises the reference (physical scenario): "
-                        "momentum (default) or engine, the 6-DOF glider's own drive")
-    p.add_argument("--line-weight", action="store_true",
-                   help="when it optimises the reference (physical scenario): the glider carries its share of the "
-                        "line's weight, as the flight's ground station applies it")
+    add_plant_model_args(p, prefix="when it optimises the reference: ")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference (default 1 rad, Table 3's); 0.7 makes "
                         "the paper nominal 3 m/s cycle flyable")

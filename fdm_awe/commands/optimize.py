@@ -26,12 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s]")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario (sensitivity study; default 1 = the defined line)")
-    p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
-                   help="propeller model of the physical scenario: momentum theory + efficiencies (default) or "
-                        "engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
-    p.add_argument("--line-weight", action="store_true",
-                   help="physical scenario: the glider carries its share of the line's weight, as the 6-DOF "
-                        "plant's ground station applies it")
+    add_plant_model_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts to compare (default 1)")
@@ -43,6 +38,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV and a markdown report of the cycle into DIR")
     p.add_argument("--trajectory", metavar="FILE",
                    help="reference-trajectory file to write (default: next to --json as *.trajectory.json)")
+
+
+def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
+    """``--propeller`` and ``--line-weight``: how closely the optimiser models the 6-DOF plant
+    (physical scenario; ``prefix`` opens the help texts, e.g. when the command optimises)."""
+    p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
+                   help=prefix + "propeller model of the physical scenario: momentum theory + efficiencies (default) "
+                        "or engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
+    p.add_argument("--line-weight", action="store_true",
+                   help=prefix + "physical scenario: the glider carries its share of the line's weight, as the "
+                        "6-DOF plant's ground station applies it")
 
 
 def problem_from_args(args: argparse.Namespace):
