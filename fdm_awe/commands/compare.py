@@ -35,6 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-zero-wind", action="store_true", help="skip the zero-wind check")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario (sensitivity study; default 1 = the defined line)")
+    from .optimize import add_plant_model_args
+
+    add_plant_model_args(p)
     p.add_argument("--time-budget", type=float, default=120.0, metavar="S",
                    help="solver seconds per optimisation before it is reported as failed (default 120)")
     p.add_argument("--report", metavar="FILE", help="write a markdown report")
@@ -59,10 +62,14 @@ def zero_wind_verdict(scenario: str, summary: dict[str, Any]) -> str:
 
 
 def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, dict] | None,
-             tether_drag_scale: float = 1.0) -> str:
+             tether_drag_scale: float = 1.0, propeller: str | None = None, line_weight: bool = False) -> str:
     lines = [f"# Nominal vs foldable glider: `{scenario}` scenario, wind {wind:g} m/s", ""]
     if tether_drag_scale != 1.0:
         lines += [f"Line drag scaled by {tether_drag_scale:g} (sensitivity study; the defined line is 1).", ""]
+    if propeller == "engine" or line_weight:
+        parts = (["propeller: the 6-DOF glider's own drive (engine files)"] if propeller == "engine" else []) + (
+            ["the glider carries its share of the line's weight"] if line_weight else [])
+        lines += ["Optimiser plant model: " + "; ".join(parts) + ".", ""]
     lines.append("Our columns count gains as positive (`E_net = E_generated - E_thrust - E_reel_in`, all terms >= 0); "
                  "the paper's Table 3 prints gains as negative numbers, and its column is quoted as printed "
                  "(3 m/s from the south, its own simplifications).")
@@ -113,7 +120,9 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--mesh {args.mesh!r} invalid (expected NG,NR,DEG, e.g. 30,16,4)") from None
     winds = [args.wind] + ([] if args.no_zero_wind else [0.0])
     problems = {(cfg, w): CycleProblem(scenario=args.scenario, config=cfg, wind_speed=w, wind_from_deg=args.wind_from,
-                                       mesh=mesh, tether_drag_scale=args.tether_drag_scale).validate()
+                                       mesh=mesh, tether_drag_scale=args.tether_drag_scale,
+                                       propeller=getattr(args, "propeller", None),
+                                       line_weight=bool(getattr(args, "line_weight", False))).validate()
                 for cfg in ("nominal", "foldable") for w in winds}
     out: dict[tuple[str, float], dict] = {}
     for (cfg, w), pr in problems.items():
@@ -121,7 +130,8 @@ def run(args: argparse.Namespace) -> int:
         out[(cfg, w)] = solve_cycle(pr, n_starts=max(1, args.starts), time_budget_s=args.time_budget).summary()
     res = {cfg: out[(cfg, args.wind)] for cfg in ("nominal", "foldable")}
     zero = None if args.no_zero_wind else {cfg: out[(cfg, 0.0)] for cfg in ("nominal", "foldable")}
-    text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale)
+    text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, getattr(args, "propeller", None),
+                    bool(getattr(args, "line_weight", False)))
     print(text)
     if args.report:
         with open(args.report, "w") as fh:

@@ -40,6 +40,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--anchor-every", type=int, default=0, metavar="N",
                    help="a cold-started anchor every N winds of a line (more, shorter warm-start chains; "
                         "default 0: one anchor per line, the wind nearest 8 m/s)")
+    from .optimize import add_plant_model_args
+
+    add_plant_model_args(p)
     p.add_argument("--workers", type=int, default=None, help="local Dask worker processes (default: number of cores)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="use this Dask scheduler instead of a local cluster")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (point files, table, plots, summary)")
@@ -85,6 +88,7 @@ def build_spec(args: argparse.Namespace):
         scenario=args.scenario, mesh=mesh, max_iter=args.max_iter if args.max_iter is not None else DEFAULT_MAX_ITER,
         max_iter_total=args.max_iter_total if args.max_iter_total is not None else DEFAULT_MAX_ITER_TOTAL,
         warm_fallback=args.warm_fallback, anchor_every=args.anchor_every,
+        propeller=getattr(args, "propeller", None), line_weight=bool(getattr(args, "line_weight", False)),
     ).validate()
     return canonical_spec(spec)
 

@@ -27,7 +27,7 @@ from .spec import Point
 #: columns of a point record, in table order
 RECORD_FIELDS = (
     "id", "scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2", "wing_area_m2",
-    "fold_time_s", "mesh", "max_iter", "max_iter_total", "warm_fallback", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
+    "fold_time_s", "mesh", "max_iter", "max_iter_total", "warm_fallback", "propeller", "line_weight", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
     "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "worker", "warm_from", "start", "max_violation",
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
 )
@@ -119,7 +119,8 @@ def point_problem(point: Point) -> Any:
 
     n_gen, n_rec, deg = point.mesh
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
-                        d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg))
+                        d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=point.propeller,
+                        line_weight=point.line_weight)
 
 
 def base_record(point: Point) -> dict[str, Any]:
@@ -130,7 +131,8 @@ def base_record(point: Point) -> dict[str, Any]:
                 "folded_drag_area_m2": point.folded_drag_area, "wing_area_m2": point.wing_area,
                 "fold_time_s": point.fold_time, "mesh": "x".join(str(v) for v in point.mesh),
                 "max_iter": point.max_iter, "max_iter_total": point.max_iter_total,
-                "warm_fallback": point.warm_fallback})
+                "warm_fallback": point.warm_fallback, "propeller": point.propeller or "momentum",
+                "line_weight": point.line_weight})
     return rec
 
 

@@ -56,7 +56,8 @@ WARM_FALLBACKS = ("all", "one", "none")
 
 #: Point fields added after the first stores were written: they enter the point id only when
 #: they differ from these defaults, so finished points of earlier sweeps keep their ids
-_ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all"}
+_ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
+                "line_weight": False}
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -79,6 +80,8 @@ class Point:
     max_iter: int = DEFAULT_MAX_ITER  #: IPOPT iteration limit per solve
     max_iter_total: int = DEFAULT_MAX_ITER_TOTAL  #: IPOPT iterations over all solves of the point
     warm_fallback: str = "all"  #: after a failed warm start: all / one / none (cold solves); one/none: a single cold solve after a failed neighbour without warm start
+    propeller: str | None = None  #: optimiser's propeller model (CycleProblem.propeller; None: momentum)
+    line_weight: bool = False  #: the glider carries its share of the line's weight (CycleProblem.line_weight)
 
     @property
     def id(self) -> str:
@@ -126,6 +129,8 @@ class SweepSpec:
     max_iter_total: int = DEFAULT_MAX_ITER_TOTAL
     warm_fallback: str = "all"
     anchor_every: int = 0
+    propeller: str | None = None  #: CycleProblem.propeller of every point (physical scenario)
+    line_weight: bool = False  #: CycleProblem.line_weight of every point (physical scenario)
 
     def validate(self) -> "SweepSpec":
         if self.scenario not in SCENARIOS:
@@ -154,6 +159,10 @@ class SweepSpec:
             raise InputError(f"max_iter_total = {self.max_iter_total!r} out of range (allowed integer 10..1000000)")
         if self.warm_fallback not in WARM_FALLBACKS:
             raise InputError(f"warm fallback {self.warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
+        if self.propeller is not None and self.propeller not in ("momentum", "engine"):
+            raise InputError(f"propeller {self.propeller!r} unknown (allowed: momentum, engine)")
+        if (self.propeller is not None or self.line_weight) and self.scenario != "physical":
+            raise InputError("propeller / line weight: only the physical scenario has these choices")
         if not (isinstance(self.anchor_every, int) and 0 <= self.anchor_every <= 1000):
             raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer 0..1000; 0 = one anchor per line)")
         return self
@@ -172,7 +181,9 @@ class SweepSpec:
                     for b, a, t in fold_axes:
                         for v in sorted(self.winds):
                             p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh, self.max_iter,
-                                      self.max_iter_total, self.warm_fallback)
+                                      self.max_iter_total, self.warm_fallback,
+                                      propeller=None if self.propeller == "momentum" else self.propeller,
+                                      line_weight=self.line_weight)
                             if p.id not in seen:
                                 seen.add(p.id)
                                 out.append(p)
