@@ -97,7 +97,7 @@ class FixedEveryStep(FixedCommands):
     constant_commands = False
 
 
-def bench_cosim(seconds: float, controller: str = "stabilizer", compiled: bool | None = None) -> tuple[float, float, str]:
+def bench_cosim(seconds: float, controller: str = "stabilizer", compiled: bool | None = None) -> tuple[float, float, str, str]:
     """Seconds per co-simulation step, real-time factor, and the run's status. ``controller``:
     "stabilizer", "fixed" or "fixed-every-step"; ``compiled`` False: the Python loop."""
     g = make_glider()
@@ -112,12 +112,9 @@ def bench_cosim(seconds: float, controller: str = "stabilizer", compiled: bool |
         ctrl = FixedEveryStep(g.controls, hold)
     sim = CoSim(g, gs, ctrl, limits=Limits(max_tension=200.0), compiled=compiled)
     res = sim.run(seconds)
-    global LOOP
-    LOOP = sim.loop if compiled is None else LOOP
-    return res.wall_s / max(res.steps, 1), res.realtime_factor, res.status
+    return res.wall_s / max(res.steps, 1), res.realtime_factor, res.status, sim.loop
 
 
-LOOP = ""
 REFERENCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "ref_physical_nominal_8mps.json")
 
 
@@ -151,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
              ("stabilizer", False))
     steps: dict[tuple, list[float]] = {k: [] for k in kinds}
     rtfs: dict[tuple, list[float]] = {k: [] for k in kinds}
-    bare, gst, gsp, status = [], [], [], "ok"
+    bare, gst, gsp, status, loop_name = [], [], [], "ok", ""
     jit = compiled_station() is not None
     rs = a.round_seconds
     for k in range(max(1, a.repeat)):
@@ -163,10 +160,12 @@ def main(argv: list[str] | None = None) -> int:
             steps[kind].append(bench_cosim(rs, *kind)[0])
     for _ in range(max(1, a.flights)):
         for kind in kinds:
-            _, r, st = bench_cosim(a.seconds, *kind)
+            _, r, st, loop = bench_cosim(a.seconds, *kind)
             rtfs[kind].append(r)
             if kind == ("stabilizer", None):
                 status = st
+            if kind == ("fixed", None):
+                loop_name = loop
     ap = {c: [bench_autopilot_cycle(c) for _ in range(max(1, min(a.flights, 2)))] for c in (None, False)}
     ap_us = {c: min(x[0] for x in v) * 1e6 for c, v in ap.items()}
     ap_rt = {c: max(x[1] for x in v) for c, v in ap.items()}
@@ -180,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
         "aircraft": "glider_foldable",
         "rate_hz": 120,
         "flight_s": a.seconds,
-        "loop": LOOP,
+        "loop": loop_name,
         "bare_step_us": b * 1e6,
         "ground_station_step_us": min(gst) * 1e6,
         "ground_station_compiled": jit,
@@ -215,7 +214,7 @@ def main(argv: list[str] | None = None) -> int:
     label = {("fixed", None): "fixed commands", ("fixed-every-step", None): "controller called every step",
              ("stabilizer", None): "stabilising controller", ("fixed-every-step", False): "Python loop, controller every step",
              ("stabilizer", False): "Python loop, stabilising controller"}
-    print(f"co-simulation (JSBSim + tether + ground station; {LOOP} loop), per step, ratio to bare, "
+    print(f"co-simulation (JSBSim + tether + ground station; {loop_name} loop), per step, ratio to bare, "
           f"real-time factor of a {a.seconds:g} s flight at 120 Hz:")
     for kind in kinds:
         print(f"  {label[kind]:36s} {us[kind]:7.2f} us  ratio {us[kind] / (b * 1e6):5.2f}  {rt[kind]:6.0f} x")

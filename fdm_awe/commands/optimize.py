@@ -43,7 +43,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
     """``--propeller`` and ``--line-weight``: how closely the optimiser models the 6-DOF plant
     (physical scenario; ``prefix`` opens the help texts, e.g. when the command optimises)."""
-    p.add_argument("--propeller", choices=("momentum", "engine"), default=None,
+    from ..ocp.problem import PROPELLERS  # plain dataclasses: no CasADi import
+
+    p.add_argument("--propeller", choices=PROPELLERS, default=None,
                    help=prefix + "propeller model of the physical scenario: momentum theory + efficiencies (default) "
                         "or engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
     p.add_argument("--line-weight", action="store_true",

@@ -42,7 +42,7 @@ import math
 from dataclasses import asdict, dataclass, field
 
 from ..errors import InputError
-from ..ocp.problem import CONFIGS, SCENARIOS, Mesh
+from ..ocp.problem import CONFIGS, PROPELLERS, SCENARIOS, Mesh
 
 #: IPOPT iteration limit per solve in a sweep. It replaces the optimiser's CPU-time limit, so
 #: whether a point converges never depends on how busy the machine is (reproducible results).
@@ -159,8 +159,8 @@ class SweepSpec:
             raise InputError(f"max_iter_total = {self.max_iter_total!r} out of range (allowed integer 10..1000000)")
         if self.warm_fallback not in WARM_FALLBACKS:
             raise InputError(f"warm fallback {self.warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
-        if self.propeller is not None and self.propeller not in ("momentum", "engine"):
-            raise InputError(f"propeller {self.propeller!r} unknown (allowed: momentum, engine)")
+        if self.propeller is not None and self.propeller not in PROPELLERS:
+            raise InputError(f"propeller {self.propeller!r} unknown (allowed: {', '.join(PROPELLERS)})")
         if (self.propeller is not None or self.line_weight) and self.scenario != "physical":
             raise InputError("propeller / line weight: only the physical scenario has these choices")
         if not (isinstance(self.anchor_every, int) and 0 <= self.anchor_every <= 1000):
