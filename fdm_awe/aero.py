@@ -1,7 +1,7 @@
 """Aerodynamic coefficients and forces of one configuration (paper eqs. 32/33, 46/47).
 
 Forces use the airspeed V of the air-relative state (the paper's ``V_r = V - V_w`` would count
-the wind twice, DESIGN.md section 4.3).
+the wind twice, docs/design.md section 4.3).
 """
 
 from __future__ import annotations

@@ -14,7 +14,7 @@ from typing import Callable, Sequence
 
 from .errors import FdmAweError
 
-#: Order in which commands appear in ``--help`` (DESIGN.md section 1); any other module in
+#: Order in which commands appear in ``--help`` (docs/design.md section 1); any other module in
 #: :mod:`fdm_awe.commands` is listed after these.
 ORDER = ("optimize", "fly", "compare", "sweep", "report", "info")
 

@@ -136,7 +136,7 @@ class FlightReport:
         return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
 
     def as_json(self) -> dict[str, Any]:
-        """DESIGN.md section 1 output contract of ``fdm-awe fly``."""
+        """docs/design.md section 1 output contract of ``fdm-awe fly``."""
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
             "config": self.config, "wind_mps": self.wind_mps, "tether_drag_scale": self.tether_drag_scale,

@@ -1,5 +1,5 @@
 """The ``paper`` plant: an ideal winch and an ideal thruster, so a 6-DOF flight of a ``paper``
-scenario reference is faithful to that scenario's simplifications (DESIGN.md section 4).
+scenario reference is faithful to that scenario's simplifications (docs/design.md section 4).
 
 The ``paper`` scenario of the optimiser takes the thrust as a free control bounded by
 ``T_max`` with the static power fit ``P(T) = PT0 + PT1 T + PT2 T^2`` (eq. 39), the line tension

@@ -1,4 +1,4 @@
-"""Point-mass glider with wind and tether force (paper eqs. 7, 13; corrected per DESIGN.md 4).
+"""Point-mass glider with wind and tether force (paper eqs. 7, 13; corrected per docs/design.md 4).
 
 State ``x = (x, y, z, V, gamma, psi)``: NED position of the glider [m] (origin at the winch),
 airspeed [m/s], air-path flight-path angle and heading [rad]. Control
@@ -107,7 +107,7 @@ class PointMassModel:
         return [V * mo.cos(gamma) * mo.cos(psi) + vw[0], V * mo.cos(gamma) * mo.sin(psi) + vw[1], -V * mo.sin(gamma)]
 
     def distance_rate(self, x: Sequence[Any]) -> Any:
-        """``ddot = P . Pdot / |P|`` from the ground velocity [m/s] (DESIGN.md 4.5)."""
+        """``ddot = P . Pdot / |P|`` from the ground velocity [m/s] (docs/design.md 4.5)."""
         px, py, pz = x[0], x[1], x[2]
         v = self.ground_velocity(x)
         return (px * v[0] + py * v[1] + pz * v[2]) / mo.sqrt(px * px + py * py + pz * pz)

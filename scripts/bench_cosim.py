@@ -11,7 +11,7 @@
   winch held by the PI speed loop at zero reel speed);
 - for scale, one pumping cycle flown by the autopilot (``fdm_awe.flight.fly`` on the stored
   physical nominal 8 m/s reference of the tests, no recording), compiled and Python loop: the
-  share of a step that is the autopilot's (DESIGN.md section 9 counts it in the step).
+  share of a step that is the autopilot's (docs/design.md section 9 counts it in the step).
 
 Step timings are the best of ``--repeat`` interleaved short rounds, the real-time factors the best
 of ``--flights`` whole flights (the machine is shared; the 1-minute load average is printed and

@@ -3,7 +3,7 @@
 
 Prints the cost of one ``GroundStation.step`` (microseconds, at several flight steps, in
 generator and PI-motor mode) next to one bare JSBSim step of the glider measured in the same
-run, plus the closed-form checks (DESIGN.md section 6 generator point, motor at full duty), the
+run, plus the closed-form checks (docs/design.md section 6 generator point, motor at full duty), the
 PI reel-in step response (overshoot, 2 % settling time) and the energy-ledger residuals.
 Writes everything to a JSON file.
 
@@ -185,7 +185,7 @@ def main(argv: list[str] | None = None) -> int:
               f"  = {v['us_per_step'] / jsb['us_per_step']:.2f} x JSBSim")
     ref = reference_checks()
     g = ref["generator_G30_RL1.5"]
-    print("generator G=30 N, R_L=1.5 ohm (steady.py | dynamic | DESIGN.md 6):")
+    print("generator G=30 N, R_L=1.5 ohm (steady.py | dynamic | docs/design.md 6):")
     for k in g["design_md_6"]:
         print(f"  {k:<11s} {g['steady_py'][k]:10.5f} | {g['dynamic'][k]:10.5f} | {g['design_md_6'][k]}")
     m = ref["motor_full_duty_no_tension"]

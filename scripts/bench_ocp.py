@@ -7,7 +7,7 @@ cold solution (primal and multipliers), as a sweep does. Continuation: a chain o
 warm re-solves ``--step`` m/s apart from the cold solution, each from the previous one (how a
 fine parameter sweep or a receding-horizon re-solve uses warm starts); a step where the
 followed local optimum ends shows up as one long re-solve. Medians of ``--repeat`` runs;
-targets (DESIGN.md section 9): cold <= 3 s, warm <= 0.5 s on 2 cores. Prints ratios to the
+targets (docs/design.md section 9): cold <= 3 s, warm <= 0.5 s on 2 cores. Prints ratios to the
 targets and writes JSON.
 
     .venv/bin/python scripts/bench_ocp.py --out bench_ocp.json

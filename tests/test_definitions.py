@@ -10,7 +10,7 @@ from fdm_awe import ROOT
 from fdm_awe.definitions.aircraft import aircraft_path, load_airframe, load_airframe_file, load_glider
 from fdm_awe.errors import DefinitionError
 
-# Paper Table 2 (inertia matrices in body axes, kg m^2) and DESIGN.md section 5.
+# Paper Table 2 (inertia matrices in body axes, kg m^2) and docs/design.md section 5.
 TABLE2 = {
     "unfolded": [[0.0194, 0, -0.001454], [0, 0.01762, 0], [-0.001454, 0, 0.03499]],
     "folded": [[0.009606, 0, -0.0007104], [0, 0.02077, 0], [-0.0007104, 0, 0.02204]],

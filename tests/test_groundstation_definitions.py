@@ -26,7 +26,7 @@ def test_table1_values_in_si():
     assert p.tether.mass_per_length == pytest.approx(0.0004, rel=1e-12)
     # 0.013 V/rpm -> V s/rad
     assert p.machine.k == pytest.approx(0.013 * 60.0 / (2.0 * math.pi), rel=1e-12)
-    # DESIGN.md section 5 estimates
+    # docs/design.md section 5 estimates
     assert p.machine.resistance == 0.7 and p.machine.inductance == pytest.approx(3e-4)
     assert p.converter.device_drop == 0.5 and p.converter.supply_voltage == 24.0
     assert p.converter.link_capacitance == pytest.approx(1e-3) and p.converter.load_resistance == 1.5
@@ -36,7 +36,7 @@ def test_table1_values_in_si():
 
 def test_pi_gains_follow_pole_zero_cancellation_at_20_rad_s():
     # The file documents Kp, Ki as pole-zero cancellation with a 20 rad/s crossover on the
-    # motor plant (K V_a/R)/(J s + B + K^2/R); recompute from Table 1 + DESIGN.md 5.
+    # motor plant (K V_a/R)/(J s + B + K^2/R); recompute from Table 1 + docs/design.md 5.
     p = load_ground_station()
     K, R, Va, J, B = p.machine.k, p.machine.resistance, p.converter.supply_voltage, p.winch.inertia, p.winch.viscous_friction
     kp = 20.0 * J * R / (K * Va)

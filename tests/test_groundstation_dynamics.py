@@ -21,7 +21,7 @@ E = np.array([0.0, 1.0, 0.0])
 
 
 def design6_reference():
-    """DESIGN.md section 6 from its closed form, with Table 1 + DESIGN.md 5 values typed in
+    """docs/design.md section 6 from its closed form, with Table 1 + docs/design.md 5 values typed in
     here (not read from the package)."""
     rw, G, Mc, Ud, R, RL, B = 0.03, 30.0, 0.11337, 0.5, 0.7, 1.5, 2e-4
     K = 0.013 * 60.0 / (2.0 * math.pi)
@@ -57,7 +57,7 @@ def test_generator_constant_tension_reaches_design6(dt):
 
 
 def test_generator_through_the_line_reaches_design6():
-    # Glider flies radially away at the DESIGN.md 6 reel-out speed times (1 + strain): in steady
+    # Glider flies radially away at the docs/design.md 6 reel-out speed times (1 + strain): in steady
     # state the elastic line then carries 30 N (unstretched length grows at the drum surface
     # speed, the stretched line at the glider speed).
     EA = P.tether.axial_stiffness
@@ -236,7 +236,7 @@ def test_energy_ledger_closes(case):
 
 def test_generation_ledger_matches_steady_powers():
     # Independent of the ledger code: in steady generation each term's rate equals the
-    # DESIGN.md 6 powers (load 56.70 W, copper R i^2, devices 2 U_d i, friction).
+    # docs/design.md 6 powers (load 56.70 W, copper R i^2, devices 2 U_d i, friction).
     gs = GroundStation(P)
     ref = design6_reference()
     gs.reset(200.0, ref["reel_speed"], "generator")

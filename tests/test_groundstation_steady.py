@@ -1,4 +1,4 @@
-"""Steady-state relations (steady.py) against DESIGN.md section 6 and the armature equation,
+"""Steady-state relations (steady.py) against docs/design.md section 6 and the armature equation,
 with floats, NumPy arrays and CasADi symbols."""
 
 from __future__ import annotations
@@ -11,14 +11,14 @@ from fdm_awe.groundstation import generator_at_speed, generator_steady, load_gro
 
 P = load_ground_station()
 
-# DESIGN.md section 6: generator, passive rectifier, G = 30 N, R_L = 1.5 ohm.
+# docs/design.md section 6: generator, passive rectifier, G = 30 N, R_L = 1.5 ohm.
 DESIGN6 = dict(omega=117.010, reel_speed=3.5103, current=6.148, p_load=56.70, p_mech=105.31, efficiency=0.538)
 
 
 def test_generator_reproduces_design_section6():
     g = generator_steady(30.0, P, 1.5)
     for k, v in DESIGN6.items():
-        # DESIGN.md quotes 4-5 significant digits: 1e-3 relative covers the rounding
+        # docs/design.md quotes 4-5 significant digits: 1e-3 relative covers the rounding
         assert getattr(g, k) == pytest.approx(v, rel=1e-3), k
 
 
@@ -81,4 +81,4 @@ def test_generator_at_speed_inverts_generator_steady():
         assert a.tension == pytest.approx(G, rel=1e-12) and a.p_load == pytest.approx(g.p_load, rel=1e-12)
     v = ca.SX.sym("v")
     f = ca.Function("f", [v], [generator_at_speed(v, P, 1.5).tension])
-    assert float(f(DESIGN6["reel_speed"])) == pytest.approx(30.0, rel=1e-4)  # DESIGN.md rounding
+    assert float(f(DESIGN6["reel_speed"])) == pytest.approx(30.0, rel=1e-4)  # docs/design.md rounding

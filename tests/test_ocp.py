@@ -1,6 +1,6 @@
 """Pumping-cycle OCP: checked independently of the optimiser.
 
-References: DESIGN.md section 6 closed-form generator point, the ground station's own steady
+References: docs/design.md section 6 closed-form generator point, the ground station's own steady
 relations, scipy's adaptive Runge-Kutta re-integration of the optimal controls, and first
 principles (no energy from still air). Coarse meshes where the check allows it keep the file
 fast; the default mesh is used where the re-integration accuracy is the point.
@@ -35,7 +35,7 @@ def winch() -> WinchElectrics:
 
 # ---------------------------------------------------------------- energy relations
 def test_generator_point_matches_design_reference(winch):
-    """DESIGN.md section 6: G = 30 N, R_L 1.5 ohm -> omega 117.010 rad/s, 3.5103 m/s,
+    """docs/design.md section 6: G = 30 N, R_L 1.5 ohm -> omega 117.010 rad/s, 3.5103 m/s,
     6.148 A, 56.70 W, 105.31 W, efficiency 0.538 (printed to 4-5 digits: rel 1e-3)."""
     ref = design_reference_generator(winch, 30.0)
     assert ref["omega"] == pytest.approx(117.010, rel=1e-3)

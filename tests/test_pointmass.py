@@ -1,4 +1,4 @@
-"""Point-mass glider against analytic references (DESIGN.md section 6) and physics checks."""
+"""Point-mass glider against analytic references (docs/design.md section 6) and physics checks."""
 
 import math
 
@@ -23,7 +23,7 @@ def model(glider):
 
 
 def test_steady_glide_matches_design_reference(glider):
-    """DESIGN.md section 6 values, computed by hand from the section-5 formulas (rel 1e-3)."""
+    """docs/design.md section 6 values, computed by hand from the section-5 formulas (rel 1e-3)."""
     sg = steady_glide(glider.unfolded.aero, glider.unfolded.mass.mass, rho=1.225, g=9.81)
     ref = {"alpha": 0.10436, "CL": 0.70898, "CD": 0.05000, "L_over_D": 14.180, "V": 10.4859, "gamma": -0.07041}
     for k, v in ref.items():

@@ -67,7 +67,7 @@ def test_reference_curves_for_the_glider_and_tether():
     # the tether drag dominates, so C_R^3/C_D^2 grows with C_L up to stall: C_L = C_Lmax = 1.2
     assert r.CL == pytest.approx(1.2, rel=1e-9)
     a = r.alpha
-    cd_glider = 0.0277905 + 0.106591 * a + 1.017899 * a * a  # DESIGN.md section 5 polar, 1e-6 rounding
+    cd_glider = 0.0277905 + 0.106591 * a + 1.017899 * a * a  # docs/design.md section 5 polar, 1e-6 rounding
     assert r.CD == pytest.approx(cd_glider + r.CD_tether, rel=1e-5)
     # Loyd by hand at 6 m/s and 12 m/s (v^3 scaling); quasi-steady = Loyd cos^3(30 deg) at f = cos/3
     cr3 = (1.2**2 + r.CD**2) ** 1.5
@@ -83,7 +83,7 @@ def test_design_variants_follow_the_design_formulas():
     g = load_glider()
     # Helmbold by hand: A = 8: 16 pi / (2 + sqrt(64/0.81 + 4)) = 4.52390;
     # A = 1.6: 3.2 pi / (2 + sqrt(2.56/0.81 + 4)) = 10.053096 / 4.675910 = 2.149977
-    # (DESIGN.md section 5 prints 2.15003, a rounding slip; the folded definition holds 2.149976516)
+    # (docs/design.md section 5 prints 2.15003, a rounding slip; the folded definition holds 2.149976516)
     assert helmbold_lift_slope(8.0) == pytest.approx(4.52390, abs=1e-5)
     assert helmbold_lift_slope(1.6) == pytest.approx(2.149977, abs=1e-6)
     pf = polar_constants(g.folded.aero)

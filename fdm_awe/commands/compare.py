@@ -49,7 +49,7 @@ def _fmt(v: Any, nd: int = 1) -> str:
 
 
 def zero_wind_verdict(scenario: str, summary: dict[str, Any]) -> str:
-    """One line on the zero-wind cycle (DESIGN.md section 4: no cycle may gain energy)."""
+    """One line on the zero-wind cycle (docs/design.md section 4: no cycle may gain energy)."""
     if summary["status"] != "ok":
         return f"not converged ({summary['reason']})"
     e = summary["E_net_J"]
@@ -87,7 +87,7 @@ def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, d
             lines.append("")
             lines.append(f"{cfg} failed: {res[cfg]['reason']}")
     lines.append("")
-    lines.append("Constraints (Table 3 and DESIGN.md section 4): d_tf 250 m, 5 <= V <= 25 m/s, |alpha| <= 0.35 rad, "
+    lines.append("Constraints (Table 3 and docs/design.md section 4): d_tf 250 m, 5 <= V <= 25 m/s, |alpha| <= 0.35 rad, "
                  "|phi| <= 1 rad, 0 <= T <= 8 N, 0 <= G <= 50 N, ground clearance 10 m, |gamma| <= 1 rad, "
                  "T1 + T2 <= 60 s" + (", C_L <= C_Lmax" if scenario == "physical" else "") + ".")
     lines.append("")

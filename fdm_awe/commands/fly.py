@@ -2,7 +2,7 @@
 
 The reference comes from ``--reference FILE`` (written by ``fdm-awe optimize``) or is optimised
 first from ``--scenario/--config/--wind``. Prints a per-cycle energy table, writes JSON per
-DESIGN.md section 1 (``--json``), a rerun recording (``--rrd``), and optionally speaks MAVLink
+docs/design.md section 1 (``--json``), a rerun recording (``--rrd``), and optionally speaks MAVLink
 (``--mavlink URL``) paced at real time (``--realtime [FACTOR]``).
 Exit code 0 when the flight completed without an event (or landed in RECOVER mode).
 

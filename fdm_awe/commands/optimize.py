@@ -12,7 +12,7 @@ HELP = "optimise one periodic pumping cycle (generation + recovery) and write th
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scenario", choices=("physical", "paper"), default="physical",
-                   help="model family (DESIGN.md section 4; default: physical)")
+                   help="model family (docs/design.md section 4; default: physical)")
     p.add_argument("--config", choices=("nominal", "foldable"), default="foldable",
                    help="nominal: unfolded throughout; foldable: folded for recovery (default)")
     p.add_argument("--wind", type=float, default=6.0, metavar="M_S", help="wind speed magnitude [m/s] (default 6)")

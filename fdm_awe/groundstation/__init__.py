@@ -1,6 +1,6 @@
 """Ground station: tether, winch, DC machine behind an asymmetric half-bridge, PI speed loop.
 
-Paper section II-C (eqs. 14-19, Table 1) with DESIGN.md's corrections (Coulomb friction once).
+Paper section II-C (eqs. 14-19, Table 1) with docs/design.md's corrections (Coulomb friction once).
 Modules, one job each:
 
 - :mod:`.definitions` -- ``tether/ground_station.xml`` -> typed SI dataclasses

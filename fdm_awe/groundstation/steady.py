@@ -14,7 +14,7 @@ Generator (passive rectifier, T2 off; or averaged boost with T2 duty ``d2``), st
     r_w G = M_c + B omega + K_t i,         K_e omega = (R + (1-d2)^2 R_L) i + 2 U_d
     omega = (r_w G - M_c + 2 U_d K_t / R_sum) / (B + K_t K_e / R_sum),  R_sum = R + (1-d2)^2 R_L
 
-(DESIGN.md section 6; valid while omega > 0 and i > 0, i.e. r_w G > M_c + B omega and
+(docs/design.md section 6; valid while omega > 0 and i > 0, i.e. r_w G > M_c + B omega and
 K_e omega > 2 U_d). Load power ``(1-d2)^2 R_L i^2``, mechanical power ``G r_w omega``.
 
 Motor (reel-in at speed v, T1 duty averaged, line tension G opposing)::

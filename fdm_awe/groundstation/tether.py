@@ -6,7 +6,7 @@ Model (straight line from the winch at the NED origin to the glider attachment p
   (``l_dot = r_w omega``, see :mod:`fdm_awe.groundstation.drivetrain`).
 - Elastic when taut, slack otherwise: ``T = EA (d - l) / l`` for ``d > l``, else ``0``
   (d = |P| the winch-glider distance). Stored energy ``E = 0.5 (EA / l) (d - l)^2`` when taut.
-- Line drag (DESIGN.md section 5, ``C_D_perp``, diameter ``d_t``): the glider carries the share
+- Line drag (docs/design.md section 5, ``C_D_perp``, diameter ``d_t``): the glider carries the share
   ``drag_share`` (default 1/4) of ``0.5 rho C_D_perp d_t l |v_perp| v_perp`` with ``v_perp`` the
   glider's air velocity normal to the line. For a straight line whose velocity grows linearly
   from 0 at the winch to ``v_perp`` at the glider, 1/4 is exact both for the moment about the

@@ -5,7 +5,7 @@ Drum equation (reel-out positive, omega = reel speed / r_w):
     (J + mu l r_w^2) domega/dt = r_w T - K_t i - B omega - M_c sgn(omega)
 
 - ``J`` is Table 1's total inertia (drum + rotor); the paid-out line adds ``mu l r_w^2``.
-- ``M_c`` is Table 1's Coulomb friction, counted once (DESIGN.md 4.8: eq. 14's M_c and eq. 16's
+- ``M_c`` is Table 1's Coulomb friction, counted once (docs/design.md 4.8: eq. 14's M_c and eq. 16's
   T_f are the same term); ``B`` the viscous friction; ``K_t i`` the machine torque, which acts in
   the reel-in direction only (the asymmetric half-bridge carries one current direction).
 - Stick-slip without chattering: friction is the set-valued law ``M_f in M_c Sign(omega)``

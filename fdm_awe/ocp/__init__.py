@@ -1,4 +1,4 @@
-"""Optimal periodic pumping cycle (paper section III, corrected per DESIGN.md section 4).
+"""Optimal periodic pumping cycle (paper section III, corrected per docs/design.md section 4).
 
 Modules, one job each (CasADi is imported only by :mod:`.collocation` and what uses it):
 

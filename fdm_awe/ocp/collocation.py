@@ -6,7 +6,7 @@ mesh node), and piecewise-constant controls (one value per interval, so the opti
 are exactly defined for re-integration). Decision variables are scaled (``value = scale *
 variable``); collocation residuals are divided by the state scales.
 
-Constraints (DESIGN.md section 4, Table 3):
+Constraints (docs/design.md section 4, Table 3):
 - variable bounds: airspeed, |gamma|, ground clearance (``z <= -h_min``), controls (alpha with
   the stall limit, bank, thrust, tension, reel-in speed), phase durations;
 - path constraints at the phase start and every collocation point: ``ddot >= 0`` and, where

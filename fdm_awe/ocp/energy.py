@@ -4,7 +4,7 @@ Every function evaluates on floats, NumPy arrays and CasADi symbols (via :mod:`f
 so the optimiser's quadrature and the independent re-integration use the same definitions.
 
 Quasi-static winch + DC machine + converter (paper eqs. 14-19 with ``di/dt = 0``,
-``domega/dt = 0``, one Coulomb friction ``M_c``, DESIGN.md sections 4.8, 5 and 6):
+``domega/dt = 0``, one Coulomb friction ``M_c``, docs/design.md sections 4.8, 5 and 6):
 
 - generation, passive rectifier into ``R_L``: ``omega = v_reel / r_w``,
   ``i = max(0, K_e omega - 2 U_d) / (R + R_L)``, tension ``G = (M_c + B omega + K_t i) / r_w``,
@@ -127,12 +127,12 @@ def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: s
 
 
 def mechanical_tether_power(G: Any, ddot: Any) -> Any:
-    """Mechanical power delivered to the winch ``G ddot`` [W] (DESIGN.md 4.5)."""
+    """Mechanical power delivered to the winch ``G ddot`` [W] (docs/design.md 4.5)."""
     return G * ddot
 
 
 def design_reference_generator(w: WinchElectrics, G: float) -> dict[str, float]:
-    """Closed-form steady generator point at tension ``G`` [N] (DESIGN.md section 6), unsmoothed."""
+    """Closed-form steady generator point at tension ``G`` [N] (docs/design.md section 6), unsmoothed."""
     omega = (w.r_w * G - w.M_c + 2 * w.U_d * w.K_t / w.R_sum) / (w.B + w.K_t * w.K_e / w.R_sum)
     i = (w.K_e * omega - 2 * w.U_d) / w.R_sum
     return {"omega": omega, "v_reel": omega * w.r_w, "i": i, "P_load": w.R_L * i * i, "P_mech": G * omega * w.r_w,

@@ -24,7 +24,7 @@ PROPELLERS = ("momentum", "engine")
 
 @dataclass(frozen=True)
 class Scenario:
-    """Modelling choices of one scenario family (DESIGN.md section 4).
+    """Modelling choices of one scenario family (docs/design.md section 4).
 
     ``paper``: static quadratic P(T) (eq. 39), no tether drag, no stall limit (Table 3 only),
     mechanical accounting ``E_generated = int G ddot dt``, reel-in at a constant ``P_rw``.
@@ -52,7 +52,7 @@ class Scenario:
 
 @dataclass(frozen=True)
 class Bounds:
-    """Path and time bounds (Table 3 plus the corrections of DESIGN.md section 4).
+    """Path and time bounds (Table 3 plus the corrections of docs/design.md section 4).
 
     ``T_max`` None means the aircraft definition's ``propulsion/pm/T-max-N``; ``reel_in_speed_max``
     None means the DC machine's limit at full duty (supply voltage). ``h_min`` is the documented

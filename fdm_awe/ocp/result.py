@@ -1,4 +1,4 @@
-"""Cycle result, its JSON summary (DESIGN.md section 1) and the reference-trajectory file.
+"""Cycle result, its JSON summary (docs/design.md section 1) and the reference-trajectory file.
 
 Reference-trajectory file format (``fdm-awe-reference-trajectory``, version 1), JSON::
 
@@ -93,7 +93,7 @@ class CycleResult:
         return self.E_net_J / (self.T1_s + self.T2_s)
 
     def summary(self) -> dict[str, Any]:
-        """The ``--json`` contract of ``fdm-awe optimize`` (DESIGN.md section 1)."""
+        """The ``--json`` contract of ``fdm-awe optimize`` (docs/design.md section 1)."""
         def num(v: float) -> float | None:
             return None if (v is None or not math.isfinite(v)) else float(v)
 

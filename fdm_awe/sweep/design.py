@@ -2,7 +2,7 @@
 
 The definitions (``aircraft/glider_unfolded``, ``aircraft/glider_folded``) stay the single
 source of truth: every variant starts from :func:`fdm_awe.definitions.aircraft.load_glider`
-and changes only what the swept parameter changes, with the formulas of DESIGN.md section 5:
+and changes only what the swept parameter changes, with the formulas of docs/design.md section 5:
 
 - lift slope (Helmbold): ``C_La = 2 pi A / (2 + sqrt(A^2 / 0.81 + 4))``;
 - zero-lift angle ``alpha_0L`` kept: ``C_L0 = -C_La alpha_0L``;
