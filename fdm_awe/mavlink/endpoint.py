@@ -18,6 +18,11 @@ when a message needs it. Incoming messages are drained at ``rx_rate_hz`` (simula
 time), at most ``max_rx_per_poll`` datagrams per poll; link and mission-transfer
 timeouts use the wall clock, because ground stations run on it.
 
+Framing: on UDP every datagram is parsed on its own (:func:`parse_datagram`): the parser
+starts empty for each one, so a cut frame or junk in one datagram cannot swallow the messages
+of the next. On byte streams (TCP, serial) the parser keeps its state across reads, as a
+message may arrive in pieces.
+
 Streams (rates in Hz, configurable with ``rates=`` or SET_MESSAGE_INTERVAL; 0 = off):
 HEARTBEAT (MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_GENERIC, custom mode from
 :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`, armed flag), ATTITUDE, GLOBAL_POSITION_INT,
@@ -159,6 +164,69 @@ def _vec3(v: Any) -> tuple[float, float, float]:
         return 0.0, 0.0, 0.0
 
 
+#: pymavlink transports that deliver whole datagrams (UDP, UDP multicast)
+DATAGRAM_TRANSPORTS = (mavutil.mavudp, mavutil.mavmcast)
+#: resynchronisations tried within one datagram after a bad or cut frame (bounds a poll's cost)
+MAX_RESYNC_PER_DATAGRAM = 32
+
+
+def reset_parser(parser: mav.MAVLink) -> None:
+    """Forget whatever a pymavlink parser holds of a partial frame."""
+    parser.buf = bytearray()
+    parser.buf_index = 0
+    parser.expected_length = mav.HEADER_LEN_V1 + 2
+    parser.have_prefix_error = False
+
+
+def parse_datagram(parser: mav.MAVLink, data: bytes) -> tuple[list[Any], int]:
+    """The MAVLink messages in one datagram, parsed on their own: ``(messages, bad)``.
+
+    The parser starts empty and ends empty, so nothing of this datagram (a cut frame, a
+    header announcing more bytes than came) can affect the next one. Within the datagram,
+    after a frame that fails to decode (bad CRC, unknown flags) or is cut off, parsing
+    resumes one byte after that frame's start byte, so a valid frame behind it is still found
+    (at most :data:`MAX_RESYNC_PER_DATAGRAM` times). A frame of an unknown message id counts
+    as failed (its CRC cannot be checked). ``bad`` counts the undecodable pieces (junk before
+    a start byte, failed frames, a cut frame at the end)."""
+    msgs: list[Any] = []
+    bad = 0
+    n = len(data)
+    pos = 0
+    resyncs = 0
+    try:
+        while pos < n:
+            reset_parser(parser)
+            m = parser.parse_char(data[pos:])
+            nxt = n  # where to continue: the end, unless a bad or cut frame asks for a resync
+            while m is not None:
+                kind = m.get_type()
+                if kind == "BAD_DATA" and m.reason == "Bad prefix":
+                    bad += 1  # junk before a start byte: skipped
+                elif kind == "BAD_DATA" or kind.startswith("UNKNOWN"):
+                    # a frame that failed (bad CRC or flags; an unknown id cannot be checked):
+                    # look again from the byte after its start
+                    bad += 1
+                    if resyncs < MAX_RESYNC_PER_DATAGRAM:
+                        nxt = n - parser.buf_len() - len(m.get_msgbuf()) + 1
+                        break
+                else:
+                    msgs.append(m)
+                m = parser.parse_char(b"")
+            else:
+                left = parser.buf_len()
+                if left:  # a cut frame (or a header announcing more than the datagram holds)
+                    bad += 1
+                    if resyncs < MAX_RESYNC_PER_DATAGRAM:
+                        nxt = n - left + 1
+            if nxt < n:
+                resyncs += 1
+            pos = nxt
+    except Exception:  # noqa: BLE001 - robust parsing should not raise; count it and move on
+        bad += 1
+    reset_parser(parser)
+    return msgs, bad
+
+
 @dataclass
 class _Stream:
     name: str
@@ -273,6 +341,8 @@ class MavlinkEndpoint:
         # process-wide dialect/protocol-version switch.
         self._mav = mav.MAVLink(self._conn, srcSystem=sysid, srcComponent=compid)
         self._mav.robust_parsing = True
+        #: UDP (one message set per datagram, parsed on its own) or a byte stream (TCP, serial)
+        self._datagrams = isinstance(self._conn, DATAGRAM_TRANSPORTS)
 
         # scheduling (simulation time)
         self._t_prev = -math.inf
@@ -423,6 +493,7 @@ class MavlinkEndpoint:
         self.stats["polls"] += 1
         conn = self._conn
         parse = self._mav.parse_buffer
+        datagrams = self._datagrams
         for _ in range(self.max_rx_per_poll):
             try:
                 data = conn.recv(4096)
@@ -432,16 +503,18 @@ class MavlinkEndpoint:
             if not data:
                 break
             self.stats["datagrams"] += 1
-            try:
-                msgs = parse(data)
-            except Exception:  # noqa: BLE001 - robust parsing should not raise; be safe anyway
-                self.stats["bad_packets"] += 1
-                self._mav.buf = bytearray()
-                self._mav.buf_index = 0
-                continue
-            if msgs:
-                for m in msgs:
-                    self._handle(m)
+            if datagrams:  # one datagram, parsed on its own
+                msgs, bad = parse_datagram(self._mav, data)
+                self.stats["bad_packets"] += bad
+            else:  # a byte stream: a message may span reads, the parser keeps its state
+                try:
+                    msgs = parse(data) or []
+                except Exception:  # noqa: BLE001 - robust parsing should not raise; be safe anyway
+                    self.stats["bad_packets"] += 1
+                    reset_parser(self._mav)
+                    continue
+            for m in msgs:
+                self._handle(m)
         now = self._clock()
         if self.link_up and now - self._last_rx_wall > self.link_timeout_s:
             self.link_up = False
