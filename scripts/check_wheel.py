@@ -1,0 +1,275 @@
+#!/usr/bin/env python3
+"""Wheel check: the package as a user installs it, away from this checkout.
+
+Steps (docs/design.md section 2), each timed, all in one temporary folder that is removed at
+the end whatever happens (``--keep`` keeps it):
+
+1. copy the checkout's files (tracked and untracked, not ignored) into ``src/``;
+2. build the sdist from that copy (setuptools' own build backend), check that it holds
+   ``setup.py``, ``pyproject.toml`` and every file of ``aircraft/``, ``engine/``, ``tether/``;
+3. build the wheel from the sdist (``pip wheel --no-deps``), check that it holds every
+   definition file as ``fdm_awe/data/...`` and nothing outside ``fdm_awe/`` and its metadata;
+4. create a fresh virtual environment and install the wheel into it WITH its dependencies
+   (not editable; pip's download cache makes a second run quick);
+5. from a working directory outside the checkout: ``import fdm_awe`` resolves the package and
+   its ``ROOT`` inside the new environment, and JSBSim loads every aircraft from there;
+   ``fdm-awe info``; a short ``fdm-awe optimize`` (paper, nominal, 3 m/s, coarse mesh) with
+   ``--json``; ``fdm-awe fly --cycles 1`` on a stored reference copied out of ``tests/data/``;
+   with ``--fly-default`` also ``fdm-awe fly --cycles 1`` with no reference. Each must exit 0,
+   report status ``ok`` in its JSON and write nothing but the files it was told to write.
+
+Exit status 0 only if every step passed, 1 otherwise (the failing step's output is printed),
+2 on bad options. The last line says ``wheel check: ok ...`` or ``wheel check: FAILED ...``.
+scripts/run_tests.sh runs it before pytest (``FDM_AWE_WHEEL_CHECK=0`` skips it there).
+
+usage: python scripts/check_wheel.py [--keep] [--fly-default] [--python PY]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+import zipfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+#: Definition folders at the top of the repository, shipped as ``fdm_awe/data/<folder>/``.
+DEFINITION_FOLDERS = ("aircraft", "engine", "tether")
+#: Stored reference flown by the check (copied out of the checkout first).
+REFERENCE = REPO / "tests" / "data" / "ref_physical_nominal_8mps.json"
+#: Names never copied when the checkout is not a git work tree.
+_SKIP = {".git", ".venv", "build", "dist", "runs", "out", "__pycache__", ".pytest_cache"}
+#: Seconds any one step may take before the check fails (a fresh install downloads ~0.5 GB).
+STEP_TIMEOUT_S = 1800.0
+
+
+class CheckFailed(Exception):
+    """One step of the check failed; the message says which and why."""
+
+
+def source_files(repo: Path = REPO) -> list[Path]:
+    """Files of the checkout a build sees, relative to ``repo``: git's tracked and untracked,
+    not ignored files in a work tree, else every file outside build outputs and environments."""
+    if (repo / ".git").exists() and shutil.which("git"):
+        out = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+                             cwd=repo, capture_output=True, check=True).stdout
+        return sorted({Path(p) for p in out.decode().split("\0") if p and (repo / p).is_file()})
+    files = []
+    for path in repo.rglob("*"):
+        rel = path.relative_to(repo)
+        if path.is_file() and not any(part in _SKIP or part.endswith(".egg-info") for part in rel.parts):
+            files.append(rel)
+    return sorted(files)
+
+
+def copy_source(dest: Path, repo: Path = REPO) -> int:
+    """Copy the checkout's source files into ``dest``; returns how many."""
+    files = source_files(repo)
+    for rel in files:
+        (dest / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(repo / rel, dest / rel)
+    return len(files)
+
+
+def definition_files(src: Path) -> list[str]:
+    """Every file below the definition folders of ``src`` as POSIX paths relative to ``src``."""
+    return sorted(p.relative_to(src).as_posix() for folder in DEFINITION_FOLDERS
+                  for p in (src / folder).rglob("*") if p.is_file())
+
+
+def check_sdist_members(sdist: Path, src: Path) -> None:
+    """The sdist holds the build files and every definition file of ``src`` (CheckFailed)."""
+    with tarfile.open(sdist) as tar:
+        names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
+    want = ["setup.py", "pyproject.toml", *definition_files(src)]
+    missing = [n for n in want if n not in names]
+    if missing:
+        raise CheckFailed(f"sdist {sdist.name} lacks {len(missing)} file(s): {', '.join(missing[:5])}")
+
+
+def check_wheel_members(wheel: Path, src: Path) -> None:
+    """The wheel holds every definition file of ``src`` as ``fdm_awe/data/...`` and nothing
+    outside ``fdm_awe/`` and its ``.dist-info`` (CheckFailed)."""
+    with zipfile.ZipFile(wheel) as zf:
+        names = set(zf.namelist())
+    missing = [n for n in definition_files(src) if f"fdm_awe/data/{n}" not in names]
+    if missing:
+        raise CheckFailed(f"wheel {wheel.name} lacks {len(missing)} definition file(s): {', '.join(missing[:5])}")
+    stray = sorted(n for n in names if not n.startswith(("fdm_awe/", "fdm_awe-")))
+    if stray:
+        raise CheckFailed(f"wheel {wheel.name} installs files outside fdm_awe/: {', '.join(stray[:5])}")
+
+
+def run(step: str, cmd: list[str], cwd: Path, env: dict[str, str] | None = None) -> str:
+    """Run ``cmd`` in ``cwd``; its output, or CheckFailed with the exit code and output's tail."""
+    try:
+        proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, errors="replace",
+                              timeout=STEP_TIMEOUT_S)
+    except subprocess.TimeoutExpired as exc:
+        raise CheckFailed(f"{step}: no result after {exc.timeout:.0f} s: {' '.join(cmd)}") from None
+    if proc.returncode != 0:
+        tail = "\n".join((proc.stdout + proc.stderr).strip().splitlines()[-25:])
+        raise CheckFailed(f"{step}: exit {proc.returncode}: {' '.join(cmd)}\n{tail}")
+    return proc.stdout
+
+
+def json_status(step: str, path: Path) -> dict:
+    """The JSON document a command wrote, which must say status ``ok`` (CheckFailed)."""
+    if not path.is_file():
+        raise CheckFailed(f"{step}: wrote no {path.name}")
+    doc = json.loads(path.read_text())
+    if doc.get("status") != "ok":
+        raise CheckFailed(f"{step}: status {doc.get('status')!r} in {path.name} ({doc.get('message') or doc.get('reason')})")
+    return doc
+
+
+def only_files(step: str, work: Path, allowed: set[str]) -> None:
+    """``work`` holds no file but ``allowed`` (CheckFailed naming the others)."""
+    extra = sorted(p.name for p in work.iterdir() if p.name not in allowed)
+    if extra:
+        raise CheckFailed(f"{step}: wrote files it was not told to write: {', '.join(extra)}")
+
+
+def user_env() -> dict[str, str]:
+    """Environment of a user of the installed package: no path into this checkout."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV", "PYTHONSTARTUP")}
+    env.update(JSBSIM_DEBUG="0", MPLBACKEND="Agg", PYTHONNOUSERSITE="1")
+    return env
+
+
+_IMPORT_CHECK = """
+import sys
+from pathlib import Path
+import fdm_awe
+prefix = Path(sys.prefix).resolve()
+for what, path in (("fdm_awe", Path(fdm_awe.__file__)), ("fdm_awe.ROOT", Path(fdm_awe.ROOT))):
+    if prefix not in path.resolve().parents:
+        sys.exit(f"{what} is {path}, not inside the environment {prefix}")
+import jsbsim
+for name in ("glider_unfolded", "glider_folded", "glider_foldable"):
+    fdm = jsbsim.FGFDMExec(str(fdm_awe.ROOT))
+    fdm.set_debug_level(0)
+    if not fdm.load_model(name):
+        sys.exit(f"JSBSim cannot load {name} from {fdm_awe.ROOT}")
+from fdm_awe.definitions.aircraft import load_glider
+from fdm_awe.groundstation.definitions import load_ground_station
+from fdm_awe.autopilot.config import load_autopilot_definition
+load_glider(), load_ground_station(), load_autopilot_definition()
+print(fdm_awe.ROOT)
+"""
+
+
+def wheel_check(tmp: Path, python: str, fly_default: bool, log=print) -> list[tuple[str, float]]:
+    """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed."""
+    times: list[tuple[str, float]] = []
+
+    def step(name: str, fn):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append((name, time.perf_counter() - t0))
+        log(f"wheel check: {name}: ok ({times[-1][1]:.1f} s){' ' + out if isinstance(out, str) and out else ''}")
+
+    src, dist, tools, venv, work = (tmp / n for n in ("src", "dist", "tools", "venv", "work"))
+    for d in (src, dist, work):
+        d.mkdir()
+    vpy = venv / ("Scripts" if os.name == "nt" else "bin") / "python"
+    cli = vpy.parent / "fdm-awe"
+    step("copy the checkout", lambda: f"{copy_source(src)} files")
+
+    def sdist():
+        run("virtual environment", [python, "-m", "venv", str(venv)], cwd=tmp)
+        run("build tools", [str(vpy), "-m", "pip", "install", "-q", "--target", str(tools), "setuptools>=77"], cwd=tmp)
+        env = dict(user_env(), PYTHONPATH=str(tools))
+        run("sdist", [str(vpy), "-c", "import sys; from setuptools import build_meta as b; b.build_sdist(sys.argv[1])",
+                      str(dist)], cwd=src, env=env)
+        (sdist_path,) = dist.glob("*.tar.gz")
+        check_sdist_members(sdist_path, src)
+        return sdist_path.name
+
+    step("fresh environment and sdist", sdist)
+
+    def wheel():
+        (sdist_path,) = dist.glob("*.tar.gz")
+        run("wheel from the sdist", [str(vpy), "-m", "pip", "wheel", "-q", "--no-deps", str(sdist_path), "-w", str(dist)],
+            cwd=tmp)
+        (whl,) = dist.glob("*.whl")
+        check_wheel_members(whl, src)
+        return whl.name
+
+    step("wheel", wheel)
+    step("install the wheel with its dependencies",
+         lambda: run("install", [str(vpy), "-m", "pip", "install", "-q", str(next(dist.glob("*.whl")))], cwd=tmp) and "")
+    env = user_env()
+    step("import outside the checkout", lambda: "ROOT " + run("import", [str(vpy), "-c", _IMPORT_CHECK], work, env).strip())
+    step("fdm-awe info", lambda: run("fdm-awe info", [str(cli), "info"], work, env) and "")
+
+    def optimize():
+        run("fdm-awe optimize", [str(cli), "optimize", "--scenario", "paper", "--config", "nominal", "--wind", "3",
+                                 "--mesh", "10,8,3", "--time-budget", "60", "--json", "opt.json"], work, env)
+        doc = json_status("fdm-awe optimize", work / "opt.json")
+        only_files("fdm-awe optimize", work, {"opt.json", "opt.trajectory.json"})
+        return f"E_net {doc['E_net_J']:.0f} J"
+
+    step("fdm-awe optimize (paper nominal 3 m/s, mesh 10,8,3)", optimize)
+
+    def fly_reference():
+        shutil.copy(REFERENCE, work / "ref.json")
+        run("fdm-awe fly", [str(cli), "fly", "--reference", "ref.json", "--cycles", "1", "--quiet", "--json", "fly.json"],
+            work, env)
+        doc = json_status("fdm-awe fly", work / "fly.json")
+        only_files("fdm-awe fly", work, {"opt.json", "opt.trajectory.json", "ref.json", "fly.json"})
+        return f"{len(doc['cycles'])} cycle, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
+
+    step(f"fdm-awe fly --cycles 1 --reference ({REFERENCE.name})", fly_reference)
+    if fly_default:
+        def fly_plain():
+            plain = work / "default"
+            plain.mkdir()
+            run("fdm-awe fly (defaults)", [str(cli), "fly", "--cycles", "1", "--quiet", "--json", "fly.json"], plain, env)
+            json_status("fdm-awe fly (defaults)", plain / "fly.json")
+            return ""
+
+        step("fdm-awe fly --cycles 1 (defaults)", fly_plain)
+    return times
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--keep", action="store_true", help="keep the temporary folder (its path is printed)")
+    ap.add_argument("--fly-default", action="store_true", help="also fly 'fdm-awe fly --cycles 1' with no reference")
+    ap.add_argument("--python", default=sys.executable,
+                    help="interpreter that creates the fresh environment (default: this one)")
+    args = ap.parse_args(argv)
+    if not REFERENCE.is_file():
+        ap.error(f"no stored reference {REFERENCE}")
+    t0 = time.perf_counter()
+    tmp = Path(tempfile.mkdtemp(prefix="fdm-awe-wheel-check-"))
+    try:
+        times = wheel_check(tmp, args.python, args.fly_default)
+    except CheckFailed as exc:
+        print(f"wheel check: FAILED: {exc}", file=sys.stderr)
+        print(f"wheel check: FAILED after {time.perf_counter() - t0:.0f} s", flush=True)
+        return 1
+    except KeyboardInterrupt:
+        print("wheel check: interrupted", file=sys.stderr)
+        return 130
+    finally:
+        if args.keep:
+            print(f"wheel check: kept {tmp}")
+        else:
+            shutil.rmtree(tmp, ignore_errors=True)
+    print(f"wheel check: ok, {len(times)} steps in {time.perf_counter() - t0:.0f} s "
+          f"(install {dict(times)['install the wheel with its dependencies']:.0f} s)", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
