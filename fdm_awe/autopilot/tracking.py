@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -152,26 +153,39 @@ class TrackingReference:
         )
 
     @classmethod
-    def from_ocp_file(cls, path: str) -> "TrackingReference":
-        """From a reference-trajectory file written by the optimiser (``fdm-awe optimize``)."""
+    def from_ocp_file(cls, path: str | Path) -> "TrackingReference":
+        """From a reference-trajectory file written by the optimiser (``fdm-awe optimize``).
+
+        The file is checked field by field first (:func:`fdm_awe.ocp.result.read_reference`): a
+        malformed file raises :class:`~fdm_awe.errors.InputError` with one line naming the file,
+        the field and its allowed range or form. ``meta`` carries the checked metadata
+        (``scenario``, ``config``, ``T1_s``, ``T2_s``, ``wind_ned_mps``, ``tether_drag_scale``, ...).
+        """
         from ..ocp.result import read_reference
 
         return cls.from_ocp(read_reference(path))
 
     @classmethod
     def from_ocp(cls, ref: object) -> "TrackingReference":
-        """From an optimiser :class:`~fdm_awe.ocp.result.ReferenceTrajectory`.
+        """From an optimiser :class:`~fdm_awe.ocp.result.ReferenceTrajectory` (checked again by
+        :func:`~fdm_awe.ocp.result.check_reference`, so one built in memory gets the same checks).
 
         Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata; the
         acceleration is the time derivative of the velocity samples (second-order differences
         within each phase, so the jump of the controls at the phase switch is not smeared).
         """
+        from ..ocp.result import ReferenceTrajectory, check_reference
+
+        if not isinstance(ref, ReferenceTrajectory):
+            ref = ReferenceTrajectory(ref.metadata, ref.columns, getattr(ref, "units", {}),  # type: ignore[attr-defined]
+                                      source=str(getattr(ref, "source", "reference trajectory")))
+        ref = check_reference(ref)
         c = ref.columns  # type: ignore[attr-defined]
         meta = dict(ref.metadata)  # type: ignore[attr-defined]
         t, ph = np.asarray(c["t"], float), np.asarray(c["phase"], int)
         # the switch row appears twice (once per phase): keep strictly increasing times
         keep = np.r_[True, np.diff(t) > 1e-9]
-        wind = np.asarray(meta.get("wind_ned_mps", (0.0, 0.0, 0.0)), float)
+        wind = np.asarray(meta["wind_ned_mps"], float)
         V, gam, psi = c["V"], c["gamma"], c["psi"]
         vel = np.c_[V * np.cos(gam) * np.cos(psi), V * np.cos(gam) * np.sin(psi), -V * np.sin(gam)] + wind
         acc = np.zeros_like(vel)
