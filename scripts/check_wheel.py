@@ -10,7 +10,8 @@ the end whatever happens (``--keep`` keeps it):
 3. build the wheel from the sdist (``pip wheel --no-deps``), check that it holds every
    definition file as ``fdm_awe/data/...`` and nothing outside ``fdm_awe/`` and its metadata;
 4. create a fresh virtual environment and install the wheel into it WITH its dependencies
-   (not editable; pip's download cache makes a second run quick);
+   (not editable; pip's download cache makes a second run quick; ``--no-compile`` halves the
+   install, Python compiles what it imports);
 5. from a working directory outside the checkout: ``import fdm_awe`` resolves the package and
    its ``ROOT`` inside the new environment, and JSBSim loads every aircraft from there;
    ``fdm-awe info``; a short ``fdm-awe optimize`` (paper, nominal, 3 m/s, coarse mesh) with
@@ -206,7 +207,7 @@ def wheel_check(tmp: Path, python: str, fly_default: bool, log=print) -> list[tu
 
     step("wheel", wheel)
     step("install the wheel with its dependencies",
-         lambda: run("install", [str(vpy), "-m", "pip", "install", "-q", str(next(dist.glob("*.whl")))], cwd=tmp) and "")
+         lambda: run("install", [str(vpy), "-m", "pip", "install", "-q", "--no-compile", str(next(dist.glob("*.whl")))], cwd=tmp) and "")
     env = user_env()
     step("import outside the checkout", lambda: "ROOT " + run("import", [str(vpy), "-c", _IMPORT_CHECK], work, env).strip())
     step("fdm-awe info", lambda: run("fdm-awe info", [str(cli), "info"], work, env) and "")
