@@ -111,6 +111,9 @@ def atomic_path(path: str | os.PathLike, suffix: str | None = None) -> Iterator[
     os.close(fd)
     tmp_path = Path(tmp)
     try:
+        mask = os.umask(0)  # mkstemp makes the file private (0600): give it an ordinary file's mode
+        os.umask(mask)
+        os.chmod(tmp_path, 0o666 & ~mask)
         yield tmp_path
         os.replace(tmp_path, p)
     except BaseException:
