@@ -121,13 +121,15 @@ def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight
     """Record a flight (FlightReport or FlightResult, complete or cut short) into ``path``.
 
     ``reference``: the flown :class:`~fdm_awe.autopilot.tracking.TrackingReference`, a
-    reference-trajectory file or None. Returns the path of the finalised ``.rrd`` file.
+    reference-trajectory file or None. Returns the path of the finalised ``.rrd`` file. The
+    file appears complete or not at all: an exception (Ctrl-C) while it is written leaves
+    ``path`` as it was.
     """
     s = flight_series(flight)
     title = describe(s.meta, "flight")
     ref = _reference_points(reference)
     wind = ref[2] if ref is not None else None
-    with RrdFile(path, name=name or title, blueprint=flight_blueprint(title)) as rf:
+    with RrdFile(path, name=name or title, blueprint=flight_blueprint(title), keep_on_error=False) as rf:
         log_static_scene(rf, scene_extent(s.pos, ref[0] if ref else None), wind)
         if ref is not None:
             log_path(rf, "world/reference", ref[0], ref[1], radius=0.4, reference=True)
@@ -174,7 +176,7 @@ def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale
     tr = load_reference(reference)
     title = describe(s.meta, "optimised cycle")
     wind = tr.metadata.get("wind_ned_mps")
-    with RrdFile(path, name=name or title, blueprint=cycle_blueprint(title)) as rf:
+    with RrdFile(path, name=name or title, blueprint=cycle_blueprint(title), keep_on_error=False) as rf:
         log_static_scene(rf, scene_extent(s.pos), wind)
         log_path(rf, "world/reference", s.pos, s.phase, radius=0.6)
         T = float(s.t[-1]) if len(s.t) else 0.0

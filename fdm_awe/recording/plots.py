@@ -8,7 +8,8 @@
 
 Altitude is drawn upwards (h = -z of NED); positions relative to the winch; phases coloured
 (generation blue, recovery orange) in the paths and as shaded bands in the time histories.
-Matplotlib runs headless (Agg).
+Matplotlib runs headless (Agg). Every PNG is written under a temporary name and renamed when
+complete (:func:`fdm_awe.fileio.atomic_path`): an interrupted save leaves no truncated image.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..fileio import atomic_path
 from .rrd import segments_by_label
 from .scene import WIND_COLOR, phase_color_float
 from .series import Series, cycle_series, flight_series, load_reference
@@ -26,12 +28,22 @@ DEG = 180.0 / np.pi
 
 
 
+def plot_paths(outdir: str | Path, prefix: str) -> tuple[Path, Path]:
+    """The two PNGs :func:`plot_flight`, :func:`plot_cycle` and :func:`plot_compare` write into
+    ``outdir``: ``<prefix>_3d.png`` and ``<prefix>_time.png``."""
+    d = Path(outdir)
+    return d / f"{prefix}_3d.png", d / f"{prefix}_time.png"
+
+
 def _save(fig, out) -> Path:  # noqa: ANN001 - a matplotlib Figure
-    """Write ``fig`` to ``out`` (PNG; folders created), close it and return the path."""
+    """Write ``fig`` to ``out`` atomically (PNG; folders created), close it and return the path."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out)
-    _plt().close(fig)
+    try:
+        with atomic_path(out, suffix=".png") as tmp:
+            fig.savefig(tmp, format="png")
+    finally:
+        _plt().close(fig)
     return out
 
 def _plt() -> Any:
@@ -258,10 +270,9 @@ def plot_flight(flight: Any, reference: Any = None, outdir: str | Path = ".", pr
     paths = [("flown", s.pos, s.phase, "-")]
     if rs is not None:
         paths.append(("reference", rs.pos, rs.phase, "--"))
-    outdir = Path(outdir)
-    p3 = figure_3d(paths, title, _wind(meta, reference), outdir / f"{prefix}_3d.png",
-                   tether_from=s.pos[0] if len(s.pos) else None)
-    pt = figure_time(s, title, outdir / f"{prefix}_time.png", kind="flight")
+    f3, ft = plot_paths(outdir, prefix)
+    p3 = figure_3d(paths, title, _wind(meta, reference), f3, tether_from=s.pos[0] if len(s.pos) else None)
+    pt = figure_time(s, title, ft, kind="flight")
     return [p3, pt]
 
 
@@ -269,10 +280,9 @@ def plot_cycle(reference: Any, outdir: str | Path = ".", prefix: str = "cycle") 
     """Fig. 7 / Fig. 8 style PNGs of an optimised cycle: ``<prefix>_3d.png``, ``<prefix>_time.png``."""
     s = cycle_series(reference)
     title = _title(s.meta, "optimised cycle")
-    outdir = Path(outdir)
-    p3 = figure_3d([("", s.pos, s.phase, "-")], title, _wind(s.meta, reference), outdir / f"{prefix}_3d.png",
-                   tether_from=s.pos[0])
-    pt = figure_time(s, title, outdir / f"{prefix}_time.png", kind="cycle")
+    f3, ft = plot_paths(outdir, prefix)
+    p3 = figure_3d([("", s.pos, s.phase, "-")], title, _wind(s.meta, reference), f3, tether_from=s.pos[0])
+    pt = figure_time(s, title, ft, kind="cycle")
     return [p3, pt]
 
 
@@ -286,9 +296,9 @@ def plot_compare(references: Sequence[Any], names: Sequence[str], outdir: str | 
     meta = series[0].meta
     base = {k: meta.get(k) for k in ("scenario", "wind_mps")}
     title = _title(base, "optimised cycles: " + " vs ".join(names))
-    outdir = Path(outdir)
+    f3, ft = plot_paths(outdir, prefix)
     p3 = figure_3d([(n, s.pos, s.phase, styles[i % 4]) for i, (n, s) in enumerate(zip(names, series))], title,
-                   _wind(meta, references[0]), outdir / f"{prefix}_3d.png")
+                   _wind(meta, references[0]), f3)
     keys = [("altitude", "altitude [m]", 1.0), ("airspeed", "airspeed [m/s]", 1.0), ("tension", "tension [N]", 1.0),
             ("reel_speed", "reel speed [m/s]", 1.0), ("thrust", "thrust [N]", 1.0), ("E_net", "net energy [J]", 1.0)]
     fig, axes = plt.subplots(3, 2, figsize=(12.0, 9.0), dpi=100, sharex=False)
@@ -305,10 +315,7 @@ def plot_compare(references: Sequence[Any], names: Sequence[str], outdir: str | 
         ax.legend(fontsize=8)
     fig.suptitle(title + "  (grey lines: end of generation)", fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 0.97))
-    pt = outdir / f"{prefix}_time.png"
-    fig.savefig(pt)
-    plt.close(fig)
-    return [p3, pt]
+    return [p3, _save(fig, ft)]
 
 
 def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.png", title: str | None = None) -> Path:
@@ -355,4 +362,5 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
     return _save(fig, out)
 
 
-__all__ = ["draw_scene_3d", "figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight", "plot_summary"]
+__all__ = ["draw_scene_3d", "figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight", "plot_paths",
+           "plot_summary"]

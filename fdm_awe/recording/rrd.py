@@ -1,20 +1,28 @@
 """A rerun recording written to an ``.rrd`` file, always finalised.
 
-:class:`RrdFile` wraps one ``rerun.RecordingStream`` with a file sink. Used as a context
-manager it flushes and closes the file (writing the footer) even when the code inside raises
-or the user presses Ctrl-C, so whatever was sent before remains a valid recording. Whole time
-series go out in one ``send_columns`` call each (a per-row ``log`` costs ~100 us).
+:class:`RrdFile` wraps one ``rerun.RecordingStream`` with a file sink. The stream writes to a
+temporary file beside ``path``, renamed onto ``path`` when the recording is closed and
+finalised (footer written), so a reader never sees a recording being written. Used as a
+context manager it closes the file even when the code inside raises or the user presses
+Ctrl-C: by default whatever was sent before is kept as a valid (shorter) recording;
+``keep_on_error=False`` (what :func:`~fdm_awe.recording.flight.record_flight` and
+:func:`~fdm_awe.recording.flight.record_cycle` use) discards it instead and leaves ``path`` as
+it was, so a recording cut short while being written never passes for a whole one. Whole
+time series go out in one ``send_columns`` call each (a per-row ``log`` costs ~100 us).
 
 All time stamps are simulation time on the timeline :data:`TIMELINE` (a duration in seconds).
 """
 
 from __future__ import annotations
 
+import contextlib
 import uuid
 from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
+
+from ..fileio import atomic_path
 
 #: Name of the simulation-time timeline (durations in s).
 TIMELINE = "sim_time"
@@ -22,38 +30,65 @@ APPLICATION_ID = "fdm-awe"
 
 
 class RrdFile:
-    """Write a recording to ``path``; ``blueprint`` becomes the file's default layout."""
+    """Write a recording to ``path``; ``blueprint`` becomes the file's default layout.
 
-    def __init__(self, path: str | Path, *, name: str | None = None, blueprint: Any = None) -> None:
+    ``keep_on_error``: when the ``with`` block ends with an exception, keep what was sent as a
+    finalised recording at ``path`` (True, default) or discard it (False; ``path`` unchanged).
+    """
+
+    def __init__(self, path: str | Path, *, name: str | None = None, blueprint: Any = None,
+                 keep_on_error: bool = True) -> None:
         import rerun as rr
 
         self.rr = rr
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
-        # simulation time is the only timeline: no wall-clock or log-call counters
-        self.rec.set_log_time_enabled(False)
-        self.rec.set_log_tick_enabled(False)
-        self.rec.save(str(self.path), default_blueprint=blueprint)
-        if name:
-            self.rec.send_recording_name(name)
+        self.keep_on_error = keep_on_error
+        self._file = contextlib.ExitStack()
+        self._tmp = self._file.enter_context(atomic_path(self.path, suffix=".rrd"))
+        try:
+            self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
+            # simulation time is the only timeline: no wall-clock or log-call counters
+            self.rec.set_log_time_enabled(False)
+            self.rec.set_log_tick_enabled(False)
+            self.rec.save(str(self._tmp), default_blueprint=blueprint)
+            if name:
+                self.rec.send_recording_name(name)
+        except BaseException as exc:
+            self._file.__exit__(type(exc), exc, exc.__traceback__)  # removes the temporary file
+            raise
         self._open = True
 
     # ---- context manager: always finalise
     def __enter__(self) -> "RrdFile":
         return self
 
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+    def __exit__(self, exc_type: Any, exc: Any, tb: Any) -> None:
+        if exc_type is not None and not self.keep_on_error:
+            self.close(discard=(exc_type, exc, tb))
+        else:
+            self.close()
 
-    def close(self) -> None:
-        """Flush everything and close the file (idempotent)."""
+    def close(self, discard: tuple[Any, Any, Any] | None = None) -> None:
+        """Flush everything, close the file and rename it onto ``path`` (idempotent).
+
+        ``discard``: the ``(type, value, traceback)`` of an exception; the temporary file is
+        removed instead and ``path`` left as it was.
+        """
         if self._open:
             self._open = False
             try:
-                self.rec.flush()
-            finally:
-                self.rec.disconnect()
+                try:
+                    self.rec.flush()
+                finally:
+                    self.rec.disconnect()
+            except BaseException as exc:
+                self._file.__exit__(type(exc), exc, exc.__traceback__)
+                raise
+            if discard is not None:
+                self._file.__exit__(*discard)
+            else:
+                self._file.close()  # rename onto path
 
     # ---- logging helpers
     def static(self, entity: str, archetype: Any) -> None:
