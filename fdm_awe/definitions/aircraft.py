@@ -14,6 +14,15 @@ Named values the XML must declare (JSBSim ``<property value="...">NAME</property
   ``propulsion/pm/eta-prop``, ``propulsion/pm/eta-motor``, ``propulsion/pm/disk-area-m2``,
   ``propulsion/pm/paper-PT0``, ``propulsion/pm/paper-PT1``, ``propulsion/pm/paper-PT2``,
   ``propulsion/pm/T-max-N``, ``propulsion/pm/T-avail-c1``, ``propulsion/pm/T-avail-c2``.
+
+The morphing aircraft ``aircraft/glider_foldable/glider_foldable.xml`` (flown by the 6-DOF
+model) declares both coefficient sets, ``aero/unfolded/NAME`` and ``aero/folded/NAME`` (the
+polar above and the stability derivatives ``aero/coef/NAME`` of the static forms), the fold
+ratios ``aero/fold/S-ratio``, ``aero/fold/b-ratio`` and the fold time ``fcs/wing-fold-time-s``.
+:func:`check_aircraft_file` checks any of the three files field by field before JSBSim loads
+it (the 6-DOF adapter calls it): every number JSBSim reads, then the ranges of
+:data:`PM_RANGES`, :data:`COEF_RANGES`, mass and inertia, controls, contacts, tether hook and
+the engine files.
 """
 
 from __future__ import annotations
@@ -26,10 +35,40 @@ import numpy as np
 
 from .. import ROOT
 from ..errors import DefinitionError, InputError
-from .xmlutil import XmlDoc, element_number, location
+from .xmlutil import XmlDoc, check_numbers, element_number, location
 
 #: Configuration name -> JSBSim aircraft name of its static definition.
 CONFIG_AIRCRAFT: dict[str, str] = {"unfolded": "glider_unfolded", "folded": "glider_folded"}
+
+#: Allowed range ``(lo, hi, lo_open, hi_open)`` of each point-mass polar coefficient (one
+#: configuration, normalised with its own S): ``C_L = CL0 + CLalpha a``, ``C_D = CD0 + CDalpha1 a
+#: + CDalpha2 a^2`` [1/rad, 1/rad^2]; the lift slope at most the thin-airfoil 2 pi.
+PM_RANGES: dict[str, tuple[float, float, bool, bool]] = {
+    "CL0": (-1.0, 1.5, False, False), "CLalpha": (0.0, 2 * math.pi, True, False), "CLmax": (0.0, 3.0, True, False),
+    "CD0": (0.0, 1.0, True, False), "CDalpha1": (-5.0, 5.0, False, False), "CDalpha2": (0.0, 50.0, False, False),
+}
+#: Largest magnitude of a stability or control derivative [per rad, rate derivatives per
+#: normalised rate] (the folded form's Cm_q is about -51).
+COEF_MAX = 1000.0
+_ANY = (-COEF_MAX, COEF_MAX, False, False)
+#: Allowed range of each stability and control derivative. Signs follow the sign conventions
+#: of the aircraft files (elevator trailing edge down, right roll, rudder trailing edge left are
+#: positive): static stability in pitch and yaw, damping in pitch, roll and yaw, and control
+#: derivatives of the sign the stabiliser (:mod:`fdm_awe.sixdof.stabilizer`) divides by.
+COEF_RANGES: dict[str, tuple[float, float, bool, bool]] = {
+    "Cm0": _ANY, "Cm_alpha": (-COEF_MAX, 0.0, False, True), "Cm_q": (-COEF_MAX, 0.0, False, True), "Cm_adot": _ANY,
+    "Cm_de": (-COEF_MAX, 0.0, False, True), "CL_q": _ANY, "CL_adot": _ANY, "CL_de": _ANY,
+    "CY_beta": (-COEF_MAX, 0.0, False, False), "CY_dr": _ANY, "Cl_beta": (-COEF_MAX, 0.0, False, False),
+    "Cl_p": (-COEF_MAX, 0.0, False, True), "Cl_r": _ANY, "Cl_da": (0.0, COEF_MAX, True, False), "Cl_dr": _ANY,
+    "Cn_beta": (0.0, COEF_MAX, False, False), "Cn_p": _ANY, "Cn_r": (-COEF_MAX, 0.0, False, True), "Cn_da": _ANY,
+    "Cn_dr": (-COEF_MAX, 0.0, False, True),
+}
+#: Surface command scalings the 6-DOF adapter reads (deflection at full command, rad).
+SURFACES = ("fcs/pitch-cmd-rad", "fcs/roll-cmd-rad", "fcs/yaw-cmd-rad")
+#: Largest surface deflection at full command [rad].
+SURFACE_MAX_RAD = math.pi / 2
+#: Longest full fold (``fcs/wing-fold-time-s``) of the morphing aircraft [s].
+FOLD_TIME_MAX_S = 60.0
 
 
 @dataclass(frozen=True)
@@ -110,13 +149,13 @@ def aircraft_path(name: str, root: Path | None = None) -> Path:
 def _mass(doc: XmlDoc) -> MassParams:
     mb = doc.find("mass_balance")
     assert mb is not None
-    m_e = doc.number("mass_balance/emptywt", lo=0.0, lo_open=True)
+    m_e = doc.number("mass_balance/emptywt", lo=0.0, lo_open=True, unit="kg")
     cg_el = doc.find("mass_balance/location")
     assert cg_el is not None
     cg_e = np.array(location(doc.path, cg_el, "mass_balance/location"))
-    ixx = doc.number("mass_balance/ixx", lo=0.0, lo_open=True)
-    iyy = doc.number("mass_balance/iyy", lo=0.0, lo_open=True)
-    izz = doc.number("mass_balance/izz", lo=0.0, lo_open=True)
+    ixx = doc.number("mass_balance/ixx", lo=0.0, lo_open=True, unit="kg m2")
+    iyy = doc.number("mass_balance/iyy", lo=0.0, lo_open=True, unit="kg m2")
+    izz = doc.number("mass_balance/izz", lo=0.0, lo_open=True, unit="kg m2")
     ixy = doc.number("mass_balance/ixy", default=0.0)
     ixz = doc.number("mass_balance/ixz", default=0.0)
     iyz = doc.number("mass_balance/iyz", default=0.0)
@@ -134,7 +173,7 @@ def _mass(doc: XmlDoc) -> MassParams:
         loc = pm.find("location")
         if w is None or loc is None:
             raise DefinitionError(doc.path, what, "needs <weight> and <location>")
-        m_i = element_number(doc.path, f"{what}/weight", w, lo=0.0)
+        m_i = element_number(doc.path, f"{what}/weight", w, lo=0.0, unit="kg")
         masses.append((m_i, np.array(location(doc.path, loc, f"{what}/location")), np.zeros((3, 3))))
     M = sum(m for m, _, _ in masses)
     cg = sum(m * r for m, r, _ in masses) / M
@@ -145,22 +184,47 @@ def _mass(doc: XmlDoc) -> MassParams:
     for m, r, Ji in masses:
         d = (r - cg) * flip
         Jt += Ji + m * (d @ d * np.eye(3) - np.outer(d, d))
+    # a physical body: principal moments positive, each at most the sum of the other two
+    pm = np.linalg.eigvalsh(0.5 * (Jt + Jt.T))
+    tol = 1e-9 * float(np.max(np.abs(pm)))
+    if not (np.all(np.isfinite(pm)) and pm[0] > 0.0 and pm[2] <= pm[0] + pm[1] + tol):
+        raise DefinitionError(doc.path, "mass_balance",
+                              f"inertia about the CG is not a physical body's (principal moments "
+                              f"{', '.join(f'{v:.4g}' for v in pm)} kg m2; allowed: all > 0, each <= the sum of the other two)")
     return MassParams(mass=float(M), cg_structural=tuple(float(v) for v in cg), inertia=tuple(tuple(float(v) for v in row) for row in Jt))
 
 
+def _geometry(doc: XmlDoc) -> tuple[float, float, float]:
+    """Reference wing area [m^2], span [m] and chord [m] (``<metrics>``); the tail sizes JSBSim
+    reads are checked too (>= 0 when given)."""
+    S = doc.number("metrics/wingarea", lo=0.0, lo_open=True, unit="m2")
+    b = doc.number("metrics/wingspan", lo=0.0, lo_open=True, unit="m")
+    c = doc.number("metrics/chord", lo=0.0, lo_open=True, unit="m")
+    for tail, unit in (("htailarea", "m2"), ("htailarm", "m"), ("vtailarea", "m2"), ("vtailarm", "m")):
+        doc.number(f"metrics/{tail}", lo=0.0, default=0.0, unit=unit)
+    return S, b, c
+
+
+def _pm_coefficients(doc: XmlDoc, prefix: str = "aero/pm") -> dict[str, float]:
+    """The point-mass polar (:data:`PM_RANGES`) declared as ``<property>`` ``PREFIX/NAME``."""
+    vals = {k: doc.property_value(f"{prefix}/{k}", lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open)
+            for k, (lo, hi, lo_open, hi_open) in PM_RANGES.items()}
+    if vals["CLmax"] <= vals["CL0"]:
+        raise DefinitionError(doc.path, f"property {prefix}/CLmax",
+                              f"value {vals['CLmax']:g} out of range (allowed > {prefix}/CL0 = {vals['CL0']:g}: "
+                              f"the wing reaches CLmax at a positive angle of attack)")
+    return vals
+
+
+def _stability(doc: XmlDoc, prefix: str = "aero/coef") -> dict[str, float]:
+    """The stability and control derivatives (:data:`COEF_RANGES`) declared as ``PREFIX/NAME``."""
+    return {k: doc.property_value(f"{prefix}/{k}", lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open)
+            for k, (lo, hi, lo_open, hi_open) in COEF_RANGES.items()}
+
+
 def _aero(doc: XmlDoc) -> AeroParams:
-    pv = doc.property_value
-    return AeroParams(
-        S=doc.number("metrics/wingarea", lo=0.0, lo_open=True),
-        b=doc.number("metrics/wingspan", lo=0.0, lo_open=True),
-        c=doc.number("metrics/chord", lo=0.0, lo_open=True),
-        CL0=pv("aero/pm/CL0", lo=-1.0, hi=1.5),
-        CLalpha=pv("aero/pm/CLalpha", lo=0.0, hi=2 * math.pi, lo_open=True),
-        CLmax=pv("aero/pm/CLmax", lo=0.0, hi=3.0, lo_open=True),
-        CD0=pv("aero/pm/CD0", lo=0.0, hi=1.0, lo_open=True),
-        CDalpha1=pv("aero/pm/CDalpha1", lo=-5.0, hi=5.0),
-        CDalpha2=pv("aero/pm/CDalpha2", lo=0.0, hi=50.0),
-    )
+    S, b, c = _geometry(doc)
+    return AeroParams(S=S, b=b, c=c, **_pm_coefficients(doc, "aero/pm"))
 
 
 def _propulsion(doc: XmlDoc) -> PropulsionParams:
@@ -179,12 +243,150 @@ def _propulsion(doc: XmlDoc) -> PropulsionParams:
     )
 
 
-def load_airframe_file(path: str | Path, config: str = "custom") -> Airframe:
-    """Read one aircraft XML file into an :class:`Airframe` (raises DefinitionError)."""
+def _load_aircraft_doc(path: str | Path) -> XmlDoc:
+    """Parse an aircraft file and check every number JSBSim reads from it (:func:`check_numbers`)."""
     doc = XmlDoc.load(path)
     if doc.root.tag != "fdm_config":
         raise DefinitionError(doc.path, doc.root.tag, "root element must be <fdm_config>")
-    return Airframe(
+    check_numbers(doc)
+    return doc
+
+
+def is_foldable(doc: XmlDoc) -> bool:
+    """Whether ``doc`` is the morphing aircraft (declares the two coefficient sets ``aero/unfolded/*``
+    and ``aero/folded/*`` blended by the fold state)."""
+    return any((el.text or "").strip().startswith(("aero/unfolded/", "aero/folded/")) for el in doc.root.iter("property"))
+
+
+def _controls(doc: XmlDoc) -> None:
+    """Flight controls: the three surface scalings the adapter reads (deflection at full command
+    in (0, pi/2] rad, at the opposite full command in [-pi/2, 0) rad), every numeric ``<range>`` and
+    ``<clipto>`` with min < max, every numeric ``<rate_limit>`` > 0."""
+    fcs = doc.find("flight_control")
+    assert fcs is not None
+    for name in SURFACES:
+        el = fcs.find(f".//aerosurface_scale[@name='{name}']")
+        if el is None:
+            raise DefinitionError(doc.path, f"flight_control/aerosurface_scale[{name}]", "missing element (the 6-DOF adapter reads it)")
+        what = f"aerosurface_scale[{name}]/range"
+        lo_el, hi_el = el.find("range/min"), el.find("range/max")
+        if lo_el is None or hi_el is None:
+            raise DefinitionError(doc.path, what, "needs <min> and <max> (deflection at full command, rad)")
+        element_number(doc.path, f"{what}/max", hi_el, lo=0.0, hi=SURFACE_MAX_RAD, lo_open=True, unit="rad")
+        element_number(doc.path, f"{what}/min", lo_el, lo=-SURFACE_MAX_RAD, hi=0.0, hi_open=True, unit="rad")
+    for tag in ("range", "clipto"):
+        for i, el in enumerate(fcs.iter(tag)):
+            lo_el, hi_el = el.find("min"), el.find("max")
+            try:
+                lo, hi = float((lo_el.text or "").strip()), float((hi_el.text or "").strip())  # type: ignore[union-attr]
+            except (AttributeError, ValueError):
+                continue  # property bounds (checked by name) or missing: JSBSim's defaults
+            if not lo < hi:
+                raise DefinitionError(doc.path, f"flight_control/{tag}[{i}]", f"min {lo:g} >= max {hi:g} (allowed min < max)")
+    for i, el in enumerate(fcs.iter("rate_limit")):
+        try:
+            v = float((el.text or "").strip())
+        except ValueError:
+            continue  # a property name
+        if not v > 0.0:
+            raise DefinitionError(doc.path, f"flight_control/rate_limit[{i}]", f"value {v:g} out of range (allowed > 0 per s)")
+
+
+def _contacts(doc: XmlDoc) -> None:
+    """Ground contacts: a location, spring > 0, damping and friction coefficients >= 0 (as
+    written: JSBSim converts their units)."""
+    gr = doc.find("ground_reactions")
+    assert gr is not None
+    contacts = gr.findall("contact")
+    if not contacts:
+        raise DefinitionError(doc.path, "ground_reactions/contact", "missing element (the glider needs contacts to land)")
+    for el in contacts:
+        what = f"ground_reactions/contact[{el.attrib.get('name', '?')}]"
+        loc = el.find("location")
+        if loc is None:
+            raise DefinitionError(doc.path, f"{what}/location", "missing element")
+        location(doc.path, loc, f"{what}/location")
+        for tag, lo, lo_open in (("spring_coeff", 0.0, True), ("damping_coeff", 0.0, False), ("static_friction", 0.0, False),
+                                 ("dynamic_friction", 0.0, False), ("rolling_friction", 0.0, False)):
+            sub = el.find(tag)
+            if sub is None:
+                if tag == "spring_coeff":
+                    raise DefinitionError(doc.path, f"{what}/{tag}", "missing element")
+                continue
+            element_number(doc.path, f"{what}/{tag}", sub, lo=lo, lo_open=lo_open, convert=False)
+
+
+def _external_forces(doc: XmlDoc) -> None:
+    """The tether hook the adapter drives (``external_reactions/force[tether]``, LOCAL frame)."""
+    hook = doc.find("external_reactions/force[@name='tether']", required=False)
+    if hook is None:
+        raise DefinitionError(doc.path, "external_reactions/force[tether]", "missing element (the tether hook the ground station pulls)")
+    if hook.attrib.get("frame", "").upper() != "LOCAL":
+        raise DefinitionError(doc.path, "external_reactions/force[tether]", f"frame {hook.attrib.get('frame')!r} not allowed (allowed LOCAL: NED force components)")
+    loc = hook.find("location")
+    if loc is None:
+        raise DefinitionError(doc.path, "external_reactions/force[tether]/location", "missing element")
+    location(doc.path, loc, "external_reactions/force[tether]/location")
+
+
+def _airframe_checks(doc: XmlDoc) -> None:
+    """The checks every aircraft file gets besides its geometry, mass, propulsion values and
+    aerodynamics: controls, contacts, tether hook."""
+    _controls(doc)
+    _contacts(doc)
+    _external_forces(doc)
+
+
+def _foldable(doc: XmlDoc) -> None:
+    """The morphing aircraft: both coefficient sets (each form's own normalisation, the ranges
+    of the static forms), the fold ratios of area and span (0 .. 1] and the fold time."""
+    for form in ("unfolded", "folded"):
+        _pm_coefficients(doc, f"aero/{form}")
+        _stability(doc, f"aero/{form}")
+    for ratio in ("S-ratio", "b-ratio"):
+        doc.property_value(f"aero/fold/{ratio}", lo=0.0, hi=1.0, lo_open=True)
+    doc.property_value("fcs/wing-fold-time-s", lo=0.0, hi=FOLD_TIME_MAX_S, lo_open=True, unit="s")
+    if doc.find(".//actuator[@name='fcs/wing-fold-actuator']", required=False) is None:
+        raise DefinitionError(doc.path, "flight_control/actuator[fcs/wing-fold-actuator]", "missing element (the fold actuator)")
+
+
+def check_aircraft_file(path: str | Path, root: Path | None = None) -> XmlDoc:
+    """Check a JSBSim aircraft file field by field before JSBSim loads it; returns it parsed.
+
+    Every number JSBSim reads is a finite number (:func:`~.xmlutil.check_numbers`); geometry,
+    mass (``<emptywt>`` > 0, inertia of a physical body), point-mass propulsion, controls,
+    contacts and tether hook are range-checked; the aerodynamics of the static forms
+    (``aero/pm/*``, ``aero/coef/*``) or, for the morphing aircraft, of both forms
+    (``aero/unfolded/*``, ``aero/folded/*``), the fold ratios and the fold time; and the engine
+    and propeller files it names (``engine/`` under ``root``, default the file's
+    ``../../..``). Raises :class:`~fdm_awe.errors.DefinitionError` (file, element, allowed range).
+    """
+    from .engine import engine_files
+
+    doc = _load_aircraft_doc(path)
+    _geometry(doc)
+    _mass(doc)
+    _propulsion(doc)
+    _airframe_checks(doc)
+    if is_foldable(doc):
+        _foldable(doc)
+    else:
+        _pm_coefficients(doc, "aero/pm")
+        _stability(doc, "aero/coef")
+    engine_files(doc, Path(path).resolve().parents[2] if root is None else Path(root))
+    return doc
+
+
+def load_airframe_file(path: str | Path, config: str = "custom") -> Airframe:
+    """Read one static aircraft XML file into an :class:`Airframe`, checked as
+    :func:`check_aircraft_file` checks it except for the engine files (DefinitionError: file,
+    element, allowed range)."""
+    doc = _load_aircraft_doc(path)
+    if is_foldable(doc):
+        raise DefinitionError(doc.path, "property aero/pm/CL0",
+                              "a morphing aircraft (aero/unfolded/*, aero/folded/*) has no single static form; "
+                              "load glider_unfolded or glider_folded")
+    airframe = Airframe(
         config=config,
         aircraft=doc.root.attrib.get("name", Path(path).stem),
         source=Path(path),
@@ -192,6 +394,9 @@ def load_airframe_file(path: str | Path, config: str = "custom") -> Airframe:
         mass=_mass(doc),
         propulsion=_propulsion(doc),
     )
+    _stability(doc, "aero/coef")
+    _airframe_checks(doc)
+    return airframe
 
 
 def load_airframe(config: str = "unfolded", root: Path | None = None) -> Airframe:

@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import ROOT
 from ..errors import DefinitionError
-from .xmlutil import XmlDoc
+from .xmlutil import XmlDoc, check_numbers
 
 J_FIT_MAX = 0.95  #: upper end of the fitted advance-ratio range [-]
 FIT_TOL = 5e-4  #: largest table residual of the quadratic fits [-]
@@ -74,41 +74,68 @@ def _fit(doc: XmlDoc, name: str) -> tuple[float, float, float]:
     return float(c0), float(c1), float(c2)
 
 
+def _motor(doc: XmlDoc) -> dict[str, float]:
+    """The Drela constants of a ``brushless_dc_motor`` file, checked (numbers as written: JSBSim
+    reads them in rpm/V, ohm, A and V)."""
+    if doc.root.tag != "brushless_dc_motor":
+        raise DefinitionError(doc.path, doc.root.tag, "root element must be <brushless_dc_motor> (the drive model of the package)")
+    num = doc.number
+    return {
+        "kv": num("velocityconstant", lo=0.0, hi=1e5, lo_open=True, unit="rpm/V", convert=False),
+        "resistance": num("coilresistance", lo=0.0, hi=100.0, lo_open=True, unit="ohm", convert=False),
+        "no_load_current": num("noloadcurrent", lo=0.0, hi=1000.0, unit="A", convert=False),
+        "max_volts": num("maxvolts", lo=0.0, hi=1e4, lo_open=True, unit="V", convert=False),
+    }
+
+
+def _propeller(doc: XmlDoc) -> float:
+    """Checks a JSBSim ``propeller`` file (inertia, blades, tables); returns the diameter [m]."""
+    if doc.root.tag != "propeller":
+        raise DefinitionError(doc.path, doc.root.tag, "root element must be <propeller>")
+    doc.number("ixx", lo=0.0, lo_open=True, hi=1.0, unit="kg m2")
+    blades = doc.number("numblades", lo=1.0, hi=12.0, convert=False)
+    if blades != int(blades):
+        raise DefinitionError(doc.path, "numblades", f"value {blades:g} is not a whole number (allowed 1 .. 12 blades)")
+    cs = doc.number("constspeed", default=0.0, convert=False)
+    if cs not in (0.0, 1.0):
+        raise DefinitionError(doc.path, "constspeed", f"value {cs:g} not allowed (allowed 0 or 1)")
+    _table(doc, "C_THRUST")
+    _table(doc, "C_POWER")
+    d_el = doc.find("diameter")
+    assert d_el is not None
+    unit = d_el.attrib.get("unit", "IN").upper()
+    scale = {"IN": _IN, "FT": 0.3048, "M": 1.0}.get(unit)
+    if scale is None:
+        raise DefinitionError(doc.path, "diameter", f"unit {unit!r} unknown (allowed IN, FT, M)")
+    return doc.number("diameter", lo=0.0, hi=100.0, lo_open=True, unit=unit.lower(), convert=False) * scale
+
+
+def engine_files(adoc: XmlDoc, root: Path | None = None) -> tuple[XmlDoc, XmlDoc]:
+    """The motor and propeller files that aircraft file ``adoc`` names (``engine/NAME.xml`` under
+    ``root``), both checked field by field (DefinitionError: file, element, allowed range)."""
+    root = ROOT if root is None else Path(root)
+    eng = adoc.find("propulsion/engine")
+    thr = adoc.find("propulsion/engine/thruster")
+    assert eng is not None and thr is not None
+    if not eng.attrib.get("file") or not thr.attrib.get("file"):
+        raise DefinitionError(adoc.path, "propulsion/engine", "engine and thruster need a file attribute (a file name in engine/)")
+    mdoc = XmlDoc.load(root / "engine" / f"{eng.attrib['file']}.xml")
+    pdoc = XmlDoc.load(root / "engine" / f"{thr.attrib['file']}.xml")
+    for doc in (mdoc, pdoc):
+        check_numbers(doc)
+    _motor(mdoc)
+    _propeller(pdoc)
+    return mdoc, pdoc
+
+
 def load_electric_drive(aircraft: str = "glider_foldable", root: Path | None = None) -> ElectricDrive:
     """The drive of ``aircraft/NAME/NAME.xml`` from the engine files it names (DefinitionError:
     file, element and allowed range)."""
     root = ROOT if root is None else Path(root)
     adoc = XmlDoc.load(root / "aircraft" / aircraft / f"{aircraft}.xml")
-    eng = adoc.find("propulsion/engine")
-    thr = adoc.find("propulsion/engine/thruster")
-    if "file" not in eng.attrib or "file" not in thr.attrib:
-        raise DefinitionError(adoc.path, "propulsion/engine", "engine and thruster need a file attribute")
-    mdoc = XmlDoc.load(root / "engine" / f"{eng.attrib['file']}.xml")
-    pdoc = XmlDoc.load(root / "engine" / f"{thr.attrib['file']}.xml")
-    if mdoc.root.tag != "brushless_dc_motor":
-        raise DefinitionError(mdoc.path, mdoc.root.tag, "the point-mass drive model needs a brushless_dc_motor")
-
-    def num(doc: XmlDoc, tag: str, lo: float, hi: float) -> float:
-        el = doc.find(tag)
-        try:
-            v = float((el.text or "").strip())
-        except ValueError:
-            v = math.nan
-        if not (lo < v <= hi):
-            raise DefinitionError(doc.path, tag, f"value {el.text!r} out of range (allowed > {lo:g} and <= {hi:g})")
-        return v
-
-    d_el = pdoc.find("diameter")
-    unit = d_el.attrib.get("unit", "IN").upper()
-    scale = {"IN": _IN, "FT": 0.3048, "M": 1.0}.get(unit)
-    if scale is None:
-        raise DefinitionError(pdoc.path, "diameter", f"unit {unit!r} unknown (allowed IN, FT, M)")
-    diameter = num(pdoc, "diameter", 0.0, 100.0) * scale
-    return ElectricDrive(
-        diameter=diameter, ct=_fit(pdoc, "C_THRUST"), cp=_fit(pdoc, "C_POWER"),
-        kv=num(mdoc, "velocityconstant", 0.0, 1e5), resistance=num(mdoc, "coilresistance", 0.0, 100.0),
-        no_load_current=num(mdoc, "noloadcurrent", -1e-12, 1000.0), max_volts=num(mdoc, "maxvolts", 0.0, 1e4),
-        source=(mdoc.path, pdoc.path))
+    mdoc, pdoc = engine_files(adoc, root)
+    return ElectricDrive(diameter=_propeller(pdoc), ct=_fit(pdoc, "C_THRUST"), cp=_fit(pdoc, "C_POWER"), **_motor(mdoc),
+                         source=(mdoc.path, pdoc.path))
 
 
-__all__ = ["ElectricDrive", "FIT_TOL", "J_FIT_MAX", "load_electric_drive"]
+__all__ = ["ElectricDrive", "FIT_TOL", "J_FIT_MAX", "engine_files", "load_electric_drive"]

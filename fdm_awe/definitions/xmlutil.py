@@ -1,18 +1,46 @@
 """Small, strict helpers to read numbers out of definition XML files.
 
 Every failure raises :class:`fdm_awe.errors.DefinitionError` whose one-line message names
-the file and the element (and the allowed range where one applies).
+the file and the element (and the allowed range or form where one applies).
+
+:func:`check_numbers` checks every slot of a JSBSim file (aircraft, engine, propeller) that
+JSBSim reads as a number: a file that passes it never makes JSBSim parse a non-number (JSBSim
+would stop with a C++ exception and a traceback); the range of each value the package relies
+on is checked by the loaders (:mod:`.aircraft`, :mod:`.engine`).
 """
 
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
 from ..errors import DefinitionError
 from ..units import TO_SI
+
+#: Leaf elements of JSBSim aircraft, engine and propeller files whose text is a number.
+NUMBER_ELEMENTS = frozenset({
+    # metrics, locations, orientations, directions
+    "wingarea", "wingspan", "chord", "htailarea", "htailarm", "vtailarea", "vtailarm", "wing_incidence",
+    "x", "y", "z", "roll", "pitch", "yaw",
+    # mass balance
+    "ixx", "iyy", "izz", "ixy", "ixz", "iyz", "emptywt", "weight",
+    # ground reactions
+    "static_friction", "dynamic_friction", "rolling_friction", "spring_coeff", "damping_coeff",
+    "damping_coeff_rebound", "max_steer", "retractable",
+    # propulsion
+    "feed", "sense", "p_factor", "velocityconstant", "coilresistance", "noloadcurrent", "maxvolts", "diameter",
+    "numblades", "constspeed", "minpitch", "maxpitch", "minrpm", "maxrpm", "gearratio",
+    # functions
+    "value",
+})
+#: Leaf elements whose text is a number or the name of a property (``fcs/...``).
+NUMBER_OR_PROPERTY_ELEMENTS = frozenset({"gain", "rate_limit", "min", "max", "bias", "lag", "width"})
+_PROPERTY_NAME = re.compile(r"^-?[A-Za-z_][\w\-]*(\[\d+\])?(/[A-Za-z_][\w\-]*(\[\d+\])?)+$")
+_ALLOWED_NUMBER = "allowed: a finite decimal number"
 
 
 @dataclass(frozen=True)
@@ -26,11 +54,13 @@ class XmlDoc:
     def load(cls, path: str | Path) -> "XmlDoc":
         p = Path(path)
         if not p.is_file():
-            raise DefinitionError(p, "file", "not found")
+            raise DefinitionError(p, "file", "not found" if not p.exists() else "not a regular file")
         try:
             root = ET.parse(p).getroot()
         except ET.ParseError as exc:
             raise DefinitionError(p, "xml", f"not well-formed XML ({exc})") from None
+        except OSError as exc:
+            raise DefinitionError(p, "file", f"cannot read ({exc.strerror or exc})") from None
         return cls(p, root)
 
     # -- element access ----------------------------------------------------------
@@ -48,17 +78,22 @@ class XmlDoc:
         lo: float | None = None,
         hi: float | None = None,
         lo_open: bool = False,
+        hi_open: bool = False,
         default: float | None = None,
+        convert: bool = True,
     ) -> float:
         """Read the float text of ``xpath``, converted to SI from its ``unit`` attribute.
 
         ``unit`` names the SI unit the caller expects (for the message); ``lo``/``hi`` bound
-        the converted value (``lo_open`` makes the lower bound strict, e.g. ``> 0``).
+        the converted value (``lo_open``/``hi_open`` make a bound strict, e.g. ``> 0``).
+        ``convert=False`` reads the number as written (files whose units JSBSim alone
+        interprets, e.g. ``OHMS`` of a motor).
         """
         el = self.find(xpath, required=default is None)
         if el is None:
             return float(default)  # type: ignore[arg-type]
-        return element_number(self.path, xpath, el, lo=lo, hi=hi, lo_open=lo_open)
+        return element_number(self.path, xpath, el, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, unit=unit or "",
+                              convert=convert)
 
     def property_value(
         self,
@@ -67,31 +102,51 @@ class XmlDoc:
         lo: float | None = None,
         hi: float | None = None,
         lo_open: bool = False,
+        hi_open: bool = False,
+        unit: str = "",
     ) -> float:
         """Value of a JSBSim ``<property value="...">name</property>`` declaration."""
         for el in self.root.iter("property"):
             if (el.text or "").strip() == name and "value" in el.attrib:
-                return _check(self.path, f"property {name}", _to_float(self.path, f"property {name}", el.attrib["value"]), lo, hi, lo_open)
+                what = f"property {name}"
+                return _check(self.path, what, _to_float(self.path, what, el.attrib["value"]), lo, hi, lo_open, hi_open, unit)
         raise DefinitionError(self.path, f"property {name}", "missing declaration (<property value=...>)")
+
+    def has_property(self, name: str) -> bool:
+        """Whether the file declares ``<property value=...>name</property>``."""
+        return any((el.text or "").strip() == name and "value" in el.attrib for el in self.root.iter("property"))
 
 
 def _to_float(path: Path, what: str, text: str | None) -> float:
+    t = (text or "").strip()
     try:
-        v = float((text or "").strip())
+        v = float(t)
     except ValueError:
-        raise DefinitionError(path, what, f"not a number: {text!r}") from None
+        shown = repr(t) if len(t) <= 40 else repr(t[:37] + "...")
+        raise DefinitionError(path, what, f"{shown} is not a number ({_ALLOWED_NUMBER})") from None
     if not math.isfinite(v):
-        raise DefinitionError(path, what, f"not a finite number: {text!r}")
+        raise DefinitionError(path, what, f"{t!r} is not a finite number ({_ALLOWED_NUMBER})")
     return v
 
 
-def _check(path: Path, what: str, v: float, lo: float | None, hi: float | None, lo_open: bool) -> float:
-    if lo is not None and (v <= lo if lo_open else v < lo):
-        rng = f"{'>' if lo_open else '>='} {lo:g}" + (f" and <= {hi:g}" if hi is not None else "")
-        raise DefinitionError(path, what, f"value {v:g} out of range (allowed {rng})")
-    if hi is not None and v > hi:
-        rng = (f"{'>' if lo_open else '>='} {lo:g} and " if lo is not None else "") + f"<= {hi:g}"
-        raise DefinitionError(path, what, f"value {v:g} out of range (allowed {rng})")
+def allowed_range(lo: float | None, hi: float | None, lo_open: bool = False, hi_open: bool = False, unit: str = "") -> str:
+    """``"> 0 and <= 10 s"``-style text of an interval (for messages)."""
+    u = f" {unit}" if unit else ""
+    parts = []
+    if lo is not None:
+        parts.append(f"{'>' if lo_open else '>='} {lo:g}")
+    if hi is not None:
+        parts.append(f"{'<' if hi_open else '<='} {hi:g}")
+    return " and ".join(parts) + u if parts else "any finite number"
+
+
+def _check(path: Path, what: str, v: float, lo: float | None, hi: float | None, lo_open: bool,
+           hi_open: bool = False, unit: str = "") -> float:
+    below = lo is not None and (v <= lo if lo_open else v < lo)
+    above = hi is not None and (v >= hi if hi_open else v > hi)
+    if below or above:
+        u = f" {unit}" if unit else ""
+        raise DefinitionError(path, what, f"value {v:g}{u} out of range (allowed {allowed_range(lo, hi, lo_open, hi_open, unit)})")
     return v
 
 
@@ -103,15 +158,19 @@ def element_number(
     lo: float | None = None,
     hi: float | None = None,
     lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
+    convert: bool = True,
 ) -> float:
-    """Float text of ``el`` converted to SI with its ``unit`` attribute, range-checked."""
+    """Float text of ``el`` converted to SI with its ``unit`` attribute (as written with
+    ``convert=False``), range-checked."""
     v = _to_float(path, what, el.text)
-    unit = el.attrib.get("unit")
-    if unit is not None:
-        if unit.upper() not in TO_SI:
-            raise DefinitionError(path, what, f"unknown unit {unit!r} (known: {', '.join(sorted(TO_SI))})")
-        v *= TO_SI[unit.upper()]
-    return _check(path, what, v, lo, hi, lo_open)
+    u = el.attrib.get("unit") if convert else None
+    if u is not None:
+        if u.upper() not in TO_SI:
+            raise DefinitionError(path, what, f"unknown unit {u!r} (known: {', '.join(sorted(TO_SI))})")
+        v *= TO_SI[u.upper()]
+    return _check(path, what, v, lo, hi, lo_open, hi_open, unit)
 
 
 def location(path: Path, el: ET.Element, what: str) -> tuple[float, float, float]:
@@ -126,3 +185,48 @@ def location(path: Path, el: ET.Element, what: str) -> tuple[float, float, float
             raise DefinitionError(path, f"{what}/{axis}", "missing element")
         out.append(_to_float(path, f"{what}/{axis}", c.text) * TO_SI[unit])
     return (out[0], out[1], out[2])
+
+
+def _walk(el: ET.Element, prefix: str) -> Iterator[tuple[str, ET.Element]]:
+    """``(path, element)`` of ``el``'s descendants; a path names elements with a ``name``
+    attribute by it (``ground_reactions/contact[NOSE_SKID]/spring_coeff``)."""
+    for child in el:
+        if not isinstance(child.tag, str):  # comments, processing instructions
+            continue
+        name = child.attrib.get("name")
+        here = f"{prefix}/{child.tag}" if prefix else child.tag
+        if name:
+            here += f"[{name}]"
+        yield here, child
+        yield from _walk(child, here)
+
+
+def check_numbers(doc: XmlDoc) -> None:
+    """Every number JSBSim reads from ``doc``: finite decimal numbers in the leaf elements of
+    :data:`NUMBER_ELEMENTS` and in ``<property value=...>``, numbers or property names in
+    :data:`NUMBER_OR_PROPERTY_ELEMENTS`, and rows of numbers in ``<tableData>``."""
+    for where, el in _walk(doc.root, ""):
+        tag = el.tag
+        if tag == "property" and "value" in el.attrib:
+            _to_float(doc.path, f"property {(el.text or '').strip()}", el.attrib["value"])
+        elif len(el):
+            continue  # an element with children (a function's <max>, a <location>) is checked through them
+        elif tag in NUMBER_ELEMENTS:
+            _to_float(doc.path, where, el.text)
+        elif tag in NUMBER_OR_PROPERTY_ELEMENTS:
+            text = (el.text or "").strip()
+            try:
+                float(text)
+            except ValueError:
+                if not _PROPERTY_NAME.match(text):
+                    raise DefinitionError(doc.path, where, f"{text!r} is neither a number nor a property name "
+                                                          f"(allowed: a finite decimal number or a property such as fcs/name)") from None
+            else:
+                _to_float(doc.path, where, text)
+        elif tag == "tableData":
+            rows = [line.split() for line in (el.text or "").strip().splitlines() if line.strip()]
+            if not rows:
+                raise DefinitionError(doc.path, where, "empty table (allowed: rows of finite numbers)")
+            for i, row in enumerate(rows):
+                for tok in row:
+                    _to_float(doc.path, f"{where} row {i + 1}", tok)

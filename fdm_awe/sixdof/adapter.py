@@ -27,6 +27,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from .. import ROOT
+from ..definitions.aircraft import check_aircraft_file
 from ..definitions.xmlutil import XmlDoc
 from ..errors import DefinitionError, InputError
 from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
@@ -81,7 +82,7 @@ class JSBSimGlider:
         xml = self.root / "aircraft" / name / f"{name}.xml"
         if not xml.is_file():
             raise InputError(f"aircraft {name!r}: no definition {xml}")
-        self._doc = XmlDoc.load(xml)
+        self._doc = check_aircraft_file(xml, root=self.root)  # every field checked before JSBSim reads the file
         fdm = jsbsim.FGFDMExec(str(self.root))
         fdm.set_debug_level(0)
         if not fdm.load_model(name):
