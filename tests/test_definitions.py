@@ -59,6 +59,11 @@ def _mutated(tmp_path, pattern, repl, count=1):
         (r"(<emptywt[^>]*>)[^<]*(</emptywt>)", r"\g<1>heavy\g<2>", "mass_balance/emptywt"),  # non-numeric
         (r'value="[^"]*"(>\s*aero/pm/CLalpha\s*<)', r'value="abc"\g<1>', "aero/pm/CLalpha"),
         (r"<property[^>]*>\s*aero/pm/CD0\s*</property>", "", "aero/pm/CD0"),
+        (r"<emptywt[^>]*>[^<]*</emptywt>", "", "mass_balance/emptywt"),  # removed: JSBSim would fly the point masses alone
+        (r"(<emptywt[^>]*>)[^<]*(</emptywt>)", r"\g<1>-0.738\g<2>", "mass_balance/emptywt"),  # negative mass
+        (r'value="[^"]*"(>\s*aero/coef/Cm_alpha\s*<)', r'value="abc"\g<1>', "aero/coef/Cm_alpha"),  # stability derivative
+        (r'value="[^"]*"(>\s*aero/coef/Cl_p\s*<)', r'value="0.5"\g<1>', "aero/coef/Cl_p"),  # no roll damping
+        (r"(<spring_coeff[^>]*>)[^<]*(</spring_coeff>)", r"\g<1>nan\g<2>", "spring_coeff"),
     ],
 )
 def test_bad_definition_fails_with_one_line_naming_file_and_element(tmp_path, pattern, repl, element):

@@ -95,3 +95,43 @@ def test_english_length_unit_is_converted(tmp_path):
 def test_missing_file_is_definition_error(tmp_path):
     with pytest.raises(DefinitionError, match="not found"):
         load_ground_station(tmp_path / "nope.xml")
+
+
+@pytest.mark.parametrize(
+    "old,new,element,words",
+    [
+        ('<air_density unit="KG/M3"> 1.225 </air_density>', '<air_density unit="KG/M3"> 0 </air_density>',
+         "tether/air_density", "> 0"),
+        ('<gravity unit="M/S2"> 9.81 </gravity>', '<gravity unit="M/S2"> 0.0 </gravity>', "tether/gravity", "> 0"),
+        ('<device_drop unit="V"> 0.5 </device_drop>', '<device_drop unit="V"> 12.0 </device_drop>',
+         "converter/device_drop", "half the supply voltage"),
+        ('<max_length unit="M"> 600.0 </max_length>', '<max_length unit="M"> 1.0 </max_length>',
+         "tether/max_length", "must exceed"),
+        ('<diameter unit="M"> 0.00072 </diameter>', '<diameter unit="M"> 0.72 mm </diameter>', "tether/diameter", "not a number"),
+        ('<ki unit="1/RAD"> 0.1044 </ki>', '<ki unit="1/RAD"> inf </ki>', "speed_controller/ki", "finite"),
+        ('<ground_station name', '<groundstation name', "groundstation", "root element"),
+    ],
+)
+def test_more_bad_values_give_one_line_errors(tmp_path, old, new, element, words):
+    text = XML.read_text()
+    if old.startswith("<ground_station"):
+        text = text.replace("</ground_station>", "</groundstation>")
+    f = tmp_path / "gs.xml"
+    assert old in text
+    f.write_text(text.replace(old, new, 1))
+    with pytest.raises(DefinitionError) as ei:
+        load_ground_station(f)
+    msg = str(ei.value)
+    assert "\n" not in msg and "gs.xml" in msg and element in msg and words in msg, msg
+
+
+def test_folder_and_malformed_file(tmp_path):
+    with pytest.raises(DefinitionError, match="not a regular file"):
+        load_ground_station(tmp_path)
+    f = tmp_path / "gs.xml"
+    f.write_bytes(XML.read_bytes()[:2000])
+    with pytest.raises(DefinitionError, match="not well-formed"):
+        load_ground_station(f)
+    f.write_bytes(b"\x00\x01binary")
+    with pytest.raises(DefinitionError, match="not well-formed"):
+        load_ground_station(f)

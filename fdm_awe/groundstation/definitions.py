@@ -155,8 +155,8 @@ def load_ground_station(path: str | Path | None = None) -> GroundStationParams:
         weight_share=v("tether/weight_share", "ND", lo=0.0, hi=1.0),
         min_length=v("tether/min_length", "M", lo=0.0, lo_open=True),
         max_length=v("tether/max_length", "M", lo=0.0, lo_open=True),
-        air_density=v("tether/air_density", "KG/M3", lo=0.0, hi=2.0),
-        gravity=v("tether/gravity", "M/S2", lo=0.0, hi=20.0),
+        air_density=v("tether/air_density", "KG/M3", lo=0.0, hi=2.0, lo_open=True),
+        gravity=v("tether/gravity", "M/S2", lo=0.0, hi=20.0, lo_open=True),
     )
     if tether.max_length <= tether.min_length:
         raise DefinitionError(doc.path, "tether/max_length",
@@ -180,6 +180,10 @@ def load_ground_station(path: str | Path | None = None) -> GroundStationParams:
         load_resistance=v("converter/load_resistance", "OHM", lo=0.0, lo_open=True),
         boost_duty=v("converter/boost_duty", "ND", lo=0.0, hi=1.0),
     )
+    if 2.0 * converter.device_drop >= converter.supply_voltage:
+        raise DefinitionError(doc.path, "converter/device_drop",
+                              f"value {converter.device_drop:g} V out of range (allowed < half the supply voltage "
+                              f"{converter.supply_voltage:g} V: every current path holds two devices)")
     controller = SpeedControllerParams(
         kp=v("speed_controller/kp", "S/RAD", lo=0.0),
         ki=v("speed_controller/ki", "1/RAD", lo=0.0),
