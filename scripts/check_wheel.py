@@ -6,7 +6,8 @@ the end whatever happens (``--keep`` keeps it):
 
 1. copy the checkout's files (tracked and untracked, not ignored) into ``src/``;
 2. build the sdist from that copy (setuptools' own build backend), check that it holds
-   ``setup.py``, ``pyproject.toml`` and every file of ``aircraft/``, ``engine/``, ``tether/``;
+   ``setup.py``, ``pyproject.toml`` and every file of ``aircraft/``, ``engine/``, ``tether/``,
+   ``tests/``, ``scripts/`` and ``docs/`` (MANIFEST.in);
 3. build the wheel from the sdist (``pip wheel --no-deps``), check that it holds every
    definition file as ``fdm_awe/data/...`` and nothing outside ``fdm_awe/`` and its metadata;
 4. create a fresh virtual environment and install the wheel into it WITH its dependencies
@@ -41,8 +42,10 @@ import zipfile
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
-#: Definition folders at the top of the repository, shipped as ``fdm_awe/data/<folder>/``.
-DEFINITION_FOLDERS = ("aircraft", "engine", "tether")
+sys.path.insert(0, str(REPO))
+from fdm_awe import DEFINITION_FOLDERS  # noqa: E402  (the checkout's package: names only)
+#: Folders whose every file the sdist holds (MANIFEST.in).
+SDIST_FOLDERS = (*DEFINITION_FOLDERS, "tests", "scripts", "docs")
 #: Stored reference flown by the check (copied out of the checkout first).
 REFERENCE = REPO / "tests" / "data" / "ref_physical_nominal_8mps.json"
 #: Names never copied when the checkout is not a git work tree.
@@ -79,17 +82,18 @@ def copy_source(dest: Path, repo: Path = REPO) -> int:
     return len(files)
 
 
-def definition_files(src: Path) -> list[str]:
-    """Every file below the definition folders of ``src`` as POSIX paths relative to ``src``."""
-    return sorted(p.relative_to(src).as_posix() for folder in DEFINITION_FOLDERS
-                  for p in (src / folder).rglob("*") if p.is_file())
+def definition_files(src: Path, folders: tuple[str, ...] = DEFINITION_FOLDERS) -> list[str]:
+    """Every file below ``folders`` of ``src`` as POSIX paths relative to ``src``."""
+    return sorted(p.relative_to(src).as_posix() for folder in folders
+                  for p in (src / folder).rglob("*") if p.is_file() and "__pycache__" not in p.parts)
 
 
 def check_sdist_members(sdist: Path, src: Path) -> None:
-    """The sdist holds the build files and every definition file of ``src`` (CheckFailed)."""
+    """The sdist holds the build files, README and every file of ``src``'s definition folders,
+    tests, scripts and docs (MANIFEST.in), so it builds the wheel and runs the tests (CheckFailed)."""
     with tarfile.open(sdist) as tar:
         names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
-    want = ["setup.py", "pyproject.toml", *definition_files(src)]
+    want = ["setup.py", "pyproject.toml", "MANIFEST.in", "README.md", *definition_files(src, SDIST_FOLDERS)]
     missing = [n for n in want if n not in names]
     if missing:
         raise CheckFailed(f"sdist {sdist.name} lacks {len(missing)} file(s): {', '.join(missing[:5])}")
@@ -108,8 +112,9 @@ def check_wheel_members(wheel: Path, src: Path) -> None:
         raise CheckFailed(f"wheel {wheel.name} installs files outside fdm_awe/: {', '.join(stray[:5])}")
 
 
-def run(step: str, cmd: list[str], cwd: Path, env: dict[str, str] | None = None) -> str:
-    """Run ``cmd`` in ``cwd``; its output, or CheckFailed with the exit code and output's tail."""
+def run(step: str, cmd: list[str], cwd: Path, env: dict[str, str] | None = None, *, merged: bool = False) -> str:
+    """Run ``cmd`` in ``cwd``; its output (``merged``: stdout then stderr), or CheckFailed with
+    the exit code and the output's tail."""
     try:
         proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, errors="replace",
                               timeout=STEP_TIMEOUT_S)
@@ -118,7 +123,34 @@ def run(step: str, cmd: list[str], cwd: Path, env: dict[str, str] | None = None)
     if proc.returncode != 0:
         tail = "\n".join((proc.stdout + proc.stderr).strip().splitlines()[-25:])
         raise CheckFailed(f"{step}: exit {proc.returncode}: {' '.join(cmd)}\n{tail}")
-    return proc.stdout
+    return proc.stdout + proc.stderr if merged else proc.stdout
+
+
+def build_sdist(src: Path, dist: Path, python: str, tools: Path) -> Path:
+    """Build the sdist of the source tree ``src`` into ``dist`` with setuptools' build backend
+    (installed into ``tools`` by ``python``'s pip), without any warning of setuptools (deprecated
+    configuration), and check its members; returns its path."""
+    run("build tools", [python, "-m", "pip", "install", "-q", "--target", str(tools), "setuptools>=77"], cwd=dist)
+    env = dict(user_env(), PYTHONPATH=str(tools))
+    out = run("sdist", [python, "-c", "import sys; from setuptools import build_meta as b; print('sdist', b.build_sdist(sys.argv[1]))",
+                        str(dist)], cwd=src, env=env, merged=True)
+    # Python warnings of the build ("...DeprecationWarning: ...", "SetuptoolsWarning: ..."), not
+    # distutils' notes on MANIFEST.in patterns that match nothing in this copy ("warning: no ...")
+    warnings = [line.strip() for line in out.splitlines() if "Warning" in line or "deprecat" in line.lower()]
+    if warnings:
+        raise CheckFailed("sdist: the build warns: " + " | ".join(warnings[:5]))
+    sdist = dist / next(line.split()[1] for line in out.splitlines() if line.startswith("sdist "))
+    check_sdist_members(sdist, src)
+    return sdist
+
+
+def build_wheel(sdist: Path, dist: Path, python: str, src: Path) -> Path:
+    """Build the wheel from ``sdist`` into ``dist`` (``pip wheel --no-deps``, isolated build) and
+    check its members against the source tree ``src``; returns its path."""
+    run("wheel from the sdist", [python, "-m", "pip", "wheel", "-q", "--no-deps", str(sdist), "-w", str(dist)], cwd=dist)
+    (wheel,) = dist.glob("*.whl")
+    check_wheel_members(wheel, src)
+    return wheel
 
 
 def json_status(step: str, path: Path) -> dict:
@@ -146,24 +178,32 @@ def user_env() -> dict[str, str]:
     return env
 
 
-_IMPORT_CHECK = """
-import sys
+#: Run as ``python -c IMPORT_CHECK INSTALL_DIR``: the package and its ROOT lie inside INSTALL_DIR
+#: (not in this checkout); JSBSim flies every aircraft from ROOT (the reset file included); every
+#: definition file loads. Prints ROOT.
+IMPORT_CHECK = """
+import math, sys
 from pathlib import Path
 import fdm_awe
-prefix = Path(sys.prefix).resolve()
+where = Path(sys.argv[1]).resolve()
 for what, path in (("fdm_awe", Path(fdm_awe.__file__)), ("fdm_awe.ROOT", Path(fdm_awe.ROOT))):
-    if prefix not in path.resolve().parents:
-        sys.exit(f"{what} is {path}, not inside the environment {prefix}")
-import jsbsim
+    if not path.resolve().is_relative_to(where):
+        sys.exit(f"{what} is {path}, not inside {where}")
+from fdm_awe.sixdof.adapter import JSBSimGlider
 for name in ("glider_unfolded", "glider_folded", "glider_foldable"):
-    fdm = jsbsim.FGFDMExec(str(fdm_awe.ROOT))
-    fdm.set_debug_level(0)
-    if not fdm.load_model(name):
-        sys.exit(f"JSBSim cannot load {name} from {fdm_awe.ROOT}")
+    glider = JSBSimGlider(name)
+    if not glider.fdm.load_ic("reset00", True):
+        sys.exit(f"JSBSim cannot load {name}'s reset00 from {fdm_awe.ROOT}")
+    glider.reset((0.0, 0.0, -100.0), 15.0 if name != "glider_folded" else 25.0)
+    for _ in range(24):
+        glider.step()
+    if not glider.raw_finite():
+        sys.exit(f"{name} from {fdm_awe.ROOT}: non-finite state after 0.2 s")
 from fdm_awe.definitions.aircraft import load_glider
+from fdm_awe.definitions.engine import load_electric_drive
 from fdm_awe.groundstation.definitions import load_ground_station
 from fdm_awe.autopilot.config import load_autopilot_definition
-load_glider(), load_ground_station(), load_autopilot_definition()
+load_glider(), load_electric_drive(), load_ground_station(), load_autopilot_definition()
 print(fdm_awe.ROOT)
 """
 
@@ -187,29 +227,15 @@ def wheel_check(tmp: Path, python: str, fly_default: bool, log=print) -> list[tu
 
     def sdist():
         run("virtual environment", [python, "-m", "venv", str(venv)], cwd=tmp)
-        run("build tools", [str(vpy), "-m", "pip", "install", "-q", "--target", str(tools), "setuptools>=77"], cwd=tmp)
-        env = dict(user_env(), PYTHONPATH=str(tools))
-        run("sdist", [str(vpy), "-c", "import sys; from setuptools import build_meta as b; b.build_sdist(sys.argv[1])",
-                      str(dist)], cwd=src, env=env)
-        (sdist_path,) = dist.glob("*.tar.gz")
-        check_sdist_members(sdist_path, src)
-        return sdist_path.name
+        return build_sdist(src, dist, str(vpy), tools).name
 
     step("fresh environment and sdist", sdist)
-
-    def wheel():
-        (sdist_path,) = dist.glob("*.tar.gz")
-        run("wheel from the sdist", [str(vpy), "-m", "pip", "wheel", "-q", "--no-deps", str(sdist_path), "-w", str(dist)],
-            cwd=tmp)
-        (whl,) = dist.glob("*.whl")
-        check_wheel_members(whl, src)
-        return whl.name
-
-    step("wheel", wheel)
+    step("wheel", lambda: build_wheel(next(dist.glob("*.tar.gz")), dist, str(vpy), src).name)
     step("install the wheel with its dependencies",
          lambda: run("install", [str(vpy), "-m", "pip", "install", "-q", "--no-compile", str(next(dist.glob("*.whl")))], cwd=tmp) and "")
     env = user_env()
-    step("import outside the checkout", lambda: "ROOT " + run("import", [str(vpy), "-c", _IMPORT_CHECK], work, env).strip())
+    step("import outside the checkout",
+         lambda: "ROOT " + run("import", [str(vpy), "-c", IMPORT_CHECK, str(venv)], work, env).strip())
     step("fdm-awe info", lambda: run("fdm-awe info", [str(cli), "info"], work, env) and "")
 
     def optimize():
