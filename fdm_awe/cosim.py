@@ -164,6 +164,15 @@ class FlightResult:
     def realtime_factor(self) -> float:
         return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
 
+    def truncate(self, steps: int) -> None:
+        """Keep the first ``steps`` steps (rows ``0 .. steps``), e.g. the steps a caller booked
+        whole before an interruption."""
+        steps = max(0, min(int(steps), self.steps))
+        self.data = self.data[: steps + 1]
+        self.steps = steps
+        if self.event is not None and self.event.kind == "interrupted" and len(self.data):
+            self.event = Event("interrupted", float(self.data[-1, 0]), self.event.message)
+
 
 class CoSim:
     """Lock-step loop of ``glider`` (:class:`JSBSimGlider`), ``ground_station`` (anything with the
@@ -352,10 +361,13 @@ class CoSim:
             event = Event("interrupted", s.t, "interrupted by the user")
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
-        m = min(len(raws) // ncol, len(gsrec) // 10, len(ctl))
+        # an interrupt may fall between the appends of a step: keep the rows every record has
+        m = min(len(raws) // ncol, len(gsrec) // 10, len(ctl), len(phases) if has_phase else len(ctl))
         data = self._assemble(np.frombuffer(raws, dtype=float).reshape(-1, ncol)[:m],
                               np.frombuffer(gsrec, dtype=float).reshape(-1, 10)[:m], ctl[:m],
                               phases if has_phase else None)
+        if event is not None and event.kind == "interrupted" and m:
+            event = Event("interrupted", float(data[-1, 0]), event.message)
         status = "ok" if event is None else event.kind
         return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
                             steps=m - 1)
@@ -469,9 +481,15 @@ class CoSim:
             event = Event("interrupted", s.t, "interrupted by the user")
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
-        data = self._assemble(log[: k + 1, :nr], log[: k + 1, nr:nr + 10], ctl[: k + 1], phases if has_phase else None)
+        # an interrupt may fall between counting a step and appending its commands or phase:
+        # keep the rows every record has
+        m = min(k + 1, len(ctl), len(phases) if has_phase else k + 1)
+        data = self._assemble(log[:m, :nr], log[:m, nr:nr + 10], ctl[:m], phases if has_phase else None)
+        if event is not None and event.kind == "interrupted":
+            event = Event("interrupted", float(data[-1, 0]), event.message)
         status = "ok" if event is None else event.kind
-        return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall, steps=k)
+        return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
+                            steps=m - 1)
 
     def _compiled_event(self, code: int, s: SixDofState, gs_out: Any, p: np.ndarray) -> Event:
         """The :class:`Event` (with the Python loop's message) of a compiled loop's event code."""

@@ -13,6 +13,28 @@ from the ground station's supply. Paper plant: ``E_generated_J`` = mechanical te
 ``E_thrust_J`` = the paper's P(T) fit of the commanded thrust, ``E_reel_in_J`` = the constant
 reel-in power x recovery time. ``E_net_J = E_generated_J - E_thrust_J - E_reel_in_J``.
 
+Status (``FlightReport.status``, :data:`FLIGHT_STATUSES`):
+
+- ``ok``: every requested cycle was flown to its end (with ``t_end`` given: the flight reached
+  ``t_end`` without an event; its length, not a cycle count, was asked for);
+- ``incomplete``: the time cap (``2 x cycles x period + 10 s``) ended the flight before all
+  requested cycles were complete (e.g. a glider much slower than its reference);
+- ``interrupted``: Ctrl-C (SIGINT / KeyboardInterrupt) during the flight; the report holds
+  everything flown up to the last whole step;
+- ``landed``: ground contact in RECOVER mode with a sink rate below :data:`LAND_SINK_MAX`;
+- an event of the co-simulation (:data:`fdm_awe.cosim.STATUSES`: ``ground_contact``,
+  ``tether_break``, ``nonfinite``, ``airspeed_limit``, ``load_limit``) or another
+  ground-station event by name (e.g. ``tether_fully_reeled_in``).
+
+Cycles (:func:`segment_cycles`): every step is labelled with the cycle index of the reference
+point the autopilot flew it on (none outside AUTO cycling) and with the autopilot's phase
+(generation, recovery, or other). A cycle runs from its first step to the step before the next
+cycle's first step, or to the end of the flight; its ``T1_s``/``T2_s`` are the times flown in
+generation/recovery, its energies the changes of the cumulative energies over its steps (each
+booked where and when it happened, so they keep their signs). A cycle is ``complete`` when the
+autopilot went on to the next cycle; one cut off by the time cap, an event or Ctrl-C, in
+either phase, is reported with ``complete`` false.
+
 Energy ledger (whole flight): the glider's translational kinetic + potential energy change
 equals the work of the aerodynamic, propeller, tether and ground forces on it (read from
 JSBSim's force breakdown, work = force . velocity integrated by the trapezoidal rule; the
@@ -43,9 +65,23 @@ PLANT_NOTES = {
 #: touchdown sink rate [m/s] below which ground contact in RECOVER counts as a landing
 LAND_SINK_MAX = 3.0
 
+#: statuses of a flight (see the module doc); other ground-station events appear by name
+FLIGHT_STATUSES = ("ok", "incomplete", "interrupted", "landed", "ground_contact", "tether_break", "nonfinite",
+                   "airspeed_limit", "load_limit")
+
+#: phase codes of the per-step labels (:func:`segment_cycles`): autopilot phase name -> code
+PHASE_CODES = {"generation": 0, "recovery": 1}
+OTHER_PHASE = -1  #: any other phase (e.g. on the ground)
+NO_CYCLE = -1  #: cycle label of a step flown outside AUTO cycling
+
 
 @dataclass
 class CycleMetrics:
+    """One cycle of a flight: ``index`` (0-based), times flown in generation ``T1_s`` and in
+    recovery ``T2_s`` (s, >= 0), energies (J; see the module doc; all >= 0 except ``E_net_J``),
+    position tracking error RMS and maximum (m; NaN when no step of the cycle had a reference
+    point), and whether the cycle was flown to its end (``complete``)."""
+
     index: int
     T1_s: float
     T2_s: float
@@ -58,7 +94,126 @@ class CycleMetrics:
     complete: bool
 
     def as_dict(self) -> dict[str, Any]:
-        return {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.__dict__.items()}
+        """JSON-ready: floats rounded to 6 decimals, NaN as None."""
+        return {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.__dict__.items()}
+
+
+def _json_float(v: float, digits: int = 6) -> float | None:
+    """``v`` rounded for JSON, None when not finite (JSON never carries NaN)."""
+    v = float(v)
+    return round(v, digits) if math.isfinite(v) else None
+
+
+@dataclass(frozen=True)
+class CycleSpan:
+    """Where a cycle lies in a flight's log (rows: 0 the initial state, k the state after
+    step k). Its steps are ``i0 + 1 .. i1``, so a cumulative quantity ``c`` changes by
+    ``c[i1] - c[i0]`` over the cycle; ``n_generation``/``n_recovery`` count its steps in each
+    phase (steps in another phase count in neither)."""
+
+    index: int
+    i0: int
+    i1: int
+    n_generation: int
+    n_recovery: int
+    complete: bool
+
+
+def segment_cycles(cycle: np.ndarray, phase: np.ndarray, reached: int | None = None) -> list[CycleSpan]:
+    """The cycles in a flight's log of steps ``1 .. K`` (row 0, the initial state, is ignored).
+
+    ``cycle[k]``: index of the reference cycle that step k was flown on, :data:`NO_CYCLE`
+    outside AUTO cycling; ``phase[k]``: 0 generation, 1 recovery, :data:`OTHER_PHASE` else
+    (:data:`PHASE_CODES`). ``reached``: the cycle index the autopilot's path parameter had
+    reached after the last step (None: unknown).
+
+    A cycle starts at a step whose label differs from the running cycle's; steps without a
+    label belong to the running cycle (steps before the first label to none); the last cycle
+    runs to step K. A cycle is complete when the next one has a higher index, the last one
+    when ``reached`` is past it."""
+    cyc = np.asarray(cycle, dtype=np.int64)
+    ph = np.asarray(phase, dtype=np.int64)
+    if cyc.shape != ph.shape or cyc.ndim != 1:
+        raise ValueError(f"cycle and phase labels must be 1-D of one length, got {cyc.shape} and {ph.shape}")
+    K = len(cyc) - 1
+    if K < 1:
+        return []
+    lab = cyc[1:]
+    steps = np.flatnonzero(lab != NO_CYCLE) + 1  # labelled steps
+    if len(steps) == 0:
+        return []
+    lv = cyc[steps]
+    first = steps[np.r_[True, lv[1:] != lv[:-1]]]  # first step of each cycle
+    spans: list[CycleSpan] = []
+    gen = np.r_[0, np.cumsum(ph[1:] == PHASE_CODES["generation"])]
+    rec = np.r_[0, np.cumsum(ph[1:] == PHASE_CODES["recovery"])]
+    for j, k0 in enumerate(first):
+        c = int(cyc[k0])
+        i0 = int(k0) - 1
+        i1 = int(first[j + 1]) - 1 if j + 1 < len(first) else K
+        if j + 1 < len(first):
+            complete = int(cyc[first[j + 1]]) > c
+        else:
+            complete = reached is not None and reached > c
+        spans.append(CycleSpan(c, i0, i1, int(gen[i1] - gen[i0]), int(rec[i1] - rec[i0]), bool(complete)))
+    return spans
+
+
+def cycle_metrics(spans: list[CycleSpan], dt: float, e_generated: np.ndarray, e_thrust: np.ndarray,
+                  e_reel_in: np.ndarray, track_error: np.ndarray) -> list[CycleMetrics]:
+    """Per-cycle numbers of ``spans`` (:func:`segment_cycles`) from cumulative energies (J since
+    the start, one value per log row: into the load, drawn by the glider's motor, drawn from the
+    supply; a cycle gets each one's change over its steps) and the per-row tracking error (m,
+    NaN where there was no reference point). ``dt``: step length, s."""
+    out: list[CycleMetrics] = []
+    for sp in spans:
+        e = np.asarray(track_error[sp.i0 + 1: sp.i1 + 1], dtype=float)
+        e = e[np.isfinite(e)]
+        E_gen = float(e_generated[sp.i1] - e_generated[sp.i0])
+        E_thr = float(e_thrust[sp.i1] - e_thrust[sp.i0])
+        E_rw = float(e_reel_in[sp.i1] - e_reel_in[sp.i0])
+        out.append(CycleMetrics(
+            sp.index, sp.n_generation * dt, sp.n_recovery * dt, E_gen, E_thr, E_rw, E_gen - E_thr - E_rw,
+            float(np.sqrt(np.mean(e**2))) if len(e) else float("nan"), float(e.max()) if len(e) else float("nan"),
+            complete=sp.complete,
+        ))
+    return out
+
+
+class _StopRequest:
+    """Ctrl-C during a flight, taken at a step boundary.
+
+    Within ``with``, in the main thread and where SIGINT would raise KeyboardInterrupt (the
+    default handler), the first SIGINT only sets :attr:`requested`; the flight loop ends after
+    the step in progress is booked. A second SIGINT raises KeyboardInterrupt at once (the
+    co-simulation catches it and keeps the steps flown). The previous handler is restored on
+    exit. Elsewhere (another thread, a handler of the caller's) nothing is installed and a
+    KeyboardInterrupt is caught by the co-simulation loop as usual."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._previous: Any = None
+
+    def _handler(self, signum: int, frame: Any) -> None:
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __enter__(self) -> "_StopRequest":
+        import signal
+        import threading
+
+        if threading.current_thread() is threading.main_thread() and \
+                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            self._previous = signal.signal(signal.SIGINT, self._handler)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._previous is not None:
+            import signal
+
+            signal.signal(signal.SIGINT, self._previous)
+            self._previous = None
 
 
 class GliderLedger:
@@ -136,14 +291,21 @@ class FlightReport:
         return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
 
     def as_json(self) -> dict[str, Any]:
-        """docs/design.md section 1 output contract of ``fdm-awe fly``."""
+        """docs/design.md section 1 output contract of ``fdm-awe fly``.
+
+        ``status``: one of :data:`FLIGHT_STATUSES` or a ground-station event name (module doc:
+        ``ok`` only when every requested cycle was completed; ``incomplete`` when the time cap
+        ended the flight first; ``interrupted`` after Ctrl-C; ``landed``; event names). Each
+        cycle carries ``complete``. Numbers that cannot be computed (e.g. the tracking error
+        of a cycle without a reference point) are ``null``: the JSON never carries NaN."""
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
-            "config": self.config, "wind_mps": self.wind_mps, "tether_drag_scale": self.tether_drag_scale,
+            "config": self.config, "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
             "status": self.status,
-            "message": self.message, "sim_time_s": round(self.sim_time_s, 6), "wall_s": round(self.wall_s, 3),
-            "realtime_factor": round(self.realtime_factor, 1), "ledger_residual_rel": float(f"{self.ledger_residual_rel:.3e}"),
-            "ledger": {k: (round(v, 6) if isinstance(v, float) else v) for k, v in self.ledger.items()},
+            "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),
+            "realtime_factor": _json_float(self.realtime_factor, 1),
+            "ledger_residual_rel": _json_float(float(f"{self.ledger_residual_rel:.3e}"), 12),
+            "ledger": {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.ledger.items()},
             "cycles": [c.as_dict() for c in self.cycles],
         }
 
@@ -169,6 +331,10 @@ def fly(
     kinematic winch, :mod:`fdm_awe.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
     the defined line) scales the ground station's line drag on the glider, as
     ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
+
+    Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
+    a normal report with status ``interrupted`` holding everything flown so far (see
+    :class:`_StopRequest`); a KeyboardInterrupt in ``setup`` propagates (nothing was flown).
     """
     from .autopilot.autopilot import Autopilot
     from .autopilot.guidance import norm3
@@ -234,33 +400,44 @@ def fly(
     t_ideal = np.zeros(n + 1)  # paper plant: ideal thrust, N
     e_acc = [0.0]
     led = gs.ledger
-    marks: list[tuple[int, int, int]] = []  # (step, cycle, phase) at every phase change
-    last = [(-1, -1)]
+    cyc = np.full(n + 1, NO_CYCLE, dtype=np.int64)  # per step: cycle of the reference point flown
+    phs = np.full(n + 1, OTHER_PHASE, dtype=np.int64)  # per step: the autopilot's phase
     s_end = cycles * P
+    done = [0, False]  # the last step whose bookkeeping is complete; whether the cycles are flown
+    stop = _StopRequest()
 
     def _on_step(k: int, s: Any, o: Any) -> bool:
         gl.step(dt)
         rp = ap.ref_point
-        if rp is not None and ap.mode == "AUTO":
+        if rp is not None and ap.mode == "AUTO" and ap.cycling:
             refpos[k] = rp.pos
             err[k] = norm3(rp.pos - s.pos_ned)
-            key = (ap.cycle, rp.phase)
-            if key != last[0]:
-                marks.append((k, *key))
-                last[0] = key
+            cyc[k] = rp.cycle
+        phs[k] = PHASE_CODES.get(ap.phase, OTHER_PHASE)
         e_load[k] = led.load
         e_supply[k] = led.supply
         if thruster is not None:
             e_acc[0] += thruster.power() * dt  # the thrust commanded for the step just flown
             e_ideal[k] = e_acc[0]
             t_ideal[k] = thruster.thrust
+        done[0] = k
         if on_step is not None:
             on_step(k, s, o)
-        return t_end is None and ap.mode == "AUTO" and ap.s_ref >= s_end
+        if t_end is None and ap.mode == "AUTO" and ap.s_ref >= s_end:
+            done[1] = True
+            return True
+        return stop.requested
 
     wall0 = time.perf_counter()
-    res = sim.run(T_total, on_step=_on_step)
+    with stop:
+        res = sim.run(T_total, on_step=_on_step)
     wall = time.perf_counter() - wall0
+    # Ctrl-C: taken at a step boundary (the loop ended "ok" on the request) or caught by the loop
+    interrupted = res.status == "interrupted" or (stop.requested and res.status == "ok")
+    if res.steps > done[0]:
+        # Ctrl-C between a step and the end of its bookkeeping: the flight ends at the last
+        # step that was booked whole
+        res.truncate(done[0])
     k_end = res.steps
     if paper:
         e_thrust = e_ideal[: k_end + 1]
@@ -274,30 +451,9 @@ def fly(
         res.data[:, COLUMNS.index("p_prop")] += airframes.unfolded.propulsion.P0
         p_prop = np.nan_to_num(res.p_prop)
         e_thrust = np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
-    mets: list[CycleMetrics] = []
-    # cycle c runs from its generation mark to the next cycle's generation mark (or the end)
-    starts = {c: k for k, c, ph in marks if ph == 0}
-    rec = {c: k for k, c, ph in marks if ph == 1}
-    starts.setdefault(0, 0)
-    for c in sorted(starts):
-        i0 = starts[c] if c > 0 else 0
-        nxt = starts.get(c + 1)
-        complete = nxt is not None or (ap.s_ref >= (c + 1) * P - 1e-9)
-        i1 = nxt if nxt is not None else k_end
-        if i0 >= k_end:
-            break
-        ir = rec.get(c, i1)
-        sl = slice(i0 + 1, i1 + 1)
-        e = err[sl]
-        e = e[np.isfinite(e)]
-        E_gen = float(e_load[i1] - e_load[i0])
-        E_thr = float(e_thrust[i1] - e_thrust[i0])
-        E_rw = float(e_supply[i1] - e_supply[i0])
-        mets.append(CycleMetrics(
-            c, (ir - i0) * dt, (i1 - ir) * dt, E_gen, E_thr, E_rw, E_gen - E_thr - E_rw,
-            float(np.sqrt(np.mean(e**2))) if len(e) else float("nan"), float(e.max()) if len(e) else float("nan"),
-            complete=bool(complete),
-        ))
+    reached = ap.cycle if ap.mode == "AUTO" and ap.cycling else None
+    spans = segment_cycles(cyc[: k_end + 1], phs[: k_end + 1], reached)
+    mets = cycle_metrics(spans, dt, e_load[: k_end + 1], e_thrust, e_supply[: k_end + 1], err[: k_end + 1])
     g_res, g_large = gl.residual()
     gs_res = led.residual()
     gs_large = led.largest_term()
@@ -307,6 +463,13 @@ def fly(
               "station_residual_J": gs_res, "thrust_electrical_J": float(e_thrust[k_end])}
     status = res.status
     msg = res.event.message if res.event is not None else "completed"
+    n_done = sum(1 for c in mets if c.complete)
+    if interrupted:
+        status, msg = "interrupted", (f"interrupted by the user at t = {res.sim_time_s:.2f} s, "
+                                      f"{n_done} of {cycles} cycles complete")
+    elif status == "ok" and t_end is None and not done[1]:
+        status, msg = "incomplete", (f"time cap of {T_total:.1f} s reached with {n_done} of {cycles} cycles "
+                                     f"complete")
     if status == "ground_contact" and ap.mode == "RECOVER":
         # a landing, not a crash: touchdown sink rate below LAND_SINK_MAX
         v_down = float(res.vel[-1][2])

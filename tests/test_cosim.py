@@ -13,6 +13,7 @@ from cosim_helpers import FixedLengthLine, LineOutput
 from fdm_awe import ROOT
 from fdm_awe.cosim import COLUMNS, CoSim, Limits
 from fdm_awe.definitions.xmlutil import XmlDoc
+from fdm_awe.groundstation import WinchCommand
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
 from fdm_awe.units import FT, SLUG
 
@@ -228,3 +229,51 @@ def test_dt_must_match_the_glider():
     g = _glider()
     with pytest.raises(Exception, match="dt"):
         CoSim(g, NoLine(), Stabilizer(g, alpha_cmd=ALPHA), dt=0.01)
+
+
+class PhaseInterrupted(Stabilizer):
+    """A stabiliser whose phase read raises KeyboardInterrupt once after ``at`` s: Ctrl-C
+    landing between a step's commands and its phase being logged."""
+
+    def __init__(self, glider, at: float, **kw):
+        super().__init__(glider, **kw)
+        self.at, self.t, self.fired = at, 0.0, False
+
+    @property
+    def phase(self):
+        if self.t >= self.at and not self.fired:
+            self.fired = True
+            raise KeyboardInterrupt
+        return "hold"
+
+    @phase.setter
+    def phase(self, value):
+        pass
+
+    def update(self, t, s, gs_output):
+        self.t = t
+        surf, _ = super().update(t, s, gs_output)
+        return surf, WinchCommand(mode="motor", reel_speed_ref=0.0)
+
+
+def test_interrupt_between_the_records_of_a_step_keeps_whole_rows_in_both_loops():
+    """Ctrl-C after a step was counted but before all its records were kept: both loops end
+    with the rows every record has (every row with its phase), and alike."""
+    from fdm_awe.groundstation import GroundStation, load_ground_station
+
+    out = []
+    for compiled in (False, True):
+        g = _kite()
+        gs = GroundStation(load_ground_station(), wind_ned=(WIND, 0.0, 0.0))
+        gs.reset(tether_length=LINE, reel_speed=0.0, mode="motor")
+        sim = CoSim(g, gs, PhaseInterrupted(g, 0.5, alpha_cmd=ALPHA, psi_cmd=math.pi),
+                    limits=Limits(max_tension=200.0), compiled=None if compiled else False)
+        res = sim.run(2.0, on_step=lambda k, s, o: None)
+        assert res.status == "interrupted"
+        _check_partial(res)
+        assert res.t[-1] == pytest.approx(0.5, abs=1.5 / 120)
+        assert all(p == "hold" for p in res.phase)  # no row without its phase
+        out.append((sim.loop, res))
+    (_, a), (loop, b) = out
+    if loop == "compiled":
+        assert a.steps == b.steps and np.array_equal(a.data, b.data, equal_nan=True)
