@@ -20,9 +20,12 @@ stopped) are listed in ``errors`` and are not persisted: a rerun computes them.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import os
+import signal
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -92,6 +95,28 @@ LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
 }
 
 
+@contextlib.contextmanager
+def _sigint_ignored() -> Any:
+    """Ctrl-C (SIGINT) is ignored in this block, by this process and by the processes it starts
+    meanwhile (SIG_IGN is inherited by child processes).
+
+    Used twice. Around the local cluster's start-up (a few seconds): Ctrl-C in a terminal goes
+    to the whole process group, and worker processes that did not ignore it would each print a
+    KeyboardInterrupt traceback while this process shuts the cluster down. Around the shutdown
+    (bounded by Dask's timeouts): a second Ctrl-C would interrupt it half-way and leave Dask to
+    print tracebacks from its exit handlers. Only the main thread can change signal handlers;
+    elsewhere the block runs unchanged.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
 def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     from dask.distributed import Client, LocalCluster
 
@@ -111,7 +136,8 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     # the scheduler always serves HTTP (health routes): a free port avoids clashes with other clusters
     import dask
 
-    with dask.config.set(LOCAL_CLUSTER_CONFIG):  # read by the scheduler, the nannies and (passed on) the workers
+    # the config is read by the scheduler, the nannies and (passed on) the workers
+    with dask.config.set(LOCAL_CLUSTER_CONFIG), _sigint_ignored():
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
     return Client(cluster), cluster, n
@@ -153,9 +179,10 @@ def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, sche
         futures, by_key = _submit(client, chain_list, done, store)
         _collect(futures, by_key, store, run, done, progress, stop_after, on_point, client)
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with _sigint_ignored():  # after Ctrl-C: shut down quietly, whatever the user presses
+            client.close()
+            if cluster is not None:
+                cluster.close()
     run.wall_s = time.perf_counter() - t1
     run.records = {pid: done[pid] for pid in ids if pid in done}
     return run

@@ -7,6 +7,9 @@ Plots use matplotlib's Agg backend (no display). Power: cycle-average net power 
 The folding comparison pairs each foldable point with the nominal point of the same scenario,
 wind, wing area and tether range: ``dP = P_foldable - P_nominal`` [W]. Folding *pays* where
 both converged and ``dP > 0``.
+
+Files are written under a temporary name and renamed when complete
+(:mod:`fdm_awe.fileio`): an interrupted sweep never leaves a truncated table or image.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
+from ..fileio import atomic_path
 from .references import ReferenceCurves
 from .runner import RECORD_FIELDS
 
@@ -25,11 +29,24 @@ def write_csv(records: Sequence[dict[str, Any]], path: str | Path) -> Path:
     """Every point, ok or failed, one row each (columns :data:`RECORD_FIELDS`)."""
     p = Path(path)
     rows = sorted(records, key=_order)
-    with p.open("w", newline="") as fh:
+    with atomic_path(p) as tmp, tmp.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(RECORD_FIELDS), extrasaction="ignore")
         w.writeheader()
         for r in rows:
             w.writerow({k: ("" if r.get(k) is None else r.get(k)) for k in RECORD_FIELDS})
+    return p
+
+
+def _save(fig: Any, path: str | Path) -> Path:
+    """Write ``fig`` as a PNG to ``path`` atomically and close it."""
+    import matplotlib.pyplot as plt
+
+    p = Path(path)
+    try:
+        with atomic_path(p, suffix=".png") as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+    finally:
+        plt.close(fig)
     return p
 
 
@@ -143,10 +160,7 @@ def power_curve_plot(records: Sequence[dict[str, Any]], refs: ReferenceCurves | 
     if title:
         fig.suptitle(title)
     fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    return p
+    return _save(fig, path)
 
 
 def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str = "") -> Path | None:
@@ -193,10 +207,7 @@ def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str 
                           f"CdA_f {area:.3g} m2\ncycle-average net power, foldable minus nominal [W]; fail = a point failed",
                  fontsize=8)
     fig.tight_layout()
-    p = Path(path)
-    fig.savefig(p, dpi=110)
-    plt.close(fig)
-    return p
+    return _save(fig, path)
 
 
 def answer(cells: Sequence[FoldingCell]) -> dict[str, Any]:

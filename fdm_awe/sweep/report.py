@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
+from ..fileio import atomic_write_text
 from .outputs import answer, answer_sentence, folding_cells, folding_map_plot, power_curve_plot, summary_markdown, write_csv
 from .references import ReferenceCurves, reference_curves, tether_properties
 from .spec import SweepSpec
@@ -46,20 +47,28 @@ def spec_references(spec: SweepSpec) -> ReferenceCurves:
     return reference_curves(winds, g.unfolded.aero, d, cdp, d0, dtf)
 
 
+def output_files(out_dir: str | Path) -> dict[str, Path]:
+    """The files :func:`write_outputs` writes into ``out_dir`` (``folding_map`` only when the
+    sweep has foldable points)."""
+    out = Path(out_dir)
+    return {"table": out / "points.csv", "power_curve": out / "power_curve.png", "folding_map": out / "folding_map.png",
+            "summary": out / "summary.md"}
+
+
 def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: str | Path) -> SweepReport:
     """Write ``points.csv``, ``power_curve.png``, ``folding_map.png`` (if foldable points),
-    ``summary.md`` into ``out_dir``."""
-    out = Path(out_dir)
+    ``summary.md`` into ``out_dir`` (each atomically: temporary name, then renamed)."""
+    paths = output_files(out_dir)
     refs = spec_references(spec)
-    files = {"table": str(write_csv(records, out / "points.csv"))}
+    files = {"table": str(write_csv(records, paths["table"]))}
     title = f"{spec.scenario} scenario, mesh {spec.mesh.n_gen}/{spec.mesh.n_rec}, degree {spec.mesh.degree}"
-    files["power_curve"] = str(power_curve_plot(records, refs, out / "power_curve.png", title))
+    files["power_curve"] = str(power_curve_plot(records, refs, paths["power_curve"], title))
     cells = folding_cells(records)
-    mp = folding_map_plot(cells, out / "folding_map.png")
+    mp = folding_map_plot(cells, paths["folding_map"])
     if mp is not None:
         files["folding_map"] = str(mp)
     ans = answer(cells)
-    files["summary"] = str(out / "summary.md")
+    files["summary"] = str(paths["summary"])
     md = summary_markdown(records, ans, spec.scenario, refs, files, NOTES, n_expected=len(spec.points()))
-    Path(files["summary"]).write_text(md)
+    atomic_write_text(files["summary"], md)
     return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md)

@@ -54,6 +54,14 @@ DEFAULT_MAX_ITER_TOTAL = 3000
 #: what may follow a failed warm start (see the module docstring)
 WARM_FALLBACKS = ("all", "one", "none")
 
+#: allowed ranges (inclusive) of the integer settings of a sweep
+MAX_ITER_RANGE = (10, 100000)
+MAX_ITER_TOTAL_RANGE = (10, 1000000)
+ANCHOR_EVERY_RANGE = (0, 1000)
+
+#: allowed wind speeds of a sweep [m/s] (the cycle optimiser's range)
+WIND_RANGE = (0.0, 25.0)
+
 #: Point fields added after the first stores were written: they enter the point id only when
 #: they differ from these defaults, so finished points of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
@@ -142,9 +150,10 @@ class SweepSpec:
                 raise InputError(f"config {c!r} unknown (allowed: {', '.join(CONFIGS)})")
         if not self.winds:
             raise InputError("wind: at least one wind speed")
+        lo, hi = WIND_RANGE
         for v in self.winds:
-            if not (math.isfinite(v) and 0 <= v <= 25):
-                raise InputError(f"wind speed {v!r} m/s out of range (allowed 0..25 m/s)")
+            if not (math.isfinite(v) and lo <= v <= hi):
+                raise InputError(f"wind speed {v!r} m/s out of range (allowed {lo:g}..{hi:g} m/s)")
         for d0, dtf in self.tether_ranges:
             if not (math.isfinite(d0) and math.isfinite(dtf) and 0 < d0 < dtf):
                 raise InputError(f"tether range {d0!r}:{dtf!r} m invalid (allowed 0 < d0 < d_tf)")
@@ -153,18 +162,19 @@ class SweepSpec:
                 raise InputError(f"fold time {t!r} s not supported (allowed: 0; the cycle optimiser folds the wing "
                                  "instantly at the switch to recovery)")
         self.mesh.validate()
-        if not (isinstance(self.max_iter, int) and 10 <= self.max_iter <= 100000):
-            raise InputError(f"max_iter = {self.max_iter!r} out of range (allowed integer 10..100000)")
-        if not (isinstance(self.max_iter_total, int) and 10 <= self.max_iter_total <= 1000000):
-            raise InputError(f"max_iter_total = {self.max_iter_total!r} out of range (allowed integer 10..1000000)")
+        for name, (lo, hi) in (("max_iter", MAX_ITER_RANGE), ("max_iter_total", MAX_ITER_TOTAL_RANGE)):
+            v = getattr(self, name)
+            if not (isinstance(v, int) and lo <= v <= hi):
+                raise InputError(f"{name} = {v!r} out of range (allowed integer {lo}..{hi})")
         if self.warm_fallback not in WARM_FALLBACKS:
             raise InputError(f"warm fallback {self.warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
         if self.propeller is not None and self.propeller not in PROPELLERS:
             raise InputError(f"propeller {self.propeller!r} unknown (allowed: {', '.join(PROPELLERS)})")
         if (self.propeller is not None or self.line_weight) and self.scenario != "physical":
             raise InputError("propeller / line weight: only the physical scenario has these choices")
-        if not (isinstance(self.anchor_every, int) and 0 <= self.anchor_every <= 1000):
-            raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer 0..1000; 0 = one anchor per line)")
+        lo, hi = ANCHOR_EVERY_RANGE
+        if not (isinstance(self.anchor_every, int) and lo <= self.anchor_every <= hi):
+            raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer {lo}..{hi}; 0 = one anchor per line)")
         return self
 
     def points(self) -> list[Point]:
@@ -237,34 +247,66 @@ def chains(points: list[Point], anchor_every: int = 0, anchor_wind: float = ANCH
     return out
 
 
-def parse_floats(text: str, what: str, unit: str) -> tuple[float, ...]:
-    """``"3:12:1"`` (start:stop:step, stop included) or ``"0.22,0.4"`` -> floats."""
+def _items(text: str, what: str, allowed: str) -> list[str]:
+    """The comma-separated items of ``text``; an empty item (``3,,5``, ``3,``) is an error."""
+    items = [x.strip() for x in text.split(",")]
+    if any(not x for x in items):
+        raise InputError(f"{what} {text!r} invalid: empty list item (allowed: {allowed})")
+    return items
+
+
+def parse_floats(text: str, what: str, unit: str, lo: float | None = None, hi: float | None = None) -> tuple[float, ...]:
+    """``"3:12:1"`` (start:stop:step, stop included) or ``"0.22,0.4"`` -> floats.
+
+    Every value must be finite and, where given, within ``lo``..``hi`` [``unit``]; empty list
+    items are refused. ``what`` names the option in the one-line error.
+    """
     text = text.strip()
+    rng = "" if lo is None and hi is None else (
+        f", each {lo:g}..{hi:g} {unit}" if lo is not None and hi is not None else
+        f", each >= {lo:g} {unit}" if lo is not None else f", each <= {hi:g} {unit}")
+    allowed = f"START:STOP:STEP with STEP > 0, or a comma list, in {unit}{rng}"
     try:
         if ":" in text:
             parts = [float(x) for x in text.split(":")]
-            if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
+            if len(parts) != 3 or not all(math.isfinite(v) for v in parts) or parts[2] <= 0 or parts[1] < parts[0]:
                 raise ValueError
             a, b, s = parts
             n = int(math.floor((b - a) / s + 1e-9)) + 1
             if n > 10000:
                 raise ValueError
-            return tuple(round(a + i * s, 10) for i in range(n))
-        vals = tuple(float(x) for x in text.split(",") if x.strip())
-        if not vals or not all(math.isfinite(v) for v in vals):
-            raise ValueError
-        return vals
+            vals = tuple(round(a + i * s, 10) for i in range(n))
+        else:
+            vals = tuple(float(x) for x in _items(text, what, allowed))
+            if not all(math.isfinite(v) for v in vals):
+                raise ValueError
     except ValueError:
-        raise InputError(f"{what} {text!r} invalid (allowed: START:STOP:STEP with STEP > 0, or a comma list, in {unit})") from None
+        raise InputError(f"{what} {text!r} invalid (allowed: {allowed})") from None
+    for v in vals:
+        if (lo is not None and v < lo) or (hi is not None and v > hi):
+            raise InputError(f"{what} {text!r}: {v:g} {unit} out of range (allowed: {allowed})")
+    return vals
 
 
-def parse_tether_ranges(text: str) -> tuple[tuple[float, float], ...]:
-    """``"200:250,150:250"`` -> ((200, 250), (150, 250)) [m]."""
+def parse_names(text: str, what: str, allowed: tuple[str, ...]) -> tuple[str, ...]:
+    """``"nominal,foldable"`` -> names, each one of ``allowed``, without repeats; empty items
+    and unknown names are refused."""
+    names = _items(text, what, ", ".join(allowed))
+    for n in names:
+        if n not in allowed:
+            raise InputError(f"{what} {text!r}: {n!r} unknown (allowed: {', '.join(allowed)})")
+    return tuple(dict.fromkeys(names))
+
+
+def parse_tether_ranges(text: str, what: str = "--tether-range") -> tuple[tuple[float, float], ...]:
+    """``"200:250,150:250"`` -> ((200, 250), (150, 250)) [m]; empty items are refused (the
+    ranges themselves are checked by :meth:`SweepSpec.validate`)."""
+    allowed = "D0:DTF in m with 0 < D0 < DTF, e.g. 200:250, comma separated"
     out = []
-    for item in text.split(","):
+    for item in _items(text, what, allowed):
         try:
             a, b = (float(x) for x in item.split(":"))
         except ValueError:
-            raise InputError(f"tether range {item!r} invalid (allowed D0:DTF in m, e.g. 200:250)") from None
+            raise InputError(f"{what} {item!r} invalid (allowed {allowed})") from None
         out.append((a, b))
     return tuple(out)
