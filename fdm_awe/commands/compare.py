@@ -1,9 +1,14 @@
-"""``fdm-awe compare``: nominal vs foldable glider, Table-3 style, with the zero-wind check."""
+"""``fdm-awe compare``: nominal vs foldable glider, Table-3 style, with the zero-wind check.
+
+Every option is checked and every output path probed before the first optimisation (bad
+input: one line, exit 2); ``--report`` and ``--json`` are written atomically, the JSON with
+NaN as ``null``. Exit codes: 0 both cycles found (and, physical scenario, no energy from
+still air), 1 otherwise, 2 bad input, 130 Ctrl-C.
+"""
 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from typing import Any
 
@@ -27,21 +32,22 @@ ROWS = (
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--wind", type=float, default=3.0, metavar="M_S", help="wind speed [m/s] (default 3, the paper's)")
-    p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG", help="wind FROM direction [deg] (default 180)")
+    p.add_argument("--wind", type=float, default=3.0, metavar="M_S", help="wind speed [m/s], 0..25 (default 3, the paper's)")
+    p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG",
+                   help="wind FROM direction [deg], -360..360 (default 180)")
     p.add_argument("--scenario", choices=("physical", "paper"), default="physical", help="model family (default physical)")
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG", help="collocation mesh (default 60,20,4)")
-    p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts compared per solve (default 1)")
+    p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts compared per solve, >= 1 (default 1)")
     p.add_argument("--no-zero-wind", action="store_true", help="skip the zero-wind check")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
-                   help="factor on the line drag, physical scenario (sensitivity study; default 1 = the defined line)")
+                   help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
     from .optimize import add_plant_model_args
 
     add_plant_model_args(p)
     p.add_argument("--time-budget", type=float, default=120.0, metavar="S",
-                   help="solver seconds per optimisation before it is reported as failed (default 120)")
+                   help="solver seconds per optimisation before it is reported as failed, > 0 (default 120)")
     p.add_argument("--report", metavar="FILE", help="write a markdown report")
-    p.add_argument("--json", metavar="FILE", help="write the numbers as JSON")
+    p.add_argument("--json", metavar="FILE", help="write the numbers as JSON (NaN written as null)")
 
 
 def _fmt(v: Any, nd: int = 1) -> str:
@@ -107,17 +113,16 @@ def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, d
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..ocp.problem import CycleProblem, Mesh
+    from . import _checks as chk
+    from .optimize import check_solver_args, parse_mesh
+
+    check_solver_args(args)
+    mesh = parse_mesh(args.mesh)
+    chk.outputs(files=[("--report", args.report), ("--json", args.json)])
+    from ..fileio import atomic_write_text, write_json
+    from ..ocp.problem import CycleProblem
     from ..ocp.solve import solve_cycle
 
-    mesh = Mesh()
-    if args.mesh:
-        from ..errors import InputError
-
-        try:
-            mesh = Mesh(*(int(v) for v in args.mesh.split(",")))
-        except (ValueError, TypeError):
-            raise InputError(f"--mesh {args.mesh!r} invalid (expected NG,NR,DEG, e.g. 30,16,4)") from None
     winds = [args.wind] + ([] if args.no_zero_wind else [0.0])
     problems = {(cfg, w): CycleProblem(scenario=args.scenario, config=cfg, wind_speed=w, wind_from_deg=args.wind_from,
                                        mesh=mesh, tether_drag_scale=args.tether_drag_scale,
@@ -127,15 +132,14 @@ def run(args: argparse.Namespace) -> int:
     out: dict[tuple[str, float], dict] = {}
     for (cfg, w), pr in problems.items():
         print(f"optimising {args.scenario}/{cfg} at {w:g} m/s ...", file=sys.stderr, flush=True)
-        out[(cfg, w)] = solve_cycle(pr, n_starts=max(1, args.starts), time_budget_s=args.time_budget).summary()
+        out[(cfg, w)] = solve_cycle(pr, n_starts=args.starts, time_budget_s=args.time_budget).summary()
     res = {cfg: out[(cfg, args.wind)] for cfg in ("nominal", "foldable")}
     zero = None if args.no_zero_wind else {cfg: out[(cfg, 0.0)] for cfg in ("nominal", "foldable")}
     text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, getattr(args, "propeller", None),
                     bool(getattr(args, "line_weight", False)))
     print(text)
     if args.report:
-        with open(args.report, "w") as fh:
-            fh.write(text + "\n")
+        atomic_write_text(args.report, text + "\n")
     ok = all(r["status"] == "ok" for r in res.values())
     physical_violation = (zero is not None and args.scenario == "physical"
                           and any(z["status"] == "ok" and z["E_net_J"] > 0 for z in zero.values()))
@@ -144,6 +148,5 @@ def run(args: argparse.Namespace) -> int:
                "paper_table3_as_printed": PAPER_TABLE3, "sign_note": "ours: gains > 0; paper Table 3: gains < 0",
                "results": res, "zero_wind": zero,
                "zero_wind_verdict": None if zero is None else {c: zero_wind_verdict(args.scenario, z) for c, z in zero.items()}}
-        with open(args.json, "w") as fh:
-            json.dump(doc, fh, indent=2)
+        write_json(args.json, doc)
     return 0 if ok and not physical_violation else 1

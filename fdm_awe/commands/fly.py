@@ -4,26 +4,54 @@ The reference comes from ``--reference FILE`` (written by ``fdm-awe optimize``) 
 first from ``--scenario/--config/--wind``. Prints a per-cycle energy table, writes JSON per
 docs/design.md section 1 (``--json``), a rerun recording (``--rrd``), and optionally speaks MAVLink
 (``--mavlink URL``) paced at real time (``--realtime [FACTOR]``).
-Exit code 0 when the flight completed without an event (or landed in RECOVER mode).
+
+Without ``--reference`` the reference is optimised (default: physical scenario, nominal
+glider, 8 m/s) and handed to the flight in memory; its file is written only with ``--out``
+(``DIR/reference_<scenario>_<config>_<wind>.json``): the command writes nothing else.
 
 The plant follows the scenario (``--scenario``; with ``--reference`` and no ``--scenario``, the
 reference file's scenario): ``physical`` flies the JSBSim propeller and the ground station,
 ``paper`` the ideal thruster and kinematic winch of :mod:`fdm_awe.paper_plant` (the paper
 scenario's simplifications). The JSON says which plant flew (``plant``, ``plant_note``).
+
+A reference fixes what it was optimised for: with ``--reference``, the options that only shape
+an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--propeller``,
+``--line-weight``) are refused, and a ``--config``/``--scenario`` other than the reference's
+is refused unless ``--allow-mismatch`` is given (then a warning is printed).
+
+Checks before any work (one line, exit 2): every number in range, the turbulence seed
+(1..2**31-1), the MAVLink URL (form, port, host resolves), every output path (writable, not
+an input such as ``--reference`` or ``--params``). Outputs are written atomically; the JSON
+writes NaN as ``null`` (e.g. the tracking error of a cycle without reference points) and
+records the turbulence level and seed (``"turbulence": {"level", "seed"}`` or ``null``).
+
+Exit codes: 0 the flight completed without an event (or landed in RECOVER mode); 1 it ended
+otherwise (an event, or cycles left incomplete); 2 bad input; 130 Ctrl-C: the flight stops,
+the steps flown so far are written to every requested output (status ``interrupted``).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
 from pathlib import Path
 
-from .optimize import add_plant_model_args
+from .optimize import NOMINAL_DEFAULT_WHY, add_plant_model_args
 
 HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + autopilot)"
+
+#: effective defaults of the options that shape the optimised reference (None on the command
+#: line means "not given", so that ``--reference`` can refuse them)
+DEFAULT_WIND_MPS = 8.0
+DEFAULT_WIND_FROM_DEG = 180.0
+DEFAULT_CONFIG = "nominal"
+DEFAULT_SCENARIO = "physical"
+
+#: the options a reference fixes (only used when optimising): attribute -> option
+REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
+                   "propeller": "--propeller", "line_weight": "--line-weight"}
 
 
 def _flyable_bounds(gamma_max: float | None = None):
@@ -38,98 +66,125 @@ def _flyable_bounds(gamma_max: float | None = None):
     return Bounds(cl_margin=0.85, phi_max=0.8, **({} if gamma_max is None else {"gamma_max": gamma_max}))
 
 
-def _turbulence(text: str) -> tuple[str, int]:
-    level, _, seed = text.partition(":")
-    if level not in ("light", "moderate", "severe"):
-        raise argparse.ArgumentTypeError(f"--turbulence level {level!r} unknown (allowed light, moderate, severe)")
-    try:
-        return level, int(seed or "1")
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"--turbulence seed {seed!r} is not an integer") from None
-
-
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one now)")
+    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one "
+                                                       "now and fly it from memory; its file is written only into --out)")
     p.add_argument("--scenario", choices=("physical", "paper"), default=None,
                    help="scenario of the reference to optimise and of the plant that flies it: physical (JSBSim propeller + "
                         "ground station) or paper (ideal thruster + kinematic winch); default physical, or the --reference file's")
     p.add_argument("--config", choices=("foldable", "nominal"), default=None,
-                   help="foldable folds for recovery, nominal never folds; default foldable, or the --reference file's")
-    p.add_argument("--wind", type=float, default=8.0, metavar="M/S", help="wind speed for the optimised reference (default 8)")
-    p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG", help="wind direction, blowing from (default 180 = south)")
+                   help="foldable folds for recovery, nominal never folds; default the --reference file's, else nominal ("
+                        + NOMINAL_DEFAULT_WHY + ")")
+    p.add_argument("--allow-mismatch", action="store_true",
+                   help="fly a --reference with a --config/--scenario other than the one it was optimised for (a warning "
+                        "is printed; without this option the mismatch is refused)")
+    p.add_argument("--wind", type=float, default=None, metavar="M/S",
+                   help=f"wind speed for the optimised reference, 0..25 (default {DEFAULT_WIND_MPS:g}; not with --reference)")
+    p.add_argument("--wind-from", type=float, default=None, metavar="DEG",
+                   help=f"wind direction, blowing from, -360..360 (default {DEFAULT_WIND_FROM_DEG:g} = south; "
+                        "not with --reference)")
     p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
-                        "reference); default: the --reference file's tether_drag_scale, else 1 = the defined line")
-    add_plant_model_args(p, prefix="when it optimises the reference: ")
+                        "reference), 0..10; default: the --reference file's tether_drag_scale, else 1 = the defined line")
+    add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
-                   help="flight-path angle bound of the optimised reference (default 1 rad, Table 3's); 0.7 makes "
-                        "the paper nominal 3 m/s cycle flyable")
-    p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles (default 3)")
-    p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s (default 1/120)")
-    p.add_argument("--turbulence", type=_turbulence, metavar="LEVEL[:SEED]", help="JSBSim turbulence: light|moderate|severe, seeded")
+                   help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
+                        "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
+    p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles, 1..1000 (default 3)")
+    p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s, 0.0001..0.05 (default 1/120)")
+    p.add_argument("--turbulence", metavar="LEVEL[:SEED]",
+                   help="JSBSim turbulence: light|moderate|severe, seeded (SEED 1..2147483647, default 1)")
     p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: reel in and land)")
-    p.add_argument("--json", metavar="FILE", help="write the numbers as JSON")
+    p.add_argument("--json", metavar="FILE", help="write the numbers as JSON (NaN written as null)")
     p.add_argument("--rrd", metavar="FILE", help="write a rerun recording of the flight")
-    p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV and a markdown report into DIR")
+    p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV, a markdown report (and an optimised "
+                                                "reference's file) into DIR")
     p.add_argument("--mavlink", metavar="URL", nargs="?", const="udpout:127.0.0.1:14550",
-                   help="speak MAVLink 2 to a ground station (default URL udpout:127.0.0.1:14550)")
-    p.add_argument("--realtime", metavar="FACTOR", type=float, nargs="?", const=1.0, help="pace against the wall clock (default 1x)")
+                   help="speak MAVLink 2 to a ground station: udpout|udpin|udp|tcp|tcpin:HOST:PORT, the host must "
+                        "resolve (default URL udpout:127.0.0.1:14550)")
+    p.add_argument("--realtime", metavar="FACTOR", type=float, nargs="?", const=1.0,
+                   help="pace against the wall clock, > 0 and <= 1000 (default 1x)")
     p.add_argument("--params", metavar="FILE", help="autopilot parameter file (PARAM_SET changes are saved there)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _check(args: argparse.Namespace) -> None:
+    """Every option on its own (ranges, forms) and the options a reference fixes."""
+    from ..errors import InputError
+    from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
+    from . import _checks as chk
+
+    chk.integer(args.cycles, "--cycles", 1, 1000, what="pumping cycles")
+    chk.number(args.dt, "--dt", 1e-4, 0.05, unit="s", what="co-simulation step")
+    chk.number(args.wind, "--wind", 0.0, 25.0, unit="m/s", what="wind speed")
+    chk.number(args.wind_from, "--wind-from", -360.0, 360.0, unit="deg", what="wind direction")
+    chk.number(args.realtime, "--realtime", 0.0, 1000.0, lo_open=True, what="pacing factor")
+    chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
+    chk.number(args.gamma_max, "--gamma-max", 0.1, 1.5, unit="rad", what="flight-path angle bound")
+    args.turbulence = chk.turbulence(args.turbulence)
+    chk.mavlink_url(args.mavlink)
+    if args.reference is not None:
+        given = [opt for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
+        if given:
+            raise InputError(f"{', '.join(given)}: the reference {args.reference} fixes {'this' if len(given) == 1 else 'these'} "
+                             f"(only used when fly optimises a reference; drop {'it' if len(given) == 1 else 'them'} or "
+                             f"drop --reference)")
+    elif args.allow_mismatch:
+        raise InputError("--allow-mismatch: only with --reference (nothing to mismatch when fly optimises the reference)")
+
+
+def check_reference_options(args: argparse.Namespace, meta: dict, ref_path: str) -> None:
+    """An explicit ``--config``/``--scenario`` must be the reference's (``meta``), unless
+    ``--allow-mismatch``: then a warning line each on stderr."""
     from ..errors import InputError
 
-    if not (1 <= args.cycles <= 1000):
-        raise InputError(f"--cycles {args.cycles} out of range (allowed 1..1000)")
-    if not (1e-4 <= args.dt <= 0.05) or not math.isfinite(args.dt):
-        raise InputError(f"--dt {args.dt} out of range (allowed 0.0001..0.05 s)")
-    if not (0.0 <= args.wind <= 25.0):
-        raise InputError(f"--wind {args.wind} out of range (allowed 0..25 m/s)")
-    if args.realtime is not None and not (0.0 < args.realtime <= 1000.0):
-        raise InputError(f"--realtime {args.realtime} out of range (allowed > 0 and <= 1000)")
-    s = getattr(args, "tether_drag_scale", None)
-    if s is not None and not (math.isfinite(s) and 0.0 <= s <= 10.0):
-        raise InputError(f"--tether-drag-scale {s} out of range (allowed 0..10)")
-    gm = getattr(args, "gamma_max", None)
-    if gm is not None and not (math.isfinite(gm) and 0.1 <= gm <= 1.5):
-        raise InputError(f"--gamma-max {gm} out of range (allowed 0.1..1.5 rad)")
+    for attr, option, what in (("config", "--config", "configuration"), ("scenario", "--scenario", "scenario")):
+        want, have = getattr(args, attr), meta.get(attr)
+        if want is None or want == have:
+            continue
+        if not args.allow_mismatch:
+            raise InputError(f"{option} {want}: {ref_path} was optimised for the {what} {have!r}; fly it with its own "
+                             f"{what}, or add --allow-mismatch to fly it anyway")
+        print(f"warning: {ref_path} was optimised for the {what} {have!r}; flying it with {option} {want} "
+              f"(--allow-mismatch)", file=sys.stderr)
 
 
-def load_or_optimise_reference(args: argparse.Namespace, out_dir: Path | None):
-    """The tracking reference of the run and the reference file it came from."""
-    from ..autopilot.tracking import TrackingReference
-    from ..errors import InputError
-
-    if args.reference:
-        ref = TrackingReference.from_ocp_file(args.reference)
-        if args.config is None:
-            args.config = ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal") else "foldable"
-        return ref, Path(args.reference)
-    args.scenario = args.scenario or "physical"
-    args.config = args.config or "foldable"
+def reference_problem(args: argparse.Namespace):
+    """The validated :class:`~fdm_awe.ocp.problem.CycleProblem` of the reference to optimise
+    (flyable bounds; the effective defaults for options not given)."""
     from ..ocp.problem import CycleProblem
-    from ..ocp.result import write_reference
+
+    return CycleProblem(scenario=args.scenario, config=args.config,
+                        wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
+                        wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
+                        bounds=_flyable_bounds(args.gamma_max),
+                        tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
+                        propeller=args.propeller, line_weight=bool(args.line_weight)).validate()
+
+
+def optimise_reference(problem):
+    """Optimise the reference of the run; returns the ok CycleResult (InputError if none)."""
+    from ..errors import InputError
     from ..ocp.solve import solve_cycle
 
-    b = _flyable_bounds(getattr(args, "gamma_max", None))
-    scale = 1.0 if getattr(args, "tether_drag_scale", None) is None else args.tether_drag_scale
-    print(f"optimising a {args.scenario} {args.config} cycle at {args.wind:g} m/s (flyable bounds: "
+    b = problem.bounds
+    print(f"optimising a {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s (flyable bounds: "
           f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad; "
-          f"line drag x {scale:g}) ...", file=sys.stderr)
-    res = solve_cycle(CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind,
-                                   wind_from_deg=args.wind_from, bounds=b, tether_drag_scale=scale,
-                                   propeller=getattr(args, "propeller", None) if args.scenario == "physical" else None,
-                                   line_weight=bool(getattr(args, "line_weight", False)) and args.scenario == "physical"))
+          f"line drag x {problem.tether_drag_scale:g}) ...", file=sys.stderr)
+    res = solve_cycle(problem)
     if not res.ok:
-        raise InputError(f"the optimiser found no cycle: {res.status} ({getattr(res, 'reason', '')})")
-    path = (out_dir or Path(".")) / f"reference_{args.scenario}_{args.config}_{args.wind:g}.json"
-    write_reference(res, path)
-    return TrackingReference.from_ocp_file(str(path)), path
+        raise InputError(f"the optimiser found no {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s: "
+                         f"{res.status} ({getattr(res, 'reason', '')})")
+    return res
 
 
-def flight_drag_scale(meta: dict, requested: float | None, ref_path: Path) -> float:
+def reference_file_name(args: argparse.Namespace) -> str:
+    """File name of an optimised reference written into ``--out``."""
+    wind = DEFAULT_WIND_MPS if args.wind is None else args.wind
+    return f"reference_{args.scenario}_{args.config}_{wind:g}.json"
+
+
+def flight_drag_scale(meta: dict, requested: float | None, ref_path: object) -> float:
     """The line-drag factor of the flight: the reference's ``tether_drag_scale`` (metadata; 1
     for files written before it existed) unless ``requested`` overrides it. Prints an info line
     with the scale, and a warning when an override makes the flight's line differ from the one
@@ -146,18 +201,56 @@ def flight_drag_scale(meta: dict, requested: float | None, ref_path: Path) -> fl
 
 
 def run(args: argparse.Namespace) -> int:
+    from . import _checks as chk
+
     _check(args)
-    out_dir = Path(args.out) if args.out else None
-    if out_dir:
-        out_dir.mkdir(parents=True, exist_ok=True)
-    ref, ref_path = load_or_optimise_reference(args, out_dir)
-    plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
-    scale = flight_drag_scale(ref.meta, getattr(args, "tether_drag_scale", None), ref_path)
+    ref = None
+    if args.reference:
+        from ..autopilot.tracking import TrackingReference
+
+        ref = TrackingReference.from_ocp_file(args.reference)  # checked field by field (one-line errors)
+        check_reference_options(args, ref.meta, args.reference)
+        args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
+                                      else DEFAULT_CONFIG)
+    else:
+        args.scenario = args.scenario or DEFAULT_SCENARIO
+        args.config = args.config or DEFAULT_CONFIG
+        problem = reference_problem(args)
     from ..autopilot.config import autopilot_params
-    from ..flight import fly
     from ..mavlink.params import ParamStore
 
-    params = autopilot_params(store=ParamStore(args.params) if args.params else None)
+    params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
+    out_dir = Path(args.out) if args.out else None
+    from ..recording.outputs import output_files
+
+    planned = output_files(out_dir, "flight", args.rrd)
+    in_dir = [("--out", p) for k, p in planned.items() if out_dir and not (k == "rrd" and args.rrd)]
+    if out_dir and ref is None:
+        in_dir.append(("--out", out_dir / reference_file_name(args)))
+    chk.outputs(files=[("--json", args.json), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
+                inputs=[args.reference, args.params], dir_files=in_dir)
+
+    if ref is None:
+        from ..autopilot.tracking import TrackingReference
+        from ..recording.series import load_reference
+
+        res = optimise_reference(problem)
+        ref = TrackingReference.from_ocp(load_reference(res))  # in memory: no file unless --out
+        ref_path: Path | None = None
+        ref_label = f"optimised {args.scenario} {args.config} reference"
+        if out_dir is not None:
+            from ..ocp.result import write_reference
+
+            ref_path = write_reference(res, out_dir / reference_file_name(args))
+            ref_label = str(ref_path)
+            print(f"reference trajectory: {ref_path}", file=sys.stderr)
+    else:
+        ref_path = Path(args.reference)
+        ref_label = str(ref_path)
+    plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
+    scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
+    from ..flight import fly
+
     endpoint = pacer = None
     hooks = []
     holder: dict = {}
@@ -197,50 +290,72 @@ def run(args: argparse.Namespace) -> int:
             h(k, s, o)
 
     t0 = time.perf_counter()
-    report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                 on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale)
-    if bar is not None:
-        bar.close()
-    if endpoint is not None:
-        endpoint.close()
+    try:
+        report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
+                     on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale)
+    finally:
+        if bar is not None:
+            bar.close()
+        if endpoint is not None:
+            endpoint.close()
     report.wall_s = time.perf_counter() - t0
-    _print_summary(report, ref_path)
+    _print_summary(report, ref_label)
+    return _finish(args, report, ref, ref_path, out_dir)
+
+
+def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_dir: Path | None) -> int:
+    """Write every requested output (also after Ctrl-C) and return the exit code.
+
+    A flight interrupted by Ctrl-C (status ``interrupted``) keeps the steps flown so far: they
+    are written like a finished flight's and the exit code is 130. A Ctrl-C while the outputs
+    are written stops the files not yet begun (those written stay, none is truncated); the JSON
+    then lists the files written (``outputs_cut_short`` true) and the exit code is 130.
+    """
+    from ..cli import EXIT_INTERRUPTED
+    from ..fileio import write_json
+
     doc = report.as_json()
-    doc["reference"] = str(ref_path)
-    outputs = _write_outputs(args, report, ref, out_dir)
-    doc.update(outputs)
+    doc["reference"] = None if ref_path is None else str(ref_path)
+    doc["turbulence"] = None if args.turbulence is None else {"level": args.turbulence[0], "seed": args.turbulence[1]}
+    rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
+    written: dict[str, object] = {}
+    cut = False
+    if rrd or out_dir:
+        from ..recording import flight_outputs
+
+        try:
+            flight_outputs(report, ref, rrd=rrd, out_dir=out_dir, written=written)
+        except KeyboardInterrupt:
+            cut = True
+            print("fdm-awe fly: interrupted while writing the outputs; the files listed in the JSON are complete",
+                  file=sys.stderr)
+    doc.update(written)
+    if cut:
+        doc["outputs_cut_short"] = True
     if args.json:
-        Path(args.json).write_text(json.dumps(doc, indent=2, allow_nan=False, default=_nan_to_none) + "\n")
+        write_json(args.json, doc)
+    if report.status == "interrupted" or cut:
+        return EXIT_INTERRUPTED
     ok = report.status == "ok" or (args.mode == "RECOVER" and report.status == "landed")
     return 0 if ok else 1
 
 
-def _nan_to_none(o):  # pragma: no cover - json default hook
-    return None
+def _fmt(v: float, spec: str) -> str:
+    """``v`` formatted with ``spec``, or ``-`` right-aligned when it is not a finite number."""
+    if v is None or not math.isfinite(v):
+        width = "".join(ch for ch in spec.split(".")[0] if ch.isdigit())
+        return "-".rjust(int(width or 1))
+    return format(v, spec)
 
 
-def _write_outputs(args, report, ref, out_dir: Path | None) -> dict:
-    """Recording, plots, CSV and markdown where asked for (and where the modules exist)."""
-    written: dict[str, str] = {}
-    rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
-    try:
-        from ..recording import flight_outputs
-    except ImportError:
-        if rrd:
-            print("fly: recording module not available; no .rrd written", file=sys.stderr)
-        return written
-
-    written.update(flight_outputs(report, ref, rrd=rrd, out_dir=out_dir))
-    return written
-
-
-def _print_summary(report, ref_path: Path) -> None:
-    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_path}  plant {report.plant}"
+def _print_summary(report, ref_label: str) -> None:
+    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_label}  plant {report.plant}"
           f"  line drag x {report.tether_drag_scale:g}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
           f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
     print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
     for c in report.cycles:
         flag = "" if c.complete else "  (incomplete)"
-        print(f"{c.index + 1:>5} {c.T1_s:6.2f} {c.T2_s:6.2f} {c.E_generated_J:8.1f} {c.E_thrust_J:9.1f} {c.E_reel_in_J:9.1f} "
-              f"{c.E_net_J:8.1f} {c.track_rms_m:7.2f} {c.track_max_m:7.2f}{flag}")
+        print(f"{c.index + 1:>5} {_fmt(c.T1_s, '6.2f')} {_fmt(c.T2_s, '6.2f')} {_fmt(c.E_generated_J, '8.1f')} "
+              f"{_fmt(c.E_thrust_J, '9.1f')} {_fmt(c.E_reel_in_J, '9.1f')} {_fmt(c.E_net_J, '8.1f')} "
+              f"{_fmt(c.track_rms_m, '7.2f')} {_fmt(c.track_max_m, '7.2f')}{flag}")

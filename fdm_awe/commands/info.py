@@ -1,18 +1,23 @@
-"""``fdm-awe info``: what the definition files say, in SI, with the reference glide."""
+"""``fdm-awe info``: what the definition files say, in SI, with the reference glide.
+
+``--json`` is checked before the definitions are read and written atomically (NaN as null).
+"""
 
 from __future__ import annotations
 
 import argparse
-import json
 
 HELP = "show the airframe, propulsion and ground-station definitions and the reference glide"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON")
+    p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON (NaN written as null)")
 
 
 def run(args: argparse.Namespace) -> int:
+    from . import _checks as chk
+
+    chk.outputs(files=[("--json", args.json)])
     from ..definitions.aircraft import load_glider
     from ..performance import steady_glide
 
@@ -40,6 +45,7 @@ def run(args: argparse.Namespace) -> int:
         gs = load_ground_station()
         print(f"ground station: {gs}")
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(out, fh, indent=2)
+        from ..fileio import write_json
+
+        write_json(args.json, out)
     return 0

@@ -1,70 +1,126 @@
-"""``fdm-awe optimize``: the optimal periodic pumping cycle (two-phase OCP, CasADi + IPOPT)."""
+"""``fdm-awe optimize``: the optimal periodic pumping cycle (two-phase OCP, CasADi + IPOPT).
+
+Every option is checked and every output path probed before the optimisation starts (bad
+input: one line, exit 2). Outputs are written atomically; ``--json`` writes NaN as ``null``.
+Exit codes: 0 a cycle was found, 1 the optimiser found none, 2 bad input, 130 Ctrl-C.
+"""
 
 from __future__ import annotations
 
 import argparse
-import json
-from pathlib import Path
 import sys
 
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
+
+#: Why the default configuration is ``nominal`` (help texts of ``optimize`` and ``fly``).
+NOMINAL_DEFAULT_WHY = ("default nominal: with the defined line (physical scenario) the foldable glider has no "
+                       "periodic cycle, its folded recovery cannot overcome the line drag")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scenario", choices=("physical", "paper"), default="physical",
                    help="model family (docs/design.md section 4; default: physical)")
-    p.add_argument("--config", choices=("nominal", "foldable"), default="foldable",
-                   help="nominal: unfolded throughout; foldable: folded for recovery (default)")
-    p.add_argument("--wind", type=float, default=6.0, metavar="M_S", help="wind speed magnitude [m/s] (default 6)")
+    p.add_argument("--config", choices=("nominal", "foldable"), default="nominal",
+                   help="nominal: unfolded throughout; foldable: folded for recovery; " + NOMINAL_DEFAULT_WHY)
+    p.add_argument("--wind", type=float, default=6.0, metavar="M_S", help="wind speed magnitude [m/s], 0..25 (default 6)")
     p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG",
-                   help="direction the wind blows FROM [deg, compass] (default 180 = from the south)")
-    p.add_argument("--d0", type=float, default=200.0, metavar="M", help="tether length at the cycle start [m]")
-    p.add_argument("--d-tf", type=float, default=250.0, metavar="M", help="tether length at the end of generation [m]")
-    p.add_argument("--v-min", type=float, default=5.0, metavar="M_S", help="minimum airspeed [m/s]")
-    p.add_argument("--v-max", type=float, default=25.0, metavar="M_S", help="maximum airspeed [m/s]")
-    p.add_argument("--h-min", type=float, default=10.0, metavar="M", help="ground clearance [m]")
-    p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s]")
+                   help="direction the wind blows FROM [deg, compass], -360..360 (default 180 = from the south)")
+    p.add_argument("--d0", type=float, default=200.0, metavar="M", help="tether length at the cycle start [m], > 0")
+    p.add_argument("--d-tf", type=float, default=250.0, metavar="M",
+                   help="tether length at the end of generation [m], > d0")
+    p.add_argument("--v-min", type=float, default=5.0, metavar="M_S", help="minimum airspeed [m/s], > 0")
+    p.add_argument("--v-max", type=float, default=25.0, metavar="M_S", help="maximum airspeed [m/s], > v-min")
+    p.add_argument("--h-min", type=float, default=10.0, metavar="M", help="ground clearance [m], >= 0")
+    p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s], > 0")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
-                   help="factor on the line drag, physical scenario (sensitivity study; default 1 = the defined line)")
+                   help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
     add_plant_model_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
-    p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts to compare (default 1)")
+    p.add_argument("--starts", type=int, default=1, metavar="N", help=f"successful starts to compare, 1..{MAX_STARTS} (default 1)")
     p.add_argument("--time-budget", type=float, default=180.0, metavar="S",
-                   help="solver seconds before the optimisation is reported as failed (default 180)")
+                   help=f"solver seconds before the optimisation is reported as failed, > 0 and <= {MAX_TIME_BUDGET_S:g} "
+                        "(default 180)")
     p.add_argument("--verify", action="store_true", help="re-integrate the optimal controls and report the check")
-    p.add_argument("--json", metavar="FILE", help="write the result summary as JSON")
+    p.add_argument("--json", metavar="FILE", help="write the result summary as JSON (NaN written as null)")
     p.add_argument("--rrd", metavar="FILE", help="write a rerun recording of the optimised cycle")
     p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV and a markdown report of the cycle into DIR")
     p.add_argument("--trajectory", metavar="FILE",
                    help="reference-trajectory file to write (default: next to --json as *.trajectory.json)")
 
 
+#: ``--starts`` upper limit (the optimiser has a few distinct starts; more are never tried)
+MAX_STARTS = 100
+#: ``--time-budget`` upper limit [s] (one day)
+MAX_TIME_BUDGET_S = 86400.0
+
+
 def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
     """``--propeller`` and ``--line-weight``: how closely the optimiser models the 6-DOF plant
-    (physical scenario; ``prefix`` opens the help texts, e.g. when the command optimises)."""
+    (physical scenario; ``prefix`` opens the help texts, e.g. when the command optimises).
+
+    Both default to None (not given), which means momentum theory and no line weight, so that a
+    command can tell an explicit option from its default."""
     from ..ocp.problem import PROPELLERS  # plain dataclasses: no CasADi import
 
     p.add_argument("--propeller", choices=PROPELLERS, default=None,
                    help=prefix + "propeller model of the physical scenario: momentum theory + efficiencies (default) "
                         "or engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
-    p.add_argument("--line-weight", action="store_true",
+    p.add_argument("--line-weight", action="store_true", default=None,
                    help=prefix + "physical scenario: the glider carries its share of the line's weight, as the "
                         "6-DOF plant's ground station applies it")
 
 
+def parse_mesh(text: str | None, option: str = "--mesh", two: bool = False):
+    """The :class:`~fdm_awe.ocp.problem.Mesh` of ``NG,NR,DEG`` (or ``NG,NR`` when ``two``; None:
+    the default mesh), validated; errors name ``option``."""
+    from ..errors import InputError
+    from ..ocp.problem import Mesh
+
+    if text is None:
+        return Mesh()
+    form = "NGEN,NREC[,DEGREE] integers" if two else "NG,NR,DEG integers, e.g. 30,16,4"
+    try:
+        m = [int(v) for v in text.split(",")]
+        if len(m) not in ((2, 3) if two else (3,)):
+            raise ValueError
+    except ValueError:
+        raise InputError(f"{option} {text!r} invalid (allowed {form})") from None
+    mesh = Mesh(n_gen=m[0], n_rec=m[1], **({"degree": m[2]} if len(m) == 3 else {}))
+    try:
+        mesh.validate()
+    except InputError as exc:
+        raise InputError(f"{option} {text!r}: {exc}") from None
+    return mesh
+
+
+def check_solver_args(args: argparse.Namespace) -> None:
+    """``--starts``, ``--time-budget``, ``--wind``, ``--wind-from`` and ``--tether-drag-scale``
+    of a command that optimises (optimize, compare)."""
+    from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
+    from . import _checks as chk
+
+    chk.integer(args.starts, "--starts", 1, MAX_STARTS, what="successful starts")
+    chk.number(args.time_budget, "--time-budget", 0.0, MAX_TIME_BUDGET_S, lo_open=True, unit="s", what="solver time")
+    chk.number(args.wind, "--wind", 0.0, 25.0, unit="m/s", what="wind speed")
+    chk.number(args.wind_from, "--wind-from", -360.0, 360.0, unit="deg", what="wind direction")
+    chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
+
+
 def problem_from_args(args: argparse.Namespace):
     """Build and validate the :class:`CycleProblem` from command-line arguments."""
-    from ..errors import InputError
-    from ..ocp.problem import Bounds, CycleProblem, Mesh
+    from ..ocp.problem import Bounds, CycleProblem
+    from . import _checks as chk
 
-    mesh = Mesh()
-    if args.mesh:
-        try:
-            ng, nr, deg = (int(v) for v in args.mesh.split(","))
-        except ValueError:
-            raise InputError(f"--mesh {args.mesh!r} invalid (expected NG,NR,DEG, e.g. 30,16,4)") from None
-        mesh = Mesh(ng, nr, deg)
+    check_solver_args(args)
+    chk.number(args.d0, "--d0", 0.0, None, lo_open=True, unit="m", what="tether length at the cycle start")
+    chk.number(args.d_tf, "--d-tf", args.d0, None, lo_open=True, unit="m (above --d0)",
+               what="tether length at the end of generation")
+    chk.number(args.v_min, "--v-min", 0.0, None, lo_open=True, unit="m/s", what="minimum airspeed")
+    chk.number(args.v_max, "--v-max", args.v_min, None, lo_open=True, unit="m/s (above --v-min)", what="maximum airspeed")
+    chk.number(args.h_min, "--h-min", 0.0, None, unit="m", what="ground clearance")
+    chk.number(args.t_max, "--t-max", 0.0, None, lo_open=True, unit="s", what="longest cycle")
+    mesh = parse_mesh(args.mesh)
     bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max)
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
@@ -87,21 +143,31 @@ def print_summary(res, file=sys.stdout) -> None:
           f"({'net gain' if s['E_net_J'] > 0 else 'net loss'})", file=file)
 
 
+def trajectory_path(args: argparse.Namespace) -> str | None:
+    """``--trajectory``, else next to ``--json`` as ``*.trajectory.json``, else None."""
+    if args.trajectory is not None or not args.json:
+        return args.trajectory
+    return args.json[:-5] + ".trajectory.json" if args.json.endswith(".json") else args.json + ".trajectory.json"
+
+
 def run(args: argparse.Namespace) -> int:
+    from . import _checks as chk
+
     problem = problem_from_args(args)
+    traj = trajectory_path(args)
+    from ..recording.outputs import output_files
+
+    chk.outputs(files=[("--json", args.json), ("--trajectory", traj), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
+                dir_files=[("--out", p) for k, p in output_files(args.out, "cycle", args.rrd).items()
+                           if args.out and not (k == "rrd" and args.rrd)])
+    from ..fileio import write_json
     from ..ocp.result import write_reference
     from ..ocp.solve import get_nlp, solve_cycle
 
     print(f"optimising {problem.scenario}/{problem.config} at {problem.wind_speed:g} m/s ...", file=sys.stderr, flush=True)
-    res = solve_cycle(problem, n_starts=max(1, args.starts), time_budget_s=args.time_budget)
-    for f in (args.json, args.trajectory, args.rrd):
-        if f:
-            Path(f).parent.mkdir(parents=True, exist_ok=True)
-    traj = args.trajectory
-    if traj is None and args.json:
-        traj = args.json[:-5] + ".trajectory.json" if args.json.endswith(".json") else args.json + ".trajectory.json"
+    res = solve_cycle(problem, n_starts=args.starts, time_budget_s=args.time_budget)
     if res.ok and traj:
-        write_reference(res, traj)
+        write_reference(res, traj)  # atomic (temporary name, then renamed)
     print_summary(res)
     out = res.summary()
     if res.ok and args.verify:
@@ -111,7 +177,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"  check: interval defects sum to {100 * v.position_error_rel:.3f} % of the {v.path_length_m:.0f} m path; "
               f"energies re-integrated: " + ", ".join(f"{k} {100 * e:.2f} %" for k, e in v.energy_error_rel.items())
               + f"; max scaled constraint violation {v.nlp_max_violation:.1e}")
-        out["verification"] = {k: (float(x) if not isinstance(x, (dict, str)) else x) for k, x in v.as_dict().items()}
+        out["verification"] = v.as_dict()
     if res.ok and traj:
         print(f"  reference trajectory: {traj}")
     if res.ok and (args.rrd or args.out):
@@ -119,6 +185,5 @@ def run(args: argparse.Namespace) -> int:
 
         out.update(cycle_outputs(res, rrd=args.rrd, out_dir=args.out))
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(out, fh, indent=2, default=float)
+        write_json(args.json, out)
     return 0 if res.ok else 1

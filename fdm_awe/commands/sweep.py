@@ -7,21 +7,27 @@ are warm-started from their neighbour. Every finished point is written at once t
 Outputs in ``OUT``: ``points.csv`` (every point, failed ones with their reason),
 ``power_curve.png``, ``folding_map.png``, ``summary.md``; ``--json FILE`` writes the numbers.
 
+Every option is checked before the cluster starts (numbers in range, list items not empty,
+``--scheduler`` a ``[SCHEME://]HOST:PORT`` address whose host resolves, ``--out``/``--json``
+writable); bad input is one line and exit 2. The outputs are written atomically; the JSON
+writes NaN as ``null``.
+
 Exit codes: 0 when every point of the sweep has a result (converged or failed: failed points
-are counted, listed and do not change the exit code); 1 when some points have no result (the
-sweep was interrupted, a worker died); 2 on bad input; 130 on Ctrl-C (finished points are kept).
+are counted, listed and do not change the exit code); 1 when some points have no result (a
+worker died, ``--stop-after``); 2 on bad input; 130 on Ctrl-C: the cluster is shut down
+quietly (no tracebacks) and the points finished so far are kept for a rerun.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 
 HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--wind", default="3:12:1", metavar="SPEC", help="wind speeds [m/s]: START:STOP:STEP or a list (default 3:12:1)")
+    p.add_argument("--wind", default="3:12:1", metavar="SPEC",
+                   help="wind speeds [m/s], each 0..25: START:STOP:STEP or a comma list (default 3:12:1)")
     p.add_argument("--config", default="nominal,foldable", help="configurations: nominal,foldable (default both)")
     p.add_argument("--scenario", default="physical", choices=("physical", "paper"), help="scenario family (default physical)")
     p.add_argument("--folded-span", metavar="LIST", help="folded spans b_f [m] (default: the folded definition's)")
@@ -30,56 +36,72 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-range", default="200:250", metavar="D0:DTF,...", help="reel-out ranges d0:d_tf [m] (default 200:250)")
     p.add_argument("--fold-time", default="0", metavar="LIST", help="fold times [s]; only 0 is supported (instant fold)")
     p.add_argument("--mesh", default=None, metavar="NGEN,NREC[,DEG]", help="collocation mesh (default: the optimiser's)")
-    p.add_argument("--max-iter", type=int, default=None, help="IPOPT iteration limit per solve (default 1000)")
+    p.add_argument("--max-iter", type=int, default=None, help="IPOPT iteration limit per solve, 10..100000 (default 1000)")
     p.add_argument("--max-iter-total", type=int, default=None,
-                   help="IPOPT iterations over all solves of one point (default 3000)")
+                   help="IPOPT iterations over all solves of one point, 10..1000000 (default 3000)")
     p.add_argument("--warm-fallback", default="all", choices=("all", "one", "none"),
                    help="after a failed warm start: the whole cold strategy (all, default), one cold solve from the "
                         "first start (one), or fail at once (none); with one or none, a point after a failed neighbour that "
                         "passes on no warm start also gets a single cold solve")
     p.add_argument("--anchor-every", type=int, default=0, metavar="N",
-                   help="a cold-started anchor every N winds of a line (more, shorter warm-start chains; "
+                   help="a cold-started anchor every N winds of a line, 0..1000 (more, shorter warm-start chains; "
                         "default 0: one anchor per line, the wind nearest 8 m/s)")
     from .optimize import add_plant_model_args
 
     add_plant_model_args(p)
-    p.add_argument("--workers", type=int, default=None, help="local Dask worker processes (default: number of cores)")
-    p.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="use this Dask scheduler instead of a local cluster")
+    p.add_argument("--workers", type=int, default=None,
+                   help=f"local Dask worker processes, 1..{MAX_WORKERS} (default: number of cores; not with --scheduler)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="use this Dask scheduler ([SCHEME://]HOST:PORT, scheme tcp, tls, ws, wss or ucx) instead of a "
+                        "local cluster")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder (point files, table, plots, summary)")
-    p.add_argument("--json", metavar="FILE", help="also write the summary numbers and every point as JSON")
+    p.add_argument("--json", metavar="FILE",
+                   help="also write the summary numbers and every point as JSON (NaN written as null)")
     p.add_argument("--cold", action="store_true", help="solve every point cold (no warm starts along the wind axis)")
     p.add_argument("--retry-failed", action="store_true", help="recompute points recorded as failed")
     p.add_argument("--stop-after", type=int, default=None, metavar="N",
-                   help="stop after N newly finished points (as an interruption would; for testing resume)")
+                   help="stop after N >= 1 newly finished points (as an interruption would; for testing resume)")
     p.add_argument("--report-only", action="store_true",
                    help="compute nothing: write the outputs from the points already finished in --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
+#: ``--workers`` upper limit (local worker processes)
+MAX_WORKERS = 1024
+
+
+def check_args(args: argparse.Namespace) -> None:
+    """The integer options and ``--scheduler`` (one-line errors naming the option)."""
+    from ..errors import InputError
+    from ..sweep.spec import ANCHOR_EVERY_RANGE, MAX_ITER_RANGE, MAX_ITER_TOTAL_RANGE
+    from . import _checks as chk
+
+    chk.integer(args.max_iter, "--max-iter", *MAX_ITER_RANGE, what="IPOPT iterations per solve")
+    chk.integer(args.max_iter_total, "--max-iter-total", *MAX_ITER_TOTAL_RANGE, what="IPOPT iterations per point")
+    chk.integer(args.anchor_every, "--anchor-every", *ANCHOR_EVERY_RANGE, what="winds between anchors")
+    chk.integer(args.workers, "--workers", 1, MAX_WORKERS, what="local worker processes")
+    chk.integer(args.stop_after, "--stop-after", 1, None, what="newly finished points")
+    chk.scheduler_address(args.scheduler)
+    if args.scheduler is not None and args.workers is not None:
+        raise InputError("--workers: not with --scheduler (the external cluster has its own workers)")
+
+
 def build_spec(args: argparse.Namespace):
     """The :class:`~fdm_awe.sweep.spec.SweepSpec` of the command line (canonical ids)."""
-    from ..errors import InputError
-    from ..ocp.problem import Mesh
+    from ..ocp.problem import CONFIGS
     from ..sweep.runner import canonical_spec
-    from ..sweep.spec import DEFAULT_MAX_ITER, DEFAULT_MAX_ITER_TOTAL, SweepSpec, parse_floats, parse_tether_ranges
+    from ..sweep.spec import (DEFAULT_MAX_ITER, DEFAULT_MAX_ITER_TOTAL, WIND_RANGE, SweepSpec, parse_floats, parse_names,
+                              parse_tether_ranges)
+    from .optimize import parse_mesh
 
-    if args.mesh is None:
-        mesh = Mesh()
-    else:
-        try:
-            m = [int(v) for v in args.mesh.split(",")]
-            if len(m) not in (2, 3):
-                raise ValueError
-        except ValueError:
-            raise InputError(f"--mesh {args.mesh!r} invalid (allowed NGEN,NREC or NGEN,NREC,DEGREE integers)") from None
-        mesh = Mesh(n_gen=m[0], n_rec=m[1], **({"degree": m[2]} if len(m) == 3 else {}))
-    configs = tuple(c.strip() for c in args.config.split(",") if c.strip())
+    mesh = parse_mesh(args.mesh, two=True)
+    configs = parse_names(args.config, "--config", CONFIGS)
 
     def opt(text: str | None, what: str, unit: str) -> tuple:
         return (None,) if text is None else parse_floats(text, what, unit)
 
     spec = SweepSpec(
-        winds=parse_floats(args.wind, "--wind", "m/s"), configs=configs,
+        winds=parse_floats(args.wind, "--wind", "m/s", *WIND_RANGE), configs=configs,
         folded_spans=opt(args.folded_span, "--folded-span", "m"),
         folded_drag_areas=opt(args.folded_drag_area, "--folded-drag-area", "m2"),
         wing_areas=opt(args.wing_area, "--wing-area", "m2"),
@@ -94,15 +116,18 @@ def build_spec(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..errors import InputError
+    from . import _checks as chk
+
+    check_args(args)
+    spec = build_spec(args)
+    from ..sweep.report import output_files
+
+    chk.outputs(files=[("--json", args.json)], dirs=[("--out", args.out)],
+                dir_files=[("--out", p) for p in output_files(args.out).values()])
+    from ..fileio import write_json
     from ..sweep.execute import run_sweep
     from ..sweep.report import write_outputs
 
-    spec = build_spec(args)
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"--workers {args.workers} out of range (allowed >= 1)")
-    if args.stop_after is not None and args.stop_after < 1:
-        raise InputError(f"--stop-after {args.stop_after} out of range (allowed >= 1)")
     n = len(spec.points())
     print(f"sweep: {n} points ({spec.scenario} scenario, configs {','.join(spec.configs)}, mesh "
           f"{spec.mesh.n_gen}/{spec.mesh.n_rec}/{spec.mesh.degree}) -> {args.out}", flush=True)
@@ -141,6 +166,5 @@ def run(args: argparse.Namespace) -> int:
                "failed": [{"id": r["id"], "config": r["config"], "wind_mps": r["wind_mps"], "b_f_m": r.get("b_f_m"),
                            "reason": r["reason"]} for r in records if r["status"] != "ok"],
                "points": records}
-        with open(args.json, "w") as fh:
-            json.dump(doc, fh, indent=1, allow_nan=False)
+        write_json(args.json, doc, indent=1)
     return 0 if res.complete else 1

@@ -1,0 +1,187 @@
+"""Checks the commands run on their options before any work starts.
+
+Every function raises :class:`~fdm_awe.errors.InputError` with one line naming the option, the
+value and the allowed range; the command line turns it into ``fdm-awe CMD: error: ...`` and exit
+code 2. Only the standard library and :mod:`fdm_awe.fileio` are imported here, so the checks
+cost nothing at start-up.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import socket
+from pathlib import Path
+from typing import Iterable, Sequence
+
+from ..errors import InputError
+from ..fileio import check_output_dir, check_output_file
+
+#: JSBSim turbulence seeds: a positive 32-bit signed integer (JSBSim's random generator seed)
+SEED_MIN, SEED_MAX = 1, 2**31 - 1
+
+#: turbulence levels of ``fly --turbulence`` (JSBSim's Milspec severities)
+TURBULENCE_LEVELS = ("light", "moderate", "severe")
+
+#: connection kinds of ``fly --mavlink`` (pymavlink connection strings with HOST:PORT)
+MAVLINK_KINDS = ("udpout", "udpin", "udp", "tcp", "tcpin")
+
+#: address schemes of ``sweep --scheduler`` (Dask comm protocols with HOST:PORT)
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+
+
+def _interval(lo: float | None, hi: float | None, lo_open: bool, hi_open: bool, unit: str) -> str:
+    u = f" {unit}" if unit else ""
+    if lo is not None and hi is not None and not lo_open and not hi_open:
+        return f"{lo:g}..{hi:g}{u}"
+    parts = []
+    if lo is not None:
+        parts.append(f"{'>' if lo_open else '>='} {lo:g}")
+    if hi is not None:
+        parts.append(f"{'<' if hi_open else '<='} {hi:g}")
+    return " and ".join(parts) + u if parts else "a finite number" + u
+
+
+def number(value: float | None, option: str, lo: float | None = None, hi: float | None = None, *,
+           lo_open: bool = False, hi_open: bool = False, unit: str = "", what: str = "") -> float | None:
+    """``value`` if it is finite and within ``lo``..``hi`` (open ends where asked); None passes.
+
+    ``what`` names the quantity in the message (e.g. ``wind speed``), ``unit`` its SI unit.
+    """
+    if value is None:
+        return None
+    v = float(value)
+    ok = math.isfinite(v) and (lo is None or (v > lo if lo_open else v >= lo)) and (
+        hi is None or (v < hi if hi_open else v <= hi))
+    if not ok:
+        desc = f" ({what})" if what else ""
+        raise InputError(f"{option} {value!r}{desc} out of range (allowed {_interval(lo, hi, lo_open, hi_open, unit)})")
+    return v
+
+
+def integer(value: int | None, option: str, lo: int, hi: int | None = None, *, what: str = "") -> int | None:
+    """``value`` if it is an integer within ``lo``..``hi``; None passes."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int) or value < lo or (hi is not None and value > hi):
+        desc = f" ({what})" if what else ""
+        allowed = f"integer {lo}..{hi}" if hi is not None else f"integer >= {lo}"
+        raise InputError(f"{option} {value!r}{desc} out of range (allowed {allowed})")
+    return value
+
+
+def outputs(files: Sequence[tuple[str, str | os.PathLike | None]] = (),
+            dirs: Sequence[tuple[str, str | os.PathLike | None]] = (),
+            inputs: Iterable[str | os.PathLike | None] = (),
+            dir_files: Sequence[tuple[str, str | os.PathLike]] = ()) -> None:
+    """Check every output of a run before the work starts.
+
+    ``files`` and ``dirs`` are ``(option, path)`` pairs (None: not asked for). Files are
+    checked first (no side effects), then the folders (created when missing), then
+    ``dir_files``, the files the run will write inside those folders (``option`` there names
+    the folder's option). No path may be an input of the run (``inputs``, and always the
+    definition files, :func:`definition_files`) or the output of another option.
+    """
+    ins = [i for i in inputs if i is not None] + definition_files()
+    seen: dict[Path, str] = {}
+
+    def distinct(option: str, p: Path) -> None:
+        key = Path(os.path.abspath(p))
+        if key in seen:
+            raise InputError(f"{option} {p}: also the output of {seen[key]}; choose another path")
+        seen[key] = option
+
+    for option, path in files:
+        if path is not None:
+            distinct(option, check_output_file(path, option, ins))
+    for option, path in dirs:
+        if path is not None:
+            distinct(option, Path(path))
+    for option, path in dirs:
+        if path is not None:
+            check_output_dir(path, option, ins)
+    for option, path in dir_files:
+        distinct(option, check_output_file(path, option, ins))
+
+
+def definition_files() -> list[Path]:
+    """Every file of the definition folders (``aircraft/``, ``engine/``, ``tether/`` under
+    :data:`fdm_awe.ROOT`): inputs of every run, never to be overwritten by an output."""
+    from .. import DEFINITION_FOLDERS, ROOT
+
+    return [p for folder in DEFINITION_FOLDERS for p in sorted((ROOT / folder).rglob("*")) if p.is_file()]
+
+
+def turbulence(text: str | None, option: str = "--turbulence") -> tuple[str, int] | None:
+    """``LEVEL[:SEED]`` -> (level, seed); the seed defaults to 1, allowed 1..2**31-1."""
+    if text is None:
+        return None
+    level, colon, seed = text.partition(":")
+    if level not in TURBULENCE_LEVELS:
+        raise InputError(f"{option} {text!r}: level {level!r} unknown (allowed {', '.join(TURBULENCE_LEVELS)})")
+    if not colon:
+        return level, SEED_MIN
+    try:
+        n = int(seed)
+    except ValueError:
+        raise InputError(f"{option} {text!r}: seed {seed!r} is not an integer (allowed {SEED_MIN}..{SEED_MAX})") from None
+    if not SEED_MIN <= n <= SEED_MAX:
+        raise InputError(f"{option} {text!r}: seed {n} out of range (allowed {SEED_MIN}..{SEED_MAX})")
+    return level, n
+
+
+def _host_port(rest: str, text: str, option: str, form: str) -> tuple[str, int]:
+    """HOST and PORT of ``rest`` (the HOST:PORT part of the option's value ``text``)."""
+    host, colon, port = rest.rpartition(":")
+    if not colon or not host or not port:
+        raise InputError(f"{option} {text!r}: expected {form}")
+    host = host[1:-1] if host.startswith("[") and host.endswith("]") else host  # [IPv6]
+    try:
+        p = int(port)
+    except ValueError:
+        raise InputError(f"{option} {text!r}: port {port!r} is not an integer (allowed 1..65535)") from None
+    if not 1 <= p <= 65535:
+        raise InputError(f"{option} {text!r}: port {p} out of range (allowed 1..65535)")
+    return host, p
+
+
+def _resolve(host: str, port: int, option: str, text: str, kind: int = 0) -> None:
+    try:
+        socket.getaddrinfo(host, port, type=kind)
+    except (OSError, UnicodeError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise InputError(f"{option} {text!r}: host {host!r} does not resolve ({reason})") from None
+
+
+def mavlink_url(url: str | None, option: str = "--mavlink") -> str | None:
+    """``KIND:HOST:PORT`` with KIND one of :data:`MAVLINK_KINDS`, port 1..65535 and a host that
+    resolves (``socket.getaddrinfo``); None passes."""
+    if url is None:
+        return None
+    form = f"KIND:HOST:PORT with KIND one of {', '.join(MAVLINK_KINDS)} (e.g. udpout:127.0.0.1:14550)"
+    kind, colon, rest = url.partition(":")
+    if not colon or kind not in MAVLINK_KINDS:
+        raise InputError(f"{option} {url!r}: expected {form}")
+    host, port = _host_port(rest, url, option, form)
+    _resolve(host, port, option, url, socket.SOCK_STREAM if kind.startswith("tcp") else socket.SOCK_DGRAM)
+    return url
+
+
+def scheduler_address(address: str | None, option: str = "--scheduler") -> str | None:
+    """A Dask scheduler address ``[SCHEME://]HOST:PORT`` (scheme one of
+    :data:`SCHEDULER_SCHEMES`, default tcp) whose host resolves; None passes."""
+    if address is None:
+        return None
+    form = f"[SCHEME://]HOST:PORT with SCHEME one of {', '.join(SCHEDULER_SCHEMES)} (e.g. tcp://127.0.0.1:8786)"
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme not in SCHEDULER_SCHEMES:
+        raise InputError(f"{option} {address!r}: scheme {scheme!r} unknown (expected {form})")
+    host, port = _host_port(rest, address, option, form)
+    _resolve(host, port, option, address, socket.SOCK_STREAM)
+    return address
+
+
+__all__ = ["MAVLINK_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS", "definition_files", "integer",
+           "mavlink_url", "number", "outputs", "scheduler_address", "turbulence"]
