@@ -236,6 +236,9 @@ DOCS = {
     "line_weight_string": (_set(["metadata", "line_weight"], "yes"), "metadata.line_weight"),
     "d_tf_below_d0": (_set(["metadata", "d_tf_m"], 100.0), "metadata.d_tf_m"),
     "nominal_folds": (_set(["metadata", "config"], "nominal"), "metadata.recovery_airframe"),
+    "energies_list": (_set(["metadata", "energies"], [1.0]), "metadata.energies"),
+    "energy_text": (_set(["metadata", "energies", "E_net_J"], "a lot"), "metadata.energies.E_net_J"),
+    "energies_override_status": (_set(["metadata", "energies", "status"], "ok"), "metadata.energies.status"),
 }
 
 

@@ -470,6 +470,10 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     for key in ("mesh", "bounds", "energies"):
         if md.get(key) is not None and not isinstance(md[key], dict):
             raise InputError(f"{src}: metadata.{key}: {_kind(md[key])}, expected an object")
+    for k, v in (md.get("energies") or {}).items():  # shown in reports beside the other summary numbers
+        if not (isinstance(k, str) and k.startswith(("E_", "P_"))) or not (v is None or (_is_number(v) and math.isfinite(v))):
+            raise InputError(f"{src}: metadata.energies.{k}: {_show(v)} not allowed (allowed: E_*_J / P_*_W names "
+                             f"with finite numbers or null)")
     return md
 
 
