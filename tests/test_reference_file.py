@@ -83,6 +83,12 @@ def test_unreadable_file(tmp_path):
         p.chmod(0o644)
 
 
+@pytest.mark.skipif(not Path("/proc/self/mem").is_file(), reason="needs Linux /proc")
+def test_file_that_cannot_be_read(tmp_path):
+    """/proc/self/mem is a regular file whose plain read fails (EIO), whoever reads it."""
+    _refused(Path("/proc/self/mem"), "cannot read")
+
+
 RAW = {
     "empty": (b"", "empty file"),
     "blank": (b"  \n\t ", "empty file"),
