@@ -76,10 +76,10 @@ def outputs(files: Sequence[tuple[str, str | os.PathLike | None]] = (),
             dir_files: Sequence[tuple[str, str | os.PathLike]] = ()) -> None:
     """Check every output of a run before the work starts.
 
-    ``files`` and ``dirs`` are ``(option, path)`` pairs (None: not asked for). Files are
-    checked first (no side effects), then the folders (created when missing), then
-    ``dir_files``, the files the run will write inside those folders (``option`` there names
-    the folder's option). No path may be an input of the run (``inputs``, and always the
+    ``files`` and ``dirs`` are ``(option, path)`` pairs (None: not asked for); ``dir_files``
+    are the files the run will write inside those folders (``option`` there names the folder's
+    option). Every path must differ from every other; the files are checked first (no side
+    effects), then the folders (created when missing), then the files whose folder that made. No path may be an input of the run (``inputs``, and always the
     definition files, :func:`definition_files`) or the output of another option.
     """
     ins = [i for i in inputs if i is not None] + definition_files()
@@ -91,17 +91,32 @@ def outputs(files: Sequence[tuple[str, str | os.PathLike | None]] = (),
             raise InputError(f"{option} {p}: also the output of {seen[key]}; choose another path")
         seen[key] = option
 
-    for option, path in files:
-        if path is not None:
-            distinct(option, check_output_file(path, option, ins))
+    folders = [Path(os.path.abspath(d)) for _, d in dirs if d is not None]
+
+    def in_folder(path: str | os.PathLike) -> bool:
+        a = Path(os.path.abspath(path))
+        return any(f in a.parents for f in folders)
+
+    # a file inside an output folder that does not exist yet is checked once the folder is made;
+    # every other path first (no side effects)
+    pending = [(o, p) for o, p in files if p is not None and in_folder(p)] + list(dir_files)
+    for option, path in [(o, p) for o, p in files if p is not None and not in_folder(p)] + pending:
+        distinct(option, Path(path))
     for option, path in dirs:
         if path is not None:
             distinct(option, Path(path))
+    later = []
+    for option, path in [(o, p) for o, p in files if p is not None and not in_folder(p)] + pending:
+        parent = Path(os.path.abspath(path)).parent
+        if parent in folders and not parent.is_dir():
+            later.append((option, path))  # the folder option creates it
+        else:
+            check_output_file(path, option, ins)
     for option, path in dirs:
         if path is not None:
             check_output_dir(path, option, ins)
-    for option, path in dir_files:
-        distinct(option, check_output_file(path, option, ins))
+    for option, path in later:
+        check_output_file(path, option, ins)
 
 
 def definition_files() -> list[Path]:

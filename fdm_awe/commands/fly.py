@@ -237,7 +237,7 @@ def run(args: argparse.Namespace) -> int:
         res = optimise_reference(problem)
         ref = TrackingReference.from_ocp(load_reference(res))  # in memory: no file unless --out
         ref_path: Path | None = None
-        ref_label = f"optimised {args.scenario} {args.config} reference"
+        ref_label = f"the optimised {args.scenario} {args.config} reference"
         if out_dir is not None:
             from ..ocp.result import write_reference
 

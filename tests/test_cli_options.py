@@ -1,0 +1,215 @@
+"""Options of the command line: every number range-checked, seeds, MAVLink URLs and scheduler
+addresses validated, list items never silently dropped, options a reference fixes refused, and
+defaults that work. Each refusal is one line naming the option and the allowed range, exit 2,
+before any work (the work functions are spies that fail the test when called)."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import pytest
+
+from fdm_awe.cli import build_parser, main
+
+DATA = Path(__file__).parent / "data"
+REF = DATA / "ref_physical_nominal_8mps.json"
+REF_FOLDABLE = DATA / "ref_physical_foldable_8mps_halfline.json"
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    import fdm_awe.flight as flight
+    import fdm_awe.ocp.solve as solve
+    import fdm_awe.sweep.execute as execute
+
+    def spy(name):
+        def f(*a, **kw):
+            raise AssertionError(f"{name} was called: the work started although an option was bad")
+        return f
+
+    monkeypatch.setattr(flight, "fly", spy("fly"))
+    monkeypatch.setattr(solve, "solve_cycle", spy("solve_cycle"))
+    monkeypatch.setattr(execute, "run_sweep", spy("run_sweep"))
+
+
+def _refused(argv: list[str], capsys, *words: str) -> str:
+    t0 = time.monotonic()
+    rc = main(argv)
+    wall = time.monotonic() - t0
+    err = capsys.readouterr().err.strip()
+    assert rc == 2, (argv, err)
+    assert wall < 10.0, (argv, wall)
+    assert "\n" not in err and "error:" in err, err
+    for w in words:
+        assert w in err, (argv, w, err)
+    return err
+
+
+NUMERIC = [
+    # optimize: the reproducers (-1 and nan used to run ~40 s and exit 1) and every other number
+    (["optimize", "--time-budget", "-1"], ("--time-budget", "> 0")),
+    (["optimize", "--time-budget", "nan"], ("--time-budget", "> 0")),
+    (["optimize", "--time-budget", "inf"], ("--time-budget", "86400")),
+    (["optimize", "--starts", "0"], ("--starts", "1..100")),
+    (["optimize", "--wind", "-2"], ("--wind", "wind speed", "0..25")),
+    (["optimize", "--wind", "nan"], ("--wind", "0..25")),
+    (["optimize", "--wind-from", "inf"], ("--wind-from", "-360..360")),
+    (["optimize", "--d0", "0"], ("--d0", "> 0")),
+    (["optimize", "--d-tf", "150"], ("--d-tf", "> 200")),
+    (["optimize", "--v-min", "-5"], ("--v-min", "> 0")),
+    (["optimize", "--v-max", "4"], ("--v-max", "> 5")),
+    (["optimize", "--h-min", "-1"], ("--h-min", ">= 0")),
+    (["optimize", "--t-max", "nan"], ("--t-max", "> 0")),
+    (["optimize", "--tether-drag-scale", "11"], ("--tether-drag-scale", "0..10")),
+    (["optimize", "--mesh", "2,20,4"], ("--mesh", "4..1000")),
+    (["optimize", "--mesh", "60,20"], ("--mesh", "NG,NR,DEG")),
+    # compare
+    (["compare", "--starts", "0"], ("--starts", "1..100")),
+    (["compare", "--time-budget", "nan"], ("--time-budget", "> 0")),
+    (["compare", "--wind", "26"], ("--wind", "0..25")),
+    (["compare", "--tether-drag-scale", "-0.1"], ("--tether-drag-scale", "0..10")),
+    (["compare", "--mesh", "60,20,0"], ("--mesh", "1..9")),
+    # fly (with a reference: the checks come before the file is flown)
+    (["fly", "--reference", str(REF), "--cycles", "0"], ("--cycles", "1..1000")),
+    (["fly", "--reference", str(REF), "--dt", "nan"], ("--dt", "0.0001..0.05")),
+    (["fly", "--reference", str(REF), "--dt", "0.1"], ("--dt", "0.0001..0.05")),
+    (["fly", "--reference", str(REF), "--realtime", "0"], ("--realtime", "> 0")),
+    (["fly", "--reference", str(REF), "--realtime", "inf"], ("--realtime", "1000")),
+    (["fly", "--reference", str(REF), "--tether-drag-scale", "nan"], ("--tether-drag-scale", "0..10")),
+    (["fly", "--wind", "30"], ("--wind", "0..25")),
+    (["fly", "--wind-from", "nan"], ("--wind-from", "-360..360")),
+    (["fly", "--gamma-max", "0"], ("--gamma-max", "0.1..1.5")),
+    # sweep
+    (["sweep", "--out", "{tmp}", "--max-iter", "5"], ("--max-iter", "10..100000")),
+    (["sweep", "--out", "{tmp}", "--max-iter-total", "0"], ("--max-iter-total", "10..1000000")),
+    (["sweep", "--out", "{tmp}", "--anchor-every", "-1"], ("--anchor-every", "0..1000")),
+    (["sweep", "--out", "{tmp}", "--workers", "0"], ("--workers", "1..1024")),
+    (["sweep", "--out", "{tmp}", "--stop-after", "0"], ("--stop-after", ">= 1")),
+    (["sweep", "--out", "{tmp}", "--wind", "3,,5"], ("--wind", "empty list item")),
+    (["sweep", "--out", "{tmp}", "--wind", "3,5,"], ("--wind", "empty list item")),
+    (["sweep", "--out", "{tmp}", "--wind", "3,30"], ("--wind", "0..25")),
+    (["sweep", "--out", "{tmp}", "--wind", "3:nan:1"], ("--wind", "START:STOP:STEP")),
+    (["sweep", "--out", "{tmp}", "--config", "nominal,,foldable"], ("--config", "empty list item")),
+    (["sweep", "--out", "{tmp}", "--config", "nominal,bogus"], ("--config", "bogus", "nominal, foldable")),
+    (["sweep", "--out", "{tmp}", "--tether-range", "200:250,"], ("--tether-range", "empty list item")),
+    (["sweep", "--out", "{tmp}", "--mesh", "6"], ("--mesh", "NGEN,NREC")),
+    (["sweep", "--out", "{tmp}", "--scheduler", "bogus"], ("--scheduler", "HOST:PORT")),
+    (["sweep", "--out", "{tmp}", "--scheduler", "tcp://127.0.0.1:0"], ("--scheduler", "1..65535")),
+    (["sweep", "--out", "{tmp}", "--scheduler", "udp://127.0.0.1:8786"], ("--scheduler", "tcp")),
+    (["sweep", "--out", "{tmp}", "--scheduler", "tcp://no-such-host.invalid:8786"], ("--scheduler", "does not resolve")),
+    (["sweep", "--out", "{tmp}", "--scheduler", "tcp://127.0.0.1:8786", "--workers", "2"], ("--workers", "--scheduler")),
+    # argparse's own errors are one line too
+    (["optimize", "--wind", "abc"], ("--wind", "invalid float")),
+    (["fly", "--cycles", "1.5"], ("--cycles", "invalid int")),
+]
+
+
+@pytest.mark.parametrize("argv,words", NUMERIC, ids=[" ".join(a) for a, _ in NUMERIC])
+def test_every_numeric_option_is_range_checked_before_work(argv, words, tmp_path, no_work, capsys):
+    argv = [a.replace("{tmp}", str(tmp_path / "sweep")) for a in argv]
+    _refused(argv, capsys, *words)
+    assert not (tmp_path / "sweep").exists()  # nothing created
+
+
+@pytest.mark.parametrize("spec,words", [
+    ("light:0", ("seed 0", "1..2147483647")),
+    ("light:-1", ("seed -1", "1..2147483647")),
+    ("severe:2147483648", ("seed 2147483648", "1..2147483647")),
+    ("moderate:", ("seed ''", "not an integer")),
+    ("moderate:x", ("seed 'x'", "not an integer")),
+    ("storm:3", ("level 'storm'", "light, moderate, severe")),
+])
+def test_turbulence_seed_and_level_are_validated(spec, words, no_work, capsys):
+    _refused(["fly", "--reference", str(REF), "--turbulence", spec], capsys, "--turbulence", *words)
+
+
+def test_turbulence_parser_accepts_the_seed_range():
+    from fdm_awe.commands._checks import turbulence
+
+    assert turbulence("light") == ("light", 1)
+    assert turbulence("light:1") == ("light", 1)
+    assert turbulence("severe:2147483647") == ("severe", 2**31 - 1)
+    assert turbulence(None) is None
+
+
+@pytest.mark.parametrize("url,words", [
+    ("udpout:no-such-host.invalid:14550", ("no-such-host.invalid", "does not resolve")),
+    ("udpout:127.0.0.1:0", ("port 0", "1..65535")),
+    ("udpout:127.0.0.1:65536", ("port 65536", "1..65535")),
+    ("tcp:127.0.0.1:x", ("port 'x'", "not an integer")),
+    ("udpout:127.0.0.1", ("KIND:HOST:PORT",)),
+    ("udpout::14550", ("KIND:HOST:PORT",)),
+    ("serial:/dev/ttyS0:57600", ("udpout, udpin, udp, tcp, tcpin",)),
+    ("127.0.0.1:14550", ("KIND:HOST:PORT",)),
+])
+def test_mavlink_url_is_checked_before_the_flight(url, words, no_work, capsys):
+    _refused(["fly", "--reference", str(REF), "--mavlink", url], capsys, "--mavlink", *words)
+
+
+def test_mavlink_urls_of_every_kind_pass():
+    from fdm_awe.commands._checks import MAVLINK_KINDS, mavlink_url, scheduler_address
+
+    for kind in MAVLINK_KINDS:
+        assert mavlink_url(f"{kind}:127.0.0.1:14550") == f"{kind}:127.0.0.1:14550"
+    assert mavlink_url("udpin:0.0.0.0:1") and mavlink_url("udpout:localhost:65535")
+    assert scheduler_address("tcp://127.0.0.1:8786") and scheduler_address("127.0.0.1:8786")
+
+
+def test_options_a_reference_fixes_are_refused(tmp_path, no_work, capsys):
+    """--wind, --wind-from, --gamma-max, --propeller and --line-weight only shape an optimised
+    reference: with --reference they are refused (they used to be silently ignored)."""
+    for extra, option in [(["--wind", "5"], "--wind"), (["--wind-from", "90"], "--wind-from"),
+                          (["--gamma-max", "0.7"], "--gamma-max"), (["--propeller", "engine"], "--propeller"),
+                          (["--line-weight"], "--line-weight")]:
+        _refused(["fly", "--reference", str(REF), *extra], capsys, option, "fixes")
+    _refused(["fly", "--allow-mismatch"], capsys, "--allow-mismatch", "--reference")
+
+
+def test_config_or_scenario_other_than_the_reference_is_refused_unless_allowed(tmp_path, monkeypatch, capsys):
+    """A nominal reference flown as foldable (and the reverse, and physical as paper) is
+    refused; --allow-mismatch flies it with a warning line."""
+    import fdm_awe.flight as flight
+
+    calls = []
+    real = flight.fly
+
+    def short(*a, **kw):
+        calls.append(kw)
+        return real(*a, **{**kw, "t_end": 2.0})
+
+    monkeypatch.setattr(flight, "fly", short)
+    _refused(["fly", "--reference", str(REF), "--config", "foldable"], capsys, "--config foldable", "'nominal'",
+             "--allow-mismatch")
+    _refused(["fly", "--reference", str(REF_FOLDABLE), "--config", "nominal"], capsys, "--config nominal", "'foldable'")
+    _refused(["fly", "--reference", str(REF), "--scenario", "paper"], capsys, "--scenario paper", "'physical'")
+    assert calls == []
+    # the same options as the reference's: no complaint
+    out = tmp_path / "run.json"
+    assert main(["fly", "--reference", str(REF), "--config", "nominal", "--scenario", "physical", "--quiet",
+                 "--json", str(out)]) == 0
+    assert "warning" not in capsys.readouterr().err
+    # overridden on purpose: flown as asked, with a warning
+    assert main(["fly", "--reference", str(REF), "--config", "foldable", "--allow-mismatch", "--quiet",
+                 "--json", str(out)]) in (0, 1)
+    err = capsys.readouterr().err
+    assert "warning:" in err and "'nominal'" in err and "--config foldable" in err
+    assert calls[-1]["config"] == "foldable" and json.loads(out.read_text())["config"] == "foldable"
+
+
+def test_defaults_optimise_the_nominal_glider_and_say_why():
+    """The physical foldable cycle does not exist with the defined line: fly and optimize
+    default to the nominal glider, and their help says why."""
+    p = build_parser()
+    sub = p._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor
+    assert sub["optimize"].parse_args([]).config == "nominal"
+    fly = sub["fly"]
+    args = fly.parse_args([])
+    assert args.config is None and args.wind is None and args.line_weight is None  # "not given"
+    from fdm_awe.commands.fly import DEFAULT_CONFIG, DEFAULT_WIND_MPS
+
+    assert (DEFAULT_CONFIG, DEFAULT_WIND_MPS) == ("nominal", 8.0)
+    for name in ("fly", "optimize"):
+        text = " ".join(sub[name].format_help().split())
+        assert "default nominal" in text and "foldable glider has no periodic cycle" in text, name
