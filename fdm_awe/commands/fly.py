@@ -7,7 +7,9 @@ docs/design.md section 1 (``--json``), a rerun recording (``--rrd``), and option
 
 Without ``--reference`` the reference is optimised (default: physical scenario, nominal
 glider, 8 m/s) and handed to the flight in memory; its file is written only with ``--out``
-(``DIR/reference_<scenario>_<config>_<wind>.json``): the command writes nothing else.
+(``DIR/reference_<scenario>_<config>_<wind>.json``): the command writes nothing else. The
+JSON's ``reference`` names the file flown or written, ``null`` for a reference flown from
+memory.
 
 The plant follows the scenario (``--scenario``; with ``--reference`` and no ``--scenario``, the
 reference file's scenario): ``physical`` flies the JSBSim propeller and the ground station,
