@@ -331,6 +331,9 @@ def fly(
     kinematic winch, :mod:`fdm_awe.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
     the defined line) scales the ground station's line drag on the glider, as
     ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
+    The line is the one named by the reference metadata's ``line``
+    (:data:`fdm_awe.groundstation.line.LINES`); a reference without it flies Table 1's line
+    (``paper``), the line every reference written before lines were named was optimised with.
 
     Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
     a normal report with status ``interrupted`` holding everything flown so far (see
@@ -342,6 +345,7 @@ def fly(
     from .cosim import COLUMNS, CoSim, Limits
     from .definitions.aircraft import load_glider
     from .groundstation import GroundStation, load_ground_station
+    from .groundstation.line import check_line
     from .sixdof import JSBSimGlider
 
     from .paper_plant import PLANTS, IdealThruster, IdealWinch
@@ -354,8 +358,11 @@ def fly(
     paper = plant == "paper"
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))
+    # the line the reference was optimised with; a reference written before lines were named
+    # was optimised with Table 1's line ("paper"). Read (and an unknown name refused) before JSBSim loads
+    line = meta.get("line")
+    gsp = load_ground_station(line="paper" if line is None else check_line(line, "reference metadata.line"))
     glider = JSBSimGlider("glider_foldable", dt=dt, wind_ned=wind, turbulence=turbulence)
-    gsp = load_ground_station()
     airframes = load_glider()
     if paper:
         from .ocp.problem import Scenario

@@ -104,13 +104,14 @@ class IdealWinch:
     co-simulation interface (``reset``, ``unstretched_length``, ``step``, ``ledger``).
 
     ``params``: line stiffness ``EA``, breaking load, length end stops and drum radius from
-    ``tether/ground_station.xml``; ``P_rw`` W: constant reel-in power booked in motor mode
+    ``tether/ground_station.xml`` (default: Table 1's line, ``line="paper"``, the paper
+    scenario's); ``P_rw`` W: constant reel-in power booked in motor mode
     (the ``paper`` scenario's, fdm_awe.ocp.problem.Scenario.P_rw).
     """
 
     def __init__(self, params: GroundStationParams | None = None, P_rw: float = 6.0,
                  wind_ned: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
-        self.params = params if params is not None else load_ground_station()
+        self.params = params if params is not None else load_ground_station(line="paper")
         if not (math.isfinite(P_rw) and P_rw >= 0.0):
             raise InputError(f"P_rw: {P_rw!r} W out of range (allowed >= 0)")
         self.P_rw = float(P_rw)

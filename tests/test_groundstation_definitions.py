@@ -1,4 +1,5 @@
-"""Ground-station definition file: Table 1 values, units, and one-line errors on bad files."""
+"""Ground-station definition file: Table 1 values, units, and one-line errors on bad files.
+The tether lines (sized and paper) are tested in test_line_sizing.py."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ XML = ROOT / "tether" / "ground_station.xml"
 
 
 def test_table1_values_in_si():
-    p = load_ground_station()
+    p = load_ground_station(line="paper")  # Table 1's line
     # Table 1 entries, converted by hand (exact decimal values, so compare to 1e-12)
     assert p.winch.radius == pytest.approx(0.03, rel=1e-12)
     assert p.winch.inertia == pytest.approx(0.000192, rel=1e-12)
@@ -52,7 +53,7 @@ def test_every_value_has_unit_and_basis_comment():
         before = text[: m.start()].rstrip()
         assert before.endswith("-->"), f"<{m.group(1)}> not preceded by a basis comment"
         comment = before[before.rfind("<!--"):]
-        assert ("Table 1" in comment) or ("estimate" in comment) or ("Derived" in comment) or ("PI of" in comment), m.group(1)
+        assert any(basis in comment for basis in ("Table 1", "Table 3", "data (", "estimate", "Derived", "PI of")), m.group(1)
 
 
 def _bad(tmp_path: Path, old: str, new: str) -> Path:
@@ -107,7 +108,8 @@ def test_missing_file_is_definition_error(tmp_path):
          "converter/device_drop", "half the supply voltage"),
         ('<max_length unit="M"> 600.0 </max_length>', '<max_length unit="M"> 1.0 </max_length>',
          "tether/max_length", "must exceed"),
-        ('<diameter unit="M"> 0.00072 </diameter>', '<diameter unit="M"> 0.72 mm </diameter>', "tether/diameter", "not a number"),
+        ('<diameter unit="M"> 0.00072 </diameter>', '<diameter unit="M"> 0.72 mm </diameter>', "tether/line[paper]/diameter",
+         "not a number"),
         ('<ki unit="1/RAD"> 0.1044 </ki>', '<ki unit="1/RAD"> inf </ki>', "speed_controller/ki", "finite"),
         ('<ground_station name', '<groundstation name', "groundstation", "root element"),
     ],

@@ -13,7 +13,7 @@ from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation.tether import line_drag_share
 
-P = load_ground_station()
+P = load_ground_station(line="paper")  # Table 1's line: its numbers are typed out below
 GEN = WinchCommand("generator")
 EL = math.radians(30.0)
 U = np.array([math.cos(EL), 0.0, -math.sin(EL)])  # unit vector winch -> glider, 30 deg elevation

@@ -31,7 +31,7 @@ def test_a_downward_force_enters_like_gravity():
 
 def test_line_weight_is_the_ground_stations_share():
     glider, winch = load_glider(), WinchElectrics.from_ground_station()
-    t = load_ground_station().tether
+    t = load_ground_station(line="paper").tether  # the optimiser's line
     assert winch.line_weight_per_length == pytest.approx(t.weight_share * t.mass_per_length * t.gravity, rel=1e-15)
     pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, line_weight=True).validate()
     base = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0).validate()

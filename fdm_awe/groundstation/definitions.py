@@ -1,5 +1,11 @@
 """Ground-station definition file (``tether/ground_station.xml``) -> typed, SI parameters.
 
+The file holds named tether lines (``<tether><line name="...">``, :data:`.line.LINES`); one of
+them is selected per load (default :data:`.line.DEFAULT_LINE`), and every line in the file is
+checked whichever is selected. A line either gives its material and sizing (its section derived
+by :func:`.line.size_line`) or states its section (Table 1's line). A line's specific strength
+and modulus are written in ``N/TEX`` (newton per tex) and converted with :data:`.line.N_PER_TEX`.
+
 Every value in the file carries a ``unit`` attribute. Units known to
 :data:`fdm_awe.units.TO_SI` (``M``, ``FT``, ``KG``, ``N``, ``KG*M2``, ...) are converted there;
 the electrical and compound SI unit names used only by the ground station (``OHM``, ``H``,
@@ -13,11 +19,13 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from .. import ROOT
 from ..definitions.xmlutil import XmlDoc, element_number
 from ..errors import DefinitionError
 from ..units import TO_SI
+from .line import DEFAULT_LINE, LINES, N_PER_TEX, LineMaterial, LineSizing, LineSection, check_line, size_line
 
 #: Default ground-station definition file.
 DEFAULT_PATH = ROOT / "tether" / "ground_station.xml"
@@ -38,6 +46,15 @@ class TetherParams:
     max_length: float  #: end stop when reeling out (drum capacity), m
     air_density: float  #: rho for the line drag, kg/m^3
     gravity: float  #: g for the line weight, m/s^2
+    name: str = "custom"  #: line name in the definition (:data:`.line.LINES`)
+    rated_tension: float | None = None  #: working tension the line is rated for, N
+    material: LineMaterial | None = None  #: what a sized line is made of (None: section as stated)
+    sizing: LineSizing | None = None  #: what a sized line was sized for (None: section as stated)
+
+    @property
+    def safety_factor(self) -> float | None:
+        """Breaking load / rated tension, - (None without a rated tension)."""
+        return None if self.rated_tension is None else self.breaking_load / self.rated_tension
 
 
 @dataclass(frozen=True)
@@ -106,17 +123,23 @@ def _value(doc: XmlDoc, xpath: str, si_unit: str, *, lo: float | None = None,
     """Number at ``xpath`` in SI. ``si_unit`` is the SI unit name the field expects."""
     el = doc.find(xpath)
     assert el is not None
+    return _element_value(doc.path, xpath, el, si_unit, lo=lo, hi=hi, lo_open=lo_open)
+
+
+def _element_value(path: Path, what: str, el: ET.Element, si_unit: str, *, lo: float | None = None,
+                   hi: float | None = None, lo_open: bool = False) -> float:
+    """Number of element ``el`` (named ``what`` in messages) in SI; see :func:`_value`."""
     unit = el.attrib.get("unit")
     if unit is None:
-        raise DefinitionError(doc.path, xpath, f"missing unit attribute (expected unit=\"{si_unit}\")")
+        raise DefinitionError(path, what, f"missing unit attribute (expected unit=\"{si_unit}\")")
     u = unit.strip().upper()
     if u == si_unit:
         bare = ET.Element(el.tag)  # SI already: check number and range without conversion
         bare.text = el.text
-        return element_number(doc.path, xpath, bare, lo=lo, hi=hi, lo_open=lo_open)
+        return element_number(path, what, bare, lo=lo, hi=hi, lo_open=lo_open)
     if u in TO_SI and si_unit in TO_SI and TO_SI[si_unit] == 1.0 and _same_dimension(u, si_unit):
-        return element_number(doc.path, xpath, el, lo=lo, hi=hi, lo_open=lo_open)
-    raise DefinitionError(doc.path, xpath, f"unit {unit!r} not allowed here (expected {si_unit})")
+        return element_number(path, what, el, lo=lo, hi=hi, lo_open=lo_open)
+    raise DefinitionError(path, what, f"unit {unit!r} not allowed here (expected {si_unit})")
 
 
 # Dimension families of the TO_SI units a ground-station field may use.
@@ -134,29 +157,123 @@ def _same_dimension(a: str, b: str) -> bool:
     return a in _DIMENSION and _DIMENSION.get(a) == _DIMENSION.get(b)
 
 
-def load_ground_station(path: str | Path | None = None) -> GroundStationParams:
-    """Read and validate a ground-station definition file (default ``tether/ground_station.xml``).
+#: the section elements a line states when it is not sized from a material (Table 1's line)
+_STATED = ("mass_per_length", "diameter", "cd_perpendicular", "axial_stiffness", "breaking_load")
+#: largest line diameter, m (stated or derived)
+_DIAMETER_MAX = 0.05
 
-    Raises :class:`fdm_awe.errors.DefinitionError` (one line: file, element, allowed range)
-    on a missing file, element, unit or an out-of-range value.
+
+def _specific(path: Path, what: str, el: ET.Element, *, hi: float) -> float:
+    """A specific strength or modulus written in N/tex (``unit="N/TEX"``), > 0 and <= ``hi``
+    N/tex, returned in SI (N m/kg)."""
+    return _element_value(path, what, el, "N/TEX", lo=0.0, lo_open=True, hi=hi) * N_PER_TEX
+
+
+def _line_elements(doc: XmlDoc) -> dict[str, ET.Element]:
+    """The ``<line name=...>`` elements of ``<tether>`` by name: every name one of
+    :data:`.line.LINES`, each at most once."""
+    found: dict[str, ET.Element] = {}
+    for el in doc.root.findall("tether/line"):
+        name = el.attrib.get("name")
+        if name is None:
+            raise DefinitionError(doc.path, "tether/line", f"missing name attribute (allowed {', '.join(LINES)})")
+        if name not in LINES:
+            raise DefinitionError(doc.path, f"tether/line[{name}]", f"line name {name!r} not allowed (allowed {', '.join(LINES)})")
+        if name in found:
+            raise DefinitionError(doc.path, f"tether/line[{name}]", "defined twice (allowed once per name)")
+        found[name] = el
+    return found
+
+
+def _child(path: Path, el: ET.Element, where: str, tag: str) -> ET.Element:
+    c = el.find(tag)
+    if c is None:
+        raise DefinitionError(path, f"{where}/{tag}", "missing element")
+    return c
+
+
+def _read_line(path: Path, name: str, el: ET.Element) -> tuple[LineSection, float, LineMaterial | None, LineSizing | None]:
+    """Section, rated tension and (for a sized line) material and sizing of one ``<line>``."""
+    where = f"tether/line[{name}]"
+
+    def num(parent: ET.Element, at: str, tag: str, unit: str, **kw: Any) -> float:
+        return _element_value(path, f"{at}/{tag}", _child(path, parent, at, tag), unit, **kw)
+
+    sizing_el = el.find("sizing")
+    if sizing_el is None:  # the section as stated (Table 1's line)
+        section = LineSection(
+            mass_per_length=num(el, where, "mass_per_length", "KG/M", lo=0.0),
+            diameter=num(el, where, "diameter", "M", lo=0.0, hi=_DIAMETER_MAX),
+            axial_stiffness=num(el, where, "axial_stiffness", "N", lo=0.0, lo_open=True),
+            breaking_load=num(el, where, "breaking_load", "N", lo=0.0, lo_open=True),
+            cd_perpendicular=num(el, where, "cd_perpendicular", "ND", lo=0.0, hi=3.0),
+        )
+        rated = num(el, where, "rated_tension", "N", lo=0.0, lo_open=True, hi=1e6)
+        if section.breaking_load < rated:
+            raise DefinitionError(path, f"{where}/breaking_load", f"value {section.breaking_load:g} N out of range "
+                                                                  f"(allowed >= {where}/rated_tension {rated:g} N)")
+        return section, rated, None, None
+    for tag in _STATED + ("rated_tension",):
+        if el.find(tag) is not None:
+            raise DefinitionError(path, f"{where}/{tag}", "not allowed beside <sizing> (a sized line derives it; "
+                                                          "allowed: material + sizing, or the stated section without sizing)")
+    mat_el = _child(path, el, where, "material")
+    m, z = f"{where}/material", f"{where}/sizing"
+    material = LineMaterial(
+        fibre_density=num(mat_el, m, "fibre_density", "KG/M3", lo=0.0, lo_open=True, hi=20000.0),
+        rated_tenacity=_specific(path, f"{m}/rated_tenacity", _child(path, mat_el, m, "rated_tenacity"), hi=10.0),
+        fill_factor=num(mat_el, m, "fill_factor", "ND", lo=0.0, lo_open=True, hi=1.0),
+        fibre_modulus=_specific(path, f"{m}/fibre_modulus", _child(path, mat_el, m, "fibre_modulus"), hi=1000.0),
+        stiffness_factor=num(mat_el, m, "stiffness_factor", "ND", lo=0.0, lo_open=True, hi=1.0),
+        cd_perpendicular=num(mat_el, m, "cd_perpendicular", "ND", lo=0.0, hi=3.0),
+    )
+    sizing = LineSizing(
+        rated_tension=num(sizing_el, z, "rated_tension", "N", lo=0.0, lo_open=True, hi=1e6),
+        safety_factor=num(sizing_el, z, "safety_factor", "ND", lo=1.0, hi=20.0),
+    )
+    section = size_line(material, sizing)
+    if section.diameter > _DIAMETER_MAX:
+        raise DefinitionError(path, z, f"derived diameter {section.diameter * 1e3:.4g} mm out of range "
+                                       f"(allowed <= {_DIAMETER_MAX * 1e3:g} mm)")
+    return section, sizing.rated_tension, material, sizing
+
+
+def load_ground_station(path: str | Path | None = None, line: str | None = None) -> GroundStationParams:
+    """Read and validate a ground-station definition file (default ``tether/ground_station.xml``)
+    with the tether line ``line`` (one of :data:`.line.LINES`; None = :data:`.line.DEFAULT_LINE`).
+
+    Raises :class:`fdm_awe.errors.InputError` (one line, the allowed names) on an unknown line
+    name, before the file is read, and :class:`fdm_awe.errors.DefinitionError` (one line: file,
+    element, allowed range) on a missing file, element, unit or an out-of-range value; every
+    line of the file is checked, whichever is selected.
     """
+    name = DEFAULT_LINE if line is None else check_line(line)
     doc = XmlDoc.load(DEFAULT_PATH if path is None else path)
     if doc.root.tag != "ground_station":
         raise DefinitionError(doc.path, doc.root.tag, "root element must be <ground_station>")
     v = lambda xp, u, **kw: _value(doc, xp, u, **kw)  # noqa: E731
 
+    lines = {n: _read_line(doc.path, n, el) for n, el in _line_elements(doc).items()}
+    if name not in lines:
+        have = ", ".join(lines) or "none"
+        raise DefinitionError(doc.path, f"tether/line[{name}]", f"missing element (lines in this file: {have})")
+    section, rated, material, sizing = lines[name]
     tether = TetherParams(
-        mass_per_length=v("tether/mass_per_length", "KG/M", lo=0.0),
-        diameter=v("tether/diameter", "M", lo=0.0, hi=0.05),
-        cd_perpendicular=v("tether/cd_perpendicular", "ND", lo=0.0, hi=3.0),
-        axial_stiffness=v("tether/axial_stiffness", "N", lo=0.0, lo_open=True),
-        breaking_load=v("tether/breaking_load", "N", lo=0.0, lo_open=True),
+        mass_per_length=section.mass_per_length,
+        diameter=section.diameter,
+        cd_perpendicular=section.cd_perpendicular,
+        axial_stiffness=section.axial_stiffness,
+        breaking_load=section.breaking_load,
         drag_share=v("tether/drag_share", "ND", lo=0.0, hi=1.0),
         weight_share=v("tether/weight_share", "ND", lo=0.0, hi=1.0),
         min_length=v("tether/min_length", "M", lo=0.0, lo_open=True),
         max_length=v("tether/max_length", "M", lo=0.0, lo_open=True),
         air_density=v("tether/air_density", "KG/M3", lo=0.0, hi=2.0, lo_open=True),
         gravity=v("tether/gravity", "M/S2", lo=0.0, hi=20.0, lo_open=True),
+        name=name,
+        rated_tension=rated,
+        material=material,
+        sizing=sizing,
     )
     if tether.max_length <= tether.min_length:
         raise DefinitionError(doc.path, "tether/max_length",

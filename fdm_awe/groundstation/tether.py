@@ -17,6 +17,10 @@ Model (straight line from the winch at the NED origin to the glider attachment p
 - The axial mass of the paid-out line ``mu l`` moves with the drum surface and is added to the
   drum inertia (``mu l r_w^2``, :func:`fdm_awe.groundstation.winch.effective_inertia`).
 
+The line's numbers (diameter, mass per length, EA, breaking load) are those of the line selected
+from the ground-station definition (:mod:`fdm_awe.groundstation.line`: ``sized`` by default, or
+Table 1's ``paper`` line).
+
 All functions take and return plain floats (SI), for a cheap hot path.
 """
 

@@ -52,10 +52,12 @@ class WinchElectrics:
 
     @classmethod
     def from_ground_station(cls, params: Any = None) -> "WinchElectrics":
-        """Values from the ground-station definition (``tether/ground_station.xml`` by default)."""
+        """Values from the ground-station definition (``tether/ground_station.xml`` by default,
+        with Table 1's line: the reference metadata names no line yet, and a flight of a
+        reference without one flies Table 1's line)."""
         from ..groundstation import load_ground_station
 
-        gs = load_ground_station() if params is None else params
+        gs = load_ground_station(line="paper") if params is None else params
         w, m, c, t = gs.winch, gs.machine, gs.converter, gs.tether
         return cls(r_w=w.radius, B=w.viscous_friction, M_c=w.coulomb_friction, K_e=m.k, K_t=m.k, R=m.resistance,
                    U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,

@@ -82,8 +82,9 @@ def reference_curves(winds: Sequence[float], aero: AeroParams, tether_diameter: 
 
 
 def tether_properties() -> tuple[float, float]:
-    """Tether diameter [m] and normal drag coefficient from the ground-station definition."""
+    """Tether diameter [m] and normal drag coefficient from the ground-station definition
+    (Table 1's line, the optimiser's: :meth:`fdm_awe.ocp.energy.WinchElectrics.from_ground_station`)."""
     from ..groundstation import load_ground_station
 
-    t = load_ground_station().tether
+    t = load_ground_station(line="paper").tether
     return float(t.diameter), float(t.cd_perpendicular)
