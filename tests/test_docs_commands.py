@@ -411,3 +411,60 @@ def test_documented_command_runs(d: DocLine, p: Plan, workspaces):
     finally:
         if sock is not None:
             sock.close()
+
+
+def _tracked_text_files() -> list[Path]:
+    """The repository's text files (git's list in a checkout, else every file outside build
+    outputs and environments), without the stored trajectories."""
+    if (REPO / ".git").exists() and shutil.which("git"):
+        out = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=REPO,
+                             capture_output=True, check=True).stdout.decode()
+        paths = [REPO / p for p in out.split("\0") if p]
+    else:
+        skip = {".git", ".venv", "build", "dist", "runs", "__pycache__"}
+        paths = [p for p in REPO.rglob("*") if not skip & set(p.relative_to(REPO).parts)]
+    files = []
+    for p in paths:
+        if p.is_file() and "tests/data" not in p.relative_to(REPO).as_posix() and p.suffix not in (".png", ".rrd", ".npz"):
+            try:
+                p.read_text()
+            except UnicodeDecodeError:
+                continue
+            files.append(p)
+    return files
+
+
+def test_no_file_refers_to_a_document_outside_the_repository():
+    """Every ``folder/name.md`` a file mentions exists in the repository, and nothing cites the
+    design notes under another name than docs/design.md."""
+    bad = []
+    for p in _tracked_text_files():
+        if p == Path(__file__).resolve():
+            continue  # the patterns below
+        text = p.read_text()
+        rel = p.relative_to(REPO).as_posix()
+        if re.search(r"\bDESIGN\.md\b", text):
+            bad.append(f"{rel}: DESIGN.md")
+        for m in re.finditer(r"(?<![\w./-])((?:\.\./|[A-Za-z0-9_-]+/)+[A-Za-z0-9_.-]+\.md)\b", text):
+            target = m.group(1)
+            if not ((REPO / target).is_file() or (p.parent / target).is_file() or target.startswith(("out/", "runs/"))):
+                bad.append(f"{rel}: {target}")
+    assert not bad, "references to documents that are not in the repository: " + "; ".join(sorted(set(bad)))
+
+
+def _design_sections() -> set[str]:
+    text = (REPO / "docs" / "design.md").read_text()
+    return {m.group(1) for m in re.finditer(r"^#{2,3} (\d+[a-z]?(?:\.\d+)?)\.? ", text, re.M)}
+
+
+def test_every_cited_section_of_the_design_document_exists():
+    sections = _design_sections()
+    assert {"1", "2", "3", "4", "5", "6", "7", "8", "8b", "9", "4.3", "4.5", "4.8"} <= sections
+    cite = re.compile(r"docs/design\.md(?:'s)?\s*(?:sections?\s+)?((?:\d+[a-z]?(?:\.\d+)?)(?:(?:,\s*|\s+and\s+)\d+[a-z]?(?:\.\d+)?)*)")
+    missing = []
+    for p in _tracked_text_files():
+        for m in cite.finditer(p.read_text()):
+            for n in re.findall(r"\d+[a-z]?(?:\.\d+)?", m.group(1)):
+                if n not in sections:
+                    missing.append(f"{p.relative_to(REPO).as_posix()}: section {n}")
+    assert not missing, "cited sections missing from docs/design.md: " + "; ".join(sorted(set(missing)))
