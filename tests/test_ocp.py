@@ -19,9 +19,11 @@ from fdm_awe.ocp.energy import (WinchElectrics, design_reference_generator, gene
 from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
 from fdm_awe.ocp.result import read_reference, write_reference
 from fdm_awe.ocp.solve import get_nlp, solve_cycle
-from fdm_awe.ocp.verify import verify
+from fdm_awe.ocp.verify import ENERGY_TOL_REL, POSITION_TOL_REL, verify
 
-#: coarse mesh for convergence-only checks (verification accuracy is tested on finer meshes)
+#: coarse mesh for convergence-only checks (verification accuracy is tested on finer meshes: at
+#: this mesh a physical-scenario optimum can sit in the gaps between collocation points, with
+#: defects of several percent; see fdm_awe.ocp.verify.POSITION_TOL_REL)
 COARSE = Mesh(20, 12, 3)
 #: the paper scenario has no stiff generator coupling: 30 intervals of degree 4 reproduce its
 #: path within ~0.03 % (the physical scenario's check runs on the default mesh)
@@ -124,9 +126,10 @@ def test_paper_3ms_converges_and_reintegrates(paper3):
     pr, res = paper3
     assert res.ok, res.reason
     v = verify(res, get_nlp(pr)[0])
-    assert v.position_error_rel < 0.005
+    assert v.position_error_rel < POSITION_TOL_REL
     for k, e in v.energy_error_rel.items():
-        assert e < 0.01, k
+        assert e < ENERGY_TOL_REL, k
+    assert v.accurate()
     assert v.nlp_max_violation < 1e-6
 
 
@@ -152,10 +155,17 @@ def test_reference_file_round_trip(paper3, tmp_path):
     assert ref.period == pytest.approx(res.T1_s + res.T2_s)
     t = ref["t"]
     assert np.all(np.diff(t) >= -1e-12) and t[0] == 0.0 and t[-1] == pytest.approx(ref.period)
-    # periodic: the cycle ends where it starts (position within the constraint tolerance)
+    # periodic: the cycle ends where it starts. The start and periodicity constraints are scaled
+    # by the state scales and hold within the result's largest scaled violation each, so the
+    # two ends differ by at most twice that (times the scale); the line length at the start is
+    # the distance of a start point within that violation of the 200 m sphere (x, y, z each)
+    from fdm_awe.ocp.collocation import STATE_SCALE
+
+    viol = res.max_violation
+    assert viol < 1e-6
     for c in ("x", "y", "z", "V", "gamma"):
-        assert ref[c][-1] == pytest.approx(ref[c][0], abs=1e-5)
-    assert ref["tether_length"][0] == pytest.approx(200.0, abs=1e-5)
+        assert ref[c][-1] == pytest.approx(ref[c][0], abs=2 * viol * STATE_SCALE[c] + 1e-9)
+    assert ref["tether_length"][0] == pytest.approx(200.0, abs=3 ** 0.5 * viol * STATE_SCALE["x"] + 1e-9)
     s = ref.sample(res.T1_s + 0.5 * res.T2_s)
     assert s["phase"] == 1.0 and s["fold"] == 1.0 and s["tension"] == 0.0
     assert ref.sample(0.25 * res.T1_s)["fold"] == 0.0
@@ -213,17 +223,36 @@ def test_line_drag_is_what_closes_the_folded_recovery():
     exists once the line drag is halved (``tether_drag_scale`` 0.5, e.g. half the diameter),
     it verifies, and it still loses to the nominal glider on the same line. The folded wing
     must fly its recovery at >= ~21 m/s, where the line's drag (proportional to V^2) costs far
-    more than the open wing's slow recovery does."""
-    fold = solve_cycle(CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE,
-                                    tether_drag_scale=0.5))
+    more than the open wing's slow recovery does.
+
+    Both cycles are solved on the default mesh (refined from the coarse one), the mesh whose
+    re-integration acceptance (``POSITION_TOL_REL``, ``ENERGY_TOL_REL``) the reference files
+    are held to: on the coarse mesh the foldable optimum reaches the generation phase at 18 m/s
+    and the 2.5 s intervals do not resolve the generator's stiff radial mode, so the optimum
+    found there (which of several depends on the start and on rounding) re-integrates with
+    1-3.4 % defects and up to 15 % error in the generated energy. Measured on the default mesh
+    from the default and from perturbed starts: foldable -36.8 W (defects 0.03 %), nominal
+    +6.9..+8.8 W (defects <= 0.07 %)."""
+    fold_pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, tether_drag_scale=0.5)
+    fold = solve_cycle(fold_pr)
     assert fold.ok, fold.reason
     assert fold.max_violation < 1e-6
-    v = verify(fold)
-    assert v.position_error_rel < 0.02
-    nom = solve_cycle(CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, mesh=COARSE,
-                                   tether_drag_scale=0.5))
+    v = verify(fold, get_nlp(fold_pr)[0])
+    assert v.accurate(), (v.position_error_rel, v.energy_error_rel)
+    assert v.nlp_max_violation < 1e-6
+    nom_pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, tether_drag_scale=0.5)
+    nom = solve_cycle(nom_pr)
     assert nom.ok, nom.reason
-    assert nom.P_avg_W > fold.P_avg_W + 10.0  # measured: +13 W vs -51 W (mesh 20/10/3)
+    vn = verify(nom, get_nlp(nom_pr)[0])
+    assert vn.accurate(), (vn.position_error_rel, vn.energy_error_rel)
+    # the margin (10 W) is far above what the accepted re-integration leaves open (each energy
+    # within ENERGY_TOL_REL: < 0.5 W of average power for either cycle) and above the spread
+    # of the local optima found from perturbed starts (~2 W); measured gap ~44 W
+    def power_uncertainty(r):
+        return ENERGY_TOL_REL * (r.E_generated_J + r.E_thrust_J + r.E_reel_in_J) / (r.T1_s + r.T2_s)
+
+    assert power_uncertainty(nom) + power_uncertainty(fold) < 10.0
+    assert nom.P_avg_W > fold.P_avg_W + 10.0
     # the reference file says the line was scaled
     assert fold.metadata()["tether_drag_scale"] == 0.5
 
@@ -235,21 +264,26 @@ def test_tether_drag_scale_is_validated():
 
 def test_physical_foldable_failure_is_deterministic():
     """The iteration budget, not the clock, ends a failing solve: two runs give the same
-    iterations and the same one-line reason."""
+    iterations and the same one-line reason. The budget is checked before each attempt, so a
+    call never runs more than the budget plus one attempt less one iteration; when the reason
+    says the budget was used up, at least the budget was spent."""
     pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE)
     st = [_folded_recovery_start(pr)]
-    a = solve_cycle(pr, coarse=None, starts=st, max_iter=60, max_iter_total=150)
-    b = solve_cycle(pr, coarse=None, starts=st, max_iter=60, max_iter_total=150)
+    max_iter, budget = 60, 150
+    a = solve_cycle(pr, coarse=None, starts=st, max_iter=max_iter, max_iter_total=budget)
+    b = solve_cycle(pr, coarse=None, starts=st, max_iter=max_iter, max_iter_total=budget)
     assert not a.ok and not b.ok
     assert a.iterations == b.iterations and a.reason == b.reason
-    assert "\n" not in a.reason and 150 <= a.iterations <= 210
+    assert "\n" not in a.reason and 0 < a.iterations <= budget + max_iter - 1
+    if f"iteration budget of {budget} used up" in a.reason:
+        assert a.iterations >= budget
 
 
 def test_iteration_budget_ends_the_solve():
     pr = CycleProblem(scenario="paper", config="nominal", wind_speed=3.0, mesh=COARSE)
     res = solve_cycle(pr, coarse=None, max_iter=5, max_iter_total=8)
     assert not res.ok and "iteration budget of 8 used up" in res.reason
-    assert res.iterations <= 10
+    assert 8 <= res.iterations <= 8 + 5 - 1  # the last attempt starts below the budget
 
 
 def test_physical_foldable_failure_is_reported():
@@ -264,8 +298,12 @@ def test_physical_foldable_failure_is_reported():
 
 def test_physical_zero_wind_gains_nothing():
     """Still air: every energy term is counted electrically with real losses, so no cycle can
-    end with more energy than it started with."""
-    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=0.0, mesh=COARSE)
+    end with more energy than it started with. The line's drag is left out (factor 0): it only
+    adds losses, so the claim is sharpest without it, and the still-air cycle with the full
+    line converges only from some starts (measured: three of four attempts ran into the
+    500-iteration limit before a figure of eight converged, ~50 s), which start depends on
+    the machine's rounding."""
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=0.0, mesh=COARSE, tether_drag_scale=0.0)
     res = solve_cycle(pr, coarse=None)
     assert res.ok, res.reason
     assert res.E_net_J <= 0.0

@@ -406,7 +406,8 @@ class CycleNLP:
 
         Optimality tolerance 1e-6 and constraint tolerance 1e-7 (scaled): an accepted solution
         must hold every scaled constraint within 1e-6 (``solve.VIOLATION_TOL``), and the
-        re-integration check (path within 0.5 %, energies within 1 %) is met with a wide margin.
+        re-integration check (:data:`fdm_awe.ocp.verify.POSITION_TOL_REL`, ``ENERGY_TOL_REL``) is met with a
+        wide margin at the default mesh.
         Monotone (Fiacco-McCormick) barrier: the adaptive strategy's extra linear solves per
         iteration cost more than they save here. Measured at the default mesh (physical nominal
         3..12 m/s, paper 3 m/s both configurations; each accepted and re-integrated): 2606
