@@ -17,14 +17,15 @@ the end whatever happens (``--keep`` keeps it):
    its ``ROOT`` inside the new environment, and JSBSim loads every aircraft from there;
    ``fdm-awe info``; a short ``fdm-awe optimize`` (paper, nominal, 3 m/s, coarse mesh) with
    ``--json``; ``fdm-awe fly --cycles 1`` on a stored reference copied out of ``tests/data/``;
-   with ``--fly-default`` also ``fdm-awe fly --cycles 1`` with no reference. Each must exit 0,
-   report status ``ok`` in its JSON and write nothing but the files it was told to write.
+   ``fdm-awe fly --cycles 1`` with no reference (it optimises its own, with the defaults). Each
+   must exit 0, report status ``ok`` in its JSON and write nothing but the files it was told to
+   write.
 
 Exit status 0 only if every step passed, 1 otherwise (the failing step's output is printed),
 2 on bad options. The last line says ``wheel check: ok ...`` or ``wheel check: FAILED ...``.
 scripts/run_tests.sh runs it before pytest (``FDM_AWE_WHEEL_CHECK=0`` skips it there).
 
-usage: python scripts/check_wheel.py [--keep] [--fly-default] [--python PY]
+usage: python scripts/check_wheel.py [--keep] [--python PY]
 """
 
 from __future__ import annotations
@@ -208,7 +209,7 @@ print(fdm_awe.ROOT)
 """
 
 
-def wheel_check(tmp: Path, python: str, fly_default: bool, log=print) -> list[tuple[str, float]]:
+def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
     """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed."""
     times: list[tuple[str, float]] = []
 
@@ -256,22 +257,22 @@ def wheel_check(tmp: Path, python: str, fly_default: bool, log=print) -> list[tu
         return f"{len(doc['cycles'])} cycle, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
 
     step(f"fdm-awe fly --cycles 1 --reference ({REFERENCE.name})", fly_reference)
-    if fly_default:
-        def fly_plain():
-            plain = work / "default"
-            plain.mkdir()
-            run("fdm-awe fly (defaults)", [str(cli), "fly", "--cycles", "1", "--quiet", "--json", "fly.json"], plain, env)
-            json_status("fdm-awe fly (defaults)", plain / "fly.json")
-            return ""
 
-        step("fdm-awe fly --cycles 1 (defaults)", fly_plain)
+    def fly_plain():
+        plain = work / "default"
+        plain.mkdir()
+        run("fdm-awe fly (defaults)", [str(cli), "fly", "--cycles", "1", "--quiet", "--json", "fly.json"], plain, env)
+        doc = json_status("fdm-awe fly (defaults)", plain / "fly.json")
+        only_files("fdm-awe fly (defaults)", plain, {"fly.json"})
+        return f"{doc['config']} at {doc['wind_mps']:g} m/s, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
+
+    step("fdm-awe fly --cycles 1 (defaults: optimise, then fly)", fly_plain)
     return times
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--keep", action="store_true", help="keep the temporary folder (its path is printed)")
-    ap.add_argument("--fly-default", action="store_true", help="also fly 'fdm-awe fly --cycles 1' with no reference")
     ap.add_argument("--python", default=sys.executable,
                     help="interpreter that creates the fresh environment (default: this one)")
     args = ap.parse_args(argv)
@@ -280,7 +281,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     tmp = Path(tempfile.mkdtemp(prefix="fdm-awe-wheel-check-"))
     try:
-        times = wheel_check(tmp, args.python, args.fly_default)
+        times = wheel_check(tmp, args.python)
     except CheckFailed as exc:
         print(f"wheel check: FAILED: {exc}", file=sys.stderr)
         print(f"wheel check: FAILED after {time.perf_counter() - t0:.0f} s", flush=True)
