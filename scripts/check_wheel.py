@@ -215,7 +215,12 @@ def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
 
     def step(name: str, fn):
         t0 = time.perf_counter()
-        out = fn()
+        try:
+            out = fn()
+        except CheckFailed:
+            raise
+        except Exception as exc:  # an unexpected output (missing file, malformed JSON, ...)
+            raise CheckFailed(f"{name}: {type(exc).__name__}: {exc}") from exc
         times.append((name, time.perf_counter() - t0))
         log(f"wheel check: {name}: ok ({times[-1][1]:.1f} s){' ' + out if isinstance(out, str) and out else ''}")
 
@@ -232,8 +237,9 @@ def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
 
     step("fresh environment and sdist", sdist)
     step("wheel", lambda: build_wheel(next(dist.glob("*.tar.gz")), dist, str(vpy), src).name)
+    wheel_file = lambda: str(next(dist.glob("*.whl")))  # noqa: E731
     step("install the wheel with its dependencies",
-         lambda: run("install", [str(vpy), "-m", "pip", "install", "-q", "--no-compile", str(next(dist.glob("*.whl")))], cwd=tmp) and "")
+         lambda: run("install", [str(vpy), "-m", "pip", "install", "-q", "--no-compile", wheel_file()], cwd=tmp) and "")
     env = user_env()
     step("import outside the checkout",
          lambda: "ROOT " + run("import", [str(vpy), "-c", IMPORT_CHECK, str(venv)], work, env).strip())
