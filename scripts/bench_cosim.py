@@ -17,7 +17,7 @@ Step timings are the best of ``--repeat`` interleaved short rounds, the real-tim
 of ``--flights`` whole flights (the machine is shared; the 1-minute load average is printed and
 stored). The ground station runs its step as one compiled call when
 numba is installed (``FDM_AWE_JIT=0``: the Python step, its reference); both are timed alone. Targets
-(design notes, section 9): ratio <= 3, real-time factor >= 500.
+(docs/design.md section 9): ratio <= 3, real-time factor >= 500.
 
 Usage: python scripts/bench_cosim.py [--json bench_cosim.json] [--repeat 20] [--round-seconds 2.5] [--seconds 30] [--flights 3]
 """

@@ -6,7 +6,7 @@ circle, or one cycle of ``--reference FILE``) is flown without and with recordin
 is the flight plus ``record_flight`` writing the finalised ``.rrd`` (scene + all time series).
 A third variant flies with the step-buffering ``FlightRecording`` callback and finishes it.
 Rounds are interleaved and the best of ``--repeat`` is kept for each (the machine is shared).
-Target (design notes, section 9): recording adds <= 10 % to the flight's wall time.
+Target (docs/design.md section 9): recording adds <= 10 % to the flight's wall time.
 
 Usage: python scripts/bench_recording.py [--seconds 60] [--repeat 3] [--reference FILE]
                                          [--json bench_recording.json]

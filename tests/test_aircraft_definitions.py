@@ -1,7 +1,7 @@
 """The JSBSim aircraft and engine definitions: loading, mass properties, aerodynamics, thrust.
 
-References are independent of the definition files: Table 2 of the seed paper (mass, inertia),
-the derivation formulas of the design notes (Helmbold lift slope, parabolic polar) and the
+References are independent of the definition files: Table 2 of the paper (mass, inertia),
+the derivation formulas of docs/design.md section 5 (Helmbold lift slope, parabolic polar) and the
 contract's static thrust. JSBSim itself evaluates the files.
 """
 
@@ -33,7 +33,7 @@ pytestmark = pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")
 
 NAMES = ["glider_unfolded", "glider_folded", "glider_foldable"]
 
-# Table 2 (seed paper): inertia MATRIX about the CG in body axes, kg m^2.
+# Table 2 (the paper): inertia MATRIX about the CG in body axes, kg m^2.
 TABLE2 = {
     "unfolded": np.array([[0.0194, 0.0, -0.001454], [0.0, 0.01762, 0.0], [-0.001454, 0.0, 0.03499]]),
     "folded": np.array([[0.009606, 0.0, -0.0007104], [0.0, 0.02077, 0.0], [-0.0007104, 0.0, 0.02204]]),
@@ -194,7 +194,7 @@ def test_unfolded_trims_at_best_glide_alpha_with_small_elevator():
 
     alphas = np.linspace(0.0, 0.3, 30001)
     a_star = alphas[np.argmax([glide_ratio(a) for a in alphas])]
-    assert a_star == pytest.approx(0.10436, abs=2e-5)  # design notes, section 6
+    assert a_star == pytest.approx(0.10436, abs=2e-5)  # docs/design.md section 6
     cm0, cma, cmde = (doc.property_value(f"aero/coef/{k}") for k in ("Cm0", "Cm_alpha", "Cm_de"))
     de_trim = -(cm0 + cma * a_star) / cmde
     assert abs(de_trim) < math.radians(3.0)

@@ -2,7 +2,7 @@
 in flight, turbulence.
 
 Point-mass references are computed here from the aircraft XML's aero/pm values with scipy
-(the point-mass equations of the design notes), with the density and gravity of JSBSim's
+(the point-mass equations of docs/design.md), with the density and gravity of JSBSim's
 atmosphere at the flight altitude; they never use the 6-DOF model's own numbers.
 """
 
@@ -120,7 +120,7 @@ def test_unfolded_trimmed_glide_matches_the_point_mass_glide():
     p = _pm("glider_unfolded")
     a_star = minimize_scalar(lambda a: -_cl(p, a) / _cd(p, a), bounds=(0.0, 0.3), method="bounded",
                              options={"xatol": 1e-10}).x
-    assert a_star == pytest.approx(0.10436, abs=1e-4)  # design notes, section 6
+    assert a_star == pytest.approx(0.10436, abs=1e-4)  # docs/design.md section 6
     g = JSBSimGlider("glider_unfolded")
     g.reset((0.0, 0.0, -150.0), 10.5, gamma=-0.07, psi=0.0, alpha=a_star)
     rec = _fly(g, Stabilizer(g, alpha_cmd=a_star), 110.0)
