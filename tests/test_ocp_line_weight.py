@@ -30,11 +30,18 @@ def test_a_downward_force_enters_like_gravity():
 
 
 def test_line_weight_is_the_ground_stations_share():
-    glider, winch = load_glider(), WinchElectrics.from_ground_station()
-    t = load_ground_station(line="paper").tether  # the optimiser's line
-    assert winch.line_weight_per_length == pytest.approx(t.weight_share * t.mass_per_length * t.gravity, rel=1e-15)
-    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, line_weight=True).validate()
-    base = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0).validate()
+    glider = load_glider()
+    for line in ("sized", "paper"):
+        t = load_ground_station(line=line).tether
+        w_line = WinchElectrics.from_ground_station(line=line)
+        assert w_line.line_weight_per_length == pytest.approx(t.weight_share * t.mass_per_length * t.gravity, rel=1e-15)
+    # Table 1's line weighs 3.3 times the sized one (0.4 vs 0.123 g/m)
+    assert (WinchElectrics.from_ground_station(line="paper").line_weight_per_length
+            > 3.0 * WinchElectrics.from_ground_station(line="sized").line_weight_per_length)
+    winch = WinchElectrics.from_ground_station(line="paper")
+    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, line="paper").validate()
+    base = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, line="paper", line_weight=False).validate()
+    assert pr.line_weight is True  # the physical scenario's default
     with_w, without = CycleModel.build(pr, glider, winch), CycleModel.build(base, glider, winch)
     s = [150.0, 0.0, -140.0, 14.0, 0.1, 3.0]
     w = (8.0, 0.0)
@@ -59,12 +66,16 @@ def test_line_weight_is_the_ground_stations_share():
 def test_line_weight_only_in_the_physical_scenario():
     with pytest.raises(InputError, match="line_weight: only the physical scenario"):
         CycleProblem(scenario="paper", config="nominal", wind_speed=3.0, line_weight=True).validate()
+    assert CycleProblem(scenario="paper", config="nominal", wind_speed=3.0).validate().line_weight is False
+    with pytest.raises(InputError, match="line_weight 'yes' invalid"):
+        CycleProblem(line_weight="yes").validate()  # type: ignore[arg-type]
 
 
 def test_cycle_with_line_weight_and_engine_propeller_solves():
-    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, propeller="engine", line_weight=True,
-                      mesh=Mesh(20, 12, 3)).validate()
+    # the physical scenario's defaults: sized line, the glider's own drive, the line's weight
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, mesh=Mesh(20, 12, 3)).validate()
+    assert (pr.propeller, pr.line_weight, pr.line) == ("engine", True, "sized")
     res = solve_cycle(pr)
     assert res.ok, res.status
     md = res.metadata()
-    assert md["line_weight"] is True and md["propeller"] == "engine"
+    assert md["line_weight"] is True and md["propeller"] == "engine" and md["line"] == "sized"

@@ -19,7 +19,7 @@ from fdm_awe.propeller import power_engine, power_physical
 def test_engine_propeller_is_booked_by_both_phases():
     glider = load_glider()
     pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, propeller="engine").validate()
-    model = CycleModel.build(pr, glider, WinchElectrics.from_ground_station())
+    model = CycleModel.build(pr, glider, WinchElectrics.from_ground_station(line=pr.line))
     assert model.scenario.propeller == "engine" and model.drive == load_electric_drive()
     prop, drive = glider.unfolded.propulsion, load_electric_drive()
     s = [120.0, 0.0, -150.0, 14.0, 0.1, 3.0]
@@ -36,10 +36,13 @@ def test_engine_propeller_is_booked_by_both_phases():
     assert float(power_engine(0.0, 14.0, prop, drive, 1.225)) - prop.P0 > 10.0
     assert float(power_physical(0.0, 14.0, prop, 1.225)) == pytest.approx(prop.P0)
     assert float(power_engine(4.0, 14.0, prop, drive, 1.225)) < float(power_physical(4.0, 14.0, prop, 1.225))
-    # the default stays momentum theory, and the NLP cache tells the two apart
+    # the physical scenario's default is the engine; momentum theory one option away, and the
+    # NLP cache tells the two apart
     base = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0)
-    assert CycleModel.build(base, glider, WinchElectrics.from_ground_station()).scenario.propeller == "physical"
-    assert structure_key(base) != structure_key(pr)
+    assert base.propeller == "engine" and structure_key(base) == structure_key(pr)
+    momentum = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, propeller="momentum")
+    assert CycleModel.build(momentum, glider, WinchElectrics.from_ground_station()).scenario.propeller == "physical"
+    assert structure_key(momentum) != structure_key(pr)
 
 
 @pytest.mark.parametrize("kw, match", [({"propeller": "magic"}, "propeller 'magic' unknown"),
@@ -51,7 +54,7 @@ def test_bad_propeller_choice(kw, match):
 
 
 def test_engine_propeller_cycle_solves():
-    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, propeller="engine",
+    pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, propeller="engine", line_weight=False,
                       mesh=Mesh(20, 12, 3)).validate()
     res = solve_cycle(pr)
     assert res.ok, res.status

@@ -51,13 +51,17 @@ class WinchElectrics:
     gs_params: Any = None  #: the full ground-station parameters, when read from the definition
 
     @classmethod
-    def from_ground_station(cls, params: Any = None) -> "WinchElectrics":
-        """Values from the ground-station definition (``tether/ground_station.xml`` by default,
-        with Table 1's line: the reference metadata names no line yet, and a flight of a
-        reference without one flies Table 1's line)."""
+    def from_ground_station(cls, params: Any = None, line: str | None = None) -> "WinchElectrics":
+        """Values from the ground-station parameters ``params`` (a
+        :class:`~fdm_awe.groundstation.definitions.GroundStationParams`, whose tether is used as
+        it is), or from the definition ``tether/ground_station.xml`` with the tether line ``line``
+        (:data:`fdm_awe.groundstation.line.LINES`; None: the definition's default, ``sized``).
+        A :class:`~fdm_awe.ocp.problem.CycleProblem` names its line (``problem.line``)."""
         from ..groundstation import load_ground_station
 
-        gs = load_ground_station(line="paper") if params is None else params
+        if params is not None and line is not None:
+            raise ValueError("from_ground_station: give params or line, not both (params carry their own line)")
+        gs = load_ground_station(line=line) if params is None else params
         w, m, c, t = gs.winch, gs.machine, gs.converter, gs.tether
         return cls(r_w=w.radius, B=w.viscous_friction, M_c=w.coulomb_friction, K_e=m.k, K_t=m.k, R=m.resistance,
                    U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,

@@ -13,13 +13,28 @@ import math
 from dataclasses import dataclass, field, replace
 
 from ..errors import InputError
+from ..groundstation.line import check_line
 from ..groundstation.tether import check_tether_drag_scale
 
 SCENARIOS = ("physical", "paper")
 CONFIGS = ("nominal", "foldable")
-#: propeller models of the physical scenario: momentum theory + efficiencies (its default) or
-#: the 6-DOF glider's own drive from the engine files (fdm_awe.propeller.power_engine)
+#: propeller models of the physical scenario: the 6-DOF glider's own drive from the engine files
+#: (fdm_awe.propeller.power_engine, its default) or momentum theory + efficiencies
 PROPELLERS = ("momentum", "engine")
+
+#: What each scenario optimises when :class:`CycleProblem` is given no ``line``, ``propeller``
+#: or ``line_weight``: the ``physical`` scenario models the plant the 6-DOF glider flies (the
+#: line sized for its load, the glider's own drive, the line's weight on the glider); the
+#: ``paper`` scenario keeps Table 1's line and its own massless line and eq. 39 propeller fit.
+#: ``propeller`` None is the paper scenario's eq. 39 fit (it has no choice).
+PLANT_DEFAULTS: dict[str, dict[str, object]] = {
+    "physical": {"line": "sized", "propeller": "engine", "line_weight": True},
+    "paper": {"line": "paper", "propeller": None, "line_weight": False},
+}
+#: The plant model of the physical numbers published before the defaults above (Table 1's line,
+#: momentum-theory propeller, massless line): ``CycleProblem(**LEGACY_PHYSICAL_PLANT, ...)``
+#: reproduces them (``--line paper --propeller momentum --no-line-weight``)
+LEGACY_PHYSICAL_PLANT: dict[str, object] = {"line": "paper", "propeller": "momentum", "line_weight": False}
 
 
 @dataclass(frozen=True)
@@ -28,9 +43,11 @@ class Scenario:
 
     ``paper``: static quadratic P(T) (eq. 39), no tether drag, no stall limit (Table 3 only),
     mechanical accounting ``E_generated = int G ddot dt``, reel-in at a constant ``P_rw``.
-    ``physical``: momentum-theory propeller power with airspeed, tether drag with the current
-    tether length, ``C_L <= C_Lmax``, energies counted electrically through the quasi-static
-    DC machine + converter (energy into the load in generation, from the supply in recovery).
+    ``physical``: propeller power with airspeed (momentum theory here; a problem's
+    :attr:`CycleProblem.scenario_spec` switches it to the glider's own drive, the default, see
+    :data:`PLANT_DEFAULTS`), tether drag with the current tether length, ``C_L <= C_Lmax``,
+    energies counted electrically through the quasi-static DC machine + converter (energy into
+    the load in generation, from the supply in recovery).
     """
 
     name: str
@@ -137,6 +154,12 @@ class CycleProblem:
     The cycle starts and ends at distance ``d0`` [m] from the winch at ``elevation0_deg`` /
     ``azimuth0_deg`` (azimuth from north, towards east); generation ends at distance ``d_tf``.
     Wind ``wind_speed`` [m/s] blows FROM ``wind_from_deg`` (180 = from the south, the paper's case).
+
+    The plant model (``line``, ``propeller``, ``line_weight``): None takes the scenario's
+    default (:data:`PLANT_DEFAULTS`), resolved when the problem is made, so every problem holds
+    its concrete choices (``CycleProblem().line == "sized"``). ``dataclasses.replace`` keeps them:
+    to move a problem to another scenario with that scenario's defaults, pass ``line=None,
+    propeller=None, line_weight=None`` with it.
     """
 
     scenario: str = "physical"
@@ -153,14 +176,27 @@ class CycleProblem:
     #: half the length): the 6-DOF flight always uses the defined line
     tether_drag_scale: float = 1.0
     mesh: Mesh = field(default_factory=Mesh)
-    #: propeller model of the physical scenario (:data:`PROPELLERS`; None: momentum theory, the
-    #: scenario's default); "engine" is the 6-DOF glider's own drive, so that an optimised
-    #: cycle books the thrust power the flown one draws
+    #: propeller model of the physical scenario (:data:`PROPELLERS`; None: the scenario's
+    #: default, "engine" in ``physical``): "engine" is the 6-DOF glider's own drive, so that an
+    #: optimised cycle books the thrust power the flown one draws; "momentum" is momentum theory
+    #: with efficiencies. Always None in the ``paper`` scenario (its eq. 39 fit)
     propeller: str | None = None
     #: the glider carries its share of the line's weight (physical scenario; the ground station's
     #: ``weight_share`` x mass per length x g x paid-out length, downwards), as the 6-DOF plant's
-    #: ground station applies it. Off by default until the published tables are re-measured
-    line_weight: bool = False
+    #: ground station applies it. None: the scenario's default (on in ``physical``, off in ``paper``)
+    line_weight: bool | None = None
+    #: tether line of the ground-station definition (:data:`fdm_awe.groundstation.line.LINES`):
+    #: its diameter sets the line drag, its mass per length the line weight, and a flight of the
+    #: reference flies it. None: the scenario's default ("sized" in ``physical``, Table 1's
+    #: "paper" line in ``paper``)
+    line: str | None = None
+
+    def __post_init__(self) -> None:
+        # None = the scenario's default; an unknown scenario is left for validate() to name
+        defaults = PLANT_DEFAULTS.get(self.scenario, {})
+        for name, value in defaults.items():
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, value)
 
     def validate(self) -> "CycleProblem":
         Scenario.named(self.scenario)
@@ -181,6 +217,9 @@ class CycleProblem:
         if not math.isfinite(self.azimuth0_deg) or abs(self.azimuth0_deg) >= 90:
             raise InputError(f"azimuth0 = {self.azimuth0_deg!r} deg out of range (allowed |azimuth| < 90)")
         check_tether_drag_scale(self.tether_drag_scale)
+        check_line(self.line, "line")
+        if not isinstance(self.line_weight, bool):
+            raise InputError(f"line_weight {self.line_weight!r} invalid (allowed true or false)")
         if self.propeller is not None:
             if self.propeller not in PROPELLERS:
                 raise InputError(f"propeller {self.propeller!r} unknown (allowed: {', '.join(PROPELLERS)})")

@@ -29,7 +29,10 @@ Metadata: ``scenario`` (physical | paper) and ``config`` (foldable | nominal) ar
 (0..25 m/s) with ``wind_from_deg``, or as the horizontal vector ``wind_ned_mps``, or both
 (then they must agree); ``tether_drag_scale`` (0..10, default 1), ``period_s`` (= T1 + T2),
 ``status`` (ok), ``recovery_airframe`` (folded for foldable, unfolded for nominal),
-``propeller``, ``line_weight``, ``d0_m`` < ``d_tf_m`` are checked when present.
+``propeller``, ``line_weight``, ``d0_m`` < ``d_tf_m`` are checked when present; ``line`` (the
+tether line the cycle was optimised with, :data:`fdm_awe.groundstation.line.LINES`) is checked
+when present and is ``paper`` (Table 1's line) when absent: every file written before lines were
+named was optimised with it.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,
@@ -140,7 +143,7 @@ class CycleResult:
             md.update({"d0_m": pr.d0, "d_tf_m": pr.d_tf, "elevation0_deg": pr.elevation0_deg, "azimuth0_deg": pr.azimuth0_deg,
                        "tether_drag_scale": pr.tether_drag_scale,
                        "propeller": {"physical": "momentum"}.get(pr.scenario_spec.propeller, pr.scenario_spec.propeller),
-                       "line_weight": pr.line_weight,
+                       "line_weight": pr.line_weight, "line": pr.line,
                        "mesh": {"n_gen": pr.mesh.n_gen, "n_rec": pr.mesh.n_rec, "degree": pr.mesh.degree},
                        "bounds": {k: v for k, v in pr.bounds.__dict__.items()}})
         return md
@@ -418,7 +421,8 @@ def _check_wind(src: str, md: dict[str, Any]) -> None:
 
 def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     """The metadata, checked field by field; returns a copy with the derived fields filled in
-    (``wind_*``, ``period_s``, ``tether_drag_scale``)."""
+    (``wind_*``, ``period_s``, ``tether_drag_scale``, ``line``)."""
+    from ..groundstation.line import LINES
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
     from .problem import CONFIGS, PROPELLERS, SCENARIOS
 
@@ -455,6 +459,12 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
         if prop not in allowed or not isinstance(prop, str):
             raise InputError(f"{src}: metadata.propeller: {_show(prop)} not allowed for the {scenario} scenario "
                              f"(allowed {', '.join(allowed)})")
+    line = md.get("line")
+    if line is None:
+        md["line"] = "paper"  # files written before lines were named: Table 1's line
+    elif not isinstance(line, str) or line not in LINES:
+        raise InputError(f"{src}: metadata.line: {_show(line)} not allowed (allowed {', '.join(LINES)}; "
+                         f"absent = paper, Table 1's line)")
     lw = md.get("line_weight")
     if lw is not None and (not isinstance(lw, bool) or (lw and scenario != "physical")):
         raise InputError(f"{src}: metadata.line_weight: {_show(lw)} not allowed (allowed true or false; true only in the physical scenario)")
@@ -577,7 +587,8 @@ def read_reference(path: str | Path) -> ReferenceTrajectory:
     Every malformed file raises :class:`~fdm_awe.errors.InputError` with one line naming the
     file, the field and the allowed range or form; the returned metadata carries checked
     ``scenario``, ``config``, ``T1_s``, ``T2_s``, ``period_s``, ``wind_mps``, ``wind_from_deg``,
-    ``wind_ned_mps`` and ``tether_drag_scale`` (1 when the file predates it).
+    ``wind_ned_mps``, ``tether_drag_scale`` (1 when the file predates it) and ``line`` (``paper``
+    when the file predates it).
     """
     p = Path(path)
     return check_reference_document(_load_json(p), str(p))

@@ -76,7 +76,7 @@ def structure_key(problem: CycleProblem) -> tuple:
     """Everything that shapes the NLP except the wind (a parameter)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
-            problem.line_weight)
+            problem.line_weight, problem.line)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
@@ -91,7 +91,7 @@ def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchEle
     if cache and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key], 0.0
-    model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station())
+    model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station(line=problem.line))
     nlp = CycleNLP(problem, model)
     if cache:
         _CACHE[key] = nlp
@@ -198,7 +198,7 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         total_it += r.iterations
         return r
 
-    if warm is not None and warm.w is not None and len(warm.w) != nlp.nw:
+    if warm is not None and warm.key == structure_key(problem) and warm.w is not None and len(warm.w) != nlp.nw:
         warm = None  # a vector of another NLP layout (e.g. stored by an older version): start cold
     if warm is not None and warm.ok and warm.key == structure_key(problem) and warm.w is not None:
         r = run(warm.w, warm.k_wrap, 1.0, 1.0, warm.lam_x, warm.lam_g, WARM_OPTIONS)
