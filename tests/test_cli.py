@@ -130,3 +130,32 @@ def test_fly_flies_the_line_drag_scale_of_the_reference(tmp_path, monkeypatch, c
     assert main(["fly", "--reference", str(ref), "--gamma-max", "2"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "--gamma-max" in err and "0.1..1.5" in err
+
+
+def test_info_shows_the_sizing_of_each_line(tmp_path, capsys):
+    """`fdm-awe info` prints every tether line's sizing (rated tension, safety factor, breaking
+    load, diameter, mass per length, EA, C_D,t at the shortest and longest working line) and its
+    JSON carries the same numbers; the sized line breaks at 4-5 times the rated tension."""
+    import json
+
+    from fdm_awe.groundstation.line import LINES
+
+    out = tmp_path / "i.json"
+    assert main(["info", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    for name in LINES:
+        assert f"line {name}: rated 50 N x SF" in text and "C_D,t" in text and "200 m" in text and "250 m" in text
+    doc = json.loads(out.read_text())
+    assert set(doc["lines"]) == set(LINES)
+    assert doc["default_line"] == {"file": "sized", "physical": "sized", "paper": "paper"}
+    sized, paper = doc["lines"]["sized"], doc["lines"]["paper"]
+    assert 4.0 <= sized["breaking_load_N"] / sized["rated_tension_N"] <= 5.0
+    assert sized["safety_factor"] == sized["breaking_load_N"] / sized["rated_tension_N"]
+    assert paper["diameter_m"] == 0.72e-3 and paper["breaking_load_N"] == 700.0
+    for line in (sized, paper):
+        assert line["lengths_m"] == [200.0, 250.0]
+        # C_D,t grows with the line length, and the thinner line drags less at every length
+        assert line["cd_t"][0] < line["cd_t"][1]
+    assert all(s < p for s, p in zip(sized["cd_t"], paper["cd_t"]))
+    assert sized["mass_per_length_kg_per_m"] < paper["mass_per_length_kg_per_m"]
+    assert sized["axial_stiffness_N"] > 0 and sized["diameter_m"] < paper["diameter_m"]

@@ -100,6 +100,22 @@ NUMERIC = [
     (["sweep", "--out", "{tmp}", "--scheduler", "udp://127.0.0.1:8786"], ("--scheduler", "tcp")),
     (["sweep", "--out", "{tmp}", "--scheduler", "tcp://no-such-host.invalid:8786"], ("--scheduler", "does not resolve")),
     (["sweep", "--out", "{tmp}", "--scheduler", "tcp://127.0.0.1:8786", "--workers", "2"], ("--workers", "--scheduler")),
+    # the plant model: names, and choices only where the scenario has them
+    (["optimize", "--line", "thin"], ("--line", "invalid choice", "sized", "paper")),
+    (["optimize", "--scenario", "paper", "--line-weight"], ("--line-weight", "only the physical scenario")),
+    (["optimize", "--scenario", "paper", "--propeller", "momentum"], ("--propeller momentum", "only the physical")),
+    (["compare", "--scenario", "paper", "--propeller", "engine"], ("--propeller engine", "only the physical")),
+    (["fly", "--scenario", "paper", "--line-weight"], ("--line-weight", "only the physical scenario")),
+    (["fly", "--line", "thin"], ("--line", "invalid choice")),
+    (["sweep", "--out", "{tmp}", "--line", "sized,,paper"], ("--line", "empty list item")),
+    (["sweep", "--out", "{tmp}", "--line", "sized,thin"], ("--line", "'thin' unknown", "sized, paper")),
+    (["sweep", "--out", "{tmp}", "--line-diameter", "0.0003,"], ("--line-diameter", "empty list item")),
+    (["sweep", "--out", "{tmp}", "--line-diameter", "0.01"], ("--line-diameter", "1e-05..0.005 m")),
+    (["sweep", "--out", "{tmp}", "--line-diameter", "0.0002"], ("--line-diameter", "below the rated tension 50 N",
+                                                               ">= 0.212 mm")),
+    (["sweep", "--out", "{tmp}", "--line", "paper", "--line-diameter", "0.0003"], ("only the sized line is resized",)),
+    (["sweep", "--out", "{tmp}", "--scenario", "paper", "--no-line-weight", "--line-weight"],
+     ("--line-weight", "only the physical scenario")),
     # argparse's own errors are one line too
     (["optimize", "--wind", "abc"], ("--wind", "invalid float")),
     (["fly", "--cycles", "1.5"], ("--cycles", "invalid int")),
@@ -158,11 +174,13 @@ def test_mavlink_urls_of_every_kind_pass():
 
 
 def test_options_a_reference_fixes_are_refused(tmp_path, no_work, capsys):
-    """--wind, --wind-from, --gamma-max, --propeller and --line-weight only shape an optimised
-    reference: with --reference they are refused (they used to be silently ignored)."""
+    """--wind, --wind-from, --gamma-max, --line, --propeller and --line-weight only shape an
+    optimised reference: with --reference they are refused (they used to be silently ignored);
+    the flight flies the line the reference names."""
     for extra, option in [(["--wind", "5"], "--wind"), (["--wind-from", "90"], "--wind-from"),
                           (["--gamma-max", "0.7"], "--gamma-max"), (["--propeller", "engine"], "--propeller"),
-                          (["--line-weight"], "--line-weight")]:
+                          (["--line-weight"], "--line-weight"), (["--no-line-weight"], "--no-line-weight"),
+                          (["--line", "paper"], "--line"), (["--line", "sized"], "--line")]:
         _refused(["fly", "--reference", str(REF), *extra], capsys, option, "fixes")
     _refused(["fly", "--allow-mismatch"], capsys, "--allow-mismatch", "--reference")
 
@@ -207,9 +225,35 @@ def test_defaults_optimise_the_nominal_glider_and_say_why():
     fly = sub["fly"]
     args = fly.parse_args([])
     assert args.config is None and args.wind is None and args.line_weight is None  # "not given"
+    assert args.line is None and args.propeller is None
     from fdm_awe.commands.fly import DEFAULT_CONFIG, DEFAULT_WIND_MPS
 
     assert (DEFAULT_CONFIG, DEFAULT_WIND_MPS) == ("nominal", 8.0)
     for name in ("fly", "optimize"):
         text = " ".join(sub[name].format_help().split())
         assert "default nominal" in text and "foldable glider has no periodic cycle" in text, name
+
+
+def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():
+    """optimize/compare/fly build their problem with the scenario's plant unless told otherwise;
+    --line paper --propeller momentum --no-line-weight is the earlier physical plant."""
+    from fdm_awe.commands.fly import reference_problem
+    from fdm_awe.commands.optimize import problem_from_args
+    from fdm_awe.ocp.problem import LEGACY_PHYSICAL_PLANT
+
+    p = build_parser()
+    sub = p._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor
+    opt = sub["optimize"]
+    pr = problem_from_args(opt.parse_args([]))
+    assert (pr.scenario, pr.line, pr.propeller, pr.line_weight) == ("physical", "sized", "engine", True)
+    legacy = problem_from_args(opt.parse_args(["--line", "paper", "--propeller", "momentum", "--no-line-weight"]))
+    assert {k: getattr(legacy, k) for k in LEGACY_PHYSICAL_PLANT} == LEGACY_PHYSICAL_PLANT
+    paper = problem_from_args(opt.parse_args(["--scenario", "paper", "--no-line-weight"]))
+    assert (paper.line, paper.propeller, paper.line_weight) == ("paper", None, False)
+    assert problem_from_args(opt.parse_args(["--scenario", "paper", "--line", "sized"])).line == "sized"
+    fly_args = sub["fly"].parse_args(["--line", "paper"])
+    fly_args.scenario, fly_args.config = "physical", "nominal"
+    assert reference_problem(fly_args).line == "paper"
+    for name in ("optimize", "compare", "fly", "sweep"):
+        text = " ".join(sub[name].format_help().split())
+        assert "--no-line-weight" in text and "--line" in text and "engine" in text, name

@@ -67,15 +67,30 @@ def zero_wind_verdict(scenario: str, summary: dict[str, Any]) -> str:
     return f"FAILS: gains {e:.1f} J in still air"
 
 
+#: the tether lines in words (``fdm-awe info`` shows their numbers)
+LINE_WORDS = {"sized": "the line sized for its load (50 N x 4.5)", "paper": "Table 1's line (0.72 mm)"}
+
+
+def plant_sentence(scenario: str, line: str, propeller: str | None = None, line_weight: bool = False) -> str:
+    """The optimiser's plant model in one sentence (the compare report's)."""
+    parts = [f"line `{line}`, {LINE_WORDS.get(line, line)}"]
+    if scenario == "physical":
+        parts.append("propeller: the 6-DOF glider's own drive (engine files)" if propeller == "engine"
+                     else "propeller: momentum theory with efficiencies")
+        parts.append("the glider carries its share of the line's weight" if line_weight else "massless line")
+    return "Optimiser plant model: " + "; ".join(parts) + "."
+
+
 def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, dict] | None,
-             tether_drag_scale: float = 1.0, propeller: str | None = None, line_weight: bool = False) -> str:
+             tether_drag_scale: float = 1.0, propeller: str | None = None, line_weight: bool = False,
+             line: str | None = None) -> str:
+    """The report; ``line``/``propeller``/``line_weight`` are the solved problems' (None line: no
+    plant sentence)."""
     lines = [f"# Nominal vs foldable glider: `{scenario}` scenario, wind {wind:g} m/s", ""]
     if tether_drag_scale != 1.0:
         lines += [f"Line drag scaled by {tether_drag_scale:g} (sensitivity study; the defined line is 1).", ""]
-    if propeller == "engine" or line_weight:
-        parts = (["propeller: the 6-DOF glider's own drive (engine files)"] if propeller == "engine" else []) + (
-            ["the glider carries its share of the line's weight"] if line_weight else [])
-        lines += ["Optimiser plant model: " + "; ".join(parts) + ".", ""]
+    if line is not None:
+        lines += [plant_sentence(scenario, line, propeller, line_weight), ""]
     lines.append("Our columns count gains as positive (`E_net = E_generated - E_thrust - E_reel_in`, all terms >= 0); "
                  "the paper's Table 3 prints gains as negative numbers, and its column is quoted as printed "
                  "(3 m/s from the south, its own simplifications).")
@@ -114,9 +129,10 @@ def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, d
 
 def run(args: argparse.Namespace) -> int:
     from . import _checks as chk
-    from .optimize import check_solver_args, parse_mesh
+    from .optimize import check_plant_args, check_solver_args, parse_mesh
 
     check_solver_args(args)
+    check_plant_args(args)
     mesh = parse_mesh(args.mesh)
     chk.outputs(files=[("--report", args.report), ("--json", args.json)])
     from ..fileio import atomic_write_text, write_json
@@ -127,7 +143,8 @@ def run(args: argparse.Namespace) -> int:
     problems = {(cfg, w): CycleProblem(scenario=args.scenario, config=cfg, wind_speed=w, wind_from_deg=args.wind_from,
                                        mesh=mesh, tether_drag_scale=args.tether_drag_scale,
                                        propeller=getattr(args, "propeller", None),
-                                       line_weight=bool(getattr(args, "line_weight", False))).validate()
+                                       line_weight=getattr(args, "line_weight", None),
+                                       line=getattr(args, "line", None)).validate()
                 for cfg in ("nominal", "foldable") for w in winds}
     out: dict[tuple[str, float], dict] = {}
     for (cfg, w), pr in problems.items():
@@ -135,8 +152,8 @@ def run(args: argparse.Namespace) -> int:
         out[(cfg, w)] = solve_cycle(pr, n_starts=args.starts, time_budget_s=args.time_budget).summary()
     res = {cfg: out[(cfg, args.wind)] for cfg in ("nominal", "foldable")}
     zero = None if args.no_zero_wind else {cfg: out[(cfg, 0.0)] for cfg in ("nominal", "foldable")}
-    text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, getattr(args, "propeller", None),
-                    bool(getattr(args, "line_weight", False)))
+    pr = problems[("nominal", args.wind)]
+    text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, pr.propeller, pr.line_weight, pr.line)
     print(text)
     if args.report:
         atomic_write_text(args.report, text + "\n")
@@ -145,6 +162,7 @@ def run(args: argparse.Namespace) -> int:
                           and any(z["status"] == "ok" and z["E_net_J"] > 0 for z in zero.values()))
     if args.json:
         doc = {"scenario": args.scenario, "wind_mps": args.wind, "wind_from_deg": args.wind_from,
+               "plant": {"line": pr.line, "propeller": pr.propeller, "line_weight": pr.line_weight},
                "paper_table3_as_printed": PAPER_TABLE3, "sign_note": "ours: gains > 0; paper Table 3: gains < 0",
                "results": res, "zero_wind": zero,
                "zero_wind_verdict": None if zero is None else {c: zero_wind_verdict(args.scenario, z) for c, z in zero.items()}}

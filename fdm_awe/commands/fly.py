@@ -17,8 +17,8 @@ reference file's scenario): ``physical`` flies the JSBSim propeller and the grou
 scenario's simplifications). The JSON says which plant flew (``plant``, ``plant_note``).
 
 A reference fixes what it was optimised for: with ``--reference``, the options that only shape
-an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--propeller``,
-``--line-weight``) are refused, and a ``--config``/``--scenario`` other than the reference's
+an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--propeller``,
+``--line-weight``/``--no-line-weight``) are refused (the flight flies the line the reference names), and a ``--config``/``--scenario`` other than the reference's
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
 Checks before any work (one line, exit 2): every number in range, the turbulence seed
@@ -53,7 +53,7 @@ DEFAULT_SCENARIO = "physical"
 
 #: the options a reference fixes (only used when optimising): attribute -> option
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
-                   "propeller": "--propeller", "line_weight": "--line-weight"}
+                   "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight"}
 
 
 def _flyable_bounds(gamma_max: float | None = None):
@@ -126,13 +126,18 @@ def _check(args: argparse.Namespace) -> None:
     args.turbulence = chk.turbulence(args.turbulence)
     chk.mavlink_url(args.mavlink)
     if args.reference is not None:
-        given = [opt for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
+        given = [("--no-line-weight" if attr == "line_weight" and getattr(args, attr) is False else opt)
+                 for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
         if given:
             raise InputError(f"{', '.join(given)}: the reference {args.reference} fixes {'this' if len(given) == 1 else 'these'} "
                              f"(only used when fly optimises a reference; drop {'it' if len(given) == 1 else 'them'} or "
                              f"drop --reference)")
     elif args.allow_mismatch:
         raise InputError("--allow-mismatch: only with --reference (nothing to mismatch when fly optimises the reference)")
+    else:
+        from .optimize import check_plant_args
+
+        check_plant_args(args, args.scenario or DEFAULT_SCENARIO)
 
 
 def check_reference_options(args: argparse.Namespace, meta: dict, ref_path: str) -> None:
@@ -161,7 +166,7 @@ def reference_problem(args: argparse.Namespace):
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
                         bounds=_flyable_bounds(args.gamma_max),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
-                        propeller=args.propeller, line_weight=bool(args.line_weight)).validate()
+                        propeller=args.propeller, line_weight=args.line_weight, line=args.line).validate()
 
 
 def optimise_reference(problem):
@@ -197,7 +202,7 @@ def flight_drag_scale(meta: dict, requested: float | None, ref_path: object) -> 
         print(f"warning: {ref_path} was optimised with tether_drag_scale {ref_scale:g}; the flight uses "
               f"{scale:g} (--tether-drag-scale), so its line drag differs from the reference's", file=sys.stderr)
     else:
-        print(f"line drag x {scale:g} ({'the defined line' if scale == 1.0 else 'scaled line'}), "
+        print(f"line {meta.get('line', 'paper')}, line drag x {scale:g} ({'the defined line' if scale == 1.0 else 'scaled line'}), "
               f"as {ref_path} was optimised with", file=sys.stderr)
     return scale
 

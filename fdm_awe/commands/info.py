@@ -1,4 +1,6 @@
-"""``fdm-awe info``: what the definition files say, in SI, with the reference glide.
+"""``fdm-awe info``: what the definition files say, in SI, with the reference glide and the
+sizing of every tether line (rated tension, safety factor, breaking load, diameter, mass per
+length, EA, equivalent line drag coefficient at the shortest and longest working line).
 
 ``--json`` is checked before the definitions are read and written atomically (NaN as null).
 """
@@ -12,6 +14,32 @@ HELP = "show the airframe, propulsion and ground-station definitions and the ref
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON (NaN written as null)")
+
+
+def ground_station_info(wing_area: float) -> dict[str, object]:
+    """Print the winch and the sizing of every tether line of the ground-station definition
+    (:func:`fdm_awe.groundstation.line.line_summary` at the optimiser's shortest and longest
+    working line, drag coefficient on the unfolded wing area ``wing_area`` [m^2]); return them
+    for the JSON (``ground_station``, ``lines`` by name, ``default_line`` per scenario)."""
+    from ..groundstation import load_ground_station
+    from ..groundstation.line import DEFAULT_LINE, LINES, line_summary
+    from ..ocp.problem import PLANT_DEFAULTS
+
+    gs = load_ground_station()
+    w, m, c = gs.winch, gs.machine, gs.converter
+    print(f"ground station: {gs.path}  drum r {w.radius:g} m  DC machine k {m.k:.4g} V s/rad  R {m.resistance:g} ohm  "
+          f"supply {c.supply_voltage:g} V  load {c.load_resistance:g} ohm")
+    defaults = {scn: str(d["line"]) for scn, d in PLANT_DEFAULTS.items()}
+    lines: dict[str, object] = {}
+    for name in LINES:
+        ls = line_summary(load_ground_station(line=name), wing_area=wing_area)
+        users = [scn for scn, n in defaults.items() if n == name]
+        print(ls.text() + (f"  [default of the {' and '.join(users)} scenario]" if users else ""))
+        lines[name] = ls.as_dict()
+    return {"ground_station": {"path": gs.path, "drum_radius_m": w.radius, "motor_constant_V_s_per_rad": m.k,
+                               "armature_resistance_ohm": m.resistance, "supply_voltage_V": c.supply_voltage,
+                               "load_resistance_ohm": c.load_resistance},
+            "lines": lines, "default_line": {"file": DEFAULT_LINE, **defaults}}
 
 
 def run(args: argparse.Namespace) -> int:
@@ -37,13 +65,9 @@ def run(args: argparse.Namespace) -> int:
     p = glider.unfolded.propulsion
     print(f"propulsion: P = {p.P0:g} W + T (V + v_i) / ({p.eta_prop:g} * {p.eta_motor:g}), A_p {p.disk_area:.4f} m2, "
           f"T_max {p.T_max:g} N; paper: P = {p.PT0:g} + {p.PT1:g} T + {p.PT2:g} T^2")
-    try:
-        from ..groundstation import load_ground_station
-    except ImportError:
-        pass
-    else:
-        gs = load_ground_station()
-        print(f"ground station: {gs}")
+    out["propulsion"] = {"P0_W": p.P0, "eta_prop": p.eta_prop, "eta_motor": p.eta_motor, "disk_area_m2": p.disk_area,
+                         "T_max_N": p.T_max}
+    out.update(ground_station_info(glider.unfolded.aero.S))
     if args.json:
         from ..fileio import write_json
 

@@ -55,20 +55,51 @@ MAX_STARTS = 100
 MAX_TIME_BUDGET_S = 86400.0
 
 
-def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
-    """``--propeller`` and ``--line-weight``: how closely the optimiser models the 6-DOF plant
-    (physical scenario; ``prefix`` opens the help texts, e.g. when the command optimises).
+def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis: bool = False) -> None:
+    """``--line``, ``--propeller`` and ``--line-weight``/``--no-line-weight``: the plant the
+    optimiser models (``prefix`` opens the help texts, e.g. when the command optimises).
 
-    Both default to None (not given), which means momentum theory and no line weight, so that a
-    command can tell an explicit option from its default."""
-    from ..ocp.problem import PROPELLERS  # plain dataclasses: no CasADi import
+    Every option defaults to None (not given): the scenario's default
+    (:data:`fdm_awe.ocp.problem.PLANT_DEFAULTS`; physical: the sized line, the glider's own
+    drive, the line's weight), so that a command can tell an explicit option from its default.
+    ``line_axis``: ``--line`` takes a comma list of line names (a sweep axis)."""
+    from ..groundstation.line import LINES  # plain module: no CasADi import
+    from ..ocp.problem import PROPELLERS
 
+    if line_axis:
+        p.add_argument("--line", default=None, metavar="LIST",
+                       help=prefix + f"tether lines of the ground-station definition, comma list of {', '.join(LINES)} "
+                                     "(default: the scenario's, sized in physical, paper = Table 1's line in paper)")
+    else:
+        p.add_argument("--line", choices=LINES, default=None,
+                       help=prefix + "tether line of the ground-station definition: sized (sized for the 50 N rated "
+                                     "tension x 4.5, 'fdm-awe info' shows it) or paper (Table 1's 0.72 mm line); "
+                                     "default sized in the physical scenario, paper in the paper scenario")
     p.add_argument("--propeller", choices=PROPELLERS, default=None,
-                   help=prefix + "propeller model of the physical scenario: momentum theory + efficiencies (default) "
-                        "or engine, the 6-DOF glider's own motor and 9x5 propeller (what a flight draws)")
-    p.add_argument("--line-weight", action="store_true", default=None,
-                   help=prefix + "physical scenario: the glider carries its share of the line's weight, as the "
-                        "6-DOF plant's ground station applies it")
+                   help=prefix + "propeller model of the physical scenario: engine, the 6-DOF glider's own motor and 9x5 "
+                                 "propeller (what a flight draws; the default), or momentum, momentum theory + "
+                                 "efficiencies (the model of the earlier published numbers)")
+    p.add_argument("--line-weight", action=argparse.BooleanOptionalAction, default=None,
+                   help=prefix + "physical scenario: the glider carries its share of the line's weight, as the 6-DOF "
+                                 "plant's ground station applies it (default on in the physical scenario; "
+                                 "--no-line-weight: a massless line, as the earlier published numbers)")
+
+
+def check_plant_args(args: argparse.Namespace, scenario: str | None = None) -> None:
+    """``--propeller`` and ``--line-weight`` only where the scenario (``scenario``, else
+    ``args.scenario``) has the choice: one-line errors naming the option."""
+    from ..errors import InputError
+
+    scn = scenario or getattr(args, "scenario", None)
+    if scn == "physical":
+        return
+    prop = getattr(args, "propeller", None)
+    if prop is not None:
+        raise InputError(f"--propeller {prop}: only the physical scenario has a propeller choice (the {scn} scenario "
+                         f"uses the paper's eq. 39 fit)")
+    if getattr(args, "line_weight", None):
+        raise InputError(f"--line-weight: only the physical scenario has a line model (the {scn} scenario's line is "
+                         f"massless)")
 
 
 def parse_mesh(text: str | None, option: str = "--mesh", two: bool = False):
@@ -113,6 +144,7 @@ def problem_from_args(args: argparse.Namespace):
     from . import _checks as chk
 
     check_solver_args(args)
+    check_plant_args(args)
     chk.number(args.d0, "--d0", 0.0, None, lo_open=True, unit="m", what="tether length at the cycle start")
     chk.number(args.d_tf, "--d-tf", args.d0, None, lo_open=True, unit="m (above --d0)",
                what="tether length at the end of generation")
@@ -125,13 +157,15 @@ def problem_from_args(args: argparse.Namespace):
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
-                        propeller=getattr(args, "propeller", None),
-                        line_weight=bool(getattr(args, "line_weight", False))).validate()
+                        propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
+                        line=getattr(args, "line", None)).validate()
 
 
 def print_summary(res, file=sys.stdout) -> None:
     s = res.summary()
     head = f"{res.scenario} / {res.config} / wind {res.wind_mps:g} m/s from {res.wind_from_deg:g} deg"
+    if res.problem is not None:
+        head += f" / {plant_text(res.problem)}"
     if not res.ok:
         print(f"{head}: FAILED ({res.reason}) after {res.iterations} iterations, {res.solve_s:.2f} s", file=file)
         return
@@ -141,6 +175,14 @@ def print_summary(res, file=sys.stdout) -> None:
           f"E_reel_in {s['E_reel_in_J']:9.1f} J", file=file)
     print(f"  E_net       {s['E_net_J']:9.1f} J   P_avg {s['P_avg_W']:8.2f} W "
           f"({'net gain' if s['E_net_J'] > 0 else 'net loss'})", file=file)
+
+
+def plant_text(problem) -> str:
+    """The plant model of ``problem`` in a few words: line, propeller, line weight."""
+    if problem.scenario != "physical":
+        return f"line {problem.line}"
+    return (f"line {problem.line}, propeller {problem.propeller}, "
+            f"line weight {'on' if problem.line_weight else 'off'}")
 
 
 def trajectory_path(args: argparse.Namespace) -> str | None:

@@ -46,9 +46,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--anchor-every", type=int, default=0, metavar="N",
                    help="a cold-started anchor every N winds of a line, 0..1000 (more, shorter warm-start chains; "
                         "default 0: one anchor per line, the wind nearest 8 m/s)")
+    p.add_argument("--line-diameter", metavar="LIST",
+                   help="diameters [m] of the sized line, each 1e-05..0.005 (e.g. 0.0003,0.00045,0.0006): the line is "
+                        "sized again from its material, so mass per length, breaking load and EA scale with d^2 "
+                        "(a diameter whose breaking load falls below the 50 N rated tension is refused; default: as "
+                        "defined, 'fdm-awe info' shows it)")
     from .optimize import add_plant_model_args
 
-    add_plant_model_args(p)
+    add_plant_model_args(p, line_axis=True)
     p.add_argument("--workers", type=int, default=None,
                    help=f"local Dask worker processes, 1..{MAX_WORKERS} (default: number of cores; not with --scheduler)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
@@ -90,8 +95,10 @@ def build_spec(args: argparse.Namespace):
     """The :class:`~fdm_awe.sweep.spec.SweepSpec` of the command line (canonical ids)."""
     from ..ocp.problem import CONFIGS
     from ..sweep.runner import canonical_spec
-    from ..sweep.spec import (DEFAULT_MAX_ITER, DEFAULT_MAX_ITER_TOTAL, WIND_RANGE, SweepSpec, parse_floats, parse_names,
-                              parse_tether_ranges)
+    from ..errors import InputError
+    from ..groundstation.line import LINES
+    from ..sweep.spec import (DEFAULT_MAX_ITER, DEFAULT_MAX_ITER_TOTAL, LINE_DIAMETER_RANGE, WIND_RANGE, SweepSpec,
+                              parse_floats, parse_names, parse_tether_ranges)
     from .optimize import parse_mesh
 
     mesh = parse_mesh(args.mesh, two=True)
@@ -100,6 +107,19 @@ def build_spec(args: argparse.Namespace):
     def opt(text: str | None, what: str, unit: str) -> tuple:
         return (None,) if text is None else parse_floats(text, what, unit)
 
+    from .optimize import check_plant_args
+
+    check_plant_args(args)
+    diameters: tuple = (None,)
+    if getattr(args, "line_diameter", None) is not None:
+        from ..sweep.design import line_station
+
+        diameters = parse_floats(args.line_diameter, "--line-diameter", "m", *LINE_DIAMETER_RANGE)
+        for d in diameters:  # the sized line resized: its breaking load must reach the rated tension
+            try:
+                line_station("sized", d)
+            except InputError as exc:
+                raise InputError(f"--line-diameter {args.line_diameter!r}: {exc}") from None
     spec = SweepSpec(
         winds=parse_floats(args.wind, "--wind", "m/s", *WIND_RANGE), configs=configs,
         folded_spans=opt(args.folded_span, "--folded-span", "m"),
@@ -110,7 +130,9 @@ def build_spec(args: argparse.Namespace):
         scenario=args.scenario, mesh=mesh, max_iter=args.max_iter if args.max_iter is not None else DEFAULT_MAX_ITER,
         max_iter_total=args.max_iter_total if args.max_iter_total is not None else DEFAULT_MAX_ITER_TOTAL,
         warm_fallback=args.warm_fallback, anchor_every=args.anchor_every,
-        propeller=getattr(args, "propeller", None), line_weight=bool(getattr(args, "line_weight", False)),
+        propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
+        lines=(None,) if getattr(args, "line", None) is None else parse_names(args.line, "--line", LINES),
+        line_diameters=diameters,
     ).validate()
     return canonical_spec(spec)
 

@@ -31,8 +31,8 @@ Metadata: ``scenario`` (physical | paper) and ``config`` (foldable | nominal) ar
 ``status`` (ok), ``recovery_airframe`` (folded for foldable, unfolded for nominal),
 ``propeller``, ``line_weight``, ``d0_m`` < ``d_tf_m`` are checked when present; ``line`` (the
 tether line the cycle was optimised with, :data:`fdm_awe.groundstation.line.LINES`) is checked
-when present and is ``paper`` (Table 1's line) when absent: every file written before lines were
-named was optimised with it.
+when present; absent means ``paper`` (Table 1's line): every file written before lines were
+named was optimised with it, and a flight flies it.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,
@@ -421,7 +421,7 @@ def _check_wind(src: str, md: dict[str, Any]) -> None:
 
 def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     """The metadata, checked field by field; returns a copy with the derived fields filled in
-    (``wind_*``, ``period_s``, ``tether_drag_scale``, ``line``)."""
+    (``wind_*``, ``period_s``, ``tether_drag_scale``)."""
     from ..groundstation.line import LINES
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
     from .problem import CONFIGS, PROPELLERS, SCENARIOS
@@ -459,10 +459,8 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
         if prop not in allowed or not isinstance(prop, str):
             raise InputError(f"{src}: metadata.propeller: {_show(prop)} not allowed for the {scenario} scenario "
                              f"(allowed {', '.join(allowed)})")
-    line = md.get("line")
-    if line is None:
-        md["line"] = "paper"  # files written before lines were named: Table 1's line
-    elif not isinstance(line, str) or line not in LINES:
+    line = md.get("line")  # absent: a file written before lines were named, flown on Table 1's line
+    if line is not None and (not isinstance(line, str) or line not in LINES):
         raise InputError(f"{src}: metadata.line: {_show(line)} not allowed (allowed {', '.join(LINES)}; "
                          f"absent = paper, Table 1's line)")
     lw = md.get("line_weight")
@@ -587,8 +585,8 @@ def read_reference(path: str | Path) -> ReferenceTrajectory:
     Every malformed file raises :class:`~fdm_awe.errors.InputError` with one line naming the
     file, the field and the allowed range or form; the returned metadata carries checked
     ``scenario``, ``config``, ``T1_s``, ``T2_s``, ``period_s``, ``wind_mps``, ``wind_from_deg``,
-    ``wind_ned_mps``, ``tether_drag_scale`` (1 when the file predates it) and ``line`` (``paper``
-    when the file predates it).
+    ``wind_ned_mps`` and ``tether_drag_scale`` (1 when the file predates it); ``line`` is checked
+    when present (absent: Table 1's ``paper`` line, as :func:`fdm_awe.flight.fly` reads it).
     """
     p = Path(path)
     return check_reference_document(_load_json(p), str(p))
