@@ -21,12 +21,19 @@ Swept parameters (SI):
   (``c = sqrt(S_u / A_u)``, ``b_u = A_u c``); the unfolded polar is unchanged (same aspect
   ratio), the folded wing keeps ``b_f`` and the new chord. Mass, inertia and propulsion are
   kept: a larger wing of the same weight is an optimistic simplification, stated in outputs.
+- ``line_diameter`` ``d`` [m] of the ``sized`` tether line (:func:`resized_line`): the line is
+  sized again from its material, for the rated tension at which the sizing function
+  (:func:`fdm_awe.groundstation.line.size_line`) gives the diameter ``d``. The section is
+  ``mu / (rho_f phi)`` and ``mu``, the breaking load and EA are proportional to it, so all
+  three scale with ``(d / d_0)^2`` from the defined line's ``d_0``; the safety factor, the
+  material (drag coefficient included) and the rated tension of the system stay.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 from ..definitions.aircraft import AeroParams, Airframe, Glider
 from ..errors import InputError
@@ -109,6 +116,48 @@ def design_glider(base: Glider, design: Design) -> Glider:
     f_aero = wing_aero(b_f, c, replace(pf, CD_min=drag_area / (b_f * c)))
     return Glider(replace(u, aero=u_aero, aircraft=u.aircraft + "-variant"),
                   replace(f, aero=f_aero, aircraft=f.aircraft + "-variant"))
+
+
+def resized_line(tether: Any, diameter: float) -> Any:
+    """The sized line ``tether`` (:class:`~fdm_awe.groundstation.definitions.TetherParams` with
+    material and sizing) resized to ``diameter`` [m] (see the module docstring).
+
+    Raises :class:`~fdm_awe.errors.InputError` (one line) for a line without material (a stated
+    section such as Table 1's) and for a diameter whose breaking load falls below the line's
+    rated tension (the line would break inside the optimiser's tension bound)."""
+    from ..groundstation.line import LineSizing, size_line
+
+    if tether.material is None or tether.sizing is None:
+        raise InputError(f"line diameter: the {tether.name!r} line states its section (no material to resize it "
+                         "from); only a sized line is resized")
+    if not (math.isfinite(diameter) and diameter > 0.0):
+        raise InputError(f"line diameter {diameter!r} m out of range (allowed > 0)")
+    z = tether.sizing
+    # F_b = SF T_rated, mu = F_b / tenacity and d^2 ~ mu: the diameter d asks for (d / d_0)^2 times the tension
+    rated = z.rated_tension * (diameter / tether.diameter) ** 2
+    sec = size_line(tether.material, LineSizing(rated_tension=rated, safety_factor=z.safety_factor))
+    if sec.breaking_load < z.rated_tension:
+        d_min = tether.diameter * math.sqrt(z.rated_tension / tether.breaking_load)
+        raise InputError(f"line diameter {diameter * 1e3:.4g} mm out of range: breaking load {sec.breaking_load:.3g} N "
+                         f"below the rated tension {z.rated_tension:g} N (allowed >= {d_min * 1e3:.3g} mm)")
+    return replace(tether, mass_per_length=sec.mass_per_length, diameter=sec.diameter,
+                   axial_stiffness=sec.axial_stiffness, breaking_load=sec.breaking_load,
+                   sizing=LineSizing(rated_tension=rated, safety_factor=z.safety_factor))
+
+
+def line_station(line: str, diameter: float | None = None) -> Any:
+    """Ground-station parameters with the tether line ``line`` of the definition, the sized line
+    resized to ``diameter`` [m] when given (:func:`resized_line`)."""
+    from ..groundstation import load_ground_station
+
+    gs = load_ground_station(line=line)
+    return gs if diameter is None else replace(gs, tether=resized_line(gs.tether, diameter))
+
+
+def describe_line(tether: Any) -> dict[str, float]:
+    """Key numbers of a tether line (for tables): diameter, mass per length, breaking load."""
+    return {"line_d_m": tether.diameter, "line_mu_kg_per_m": tether.mass_per_length,
+            "line_breaking_load_N": tether.breaking_load}
 
 
 def describe(glider: Glider) -> dict[str, float]:

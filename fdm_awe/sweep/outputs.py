@@ -5,7 +5,8 @@ Plots use matplotlib's Agg backend (no display). Power: cycle-average net power 
 [W] (> 0 = net gain), winds [m/s], spans [m].
 
 The folding comparison pairs each foldable point with the nominal point of the same scenario,
-wind, wing area and tether range: ``dP = P_foldable - P_nominal`` [W]. Folding *pays* where
+wind, wing area, tether range and tether line (name and diameter; a record without a line is
+from before lines were named: Table 1's ``paper`` line): ``dP = P_foldable - P_nominal`` [W]. Folding *pays* where
 both converged and ``dP > 0``.
 
 Files are written under a temporary name and renamed when complete
@@ -50,9 +51,14 @@ def _save(fig: Any, path: str | Path) -> Path:
     return p
 
 
+def _line(r: dict[str, Any]) -> str:
+    """The record's tether line (records from before lines were named: Table 1's ``paper``)."""
+    return r.get("line") or "paper"
+
+
 def _order(r: dict[str, Any]) -> tuple:
-    return (r["scenario"], r["config"] != "nominal", _n(r.get("wing_area_m2")), r["d0_m"], r["d_tf_m"],
-            _n(r.get("b_f_m")), _n(r.get("drag_area_f_m2")), r["wind_mps"])
+    return (r["scenario"], r["config"] != "nominal", _n(r.get("wing_area_m2")), r["d0_m"], r["d_tf_m"], _line(r),
+            _n(r.get("line_diameter_m")), _n(r.get("b_f_m")), _n(r.get("drag_area_f_m2")), r["wind_mps"])
 
 
 def _n(v: Any) -> float:
@@ -60,8 +66,9 @@ def _n(v: Any) -> float:
 
 
 def _group_key(r: dict[str, Any]) -> tuple:
-    """Operating context shared by a nominal point and its foldable counterparts."""
-    return (r["scenario"], _n(r.get("wing_area_m2")), r["d0_m"], r["d_tf_m"])
+    """Operating context shared by a nominal point and its foldable counterparts: scenario, wing
+    area, reel-out range, tether line and its diameter (-1: as defined)."""
+    return (r["scenario"], _n(r.get("wing_area_m2")), r["d0_m"], r["d_tf_m"], _line(r), _n(r.get("line_diameter_m")))
 
 
 def _g(v: Any, fallback: Any = None) -> str:
@@ -78,6 +85,9 @@ def _line_label(r: dict[str, Any]) -> str:
             s += f" CdA_f={_g(r.get('drag_area_f_m2'), r.get('folded_drag_area_m2'))} m2"
     if r.get("wing_area_m2") is not None:
         s += f" S={_g(r.get('S_u_m2'), r.get('wing_area_m2'))} m2"
+    s += f" line={_line(r)}"
+    if r.get("line_diameter_m") is not None:
+        s += f" d_t={1e3 * float(r['line_diameter_m']):.3g} mm"
     return s
 
 
@@ -203,11 +213,17 @@ def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str 
     ax.set_xlabel("wind speed [m/s]")
     ax.set_ylabel("folded span b_f [m]")
     fig.colorbar(im, ax=ax, label="P_fold - P_nom [W]")
-    ax.set_title(title or f"where folding pays (> 0, blue): {ctx[0]}, tether {ctx[2]:g}-{ctx[3]:g} m, "
+    line = ctx[4] + ("" if ctx[5] < 0 else f" d_t {1e3 * ctx[5]:.3g} mm")
+    ax.set_title(title or f"where folding pays (> 0, blue): {ctx[0]}, tether {ctx[2]:g}-{ctx[3]:g} m, line {line}, "
                           f"CdA_f {area:.3g} m2\ncycle-average net power, foldable minus nominal [W]; fail = a point failed",
                  fontsize=8)
     fig.tight_layout()
     return _save(fig, path)
+
+
+def _line_of(c: FoldingCell) -> dict[str, Any]:
+    """The tether line of a cell's context (name, swept diameter in m or None)."""
+    return {"line": c.context[4], "line_diameter_m": None if c.context[5] < 0 else c.context[5]}
 
 
 def answer(cells: Sequence[FoldingCell]) -> dict[str, Any]:
@@ -217,9 +233,11 @@ def answer(cells: Sequence[FoldingCell]) -> dict[str, Any]:
     best = max(comparable, key=lambda c: c.dP) if comparable else None
     return {
         "n_cells": len(cells), "n_comparable": len(comparable), "n_folding_pays": len(wins),
-        "folding_pays": [{"b_f_m": c.b_f, "drag_area_f_m2": c.drag_area, "wind_mps": c.wind, "dP_W": c.dP} for c in wins],
+        "folding_pays": [{"b_f_m": c.b_f, "drag_area_f_m2": c.drag_area, "wind_mps": c.wind, "dP_W": c.dP,
+                          **_line_of(c)} for c in wins],
         "best": None if best is None else {"b_f_m": best.b_f, "drag_area_f_m2": best.drag_area, "wind_mps": best.wind,
-                                           "dP_W": best.dP, "P_foldable_W": best.P_foldable, "P_nominal_W": best.P_nominal},
+                                           "dP_W": best.dP, "P_foldable_W": best.P_foldable, "P_nominal_W": best.P_nominal,
+                                           **_line_of(best)},
         "not_comparable": [{"b_f_m": c.b_f, "wind_mps": c.wind, "foldable_ok": c.P_foldable is not None,
                             "nominal_ok": c.P_nominal is not None} for c in cells if c.dP is None],
     }
@@ -265,7 +283,8 @@ def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], sce
             cells.append("" if r is None else (f"{r['P_avg_W']:.1f}" if r["status"] == "ok" else "fail"))
         out.append(f"| {name} | " + " | ".join(cells) + " |")
     if refs is not None:
-        out += ["", f"References (unfolded wing, tether drag at {refs.tether_length:g} m, C_L {refs.CL:.3f}, "
+        out += ["", f"References (unfolded wing, tether d_t {1e3 * refs.tether_diameter:.3g} mm, drag at "
+                f"{refs.tether_length:g} m, C_L {refs.CL:.3f}, "
                 f"C_D {refs.CD:.4f} incl. C_D,t {refs.CD_tether:.4f}): reel-out power, not cycle averages.", "",
                 "| wind [m/s] | " + " | ".join(f"{w:g}" for w in refs.winds) + " |", "|---|" + "---|" * len(refs.winds),
                 "| Loyd [W] | " + " | ".join(f"{v:.1f}" for v in refs.loyd_W) + " |",

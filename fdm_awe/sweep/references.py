@@ -47,6 +47,7 @@ class ReferenceCurves:
     elevation: float  #: [rad]
     azimuth: float  #: [rad]
     reel_out_factor: float  #: f = v_reel / v_w
+    tether_diameter: float = math.nan  #: [m]
 
 
 def best_loyd_alpha(aero: AeroParams, cd_extra: float) -> float:
@@ -78,13 +79,15 @@ def reference_curves(winds: Sequence[float], aero: AeroParams, tether_diameter: 
     loyd = np.array([loyd_power(rho, aero.S, w, CL, CD) for w in v])
     qs = np.array([quasi_steady_reel_out(rho, aero.S, w, CL, CD, el, az)[1] for w in v])
     f = quasi_steady_reel_out(rho, aero.S, 1.0, CL, CD, el, az)[2]
-    return ReferenceCurves(v, loyd, qs, a, CL, CD, cdt, length, el, az, f)
+    return ReferenceCurves(v, loyd, qs, a, CL, CD, cdt, length, el, az, f, float(tether_diameter))
 
 
-def tether_properties() -> tuple[float, float]:
-    """Tether diameter [m] and normal drag coefficient from the ground-station definition
-    (Table 1's line, the optimiser's: :meth:`fdm_awe.ocp.energy.WinchElectrics.from_ground_station`)."""
-    from ..groundstation import load_ground_station
+def tether_properties(line: str = "sized", diameter: float | None = None) -> tuple[float, float]:
+    """Tether diameter [m] and normal drag coefficient of the ground-station definition's line
+    ``line`` (:data:`fdm_awe.groundstation.line.LINES`), the sized line resized to ``diameter``
+    [m] when given (:func:`fdm_awe.sweep.design.line_station`): the line a sweep point optimises
+    with."""
+    from .design import line_station
 
-    t = load_ground_station(line="paper").tether
+    t = line_station(line, diameter).tether
     return float(t.diameter), float(t.cd_perpendicular)

@@ -35,13 +35,15 @@ class SweepReport:
 
 
 def spec_references(spec: SweepSpec) -> ReferenceCurves:
-    """Reference curves for the sweep's first wing area and tether range, over its winds."""
+    """Reference curves for the sweep's first wing area, tether range and tether line (its first
+    diameter for the sized line), over its winds."""
     from .design import Design, design_glider
     from .runner import _base_glider
 
     base = _base_glider()
     g = design_glider(base, Design(wing_area=spec.wing_areas[0]))
-    d, cdp = tether_properties()
+    line = spec.line_names()[0]
+    d, cdp = tether_properties(line, spec.line_diameters[0] if line == "sized" else None)
     d0, dtf = spec.tether_ranges[0]
     winds = sorted(set(spec.winds))
     return reference_curves(winds, g.unfolded.aero, d, cdp, d0, dtf)

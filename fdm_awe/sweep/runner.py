@@ -21,15 +21,17 @@ from typing import Any
 
 import numpy as np
 
-from .design import Design, describe, design_glider
+from .design import Design, describe, describe_line, design_glider, line_station
 from .spec import Point
 
 #: columns of a point record, in table order
 RECORD_FIELDS = (
     "id", "scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2", "wing_area_m2",
-    "fold_time_s", "mesh", "max_iter", "max_iter_total", "warm_fallback", "propeller", "line_weight", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
+    "fold_time_s", "mesh", "max_iter", "max_iter_total", "warm_fallback", "propeller", "line_weight", "line",
+    "line_diameter_m", "status", "reason", "P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J",
     "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "worker", "warm_from", "start", "max_violation",
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
+    "line_d_m", "line_mu_kg_per_m", "line_breaking_load_N",
 )
 
 
@@ -80,7 +82,7 @@ def _base_glider() -> Any:
 
 def canonical_spec(spec: Any) -> Any:
     """``spec`` with design values equal to the definitions' replaced by ``None`` (so they share
-    point ids and the optimiser's cached NLP with the unchanged glider)."""
+    point ids and the optimiser's cached NLP with the unchanged glider and line)."""
     from dataclasses import replace
 
     g = _base_glider()
@@ -92,9 +94,14 @@ def canonical_spec(spec: Any) -> Any:
     def same(v: Any, ref: float) -> Any:
         return None if v is not None and abs(v - ref) <= 1e-9 * max(1.0, abs(ref)) else v
 
+    d_sized = line_station("sized").tether.diameter
     out = replace(spec, folded_spans=tuple(dict.fromkeys(same(v, f.b) for v in spec.folded_spans)),
                   folded_drag_areas=tuple(dict.fromkeys(same(v, area_f) for v in spec.folded_drag_areas)),
-                  wing_areas=tuple(dict.fromkeys(same(v, u.S) for v in spec.wing_areas)))
+                  wing_areas=tuple(dict.fromkeys(same(v, u.S) for v in spec.wing_areas)),
+                  line_diameters=tuple(dict.fromkeys(same(v, d_sized) for v in spec.line_diameters)))
+    for d in out.line_diameters:  # a diameter the sized line cannot have (breaks below its rating): refused now
+        if d is not None and "sized" in out.line_names():
+            line_station("sized", d)
     # refuse impossible designs now (InputError naming the value), not point by point later
     for S in out.wing_areas:
         for b in out.folded_spans if "foldable" in out.configs else (None,):
@@ -114,13 +121,32 @@ def point_glider(point: Point) -> Any:
 
 
 def point_problem(point: Point) -> Any:
-    """The :class:`~fdm_awe.ocp.problem.CycleProblem` of ``point``."""
+    """The :class:`~fdm_awe.ocp.problem.CycleProblem` of ``point`` (a resized line's numbers are
+    in :func:`point_winch`, not in the problem)."""
     from ..ocp.problem import CycleProblem, Mesh
 
     n_gen, n_rec, deg = point.mesh
+    # a point's propeller None is momentum theory in the physical scenario (the model before the choice)
+    prop = point.propeller or ("momentum" if point.scenario == "physical" else None)
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
-                        d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=point.propeller,
-                        line_weight=point.line_weight)
+                        d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=prop,
+                        line_weight=point.line_weight, line=point.line)
+
+
+@functools.lru_cache(maxsize=16)
+def point_station(line: str, diameter: float | None) -> Any:
+    """Ground-station parameters of a point's tether line (:func:`~.design.line_station`)."""
+    return line_station(line, diameter)
+
+
+def point_winch(point: Point) -> Any:
+    """The :class:`~fdm_awe.ocp.energy.WinchElectrics` of ``point`` when its line is resized
+    (``line_diameter``), else None (the optimiser loads the problem's line itself)."""
+    if point.line_diameter is None:
+        return None
+    from ..ocp.energy import WinchElectrics
+
+    return WinchElectrics.from_ground_station(point_station(point.line, point.line_diameter))
 
 
 def base_record(point: Point) -> dict[str, Any]:
@@ -131,8 +157,9 @@ def base_record(point: Point) -> dict[str, Any]:
                 "folded_drag_area_m2": point.folded_drag_area, "wing_area_m2": point.wing_area,
                 "fold_time_s": point.fold_time, "mesh": "x".join(str(v) for v in point.mesh),
                 "max_iter": point.max_iter, "max_iter_total": point.max_iter_total,
-                "warm_fallback": point.warm_fallback, "propeller": point.propeller or "momentum",
-                "line_weight": point.line_weight})
+                "warm_fallback": point.warm_fallback,
+                "propeller": point.propeller or ("momentum" if point.scenario == "physical" else "paper"),
+                "line_weight": point.line_weight, "line": point.line, "line_diameter_m": point.line_diameter})
     return rec
 
 
@@ -149,6 +176,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
     try:
         glider = point_glider(point)
         rec.update(describe(glider))
+        rec.update(describe_line(point_station(point.line, point.line_diameter).tether))
         if point.config == "nominal":  # the folded wing plays no part
             for k in ("S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2"):
                 rec[k] = None
@@ -163,7 +191,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
         # after a failed neighbour that leaves no warm start, a cheap failure policy
         # (warm_fallback one / none) also bounds this point's cold search: one cold solve
         cold = "one" if upstream_failed and warm is None and point.warm_fallback != "all" else "all"
-        res = solve_cycle(problem, warm=warm, glider=glider if custom else None, ipopt_options=opts,
+        res = solve_cycle(problem, warm=warm, glider=glider if custom else None, winch=point_winch(point), ipopt_options=opts,
                           max_iter_total=int(point.max_iter_total), warm_fallback=point.warm_fallback, cold=cold)
         s = res.summary()
         rec.update({"status": "ok" if res.ok else "failed", "reason": str(res.reason), "iterations": int(res.iterations),

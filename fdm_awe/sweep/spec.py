@@ -10,7 +10,18 @@ A :class:`SweepSpec` holds the axes (SI units):
 - ``tether_ranges``: reel-out range ``(d0, d_tf)`` [m];
 - ``fold_times`` [s]: only ``0`` (the cycle optimiser folds the wing instantly at the phase
   switch; any other value is refused with an :class:`~fdm_awe.errors.InputError`);
+- ``lines``: tether lines of the ground-station definition by name (not the warm-start *lines*
+  below; :data:`fdm_awe.groundstation.line.LINES`; ``None`` = the scenario's default line,
+  :data:`fdm_awe.ocp.problem.PLANT_DEFAULTS`);
+- ``line_diameters`` [m]: the ``sized`` line resized to these diameters (``None`` = as sized in
+  the definition). The material stays, so the section scales as the sizing function
+  (:func:`fdm_awe.groundstation.line.size_line`) scales it: mass per length, breaking load and
+  EA all in proportion to ``d^2`` (:func:`fdm_awe.sweep.design.resized_line`). Points on Table
+  1's ``paper`` line (a stated section, no material) are not repeated over this axis; a
+  diameter whose breaking load falls below the rated tension is refused;
 - ``scenario`` (``physical`` default, ``paper``), the collocation ``mesh``;
+- the plant model of every point: ``propeller`` and ``line_weight`` (``None`` = the scenario's
+  default: in ``physical`` the glider's own drive and the line's weight on the glider);
 - the per-point solver budget: ``max_iter`` IPOPT iterations per solve
   (:data:`DEFAULT_MAX_ITER`), ``max_iter_total`` over all solves of the point
   (:data:`DEFAULT_MAX_ITER_TOTAL`), and ``warm_fallback``, what follows a failed warm start
@@ -23,6 +34,12 @@ Nominal points do not depend on the folded-wing axes, so they are not repeated o
 
 Every :class:`Point` has a stable id (a hash of its parameters, the scenario and the mesh),
 used as its file name: a rerun with the same (or an overlapping) sweep finds finished points.
+
+Point ids: fields added to :class:`Point` after the first stores were written enter the id only
+when they differ from their value before they existed (:data:`_ID_DEFAULTS`: momentum propeller,
+no line weight, Table 1's line, its own diameter), so a point of an earlier sweep keeps its id
+and a stored sweep resumes; a point of today's physical defaults (sized line, engine, line
+weight) is another problem and has another id.
 
 Points that differ only in wind form a *line*. Each line is solved as warm-start chains: an
 *anchor* starts cold, then two branches walk up and down in wind, each point warm-started from
@@ -42,7 +59,8 @@ import math
 from dataclasses import asdict, dataclass, field
 
 from ..errors import InputError
-from ..ocp.problem import CONFIGS, PROPELLERS, SCENARIOS, Mesh
+from ..groundstation.line import LINES
+from ..ocp.problem import CONFIGS, PLANT_DEFAULTS, PROPELLERS, SCENARIOS, Mesh
 
 #: IPOPT iteration limit per solve in a sweep. It replaces the optimiser's CPU-time limit, so
 #: whether a point converges never depends on how busy the machine is (reproducible results).
@@ -62,10 +80,14 @@ ANCHOR_EVERY_RANGE = (0, 1000)
 #: allowed wind speeds of a sweep [m/s] (the cycle optimiser's range)
 WIND_RANGE = (0.0, 25.0)
 
+#: allowed diameters of the ``--line-diameter`` axis [m] (0.01 .. 5 mm)
+LINE_DIAMETER_RANGE = (1e-5, 5e-3)
+
 #: Point fields added after the first stores were written: they enter the point id only when
-#: they differ from these defaults, so finished points of earlier sweeps keep their ids
+#: they differ from these values (each field's meaning before it existed), so finished points
+#: of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
-                "line_weight": False}
+                "line_weight": False, "line": "paper", "line_diameter": None}
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -88,8 +110,12 @@ class Point:
     max_iter: int = DEFAULT_MAX_ITER  #: IPOPT iteration limit per solve
     max_iter_total: int = DEFAULT_MAX_ITER_TOTAL  #: IPOPT iterations over all solves of the point
     warm_fallback: str = "all"  #: after a failed warm start: all / one / none (cold solves); one/none: a single cold solve after a failed neighbour without warm start
-    propeller: str | None = None  #: optimiser's propeller model (CycleProblem.propeller; None: momentum)
+    #: optimiser's propeller model (physical: None = momentum, the model before the choice
+    #: existed, or "engine"; paper: None)
+    propeller: str | None = None
     line_weight: bool = False  #: the glider carries its share of the line's weight (CycleProblem.line_weight)
+    line: str = "paper"  #: tether line (CycleProblem.line; "paper", Table 1's line, before lines were named)
+    line_diameter: float | None = None  #: [m] the sized line resized to this diameter (None: as defined)
 
     @property
     def id(self) -> str:
@@ -117,6 +143,7 @@ class Point:
         if self.wing_area is not None:
             parts.append(f"S={self.wing_area:g}")
         parts.append(f"d={self.d0:g}-{self.d_tf:g}")
+        parts.append(f"line={self.line}" + ("" if self.line_diameter is None else f"@{self.line_diameter * 1e3:.3g}mm"))
         return " ".join(parts)
 
 
@@ -137,8 +164,21 @@ class SweepSpec:
     max_iter_total: int = DEFAULT_MAX_ITER_TOTAL
     warm_fallback: str = "all"
     anchor_every: int = 0
-    propeller: str | None = None  #: CycleProblem.propeller of every point (physical scenario)
-    line_weight: bool = False  #: CycleProblem.line_weight of every point (physical scenario)
+    propeller: str | None = None  #: CycleProblem.propeller of every point (physical; None: the scenario's)
+    line_weight: bool | None = None  #: CycleProblem.line_weight of every point (physical; None: the scenario's)
+    lines: tuple[str | None, ...] = (None,)  #: tether lines (None: the scenario's default line)
+    line_diameters: tuple[float | None, ...] = (None,)  #: [m] diameters of the resized sized line (None: as defined)
+
+    def plant(self) -> dict[str, object]:
+        """The propeller and line weight of every point: the spec's, else the scenario's default."""
+        d = PLANT_DEFAULTS.get(self.scenario, {})
+        return {"propeller": d.get("propeller") if self.propeller is None else self.propeller,
+                "line_weight": d.get("line_weight") if self.line_weight is None else self.line_weight}
+
+    def line_names(self) -> tuple[str, ...]:
+        """The lines of the sweep by name (None replaced by the scenario's default), no repeats."""
+        default = PLANT_DEFAULTS.get(self.scenario, {}).get("line", "paper")
+        return tuple(dict.fromkeys(default if n is None else n for n in self.lines))
 
     def validate(self) -> "SweepSpec":
         if self.scenario not in SCENARIOS:
@@ -172,6 +212,23 @@ class SweepSpec:
             raise InputError(f"propeller {self.propeller!r} unknown (allowed: {', '.join(PROPELLERS)})")
         if (self.propeller is not None or self.line_weight) and self.scenario != "physical":
             raise InputError("propeller / line weight: only the physical scenario has these choices")
+        if self.line_weight is not None and not isinstance(self.line_weight, bool):
+            raise InputError(f"line weight {self.line_weight!r} invalid (allowed true or false)")
+        if not self.lines:
+            raise InputError(f"line: at least one of {', '.join(LINES)}")
+        for n in self.lines:
+            if n is not None and n not in LINES:
+                raise InputError(f"line {n!r} unknown (allowed: {', '.join(LINES)})")
+        if not self.line_diameters:
+            raise InputError("line diameter: at least one value (or none given: the line as defined)")
+        lo, hi = LINE_DIAMETER_RANGE
+        for d in self.line_diameters:
+            if d is not None and not (isinstance(d, (int, float)) and math.isfinite(d) and lo <= d <= hi):
+                raise InputError(f"line diameter {d!r} m out of range (allowed {lo:g}..{hi:g} m, i.e. "
+                                 f"{lo * 1e3:g}..{hi * 1e3:g} mm)")
+        if any(d is not None for d in self.line_diameters) and "sized" not in self.line_names():
+            raise InputError("line diameter: only the sized line is resized (from its material); the sweep's lines are "
+                             f"{', '.join(self.line_names())} (add sized to the lines)")
         lo, hi = ANCHOR_EVERY_RANGE
         if not (isinstance(self.anchor_every, int) and lo <= self.anchor_every <= hi):
             raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer {lo}..{hi}; 0 = one anchor per line)")
@@ -183,20 +240,26 @@ class SweepSpec:
         mesh = (self.mesh.n_gen, self.mesh.n_rec, self.mesh.degree)
         out: list[Point] = []
         seen: set[str] = set()
+        plant = self.plant()
+        # the Point's propeller None is momentum theory in the physical scenario (see Point)
+        prop = None if plant["propeller"] == "momentum" else plant["propeller"]
+        line_axes = [(n, d) for n in self.line_names()
+                     for d in (self.line_diameters if n == "sized" else (None,))]
         for cfg in self.configs:
             fold_axes = ([(b, a, t) for b in self.folded_spans for a in self.folded_drag_areas for t in self.fold_times]
                          if cfg == "foldable" else [(None, None, 0.0)])
             for S in self.wing_areas:
                 for d0, dtf in self.tether_ranges:
-                    for b, a, t in fold_axes:
-                        for v in sorted(self.winds):
-                            p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh, self.max_iter,
-                                      self.max_iter_total, self.warm_fallback,
-                                      propeller=None if self.propeller == "momentum" else self.propeller,
-                                      line_weight=self.line_weight)
-                            if p.id not in seen:
-                                seen.add(p.id)
-                                out.append(p)
+                    for line, dl in line_axes:
+                        for b, a, t in fold_axes:
+                            for v in sorted(self.winds):
+                                p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh,
+                                          self.max_iter, self.max_iter_total, self.warm_fallback, propeller=prop,
+                                          line_weight=bool(plant["line_weight"]), line=line,
+                                          line_diameter=None if dl is None else float(dl))
+                                if p.id not in seen:
+                                    seen.add(p.id)
+                                    out.append(p)
         return out
 
     def to_dict(self) -> dict:

@@ -41,7 +41,7 @@ REQUIRED_FIELDS: dict[str, tuple[type, ...]] = {
 }
 #: Record fields holding text (or null); ``line_weight`` is a boolean; every other field of
 #: :data:`~fdm_awe.sweep.runner.RECORD_FIELDS` is a number or null.
-TEXT_FIELDS = frozenset({"id", "scenario", "config", "mesh", "warm_fallback", "propeller", "status", "reason", "worker",
+TEXT_FIELDS = frozenset({"id", "scenario", "config", "mesh", "warm_fallback", "propeller", "line", "status", "reason", "worker",
                          "warm_from", "start"})
 #: Arrays of a warm-start file.
 WARM_ARRAYS = ("w", "lam_x", "lam_g", "k_wrap")
