@@ -16,7 +16,7 @@ import pytest
 from fdm_awe.errors import InputError
 from fdm_awe.ocp.energy import (WinchElectrics, design_reference_generator, generator_load_power, generator_tension,
                                 motor_supply_power)
-from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
+from fdm_awe.ocp.problem import LEGACY_PHYSICAL_PLANT, Bounds, CycleProblem, Mesh
 from fdm_awe.ocp.result import read_reference, write_reference
 from fdm_awe.ocp.solve import get_nlp, solve_cycle
 from fdm_awe.ocp.verify import ENERGY_TOL_REL, POSITION_TOL_REL, verify
@@ -25,6 +25,11 @@ from fdm_awe.ocp.verify import ENERGY_TOL_REL, POSITION_TOL_REL, verify
 #: this mesh a physical-scenario optimum can sit in the gaps between collocation points, with
 #: defects of several percent; see fdm_awe.ocp.verify.POSITION_TOL_REL)
 COARSE = Mesh(20, 12, 3)
+#: The plant whose foldable cycle fails at 8 m/s (Table 1's line, momentum-theory propeller,
+#: massless line: the published numbers and README's explanation of the failure); the tests
+#: of that failure's cause pin it. With the physical scenario's default plant (the thinner
+#: sized line, the glider's own drive, the line's weight) the foldable cycle at 8 m/s exists.
+FAILING_FOLD_PLANT = LEGACY_PHYSICAL_PLANT
 #: the paper scenario has no stiff generator coupling: 30 intervals of degree 4 reproduce its
 #: path within ~0.03 % (the physical scenario's check runs on the default mesh)
 PAPER_MESH = Mesh(30, 16, 4)
@@ -198,22 +203,30 @@ def test_physical_foldable_cycle_exists_only_with_static_thrust():
     start, the elastic (feasibility) solve finds a cycle when the thrust bound is the static
     T_max at every airspeed, and the strict problem then converges; with T <= T_avail(V) the
     elastic solve keeps a fictitious acceleration in the folded recovery (no feasible point
-    nearby) and the solver reports that."""
-    from fdm_awe.ocp.guess import loop_guess
+    nearby) and the solver reports that. The start is the first of the loop starts from which
+    the static-thrust problem is feasible (a local solver finds a feasible point only from
+    some starts; measured: the first one, a 10 s recovery loop of 40 m)."""
+    from fdm_awe.ocp.guess import default_starts, loop_guess
     from fdm_awe.ocp.solve import ELASTIC_PENALTY, _accept
     from fdm_awe.pointmass import wind_vector
 
-    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE)
+    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE, **FAILING_FOLD_PLANT)
     nlp, _ = get_nlp(pr)
     wind = wind_vector(8.0, 180.0)[:2]
-    phases, k = loop_guess(pr, nlp.model, _folded_recovery_start(pr), wind)
-    w0 = nlp.pack(phases)
-    static = nlp.solve(w0, nlp.params(wind, 1.0, k, 1.0, ELASTIC_PENALTY, thrust_bound=0.0), elastic=True)
-    assert static.status == "ok" and nlp.max_slack(static.w) < 1e-6
+    for st in [_folded_recovery_start(pr)] + default_starts(pr):
+        phases, k = loop_guess(pr, nlp.model, st, wind)
+        w0 = nlp.pack(phases)
+        static = nlp.solve(w0, nlp.params(wind, 1.0, k, 1.0, ELASTIC_PENALTY, thrust_bound=0.0), elastic=True)
+        if static.status == "ok" and nlp.max_slack(static.w) < 1e-6:
+            break
+    else:
+        pytest.fail("no loop start gives a feasible cycle with the static thrust bound")
     strict_static = nlp.solve(static.w, nlp.params(wind, 1.0, k, 1.0, 0.0, thrust_bound=0.0))
     assert _accept(nlp, strict_static), strict_static.reason
     en = nlp.energies(strict_static.w, strict_static.params)
-    assert en["E_thrust_J"] > 5000.0  # the cycle lives on thrust (~15.6 kJ per cycle)
+    # the cycle lives on thrust: the propeller's energy alone exceeds all the winch books
+    # (measured 15.6 kJ against 0.5 kJ; 4.6-7 kJ on the other optima found from perturbed starts)
+    assert en["E_thrust_J"] > en["E_generated_J"] + en["E_reel_in_J"]
     real = nlp.solve(w0, nlp.params(wind, 1.0, k, 1.0, ELASTIC_PENALTY), elastic=True)
     assert real.status == "ok" and nlp.max_slack(real.w) > 1e-2
 
@@ -233,14 +246,16 @@ def test_line_drag_is_what_closes_the_folded_recovery():
     1-3.4 % defects and up to 15 % error in the generated energy. Measured on the default mesh
     from the default and from perturbed starts: foldable -36.8 W (defects 0.03 %), nominal
     +6.9..+8.8 W (defects <= 0.07 %)."""
-    fold_pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, tether_drag_scale=0.5)
+    fold_pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, tether_drag_scale=0.5,
+                           **FAILING_FOLD_PLANT)
     fold = solve_cycle(fold_pr)
     assert fold.ok, fold.reason
     assert fold.max_violation < 1e-6
     v = verify(fold, get_nlp(fold_pr)[0])
     assert v.accurate(), (v.position_error_rel, v.energy_error_rel)
     assert v.nlp_max_violation < 1e-6
-    nom_pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, tether_drag_scale=0.5)
+    nom_pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, tether_drag_scale=0.5,
+                          **FAILING_FOLD_PLANT)
     nom = solve_cycle(nom_pr)
     assert nom.ok, nom.reason
     vn = verify(nom, get_nlp(nom_pr)[0])
@@ -267,7 +282,7 @@ def test_physical_foldable_failure_is_deterministic():
     iterations and the same one-line reason. The budget is checked before each attempt, so a
     call never runs more than the budget plus one attempt less one iteration; when the reason
     says the budget was used up, at least the budget was spent."""
-    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE)
+    pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE, **FAILING_FOLD_PLANT)
     st = [_folded_recovery_start(pr)]
     max_iter, budget = 60, 150
     a = solve_cycle(pr, coarse=None, starts=st, max_iter=max_iter, max_iter_total=budget)
