@@ -6,9 +6,14 @@ the wind twice, docs/design.md section 4.3).
 
 from __future__ import annotations
 
+from dataclasses import fields
 from typing import Any
 
 from .definitions.aircraft import AeroParams
+
+#: Polar coefficients that scale with the wing area when the morphing wing blends its two forms
+#: (every :class:`AeroParams` field except the geometry S, b, c).
+POLAR_FIELDS = tuple(f.name for f in fields(AeroParams) if f.name not in ("S", "b", "c"))
 
 
 def lift_coefficient(alpha: Any, aero: AeroParams) -> Any:
@@ -29,6 +34,21 @@ def lift_drag(V: Any, alpha: Any, aero: AeroParams, rho: float, cd_extra: Any = 
     """
     q_s = 0.5 * rho * V * V * aero.S
     return q_s * lift_coefficient(alpha, aero), q_s * (drag_coefficient(alpha, aero) + cd_extra)
+
+
+def fold_blend(unfolded: AeroParams, folded: AeroParams, fold: Any) -> AeroParams:
+    """The morphing wing at fold state ``fold`` (0 unfolded .. 1 folded) as the 6-DOF model
+    flies it (``aircraft/glider_foldable``: ``C = (1 - f) C_unfolded + f C_folded S_ratio`` on
+    the unfolded reference area, ``S_ratio = S_folded / S_unfolded``, the file's
+    ``aero/fold/S-ratio``): each force coefficient times area is linear in ``fold``, lift
+    slope, ``CLmax`` and the drag polar alike. Geometry S, b, c stay the unfolded form's.
+
+    Works on floats and CasADi symbols (``folded`` may itself be a blend, e.g. a homotopy).
+    At ``fold`` 1 the forces equal the folded form's (the same products ``C S``).
+    """
+    ratio = folded.S / unfolded.S
+    vals = {k: (1 - fold) * getattr(unfolded, k) + fold * getattr(folded, k) * ratio for k in POLAR_FIELDS}
+    return AeroParams(S=unfolded.S, b=unfolded.b, c=unfolded.c, **vals)
 
 
 def tether_drag_coefficient(length: Any, diameter: float, cd_perp: float, S: float) -> Any:

@@ -6,6 +6,16 @@ mesh node), and piecewise-constant controls (one value per interval, so the opti
 are exactly defined for re-integration). Decision variables are scaled (``value = scale *
 variable``); collocation residuals are divided by the state scales.
 
+Fold transitions: when the wing takes time to fold
+(:attr:`fdm_awe.ocp.model.CycleModel.fold_time` > 0), the recovery's first and last
+:func:`fold_intervals` intervals span exactly the fold and the unfold (each ``fold_time /
+n_fold`` long) and the others share the rest, ``(T_2 - 2 fold_time) / (N_2 - 2 n_fold)``
+(:func:`interval_lengths`). The fold state is linear in time inside a transition interval and
+1 outside, so every collocation point has a fixed fold state (:func:`interval_fold`, the law of
+:func:`fdm_awe.ocp.model.fold_fraction` at that point's time), the dynamics stay smooth within
+each interval, and ``T_2 >= 2 fold_time``. A transition interval's angle of attack is bounded
+by the stall limits of every wing it passes through.
+
 Constraints (docs/design.md section 4, Table 3):
 - variable bounds: airspeed, |gamma|, ground clearance (``z <= -h_min``), controls (alpha with
   the stall limit, bank, thrust, tension, reel-in speed), phase durations;
@@ -43,7 +53,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from .model import GEN_STATES, REC_STATES, CycleModel
+from .model import GEN_STATES, ON_FRACTION, REC_STATES, CycleModel
 from .problem import CycleProblem
 
 #: Weight of the control-smoothing penalty (per interval, on scaled control changes) relative
@@ -53,7 +63,7 @@ REG_WEIGHT = 1e-3
 P_SCALE = 10.0  #: objective scale [W]
 
 STATE_SCALE = {"x": 100.0, "y": 100.0, "z": 100.0, "V": 10.0, "gamma": 1.0, "psi": 1.0, "l": 100.0}
-CONTROL_SCALE = {"alpha": 0.3, "phi": 1.0, "T": 5.0, "G": 30.0, "v_reel": 5.0}
+CONTROL_SCALE = {"alpha": 0.3, "phi": 1.0, "T": 5.0, "G": 30.0, "v_reel": 5.0, "s": 1.0}
 TIME_SCALE = 10.0
 NP = 7  #: number of NLP parameters
 #: elastic slacks of the recovery dynamics: fictitious accelerations added to the airspeed
@@ -66,6 +76,39 @@ DEFAULT_MAX_ITER = 500
 DEFAULT_MAX_CPU_S = 900.0
 #: upper bound of a scaled elastic slack when the elastic mode is on (0 when off)
 SLACK_MAX = 100.0
+
+
+#: longest mesh interval of a fold transition [s]: the fold and the unfold each get
+#: ``ceil(fold_time / FOLD_INTERVAL_S)`` intervals (at most a quarter of the recovery's each)
+FOLD_INTERVAL_S = 1.0
+
+
+def fold_intervals(n: int, fold_time: float) -> int:
+    """Mesh intervals of each fold transition in a recovery of ``n`` intervals (0 without one)."""
+    if fold_time <= 0.0:
+        return 0
+    return max(1, min(math.ceil(fold_time / FOLD_INTERVAL_S - 1e-9), n // 4))
+
+
+def interval_lengths(T: Any, n: int, fold_time: float = 0.0, n_fold: int = 0) -> list[Any]:
+    """Length [s] of each of the ``n`` intervals of a phase lasting ``T`` [s] (a number or a
+    symbol): equal, or with ``n_fold`` intervals spanning each fold transition of ``fold_time``."""
+    if n_fold == 0:
+        return [T / n] * n
+    hf = fold_time / n_fold
+    hm = (T - 2.0 * fold_time) / (n - 2 * n_fold)
+    return [hf] * n_fold + [hm] * (n - 2 * n_fold) + [hf] * n_fold
+
+
+def interval_fold(k: int, tau: float, n: int, n_fold: int) -> float | None:
+    """Fold state at local time ``tau`` in [0, 1] of interval ``k`` of the recovery's ``n``
+    (:func:`interval_lengths`): rising over the first ``n_fold`` intervals, falling over the
+    last ``n_fold``; None in between (folded, the recovery form itself)."""
+    if k < n_fold:
+        return (k + tau) / n_fold
+    if k >= n - n_fold:
+        return 1.0 - (k - (n - n_fold) + tau) / n_fold
+    return None
 
 
 def radau_coefficients(d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -101,6 +144,28 @@ class PhaseLayout:
     idx_X: np.ndarray | None = None  #: (n, d+1, nx) indices into w (j = d of k is node k+1)
     idx_U: np.ndarray | None = None  #: (n, nu)
     idx_T: int = -1
+    n_fold: int = 0  #: intervals of each fold transition (recovery of a folding wing), else 0
+    fold_time: float = 0.0  #: [s]
+
+    def lengths(self, T: Any) -> list[Any]:
+        """Interval lengths [s] for phase duration ``T`` (:func:`interval_lengths`)."""
+        return interval_lengths(T, self.n, self.fold_time, self.n_fold)
+
+    def node_times(self, T: float) -> np.ndarray:
+        """Interval bounds [s] (``n + 1`` values from 0 to ``T``) for phase duration ``T``."""
+        if self.n_fold == 0:
+            return np.arange(self.n + 1) * (T / self.n)
+        return np.concatenate(([0.0], np.cumsum(self.lengths(T))))
+
+    def time(self, t_nodes: np.ndarray, k: int, tau: float) -> float:
+        """Time [s] at local time ``tau`` in [0, 1] of interval ``k`` (bounds ``t_nodes``)."""
+        if self.n_fold == 0:
+            return (k + tau) * t_nodes[1]
+        return t_nodes[k] + tau * (t_nodes[k + 1] - t_nodes[k])
+
+    def fold(self, k: int, tau: float) -> float | None:
+        """Fold state in interval ``k`` at local time ``tau`` (None: the phase's own wing)."""
+        return interval_fold(k, tau, self.n, self.n_fold) if self.n_fold else None
 
 
 #: IPOPT interface option -> name of the function it replaces inside CasADi's IPOPT instance
@@ -139,6 +204,9 @@ class CycleNLP:
             PhaseLayout(GEN_STATES, model.gen_controls, mesh.n_gen),
             PhaseLayout(REC_STATES, model.rec_controls, mesh.n_rec),
         ]
+        if model.folds:
+            rec = self.phases[1]
+            rec.n_fold, rec.fold_time = fold_intervals(rec.n, model.fold_time), model.fold_time
         self._build()
         self._extra = dict(ipopt_options or {})
         self._solvers: dict[tuple, Any] = {}
@@ -207,13 +275,15 @@ class CycleNLP:
             a_hi = m.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
             a_lo = m.alpha_lower(ip, bnd.alpha_max, bnd.cl_margin)
             ctrl_bounds = {"alpha": (a_lo, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
-                           "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0)}
-            ph.T, ph.idx_T = new_var(f"T{ip + 1}", TIME_SCALE, bnd.T_phase_min, bnd.t_max)
+                           "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0)}
+            # a folding wing needs the whole fold and unfold inside the recovery
+            ph.T, ph.idx_T = new_var(f"T{ip + 1}", TIME_SCALE, max(bnd.T_phase_min, 2.0 * ph.fold_time), bnd.t_max)
             nx, nu = len(ph.states), len(ph.controls)
             ph.idx_X = np.zeros((ph.n, d + 1, nx), dtype=int)
             ph.idx_U = np.zeros((ph.n, nu), dtype=int)
             F = self._point_function(ip, nx, len(ph.controls))
-            h = ph.T / ph.n
+            F_fold = self._point_function(ip, nx, len(ph.controls), fold=True) if ph.n_fold else None
+            hs = ph.lengths(ph.T)
             xs = [STATE_SCALE[s] for s in ph.states]
 
             def state_vars(tag: str) -> tuple[list[Any], list[int]]:
@@ -230,9 +300,17 @@ class CycleNLP:
             ph.U = []
             prev_u = None
             for k in range(ph.n):
+                h = hs[k]
+                folds = [ph.fold(k, self.tau[j]) for j in range(d + 1)]
+                bounds_k = dict(ctrl_bounds)
+                if folds[0] is not None:
+                    # stall limits of the wing at every fold state this interval passes through
+                    wings = [m.fold_aero(f) for f in folds]
+                    bounds_k["alpha"] = (max(m.alpha_lower(ip, bnd.alpha_max, bnd.cl_margin, a) for a in wings),
+                                         min(m.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin, a) for a in wings))
                 u, u_ids = [], []
                 for c in ph.controls:
-                    lo, hi = ctrl_bounds[c]
+                    lo, hi = bounds_k[c]
                     v, i = new_var(f"{c}_p{ip}_{k}", CONTROL_SCALE[c], lo, hi)
                     u.append(v)
                     u_ids.append(i)
@@ -257,11 +335,16 @@ class CycleNLP:
                 ph.X.append(pts)
                 # path constraints at the phase start
                 uv = ca.vertcat(*u)
+
+                def point(j: int) -> Any:
+                    args = (ca.vertcat(*pts[j]), uv, p_sym)
+                    return F(*args) if folds[j] is None else F_fold(*args, folds[j])
+
                 if k == 0:
-                    out = F(ca.vertcat(*pts[0]), uv, p_sym)
+                    out = point(0)
                     self._path(ip, out[2], add, f"p{ip}_start")
                 for j in range(1, d + 1):
-                    fj, pw, path = F(ca.vertcat(*pts[j]), uv, p_sym)
+                    fj, pw, path = point(j)
                     for i_s in range(nx):
                         xp = sum(C[r, j] * pts[r][i_s] for r in range(d + 1))
                         add((xp - h * (fj[i_s] + extra[i_s])) / xs[i_s], 0.0, 0.0, f"coll_p{ip}_{k}_{j}_{ph.states[i_s]}")
@@ -302,13 +385,15 @@ class CycleNLP:
         self.g_fn = ca.Function("g", [self.nlp["x"], p_sym], [self.nlp["g"]])
         self.nw = nw
 
-    def _point_function(self, ip: int, nx: int, nu: int) -> ca.Function:
-        """CasADi function (state, control, params) -> (derivative, [P_gen, P_thr, P_rw], path)."""
+    def _point_function(self, ip: int, nx: int, nu: int, fold: bool = False) -> ca.Function:
+        """CasADi function (state, control, params) -> (derivative, [P_gen, P_thr, P_rw], path);
+        ``fold``: a recovery point of a fold transition, with the fold state as a fourth input."""
         s = ca.SX.sym("s", nx)
         u = ca.SX.sym("u", nu)
         p = ca.SX.sym("p", NP)
+        f = ca.SX.sym("fold")
         args = ([s[i] for i in range(nx)], [u[i] for i in range(nu)], (p[0], p[1]), p[2])
-        out = self.model.generation(*args) if ip == 0 else self.model.recovery(*args, p[4])
+        out = self.model.generation(*args) if ip == 0 else self.model.recovery(*args, p[4], f if fold else None)
         if ip == 0:
             path = [out["v_reel"], out["G"]]
         else:
@@ -318,8 +403,8 @@ class CycleNLP:
             # blends the bound towards the static T_max (a homotopy path only)
             prop = self.model.gen_airframe.propulsion
             path.append(p[6] * (prop.thrust_available(s[3]) - prop.T_max) + prop.T_max - u[2])
-        return ca.Function(f"phase{ip}", [s, u, p], [ca.vertcat(*out["f"]), ca.vertcat(out["P_gen"], out["P_thr"], out["P_rw"]),
-                                                     ca.vertcat(*path)])
+        return ca.Function(f"phase{ip}" + ("_fold" if fold else ""), [s, u, p] + ([f] if fold else []),
+                           [ca.vertcat(*out["f"]), ca.vertcat(out["P_gen"], out["P_thr"], out["P_rw"]), ca.vertcat(*path)])
 
     def _path(self, ip: int, path: Any, add, tag: str) -> None:
         bnd, m = self.problem.bounds, self.model
@@ -421,27 +506,34 @@ class CycleNLP:
     # ------------------------------------------------------------------ unpack
     def unpack(self, w: np.ndarray) -> list[dict[str, np.ndarray]]:
         """Per phase: ``t`` (node + internal collocation times) [s], ``X`` (points x states),
-        ``U`` (intervals x controls), ``T`` [s], ``t_nodes`` [s], in value units."""
+        ``U`` (intervals x controls), ``T`` [s], ``t_nodes`` [s] (interval bounds), ``fold``
+        (fold state at each point of ``t``: 0 unfolded .. 1 folded), in value units."""
         scale = np.empty(self.nw)
         # scale of each variable: rebuild from layout
         out = []
         d = self.d
-        for ph in self.phases:
+        for ip, ph in enumerate(self.phases):
             xs = np.array([STATE_SCALE[s] for s in ph.states])
             us = np.array([CONTROL_SCALE[c] for c in ph.controls])
-            T = w[ph.idx_T] * TIME_SCALE
+            T = float(w[ph.idx_T] * TIME_SCALE)
             pts = []
             ts = []
-            h = T / ph.n
+            folds = []
+            own = 1.0 if (ip == 1 and self.model.rec_airframe is not self.model.gen_airframe) else 0.0
+            t_nodes = ph.node_times(T)
             for k in range(ph.n):
                 for j in range(d):
                     pts.append(w[ph.idx_X[k, j]] * xs)
-                    ts.append((k + self.tau[j]) * h)
+                    ts.append(ph.time(t_nodes, k, self.tau[j]))
+                    f = ph.fold(k, self.tau[j])
+                    folds.append(own if f is None else f)
             pts.append(w[ph.idx_X[ph.n - 1, d]] * xs)
             ts.append(T)
+            f = ph.fold(ph.n - 1, 1.0)
+            folds.append(own if f is None else f)
             U = w[ph.idx_U] * us
-            out.append({"t": np.array(ts), "X": np.array(pts), "U": U, "T": float(T),
-                        "t_nodes": np.arange(ph.n + 1) * h, "states": ph.states, "controls": ph.controls})
+            out.append({"t": np.array(ts), "X": np.array(pts), "U": U, "T": T, "t_nodes": t_nodes,
+                        "fold": np.array(folds), "states": ph.states, "controls": ph.controls})
         del scale
         return out
 
@@ -455,11 +547,17 @@ class CycleNLP:
             us = np.array([CONTROL_SCALE[c] for c in ph.controls])
             T = gs["T"]
             w[ph.idx_T] = T / TIME_SCALE
-            h = T / ph.n
+            # node times of the guess (its duration stretched to hold a fold and an unfold)
+            t_nodes = ph.node_times(max(T, 2.0 * ph.fold_time))
+            if ph.n_fold:
+                t_nodes = t_nodes * (T / t_nodes[-1])
             for k in range(ph.n):
-                w[ph.idx_U[k]] = np.asarray(gs["control"]((k + 0.5) * h), float) / us
+                u = np.asarray(gs["control"](ph.time(t_nodes, k, 0.5)), float)
+                if len(u) == len(ph.controls) - 1 and ph.controls[-1] == ON_FRACTION:
+                    u = np.append(u, 1.0)  # a guess without the motor's on-fraction: motor running
+                w[ph.idx_U[k]] = u / us
                 for j in range(d + 1):
-                    w[ph.idx_X[k, j]] = np.asarray(gs["state"]((k + self.tau[j]) * h), float) / xs
+                    w[ph.idx_X[k, j]] = np.asarray(gs["state"](ph.time(t_nodes, k, self.tau[j])), float) / xs
         return w
 
     def constraint_violation(self, w: np.ndarray, params: np.ndarray) -> tuple[float, str]:

@@ -132,6 +132,27 @@ def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: s
     return propeller_power(T, V, prop, rho, scenario, drive)
 
 
+def motor_off_power(prop: PropulsionParams) -> float:
+    """Electrical power [W] of the glider with its motor stopped: the constant draw ``P0``
+    (avionics, ESC). In the 6-DOF model (``engine/glider_motor.xml`` with ``prop_9x5.xml``)
+    zero throttle makes the ESC brake the propeller to a stop within ~0.9 s; the stopped
+    blades fold (the propeller tables are zero beyond J = 1.1), so the stopped drive gives no
+    thrust, no drag and draws no motor power (the flight books ``P0`` on top, as here). The
+    spin-down itself brakes the glider briefly (up to ~2 N at 20 m/s): a cost of each switch,
+    not modelled."""
+    return prop.P0
+
+
+def duty_cycled_power(T_on: Any, s: Any, V: Any, prop: PropulsionParams, rho: float, scenario: str,
+                      drive: Any = None) -> Any:
+    """Mean electrical power [W] of a drive that runs a share ``s`` in [0, 1] of the time at
+    thrust ``T_on`` [N] (airspeed ``V`` [m/s]) and is stopped otherwise (motor-off mode):
+    ``s P_on(T_on, V) + (1 - s) P_off`` with :func:`thrust_power` and :func:`motor_off_power`.
+    The convex hull of the running and the stopped drive; ``s = 1`` is :func:`thrust_power`
+    exactly."""
+    return s * thrust_power(T_on, V, prop, rho, scenario, drive) + (1 - s) * motor_off_power(prop)
+
+
 def mechanical_tether_power(G: Any, ddot: Any) -> Any:
     """Mechanical power delivered to the winch ``G ddot`` [W] (docs/design.md 4.5)."""
     return G * ddot

@@ -8,6 +8,22 @@ Controls ``(alpha, phi, T, G)`` in the ``paper`` scenario (tension is a control)
 Recovery (phase 2): state ``(x, y, z, V, gamma, psi, l)`` with tether length ``l`` [m],
 ``ldot = v_reel``; tether slack (``G = 0``, ``d <= l``). Controls ``(alpha, phi, T, v_reel)``.
 
+Fold (foldable configuration): the wing folds through the 6-DOF glider's rate-limited actuator
+in ``fold_time`` seconds (``fcs/wing-fold-time-s`` of ``aircraft/glider_foldable``), commanded
+folded when recovery starts and open again ``fold_time`` before it ends, as the autopilot
+commands it (``FOLD_LEAD`` 0, ``UNFOLD_LEAD`` = the fold time): the fold fraction
+(:meth:`CycleModel.fold_fraction`) ramps 0 -> 1 over the first ``fold_time`` of recovery and
+1 -> 0 over its last, and the aerodynamics blend with it as the 6-DOF model blends them
+(:func:`fdm_awe.aero.fold_blend`). ``fold_time`` 0 is an instantaneous switch at the phase
+boundaries (generation unfolded, recovery folded).
+
+Motor-off mode (propeller model ``engine``, whose running drive draws more than the idle
+power at zero thrust): both phases carry the motor's on-fraction ``s`` in [0, 1] as a further
+control (last). The glider pulses its motor: thrust ``s T_on`` (``T`` is the thrust while the
+motor runs) and electrical power ``s P_on(T_on, V) + (1 - s) P_off``
+(:func:`fdm_awe.ocp.energy.duty_cycled_power`), the convex hull of the running and the stopped
+drive; ``s = 1`` is the model without the mode exactly.
+
 The glider dynamics are :class:`fdm_awe.pointmass.PointMassModel`; this module only wires the
 tether, winch and energy terms around it. Evaluates on floats/NumPy and CasADi symbols.
 """
@@ -15,14 +31,16 @@ tether, winch and energy terms around it. Evaluates on floats/NumPy and CasADi s
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from pathlib import Path
 from typing import Any, Sequence
 
 from .. import mathops as mo
-from ..aero import tether_drag_coefficient
-from ..definitions.aircraft import AeroParams, Airframe, Glider
+from ..aero import fold_blend, tether_drag_coefficient
+from ..definitions.aircraft import FOLD_TIME_MAX_S, AeroParams, Airframe, Glider, aircraft_path
+from ..definitions.xmlutil import XmlDoc
 from ..pointmass import Environment, PointMassModel
-from .energy import (WinchElectrics, generator_load_power, generator_tension, mechanical_tether_power,
-                     motor_supply_power, thrust_power)
+from .energy import (WinchElectrics, duty_cycled_power, generator_load_power, generator_tension,
+                     mechanical_tether_power, motor_supply_power, thrust_power)
 from ..definitions.engine import ElectricDrive, load_electric_drive
 from .problem import CycleProblem, Scenario
 
@@ -30,6 +48,34 @@ GEN_STATES = ("x", "y", "z", "V", "gamma", "psi")
 #: smoothing of the normal air speed of the line [m/s] (keeps its square root differentiable)
 TETHER_VN_EPS = 0.1
 REC_STATES = GEN_STATES + ("l",)
+#: the motor's on-fraction control (motor-off mode)
+ON_FRACTION = "s"
+#: propeller models with a motor-off mode: the running drive draws more than the stopped one at
+#: zero thrust (the ``engine`` drive turns its propeller at the zero-thrust advance ratio, ~10 W
+#: at 13 m/s). Momentum theory draws exactly ``P0`` at zero thrust and is convex in the thrust,
+#: so stopping the motor never saves power there (and its on-fraction would be undetermined at
+#: zero thrust); the paper's eq. 39 fit models no motor.
+MOTOR_OFF_MODELS = ("engine",)
+#: the morphing aircraft whose fold actuator and blend the fold transitions follow
+FOLDABLE_AIRCRAFT = "glider_foldable"
+
+
+def definition_fold_time(root: Path | None = None) -> float:
+    """Fold time [s] of the morphing aircraft's definition (``fcs/wing-fold-time-s`` of
+    ``aircraft/glider_foldable``: the actuator's full travel), range-checked as the aircraft
+    check does (DefinitionError naming file, property and range)."""
+    doc = XmlDoc.load(aircraft_path(FOLDABLE_AIRCRAFT, root))
+    return doc.property_value("fcs/wing-fold-time-s", lo=0.0, hi=FOLD_TIME_MAX_S, lo_open=True, unit="s")
+
+
+def fold_fraction(t: float, T2: float, fold_time: float) -> float:
+    """Fold state (0 unfolded .. 1 folded) at time ``t`` [s] into a recovery of ``T2`` [s]: the
+    rate-limited actuator (full travel in ``fold_time`` [s]) commanded folded at ``t = 0`` and
+    open at ``t = T2 - fold_time``; ``T2 >= 2 fold_time`` (the optimiser's bound), so it is
+    ``min(1, t / fold_time, (T2 - t) / fold_time)``. ``fold_time`` 0: folded throughout."""
+    if fold_time <= 0.0:
+        return 1.0
+    return float(min(1.0, max(0.0, min(t, T2 - t) / fold_time)))
 
 
 @dataclass(frozen=True)
@@ -45,20 +91,60 @@ class CycleModel:
     tether_drag_scale: float = 1.0  #: factor on the line drag (CycleProblem.tether_drag_scale)
     drive: ElectricDrive | None = None  #: the 6-DOF glider's drive (propeller model "engine")
     line_weight: bool = False  #: the glider carries its share of the line's weight (CycleProblem.line_weight)
+    #: full fold (and unfold) travel [s] at the start (end) of recovery; 0: instantaneous switch
+    #: (always 0 when the recovery form is the generation form)
+    fold_time: float = 0.0
+    #: the motor's on-fraction is a control of both phases (module docstring)
+    motor_off: bool = False
 
     @classmethod
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
-        rec = glider.folded if problem.config == "foldable" else glider.unfolded
+        foldable = problem.config == "foldable"
+        rec = glider.folded if foldable else glider.unfolded
         spec = problem.scenario_spec
         drive = load_electric_drive() if spec.propeller == "engine" else None
+        fold_time = 0.0
+        if foldable:
+            t = getattr(problem, "fold_time", None)
+            fold_time = definition_fold_time(Path(glider.unfolded.source).resolve().parents[2]) if t is None else float(t)
         return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive,
-                   line_weight=problem.line_weight)
+                   line_weight=problem.line_weight, fold_time=fold_time, motor_off=spec.propeller in MOTOR_OFF_MODELS)
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
-        return ("alpha", "phi", "T", "G") if self.scenario.tension_control else ("alpha", "phi", "T")
+        base = ("alpha", "phi", "T", "G") if self.scenario.tension_control else ("alpha", "phi", "T")
+        return base + ((ON_FRACTION,) if self.motor_off else ())
 
-    rec_controls = ("alpha", "phi", "T", "v_reel")
+    @property
+    def rec_controls(self) -> tuple[str, ...]:
+        return ("alpha", "phi", "T", "v_reel") + ((ON_FRACTION,) if self.motor_off else ())
+
+    def controls(self, index: int) -> tuple[str, ...]:
+        """Control names of phase ``index`` (0 generation, 1 recovery)."""
+        return self.gen_controls if index == 0 else self.rec_controls
+
+    @property
+    def folds(self) -> bool:
+        """The wing takes time to fold: recovery starts and ends with a transition."""
+        return self.fold_time > 0.0 and self.rec_airframe is not self.gen_airframe
+
+    def fold_fraction(self, t: float, T2: float) -> float:
+        """Fold state at time ``t`` [s] into a recovery of ``T2`` [s] (:func:`fold_fraction`;
+        1 throughout for an instantaneous fold, 0 for the nominal glider)."""
+        if self.rec_airframe is self.gen_airframe:
+            return 0.0
+        return fold_fraction(t, T2, self.fold_time)
+
+    def on_fraction(self, index: int, u: Sequence[Any]) -> Any:
+        """The motor's on-fraction in controls ``u`` of phase ``index``: None without the mode,
+        and for controls given without it (the motor runs throughout)."""
+        n = len(self.controls(index))
+        return u[n - 1] if self.motor_off and len(u) >= n else None
+
+    def mean_thrust(self, index: int, u: Sequence[Any]) -> Any:
+        """Thrust [N] the glider flies with controls ``u``: ``s T_on`` in the motor-off mode, else ``T``."""
+        s = self.on_fraction(index, u)
+        return u[2] if s is None else s * u[2]
 
     def _pm(self, af: Airframe, wind: Sequence[Any]) -> PointMassModel:
         env = Environment(self.rho, self.g, (wind[0], wind[1], 0.0))
@@ -92,8 +178,13 @@ class CycleModel:
         """Downward force [N] of the line's weight share on the glider at paid-out ``length`` [m]."""
         return self.winch.line_weight_per_length * length if self.line_weight else 0.0
 
-    def _thrust_power(self, T: Any, V: Any) -> Any:
-        return thrust_power(T, V, self.gen_airframe.propulsion, self.rho, self.scenario.propeller, self.drive)
+    def _thrust_power(self, T: Any, V: Any, s: Any = None) -> Any:
+        """Drive power [W] at thrust ``T`` (while the motor runs) and airspeed ``V``; ``s`` the
+        on-fraction (None: the motor runs throughout)."""
+        prop = self.gen_airframe.propulsion
+        if s is None:
+            return thrust_power(T, V, prop, self.rho, self.scenario.propeller, self.drive)
+        return duty_cycled_power(T, s, V, prop, self.rho, self.scenario.propeller, self.drive)
 
     def generation(self, s: Sequence[Any], u: Sequence[Any], wind: Sequence[Any], drag_factor: Any = 1.0) -> dict[str, Any]:
         """Phase-1 block: ``f`` (6 derivatives), ``G`` [N], ``v_reel`` = ddot [m/s], ``d`` [m],
@@ -107,13 +198,14 @@ class CycleModel:
         else:
             G = generator_tension(ddot, self.winch)
         cd_t, G_t = self._tether_drag(self.gen_airframe.aero, x, d, d, drag_factor)
-        f = pm.dynamics(x, (u[0], u[1], u[2], G + G_t), cd_t, self._line_weight(d))
+        on = self.on_fraction(0, u)
+        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(0, u), G + G_t), cd_t, self._line_weight(d))
         if self.scenario.electrical:
             P_gen = generator_load_power(ddot, self.winch)
         else:
             P_gen = mechanical_tether_power(G, ddot)
         return {"f": f, "G": G, "v_reel": ddot, "d": d, "l": d, "P_gen": P_gen,
-                "P_thr": self._thrust_power(u[2], x[3]), "P_rw": 0.0 * x[3]}
+                "P_thr": self._thrust_power(u[2], x[3], on), "P_rw": 0.0 * x[3]}
 
     def rec_aero(self, morph: Any = 1.0) -> AeroParams:
         """Recovery aerodynamics; ``morph`` in [0, 1] blends unfolded (0) into the recovery
@@ -123,12 +215,22 @@ class CycleModel:
         a, b = self.gen_airframe.aero, self.rec_airframe.aero
         return AeroParams(**{f.name: (1 - morph) * getattr(a, f.name) + morph * getattr(b, f.name) for f in fields(AeroParams)})
 
+    def fold_aero(self, fold: Any = None, morph: Any = 1.0) -> AeroParams:
+        """Recovery aerodynamics at fold state ``fold`` (None or 1: the recovery form,
+        :meth:`rec_aero`; below 1 the 6-DOF model's blend of the unfolded wing with it,
+        :func:`fdm_awe.aero.fold_blend`)."""
+        rec = self.rec_aero(morph)
+        if fold is None or (isinstance(fold, (int, float)) and fold == 1.0) or self.rec_airframe is self.gen_airframe:
+            return rec
+        return fold_blend(self.gen_airframe.aero, rec, fold)
+
     def recovery(self, s: Sequence[Any], u: Sequence[Any], wind: Sequence[Any], drag_factor: Any = 1.0,
-                 morph: Any = 1.0) -> dict[str, Any]:
+                 morph: Any = 1.0, fold: Any = None) -> dict[str, Any]:
         """Phase-2 block: ``f`` (7 derivatives incl. ``ldot``), ``G`` = 0, ``v_reel``, ``d``,
-        ``l`` [m], powers [W]. ``morph`` see :meth:`rec_aero`."""
+        ``l`` [m], powers [W]. ``morph`` see :meth:`rec_aero`; ``fold`` the fold state
+        (:meth:`fold_aero`; None: folded)."""
         af = self.rec_airframe
-        aero = self.rec_aero(morph)
+        aero = self.fold_aero(fold, morph)
         env = Environment(self.rho, self.g, (wind[0], wind[1], 0.0))
         pm = PointMassModel(af.mass.mass, aero, env)
         x = list(s[:6])
@@ -136,24 +238,25 @@ class CycleModel:
         d = mo.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
         v_reel = u[3]
         cd_t, G_t = self._tether_drag(aero, x, d, l, drag_factor)
-        f = pm.dynamics(x, (u[0], u[1], u[2], G_t), cd_t, self._line_weight(l))
+        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(1, u), G_t), cd_t, self._line_weight(l))
         if self.scenario.electrical:
             P_rw = motor_supply_power(v_reel, self.winch)
         else:
             P_rw = self.scenario.P_rw + 0.0 * x[3]
         return {"f": [*f, v_reel], "G": 0.0 * x[3], "v_reel": v_reel, "d": d, "l": l, "P_gen": 0.0 * x[3],
-                "P_thr": self._thrust_power(u[2], x[3]), "P_rw": P_rw}
+                "P_thr": self._thrust_power(u[2], x[3], self.on_fraction(1, u)), "P_rw": P_rw}
 
     def phase(self, index: int):
         """The block of phase ``index`` (0 generation, 1 recovery)."""
         return self.generation if index == 0 else self.recovery
 
-    def alpha_lower(self, index: int, alpha_max: float, cl_margin: float = 1.0) -> float:
+    def alpha_lower(self, index: int, alpha_max: float, cl_margin: float = 1.0, aero: AeroParams | None = None) -> float:
         """Lower bound on alpha [rad]: -alpha_max (Table 3), tightened by the negative stall
         C_L >= -C_Lmax if enabled (the aircraft definitions clip C_L there) and by
         C_L >= -cl_margin C_Lmax of the phase's own wing when ``cl_margin`` < 1 (a reference to
-        be flown keeps the same margin from the negative stall as from the positive one)."""
-        a = (self.gen_airframe if index == 0 else self.rec_airframe).aero
+        be flown keeps the same margin from the negative stall as from the positive one).
+        ``aero``: the wing of a fold transition instead of the phase's own."""
+        a = aero if aero is not None else (self.gen_airframe if index == 0 else self.rec_airframe).aero
         lo = -alpha_max
         if self.scenario.stall_limit:
             lo = max(lo, (-a.CLmax - a.CL0) / a.CLalpha)
@@ -161,10 +264,11 @@ class CycleModel:
             lo = max(lo, (-cl_margin * a.CLmax - a.CL0) / a.CLalpha)
         return lo
 
-    def alpha_upper(self, index: int, alpha_max: float, cl_margin: float = 1.0) -> float:
+    def alpha_upper(self, index: int, alpha_max: float, cl_margin: float = 1.0, aero: AeroParams | None = None) -> float:
         """Upper bound on alpha [rad]: Table 3's bound, tightened by C_L <= C_Lmax if enabled,
-        and by C_L <= cl_margin C_Lmax of the phase's own wing when ``cl_margin`` < 1."""
-        a = (self.gen_airframe if index == 0 else self.rec_airframe).aero
+        and by C_L <= cl_margin C_Lmax of the phase's own wing when ``cl_margin`` < 1.
+        ``aero``: the wing of a fold transition instead of the phase's own."""
+        a = aero if aero is not None else (self.gen_airframe if index == 0 else self.rec_airframe).aero
         hi = min(alpha_max, a.alpha_max_lift) if self.scenario.stall_limit else alpha_max
         if cl_margin < 1.0:
             hi = min(hi, (cl_margin * a.CLmax - a.CL0) / a.CLalpha)

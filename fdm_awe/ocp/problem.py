@@ -190,6 +190,10 @@ class CycleProblem:
     #: reference flies it. None: the scenario's default ("sized" in ``physical``, Table 1's
     #: "paper" line in ``paper``)
     line: str | None = None
+    #: full travel [s] of the wing's fold at the start of recovery and of its unfold at the end
+    #: (foldable configuration; the aerodynamics blend with the fold state as in the 6-DOF model).
+    #: None: the aircraft definition's (``fcs/wing-fold-time-s``); 0: an instantaneous switch
+    fold_time: float | None = None
 
     def __post_init__(self) -> None:
         # None = the scenario's default; an unknown scenario is left for validate() to name
@@ -230,6 +234,15 @@ class CycleProblem:
             raise InputError("line_weight: only the physical scenario has a line model (the paper's line is massless)")
         self.bounds.validate()
         self.mesh.validate()
+        if self.fold_time is not None:
+            from ..definitions.aircraft import FOLD_TIME_MAX_S
+
+            if not (isinstance(self.fold_time, (int, float)) and math.isfinite(self.fold_time)
+                    and 0.0 <= self.fold_time <= FOLD_TIME_MAX_S):
+                raise InputError(f"fold_time = {self.fold_time!r} s out of range (allowed 0 .. {FOLD_TIME_MAX_S:g} s)")
+            if 2 * self.fold_time + self.bounds.T_phase_min > self.bounds.t_max:
+                raise InputError(f"fold_time = {self.fold_time:g} s: a fold and an unfold leave no room in t_max = "
+                                 f"{self.bounds.t_max:g} s (allowed <= (t_max - T_phase_min) / 2)")
         h0 = self.d0 * math.sin(math.radians(self.elevation0_deg))
         if h0 < self.bounds.h_min:
             raise InputError(f"start altitude {h0:.1f} m is below the ground clearance h_min = {self.bounds.h_min:g} m")

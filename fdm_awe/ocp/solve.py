@@ -76,7 +76,7 @@ def structure_key(problem: CycleProblem) -> tuple:
     """Everything that shapes the NLP except the wind (a parameter)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
-            problem.line_weight, problem.line)
+            problem.line_weight, problem.line, problem.fold_time)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
@@ -331,11 +331,11 @@ def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.n
                 rows[s].append(X[q, i])
             rows["alpha"].append(u[0])
             rows["phi"].append(u[1])
-            rows["T"].append(u[2])
+            rows["T"].append(float(m.mean_thrust(ip, u)))  # s T_on in the motor-off mode
             rows["tension"].append(float(out["G"]))
             rows["tether_length"].append(float(out["l"]))
             rows["reel_speed"].append(float(out["v_reel"]))
-            rows["fold"].append(1.0 if (ip == 1 and nlp.problem.config == "foldable") else 0.0)
+            rows["fold"].append(float(ph["fold"][q]))
             rows["p_generated_W"].append(float(out["P_gen"]))
             rows["p_thrust_W"].append(float(out["P_thr"]))
             rows["p_reel_in_W"].append(float(out["P_rw"]))

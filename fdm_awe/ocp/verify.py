@@ -13,6 +13,10 @@ piecewise-constant controls reproduces it:
   ``open_loop_drift`` reports it on request, for information.)
 - energies: ``E_generated``, ``E_thrust``, ``E_reel_in`` are integrated as extra ODE states by the
   same adaptive integrator (a quadrature independent of the Radau weights of the optimiser);
+- the same model functions as the optimiser's: the motor's on-fraction is one of the controls,
+  and a folding wing's recovery intervals (their bounds from the solution, ``t_nodes``) are
+  integrated with the fold state of :meth:`fdm_awe.ocp.model.CycleModel.fold_fraction` at each
+  instant, the law the collocation evaluates at its points;
 - constraints: the NLP's scaled constraints and bounds at the solution (needs the NLP), and the
   path constraints sampled densely along the re-integration (reported in SI units).
 """
@@ -72,13 +76,16 @@ class Verification:
                 and all(e <= ENERGY_TOL_REL for e in self.energy_error_rel.values()))
 
 
-def _phase_rhs(model: CycleModel, ip: int, u: np.ndarray, wind: tuple[float, float]):
+def _phase_rhs(model: CycleModel, ip: int, u: np.ndarray, wind: tuple[float, float], fold=None):
+    """Right-hand side (states, then the three power integrals and the ground-track length) of
+    phase ``ip`` with controls ``u``; ``fold(t)`` the fold state at local time ``t`` (None: the
+    phase's own wing)."""
     block = model.phase(ip)
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         n = 6 if ip == 0 else 7
         s = y[:n]
-        out = block(list(s), list(u), wind)
+        out = block(list(s), list(u), wind) if fold is None else block(list(s), list(u), wind, 1.0, 1.0, fold(t))
         V, gam, psi = s[3], s[4], s[5]
         gs = math.sqrt((V * math.cos(gam) * math.cos(psi) + wind[0]) ** 2 + (V * math.cos(gam) * math.sin(psi) + wind[1]) ** 2
                        + (V * math.sin(gam)) ** 2)
@@ -108,11 +115,17 @@ def verify(result: CycleResult, nlp: Any = None, model: CycleModel | None = None
     open_loop = 0.0
     for ip, ph in enumerate(result.phases):
         X, U, T, n = ph["X"], ph["U"], ph["T"], len(ph["U"])
-        h = T / n
+        folding = ip == 1 and model.folds
+        nodes = np.asarray(ph["t_nodes"], float) if folding else None
         nx = X.shape[1]
         y_ol = np.r_[X[0], 0.0, 0.0, 0.0, 0.0] if ip == 0 else np.r_[y_ol[:6], X[0, 6], y_ol[6:10]]
         for k in range(n):
-            rhs = _phase_rhs(model, ip, U[k], wind)
+            if folding:
+                t0, h = nodes[k], nodes[k + 1] - nodes[k]
+                rhs = _phase_rhs(model, ip, U[k], wind, lambda t, t0=t0: model.fold_fraction(t0 + t, T))
+            else:
+                h = T / n
+                rhs = _phase_rhs(model, ip, U[k], wind)
             y0 = np.r_[X[k * d], 0.0, 0.0, 0.0, 0.0]
             sol = solve_ivp(rhs, (0.0, h), y0, method="DOP853", rtol=RTOL, atol=ATOL, dense_output=True)
             if not sol.success:
