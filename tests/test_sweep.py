@@ -275,15 +275,19 @@ def _worker_settings() -> tuple:
 
 def test_embedded_cluster_settings():
     """The embedded cluster's workers run without Dask's profiler and memory trimming, ticks at
-    500 ms, single-threaded BLAS kept; the settings do not leak into the caller's configuration."""
+    500 ms, single-threaded BLAS kept (Dask's nanny sets OMP_NUM_THREADS to 1 unless the
+    caller's environment sets it: an exported value wins); the settings do not leak into the
+    caller's configuration."""
     import dask
 
     from fdm_awe.sweep.execute import _client
 
+    blas_threads = os.environ.get("OMP_NUM_THREADS", "1")
     client, cluster, n = _client(1, None)
     try:
         assert n == 1
-        assert list(client.run(_worker_settings).values()) == [(os.environ.get("MALLOC_TRIM_THRESHOLD_"), "1", False, "500ms")]
+        assert list(client.run(_worker_settings).values()) == [(os.environ.get("MALLOC_TRIM_THRESHOLD_"), blas_threads,
+                                                                  False, "500ms")]
         assert client.run_on_scheduler(lambda dask_scheduler: dask_scheduler.WORKER_SATURATION) == 1.0
     finally:
         client.close()
