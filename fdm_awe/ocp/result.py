@@ -97,6 +97,9 @@ class CycleResult:
     phases: list[dict[str, Any]] = field(default_factory=list)  #: raw per-phase collocation data
     trajectory_path: str | None = None
     problem: Any = None
+    #: how the optimum was found (:mod:`fdm_awe.ocp.strategy`): every start's outcome, the
+    #: winner, the polish and any cold check; JSON-ready, empty when no strategy ran
+    strategy: dict[str, Any] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -125,6 +128,7 @@ class CycleResult:
             "E_reel_in_J": num(self.E_reel_in_J) if ok else None, "E_net_J": num(self.E_net_J) if ok else None,
             "P_avg_W": num(self.P_avg_W) if ok else None, "k_wrap": self.k_wrap, "max_violation": num(self.max_violation),
             "trajectory": self.trajectory_path,
+            "strategy": self.strategy or None,
         }
 
     def metadata(self) -> dict[str, Any]:
@@ -139,6 +143,8 @@ class CycleResult:
             "recovery_airframe": "folded" if self.config == "foldable" else "unfolded",
             "energies": {k: v for k, v in self.summary().items() if k.startswith(("E_", "P_"))},
         }
+        if self.strategy:
+            md["strategy"] = self.strategy
         if pr is not None:
             md.update({"d0_m": pr.d0, "d_tf_m": pr.d_tf, "elevation0_deg": pr.elevation0_deg, "azimuth0_deg": pr.azimuth0_deg,
                        "tether_drag_scale": pr.tether_drag_scale,
