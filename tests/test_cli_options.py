@@ -217,8 +217,9 @@ def test_config_or_scenario_other_than_the_reference_is_refused_unless_allowed(t
 
 
 def test_defaults_optimise_the_nominal_glider_and_say_why():
-    """The physical foldable cycle does not exist with the defined line: fly and optimize
-    default to the nominal glider, and their help says why."""
+    """The physical foldable cycle loses more than the nominal one on the sized line and does not
+    exist on Table 1's line: fly and optimize default to the nominal glider, and their help says
+    why."""
     p = build_parser()
     sub = p._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor
     assert sub["optimize"].parse_args([]).config == "nominal"
@@ -231,7 +232,8 @@ def test_defaults_optimise_the_nominal_glider_and_say_why():
     assert (DEFAULT_CONFIG, DEFAULT_WIND_MPS) == ("nominal", 8.0)
     for name in ("fly", "optimize"):
         text = " ".join(sub[name].format_help().split())
-        assert "default nominal" in text and "foldable glider has no periodic cycle" in text, name
+        assert "default nominal" in text and "loses more than the nominal one" in text, name
+        assert "Table 1's line it has no periodic cycle" in text, name
 
 
 def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():

@@ -13,8 +13,9 @@ import sys
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
 
 #: Why the default configuration is ``nominal`` (help texts of ``optimize`` and ``fly``).
-NOMINAL_DEFAULT_WHY = ("default nominal: with the defined line (physical scenario) the foldable glider has no "
-                       "periodic cycle, its folded recovery cannot overcome the line drag")
+NOMINAL_DEFAULT_WHY = ("default nominal: in the physical scenario the foldable glider's folded recovery needs thrust "
+                       "against the line drag, so its cycle loses more than the nominal one on the sized line, and on "
+                       "Table 1's line it has no periodic cycle")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
