@@ -36,6 +36,8 @@ from .guess import LoopStart, default_starts, guess_from_result, loop_guess
 from .model import CycleModel
 from .problem import CycleProblem, Mesh
 from .result import CycleResult
+from .strategy import (COLD_CHECK_W, REFINE, TIE_W, Outcome, auto_workers, family, outcome_record, run_tasks, select,
+                       strategy_starts)
 
 #: largest scaled constraint violation accepted as a solution
 VIOLATION_TOL = 1e-6
@@ -70,6 +72,26 @@ CACHE_SIZE = 8
 #: foldable 3 -> 3.25 m/s: 20 iterations)
 WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-6,
                 "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-5, "ipopt.mu_strategy": "monotone"}
+
+
+#: the final polish of the global strategy: a primal-dual warm start from the winner, as
+#: :data:`WARM_OPTIONS`, with a 100x tighter optimality and a 100x tighter constraint tolerance
+POLISH_OPTIONS = {**WARM_OPTIONS, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9}
+
+#: cold strategies of ``solve_cycle`` (see its ``strategy``)
+STRATEGIES = ("auto", "global", "first")
+
+
+def _attempt_options(max_iter: int, time_budget_s: float, ipopt_options: dict | None) -> dict[str, Any]:
+    """IPOPT options of every attempt of a call that differ from the NLP's defaults (each
+    distinct option set builds its own solver)."""
+    opts: dict[str, Any] = {}
+    if int(max_iter) != MAX_ITER:
+        opts["ipopt.max_iter"] = int(max_iter)
+    if float(time_budget_s) != SAFETY_WALL_S:
+        opts["ipopt.max_cpu_time"] = float(max(time_budget_s, 1.0))
+    opts.update(ipopt_options or {})
+    return opts
 
 
 def structure_key(problem: CycleProblem) -> tuple:
@@ -108,8 +130,23 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
                 n_starts: int = 1, glider: Glider | None = None, winch: WinchElectrics | None = None,
                 ipopt_options: dict | None = None, cache: bool = True, coarse: Mesh | None | bool = True,
                 time_budget_s: float = SAFETY_WALL_S, max_iter: int = MAX_ITER, max_iter_total: int = MAX_ITER_TOTAL,
-                warm_fallback: str = "all", cold: str = "all") -> CycleResult:
+                warm_fallback: str = "all", cold: str = "all", strategy: str = "auto", workers: int | None = None,
+                polish: bool = True, cold_check: bool = False) -> CycleResult:
     """Optimise one pumping cycle (see the module docstring).
+
+    ``strategy``: ``"global"`` (every start of :func:`fdm_awe.ocp.strategy.strategy_starts`, or
+    of ``starts``, solved to a local optimum on the coarse mesh, the best refined to the target
+    mesh and polished, :mod:`fdm_awe.ocp.strategy`), ``"first"`` (the starts in order until
+    ``n_starts`` succeeded, the best of those), or ``"auto"`` (the default: ``"global"`` for a
+    cold solve that goes through a coarse mesh, ``"first"`` otherwise, e.g. a direct solve of a
+    coarse mesh or the fallback after a failed warm start). ``workers``: processes for the
+    independent starts of the global strategy (None: :func:`fdm_awe.ocp.strategy.auto_workers`);
+    the result does not depend on it. ``polish``: the global strategy's final tighter re-solve.
+
+    ``cold_check`` (with ``warm``): also solve the point cold (the global strategy) and keep the
+    better of the two; ``result.strategy["cold_check"]`` records both powers and whether they
+    differ by more than :data:`fdm_awe.ocp.strategy.COLD_CHECK_W` (a sweep's warm chain and a
+    cold solve then never disagree silently).
 
     ``warm``: a previous result; the same NLP structure restarts with its multipliers, any
     other (different mesh or scenario) is interpolated as the initial guess. ``coarse``: mesh
@@ -137,9 +174,19 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
         raise ValueError(f"warm_fallback {warm_fallback!r} unknown (allowed: {', '.join(WARM_FALLBACKS)})")
     if cold not in ("all", "one"):
         raise ValueError(f"cold {cold!r} unknown (allowed: all, one)")
+    if strategy not in STRATEGIES:
+        raise ValueError(f"strategy {strategy!r} unknown (allowed: {', '.join(STRATEGIES)})")
     problem = problem.validate()
     if coarse is True:
         coarse = COARSE_MESH if problem.mesh.n_gen > COARSE_MESH.n_gen else None
+    limits = dict(glider=glider, winch=winch, ipopt_options=ipopt_options, cache=cache, time_budget_s=time_budget_s,
+                  max_iter=max_iter, max_iter_total=max_iter_total)
+    if warm is not None and cold_check:
+        return _with_cold_check(problem, warm, starts, coarse, limits, warm_fallback, strategy, workers, polish)
+    if strategy == "auto":
+        strategy = "global" if (coarse and warm is None and cold == "all") else "first"
+    if strategy == "global" and warm is None and cold == "all":
+        return _solve_global(problem, starts, coarse or None, limits, workers, polish)
     if coarse and warm is None:
         from dataclasses import replace as _replace
 
@@ -174,13 +221,7 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     total_s = 0.0
     total_it = 0
     reasons: list[str] = []
-    # options differing from the NLP's defaults (each distinct option set builds its own solver)
-    base_opts: dict[str, Any] = {}
-    if int(max_iter) != MAX_ITER:
-        base_opts["ipopt.max_iter"] = int(max_iter)
-    if float(time_budget_s) != SAFETY_WALL_S:
-        base_opts["ipopt.max_cpu_time"] = float(max(time_budget_s, 1.0))
-    base_opts.update(ipopt_options or {})
+    base_opts = _attempt_options(max_iter, time_budget_s, ipopt_options)
 
     def run(w0: np.ndarray, k: int, drag: float, morph: float = 1.0, lam_x=None, lam_g=None, opts=None,
             elastic: bool = False) -> RawSolution:
@@ -284,6 +325,155 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
                            reason, total_s, built(), total_it, problem=problem, key=structure_key(problem))
     _, r, k, label = best
     return _finish(problem, nlp, k, label, r, built(), total_s, total_it)
+
+
+def _mesh_name(mesh: Mesh) -> str:
+    return f"{mesh.n_gen}/{mesh.n_rec}/{mesh.degree}"
+
+
+def _prebuild(problem: CycleProblem, limits: dict[str, Any], options: dict | None = None) -> float:
+    """Build (or fetch) the NLP of ``problem`` and its IPOPT instance for the attempts' options
+    in this process, so that forked workers inherit them; returns the build time spent [s]."""
+    if not limits["cache"]:
+        return 0.0
+    nlp, b = get_nlp(problem, limits["glider"], limits["winch"])
+    s0 = nlp.solvers_build_s
+    opts = options if options is not None else _attempt_options(limits["max_iter"], limits["time_budget_s"],
+                                                               limits["ipopt_options"])
+    nlp._solver(opts or None)
+    return b + nlp.solvers_build_s - s0
+
+
+def _explore_task(problem: CycleProblem, start: LoopStart, limits: dict[str, Any]) -> CycleResult:
+    """One start of the global strategy solved to a local optimum on ``problem``'s mesh (the
+    direct solve, then the local aids), with its own iteration budget."""
+    return solve_cycle(problem, starts=[start], coarse=None, strategy="first", **limits)
+
+
+def _refine_task(problem: CycleProblem, source: CycleResult, limits: dict[str, Any]) -> CycleResult:
+    """A candidate of the exploration refined to ``problem``'s mesh (interpolated start; no
+    fallback: another candidate takes its place if it fails)."""
+    return solve_cycle(problem, warm=source, coarse=None, strategy="first", warm_fallback="none", **limits)
+
+
+def _outcome(index: int, label: str, r: CycleResult) -> Outcome:
+    return Outcome(index, label, r.ok, r.P_avg_W if r.ok else math.nan, int(r.iterations), float(r.solve_s),
+                   "" if r.ok else str(r.reason), r)
+
+
+def _solve_global(problem: CycleProblem, starts: list[LoopStart] | None, coarse: Mesh | None,
+                  limits: dict[str, Any], workers: int | None, polish: bool) -> CycleResult:
+    """The global strategy (:mod:`fdm_awe.ocp.strategy`): explore every start on the coarse mesh
+    (or on the target mesh when ``coarse`` is None), refine the best :data:`REFINE` candidates,
+    pick by :func:`fdm_awe.ocp.strategy.select`, polish. Each start and each refinement has its
+    own iteration budget (``max_iter_total``), so no outcome depends on another's."""
+    from dataclasses import replace as _replace
+
+    starts = list(starts) if starts else strategy_starts(problem)
+    labels = [f"{family(st)}: {st.label()}" for st in starts]
+    explore = _replace(problem, mesh=coarse) if coarse else problem
+    n_workers = auto_workers(len(starts)) if workers is None else max(1, int(workers))
+    build_s = _prebuild(explore, limits) if n_workers > 1 else 0.0
+    explored = run_tasks(_explore_task, [(explore, st, limits) for st in starts], n_workers)
+    outcomes = [_outcome(i, labels[i], r) for i, r in enumerate(explored)]
+    build_s += sum(r.build_s for r in explored)
+    solve_s = sum(r.solve_s for r in explored)
+    iterations = sum(r.iterations for r in explored)
+    record: dict[str, Any] = {"name": "global", "tie_W": TIE_W, "workers": n_workers,
+                              "explore_mesh": _mesh_name(explore.mesh), "starts": [outcome_record(o) for o in outcomes]}
+    ranked = select(outcomes)
+
+    def failed(reason: str) -> CycleResult:
+        res = CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed", reason,
+                          solve_s, build_s, iterations, problem=problem, key=structure_key(problem))
+        res.strategy = record
+        return res
+
+    if not ranked:
+        where = f"mesh {_mesh_name(explore.mesh)}: " if coarse else ""
+        return failed(where + "; ".join(f"{o.label.split(':')[0]}: {o.reason}" for o in outcomes))
+    if coarse:
+        refined: list[Outcome] = []
+        todo = list(ranked)
+        while todo and not any(o.ok for o in refined):
+            batch, todo = todo[:REFINE], todo[REFINE:]
+            n = min(n_workers, len(batch))
+            if n > 1:
+                build_s += _prebuild(problem, limits)
+            res = run_tasks(_refine_task, [(problem, o.payload, limits) for o in batch], n)
+            refined += [_outcome(o.index, o.label, r) for o, r in zip(batch, res)]
+            build_s += sum(r.build_s for r in res)
+            solve_s += sum(r.solve_s for r in res)
+            iterations += sum(r.iterations for r in res)
+        record["refined"] = [outcome_record(o) for o in refined]
+        ranked = select(refined)
+        if not ranked:
+            return failed("; ".join(f"{o.label.split(':')[0]} refined to mesh {_mesh_name(problem.mesh)}: {o.reason}"
+                                    for o in refined))
+    win = ranked[0]
+    best: CycleResult = win.payload
+    best.start = labels[win.index] + (f", refined from mesh {_mesh_name(coarse)}" if coarse else "")
+    record["winner"] = {"index": win.index, "start": labels[win.index], "family": family(starts[win.index]),
+                        "P_avg_W": round(win.P_avg_W, 6)}
+    if polish:
+        best, record["polish"], polish_build_s = _polish(problem, best, limits)
+        build_s += polish_build_s
+        solve_s += record["polish"]["solve_s"]
+        iterations += record["polish"]["iterations"]
+    best.build_s, best.solve_s, best.iterations = build_s, solve_s, iterations
+    best.strategy = record
+    return best
+
+
+def _polish(problem: CycleProblem, best: CycleResult, limits: dict[str, Any]) -> tuple[CycleResult, dict[str, Any], float]:
+    """The winner re-solved on its own mesh with :data:`POLISH_OPTIONS` (primal-dual warm
+    start, tighter tolerances): the polished result if it is accepted, else ``best``; a record
+    of the polish; the build time it spent [s]."""
+    nlp, b = get_nlp(problem, limits["glider"], limits["winch"], limits["cache"])
+    s0 = nlp.solvers_build_s
+    wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
+    params = nlp.params(wind, 1.0, best.k_wrap, 1.0)
+    opts = {**_attempt_options(limits["max_iter"], limits["time_budget_s"], limits["ipopt_options"]), **POLISH_OPTIONS}
+    r = nlp.solve(best.w, params, best.lam_x, best.lam_g, opts)
+    built = b + nlp.solvers_build_s - s0
+    info: dict[str, Any] = {"status": "ok" if _accept(nlp, r) else "failed", "iterations": int(r.iterations),
+                            "solve_s": round(r.solve_s, 4), "P_before_W": round(best.P_avg_W, 6)}
+    if info["status"] != "ok":
+        info["reason"] = r.reason
+        return best, info, built
+    res = _finish(problem, nlp, best.k_wrap, best.start + ", polished", r, 0.0, 0.0, 0)
+    info["P_after_W"] = round(res.P_avg_W, 6)
+    return res, info, built
+
+
+def _with_cold_check(problem: CycleProblem, warm: CycleResult, starts: list[LoopStart] | None, coarse: Mesh | None,
+                     limits: dict[str, Any], warm_fallback: str, strategy: str, workers: int | None,
+                     polish: bool) -> CycleResult:
+    """The warm-started solution and a cold solve of the same point; the better is kept (a tie
+    within :data:`TIE_W` keeps the warm one, the chain's continuation) and both are recorded."""
+    rw = solve_cycle(problem, warm=warm, starts=starts, coarse=coarse, warm_fallback=warm_fallback, strategy=strategy,
+                     workers=workers, polish=polish, **limits)
+    rc = solve_cycle(problem, starts=starts, coarse=True if coarse is None else coarse, strategy=strategy,
+                     workers=workers, polish=polish, **limits)
+    ranked = select([_outcome(0, "warm", rw), _outcome(1, "cold", rc)])
+    keep = ranked[0].payload if ranked else rw
+    other = rc if keep is rw else rw
+    diff = abs(rw.P_avg_W - rc.P_avg_W) if (rw.ok and rc.ok) else math.nan
+    check = {"warm_status": rw.status, "cold_status": rc.status,
+             "warm_P_avg_W": round(rw.P_avg_W, 6) if rw.ok else math.nan,
+             "cold_P_avg_W": round(rc.P_avg_W, 6) if rc.ok else math.nan,
+             "difference_W": round(diff, 6) if math.isfinite(diff) else math.nan,
+             "disagree": bool(rw.ok != rc.ok or (math.isfinite(diff) and diff > COLD_CHECK_W)),
+             "kept": "warm" if keep is rw else "cold", "tolerance_W": COLD_CHECK_W}
+    keep.strategy = {**(keep.strategy or {}), "cold_check": check}
+    if keep is rc and rw.strategy:
+        keep.strategy["warm"] = rw.strategy
+    if keep.ok and check["disagree"]:
+        keep.start = f"{keep.start} (cold check: kept the {check['kept']} solution, {check['difference_W']:.2f} W apart)"
+    keep.iterations += other.iterations
+    keep.solve_s += other.solve_s
+    keep.build_s += other.build_s
+    return keep
 
 
 def _accept(nlp: CycleNLP, r: RawSolution | None) -> bool:
