@@ -33,6 +33,7 @@ from ..pointmass import wind_vector
 from .collocation import DEFAULT_MAX_CPU_S, DEFAULT_MAX_ITER, CycleNLP, RawSolution
 from .energy import WinchElectrics
 from .guess import LoopStart, default_starts, guess_from_result, loop_guess
+from . import nlpcache
 from .model import CycleModel
 from .problem import CycleProblem, Mesh
 from .result import CycleResult
@@ -102,19 +103,31 @@ def structure_key(problem: CycleProblem) -> tuple:
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
-            cache: bool = True) -> tuple[CycleNLP, float]:
-    """The NLP for ``problem`` (built or from the cache) and the build time [s] spent now.
+            cache: bool = True, disk_cache: bool | None = None) -> tuple[CycleNLP, float]:
+    """The NLP for ``problem`` (built or from the caches) and the build time [s] spent now.
+
+    ``disk_cache`` (default: the same as ``cache``): look the NLP up in the on-disk cache of
+    :mod:`fdm_awe.ocp.nlpcache` before building it, and store a newly built one there.
 
     The cache key is the problem's structure plus the glider and winch values (both frozen
     dataclasses compared by value), so a custom glider variant is built once per process and
     reused for every wind speed of its sweep chain.
     """
+    if disk_cache is None:
+        disk_cache = cache
     key = (structure_key(problem), glider, winch)
     if cache and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key], 0.0
     model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station(line=problem.line))
-    nlp = CycleNLP(problem, model)
+    nlp = nlpcache.load(problem, model) if disk_cache else None
+    if nlp is None:
+        nlp = CycleNLP(problem, model)
+        if disk_cache:
+            s0 = nlp.solvers_build_s
+            nlpcache.save(nlp)  # generates the derivative functions (the first IPOPT instance) if needed
+            nlp.build_s += nlp.solvers_build_s - s0  # counted once, as the build of this NLP
+            nlp.solvers_build_s = s0
     if cache:
         _CACHE[key] = nlp
         while len(_CACHE) > CACHE_SIZE:
