@@ -143,3 +143,14 @@ def test_compare_report_names_the_plant_model():
     legacy = compare_cmd.markdown("physical", 8.0, res, None, 1.0, "momentum", False, "paper")
     assert "momentum theory" in legacy and "massless line" in legacy and "Table 1's line" in legacy
     assert "plant model" not in compare_cmd.markdown("physical", 8.0, res, None)
+
+
+def test_sweep_summary_names_the_plant_model():
+    from fdm_awe.sweep.report import plant_note
+
+    assert plant_note(SweepSpec(winds=(8.0,))) == \
+        "Plant model: tether line sized; propeller engine; line weight on the glider on."
+    note = plant_note(SweepSpec(winds=(8.0,), lines=("sized", "paper"), line_diameters=(None, 0.3e-3),
+                                propeller="momentum", line_weight=False))
+    assert "sized, paper" in note and "0.3 mm" in note and "propeller momentum" in note and "off" in note
+    assert "paper" in plant_note(SweepSpec(winds=(3.0,), scenario="paper"))

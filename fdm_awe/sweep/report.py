@@ -49,6 +49,19 @@ def spec_references(spec: SweepSpec) -> ReferenceCurves:
     return reference_curves(winds, g.unfolded.aero, d, cdp, d0, dtf)
 
 
+def plant_note(spec: SweepSpec) -> str:
+    """What every point of ``spec`` models of the plant: tether lines, propeller, line weight."""
+    plant = spec.plant()
+    lines = ", ".join(spec.line_names())
+    dia = [d for d in spec.line_diameters if d is not None]
+    if dia and "sized" in spec.line_names():
+        lines += " (sized line also resized to d_t = " + ", ".join(f"{1e3 * d:.3g}" for d in dia) + " mm)"
+    if spec.scenario != "physical":
+        return f"Plant model: tether line {lines} (the paper scenario's line has no drag or weight in the optimiser)."
+    return (f"Plant model: tether line {lines}; propeller {plant['propeller']}; line weight on the glider "
+            f"{'on' if plant['line_weight'] else 'off'}.")
+
+
 def output_files(out_dir: str | Path) -> dict[str, Path]:
     """The files :func:`write_outputs` writes into ``out_dir`` (``folding_map`` only when the
     sweep has foldable points)."""
@@ -71,6 +84,7 @@ def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: s
         files["folding_map"] = str(mp)
     ans = answer(cells)
     files["summary"] = str(paths["summary"])
-    md = summary_markdown(records, ans, spec.scenario, refs, files, NOTES, n_expected=len(spec.points()))
+    md = summary_markdown(records, ans, spec.scenario, refs, files, (plant_note(spec),) + NOTES,
+                          n_expected=len(spec.points()))
     atomic_write_text(files["summary"], md)
     return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md)
