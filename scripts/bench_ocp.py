@@ -10,7 +10,15 @@ followed local optimum ends shows up as one long re-solve. Medians of ``--repeat
 targets (docs/design.md section 9): cold <= 3 s, warm <= 0.5 s on 2 cores. Prints ratios to the
 targets and writes JSON.
 
+Whole process (``--process N``): ``fdm-awe optimize`` (``--process-args``, default the physical
+nominal glider at 8 m/s) run N times as a fresh process each, with an empty NLP cache folder
+(cold cache), with a filled one (warm cache) and, with ``--before DIR``, from another source
+tree (e.g. an export of an earlier commit) with the disk cache off; prints the medians, the
+ratios warm/before and cold/before and the ratio to the 5.5 s measured before the global
+strategy and the cache; the optimum of each run (power, winning start) goes into the JSON.
+
     .venv/bin/python scripts/bench_ocp.py --out bench_ocp.json
+    .venv/bin/python scripts/bench_ocp.py --process 5 --cases "" --out bench_process.json
 """
 
 from __future__ import annotations
@@ -26,6 +34,45 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 COLD_TARGET_S, WARM_TARGET_S = 3.0, 0.5
+#: whole-process median of ``fdm-awe optimize --scenario physical --config nominal --wind 8`` on
+#: 2 cores before the global strategy and the disk cache [s]
+PROCESS_BEFORE_S = 5.5
+
+
+def whole_process(n: int, cli_args: list[str], cache_dir: str | None, fresh: bool, src: str | None = None) -> list[dict]:
+    """``n`` runs of ``fdm-awe optimize`` as fresh processes: wall time [s] and the summary."""
+    import shutil
+    import subprocess
+    import tempfile
+
+    runs = []
+    root = Path(__file__).resolve().parents[1]
+    for _ in range(n):
+        with tempfile.TemporaryDirectory() as tmp:
+            env = dict(os.environ, JSBSIM_DEBUG="0", MPLBACKEND="Agg")
+            if src:
+                env["PYTHONPATH"] = src
+                env["FDM_AWE_NLP_CACHE"] = "off"
+            else:
+                env.pop("PYTHONPATH", None)
+                env["FDM_AWE_NLP_CACHE"] = "on"
+                env["FDM_AWE_CACHE_DIR"] = cache_dir
+                if fresh:
+                    shutil.rmtree(Path(cache_dir) / "nlp", ignore_errors=True)
+            out = Path(tmp) / "r.json"
+            t0 = time.perf_counter()
+            p = subprocess.run([sys.executable, "-m", "fdm_awe.cli", "optimize", *cli_args, "--json", str(out)],
+                               cwd=src or root, env=env, capture_output=True, text=True)
+            wall = time.perf_counter() - t0
+            s = json.loads(out.read_text()) if out.exists() else {}
+            strat = s.get("strategy") or {}
+            runs.append({"wall_s": round(wall, 3), "exit": p.returncode, "P_avg_W": s.get("P_avg_W"),
+                         "iterations": s.get("iterations"), "build_s": s.get("build_s"), "solve_s": s.get("solve_s"),
+                         "winner": (strat.get("winner") or {}).get("family"),
+                         "starts_P_avg_W": [st.get("P_avg_W") for st in strat.get("starts", [])]})
+            print(f"    {'before' if src else ('cold' if fresh else 'warm')}: {wall:.2f} s, exit {p.returncode}, "
+                  f"P_avg {s.get('P_avg_W')}, winner {runs[-1]['winner']}", flush=True)
+    return runs
 
 
 def main() -> int:
@@ -39,11 +86,34 @@ def main() -> int:
     ap.add_argument("--step", type=float, default=0.05, help="wind step of the continuation chain [m/s]")
     ap.add_argument("--steps", type=int, default=10, help="re-solves in the continuation chain")
     ap.add_argument("--out", default="bench_ocp.json")
+    ap.add_argument("--process", type=int, default=0, help="whole-process runs of fdm-awe optimize per variant")
+    ap.add_argument("--process-args", default="--scenario physical --config nominal --wind 8")
+    ap.add_argument("--before", default=None, metavar="DIR", help="source tree to time as 'before' (disk cache off)")
+    ap.add_argument("--cache-dir", default=None, help="NLP cache folder of the whole-process runs (default: a temporary one)")
     args = ap.parse_args()
     mesh = Mesh(*(int(v) for v in args.mesh.split(","))) if args.mesh else Mesh()
     out = {"mesh": {"n_gen": mesh.n_gen, "n_rec": mesh.n_rec, "degree": mesh.degree}, "cpu_count": os.cpu_count(),
            "load_avg_start": os.getloadavg(), "cases": []}
-    for case in args.cases.split(","):
+    if args.process > 0:
+        import tempfile
+
+        cache_dir = args.cache_dir or tempfile.mkdtemp(prefix="fdm-awe-bench-cache-")
+        cli = args.process_args.split()
+        proc: dict = {"args": cli}
+        print(f"whole process: fdm-awe optimize {args.process_args} x {args.process}", flush=True)
+        if args.before:
+            proc["before"] = whole_process(args.process, cli, None, False, src=str(Path(args.before).resolve()))
+        proc["cold_cache"] = whole_process(args.process, cli, cache_dir, True)
+        proc["warm_cache"] = whole_process(args.process, cli, cache_dir, False)
+        med = {k: statistics.median(r["wall_s"] for r in v) for k, v in proc.items() if isinstance(v, list) and v and isinstance(v[0], dict)}
+        proc["median_s"] = med
+        ref = med.get("before", PROCESS_BEFORE_S)
+        proc["ratio_to_before"] = {k: v / ref for k, v in med.items()}
+        proc["ratio_to_5_5_s"] = {k: v / PROCESS_BEFORE_S for k, v in med.items()}
+        out["whole_process"] = proc
+        print("  medians: " + ", ".join(f"{k} {v:.2f} s (x{v / ref:.2f} of before, x{v / PROCESS_BEFORE_S:.2f} of "
+                                          f"{PROCESS_BEFORE_S:g} s)" for k, v in med.items()), flush=True)
+    for case in [c for c in args.cases.split(",") if c]:
         scn, cfg, w = case.split(":")
         pr = CycleProblem(scenario=scn, config=cfg, wind_speed=float(w), mesh=mesh)
         cold_solve, cold_build, cold_it, warm, warm_it = [], [], [], [], []
@@ -97,7 +167,9 @@ def main() -> int:
                   f"(x{row['continuation_median_s'] / WARM_TARGET_S:.2f} of {WARM_TARGET_S:g} s), max {max(cont_s):.2f} s, "
                   f"iterations {cont_it}", flush=True)
     out["load_avg_end"] = os.getloadavg()
-    Path(args.out).write_text(json.dumps(out, indent=2))
+    from fdm_awe.fileio import write_json
+
+    write_json(args.out, out)
     print(f"load average (1, 5, 15 min) at start {out['load_avg_start']}, end {out['load_avg_end']}")
     return 0
 
