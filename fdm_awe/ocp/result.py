@@ -22,7 +22,9 @@ appears twice, once per phase):
   carries the value of the interval that starts at or contains it);
 - ``tension`` [N] tether tension (0 in recovery), ``tether_length`` [m], ``reel_speed`` [m/s]
   (> 0 paid out), ``fold`` (0 unfolded, 1 folded);
-- ``p_generated_W, p_thrust_W, p_reel_in_W`` [W] the scenario's power terms.
+- ``p_generated_W, p_thrust_W, p_reel_in_W`` [W] the scenario's power terms;
+- optional ``motor_on`` (0 .. 1): the motor's on-fraction of the interval (motor-off mode;
+  ``T`` is then the mean thrust); absent = 1, the motor runs throughout.
 
 Metadata: ``scenario`` (physical | paper) and ``config`` (foldable | nominal) are required;
 ``T1_s``, ``T2_s`` [s] > 0 (at most 3600 each) are required; the wind is given as ``wind_mps``
@@ -32,7 +34,11 @@ Metadata: ``scenario`` (physical | paper) and ``config`` (foldable | nominal) ar
 ``propeller``, ``line_weight``, ``d0_m`` < ``d_tf_m`` are checked when present; ``line`` (the
 tether line the cycle was optimised with, :data:`fdm_awe.groundstation.line.LINES`) is checked
 when present; absent means ``paper`` (Table 1's line): every file written before lines were
-named was optimised with it, and a flight flies it.
+named was optimised with it, and a flight flies it. ``fold_time_s`` [s] (0 .. 60; 0 for the
+nominal config) is the fold (and unfold) time the cycle was optimised with; absent means 0, the
+instantaneous fold every file written before fold transitions was optimised with.
+``motor_off`` (boolean) says whether the optimiser could stop the motor (column ``motor_on``);
+absent means false, and then ``motor_on`` (if present) must be 1 throughout.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,
@@ -66,6 +72,8 @@ COLUMN_UNITS = {
     "alpha": "rad", "phi": "rad", "T": "N", "tension": "N", "tether_length": "m", "reel_speed": "m/s",
     "fold": "-", "p_generated_W": "W", "p_thrust_W": "W", "p_reel_in_W": "W",
 }
+#: Columns a reference may carry beyond the required :data:`COLUMN_UNITS` (absent: the default)
+OPTIONAL_COLUMN_UNITS = {"motor_on": "-"}
 
 
 @dataclass
@@ -100,6 +108,10 @@ class CycleResult:
     #: how the optimum was found (:mod:`fdm_awe.ocp.strategy`): every start's outcome, the
     #: winner, the polish and any cold check; JSON-ready, empty when no strategy ran
     strategy: dict[str, Any] = field(default_factory=dict)
+    #: fold time the cycle was optimised with [s] (the model's resolved fold time; None: unknown)
+    fold_time_s: float | None = None
+    #: the optimiser could stop the motor (column ``motor_on``; None: unknown)
+    motor_off: bool | None = None
 
     @property
     def ok(self) -> bool:
@@ -145,6 +157,10 @@ class CycleResult:
         }
         if self.strategy:
             md["strategy"] = self.strategy
+        if self.fold_time_s is not None:
+            md["fold_time_s"] = float(self.fold_time_s)
+        if self.motor_off is not None:
+            md["motor_off"] = bool(self.motor_off)
         if pr is not None:
             md.update({"d0_m": pr.d0, "d_tf_m": pr.d_tf, "elevation0_deg": pr.elevation0_deg, "azimuth0_deg": pr.azimuth0_deg,
                        "tether_drag_scale": pr.tether_drag_scale,
@@ -169,7 +185,7 @@ def write_reference(result: CycleResult, path: str | Path) -> Path:
     p = Path(path)
     doc = {
         "format": FORMAT, "version": VERSION, "metadata": result.metadata(),
-        "units": {k: COLUMN_UNITS.get(k, "") for k in result.columns},
+        "units": {k: COLUMN_UNITS.get(k, OPTIONAL_COLUMN_UNITS.get(k, "")) for k in result.columns},
         "columns": {k: [float(v) for v in np.asarray(a, float)] for k, a in result.columns.items()},
     }
     check_reference(ReferenceTrajectory(doc["metadata"], {k: np.asarray(v, float) for k, v in doc["columns"].items()},
@@ -210,7 +226,7 @@ class ReferenceTrajectory:
             if k in ("t", "phase"):
                 continue
             c = col[sel]
-            if k in ("alpha", "phi", "T", "fold"):
+            if k in ("alpha", "phi", "T", "fold", "motor_on"):
                 out[k] = float(c[i])
             else:
                 out[k] = float(np.interp(tc, ts, c))
@@ -231,6 +247,7 @@ COLUMN_RANGES: dict[str, tuple[float, float, bool] | None] = {
     "alpha": (-math.pi / 2, math.pi / 2, False), "phi": (-math.pi / 2, math.pi / 2, False), "T": (0.0, 1e3, False),
     "tension": (0.0, 1e4, False), "tether_length": (0.0, 1e4, True), "reel_speed": (-100.0, 100.0, False),
     "fold": (0.0, 1.0, False), "p_generated_W": None, "p_thrust_W": None, "p_reel_in_W": None,
+    "motor_on": (0.0, 1.0, False),
 }
 SLACK = 1e-6
 #: Relative tolerance of the time relations (t ends at T1 + T2, the phase switch at T1, period_s).
@@ -469,6 +486,16 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     if line is not None and (not isinstance(line, str) or line not in LINES):
         raise InputError(f"{src}: metadata.line: {_show(line)} not allowed (allowed {', '.join(LINES)}; "
                          f"absent = paper, Table 1's line)")
+    from ..definitions.aircraft import FOLD_TIME_MAX_S
+
+    fold_time = _meta_number(src, md, "fold_time_s", 0.0, FOLD_TIME_MAX_S, unit="s")
+    if fold_time is not None and fold_time > 0.0 and config == "nominal":
+        raise InputError(f"{src}: metadata.fold_time_s: {fold_time:g} s, but metadata.config is 'nominal' (never folds; allowed 0)")
+    md["fold_time_s"] = 0.0 if fold_time is None else fold_time  # older files: optimised with an instantaneous fold
+    mo = md.get("motor_off")
+    if mo is not None and not isinstance(mo, bool):
+        raise InputError(f"{src}: metadata.motor_off: {_show(mo)} not allowed (allowed true or false; absent = false)")
+    md["motor_off"] = bool(mo)
     lw = md.get("line_weight")
     if lw is not None and (not isinstance(lw, bool) or (lw and scenario != "physical")):
         raise InputError(f"{src}: metadata.line_weight: {_show(lw)} not allowed (allowed true or false; true only in the physical scenario)")
@@ -548,6 +575,10 @@ def check_reference(ref: ReferenceTrajectory) -> ReferenceTrajectory:
     if md["config"] == "nominal" and np.any(cols["fold"] != 0.0):
         i = int(np.flatnonzero(cols["fold"] != 0.0)[0])
         raise InputError(f"{src}: columns.fold[{i}]: {cols['fold'][i]:g}, but metadata.config is 'nominal' (never folds; allowed 0)")
+    if "motor_on" in cols and not md["motor_off"] and np.any(cols["motor_on"] != 1.0):
+        i = int(np.flatnonzero(cols["motor_on"] != 1.0)[0])
+        raise InputError(f"{src}: columns.motor_on[{i}]: {cols['motor_on'][i]:g}, but metadata.motor_off is not true "
+                         f"(the motor runs throughout; allowed 1)")
     units = ref.units if isinstance(ref.units, dict) else {}
     return ReferenceTrajectory(md, cols, dict(units), source=src)
 

@@ -508,7 +508,8 @@ def _finish(problem: CycleProblem, nlp: CycleNLP, k: int, label: str, r: RawSolu
     res = CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "ok", r.reason,
                       total_s, build_s, total_it, en["T1_s"], en["T2_s"], en["E_generated_J"], en["E_thrust_J"],
                       en["E_reel_in_J"], k, label, viol, trajectory_columns(nlp, phases, r.params), r.w, r.lam_x,
-                      r.lam_g, structure_key(problem), phases, problem=problem)
+                      r.lam_g, structure_key(problem), phases, problem=problem,
+                      fold_time_s=nlp.model.fold_time, motor_off=nlp.model.motor_off)
     return res
 
 
@@ -519,7 +520,7 @@ def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.n
     wind = (float(params[0]), float(params[1]))
     rows: dict[str, list[float]] = {k: [] for k in ("t", "phase", "x", "y", "z", "V", "gamma", "psi", "alpha", "phi", "T",
                                                     "tension", "tether_length", "reel_speed", "fold", "p_generated_W",
-                                                    "p_thrust_W", "p_reel_in_W")}
+                                                    "p_thrust_W", "p_reel_in_W", "motor_on")}
     t_off = 0.0
     for ip, ph in enumerate(phases):
         X, U, t = ph["X"], ph["U"], ph["t"]
@@ -542,5 +543,7 @@ def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.n
             rows["p_generated_W"].append(float(out["P_gen"]))
             rows["p_thrust_W"].append(float(out["P_thr"]))
             rows["p_reel_in_W"].append(float(out["P_rw"]))
+            on = m.on_fraction(ip, u)  # None: no motor-off mode, the motor runs throughout
+            rows["motor_on"].append(1.0 if on is None else float(on))
         t_off += ph["T"]
     return {k: np.asarray(v, float) for k, v in rows.items()}
