@@ -13,8 +13,15 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mavlink.vehicle.MODE_NU
 - ``AUTO``: with cycling started and a reference loaded, fly the pumping cycle: follow the
   reference path; generation = unfolded wing, generator (passive rectifier into R_L, optionally
   trimmed on the reel-speed error); recovery = folded wing (foldable configuration), motor
-  mode with the PI speed loop at the reference reel speed. Fold and machine switch at the
-  reference's phase boundaries (``FOLD_LEAD``/``UNFOLD_LEAD`` move the fold command earlier).
+  mode with the PI speed loop at the reference reel speed. The machine switches at the
+  reference's phase boundaries. The fold follows the reference's fold time (metadata
+  ``fold_time_s``, :meth:`Autopilot.fold_command`): the optimiser's fold law (fold from the
+  start of recovery, unfold over its last fold time) is the command; a reference optimised with
+  an instantaneous fold (``fold_time_s`` 0 or absent, every file written before fold
+  transitions) is flown as before, folded from ``FOLD_LEAD`` before recovery to
+  ``UNFOLD_LEAD`` before its end. The motor follows the reference's motor-off mode (column
+  ``motor_on``, :class:`MotorGate`): where the optimiser stopped it the throttle is cut (the
+  ESC brakes the propeller to a stop: no thrust, no drag, only the idle power P0).
   Without cycling or without a reference, AUTO holds FBWA.
 - ``RECOVER``: the safe mode. Unfold, no thrust, glide to a circle of ``REC_RADIUS`` about
   the winch and descend on it at ``REC_AIRSPEED``; the winch reels in whatever line hangs
@@ -29,11 +36,13 @@ at the next step.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..definitions.aircraft import Glider
+from ..errors import InputError
 from ..groundstation import WinchCommand
 from ..mavlink.params import ParamStore
 from ..mavlink.vehicle import MODE_NUMBERS, Waypoint
@@ -55,6 +64,54 @@ def _wrap(a: float) -> float:
     return math.atan2(math.sin(a), math.cos(a))
 
 
+#: slack on the fold-time comparison [s] (the reference's and the aircraft's are one number)
+FOLD_TIME_TOL_S = 1e-6
+
+
+@dataclass(frozen=True)
+class MotorGate:
+    """When AUTO stops the motor (the reference's motor-off mode, column ``motor_on``).
+
+    The optimiser's on-fraction ``s`` of an interval is the share of it the motor runs
+    (thrust ``s T_on`` on average, power ``s P_on + (1 - s) P0``). Where ``s`` is below
+    ``off_below`` the throttle is cut: the ESC brakes the propeller to a stop (no thrust, no
+    windmill drag) and the glider draws only P0; the thrust loop is off and its integral held.
+    Elsewhere the motor runs and flies the guidance's thrust, the reference's mean thrust
+    ``s T_on`` plus corrections, continuously: a pulsed motor (``T_on`` for a share ``s``) would
+    draw less (the optimum runs the drive at ~1.6 N, its best thrust per watt above idle, for
+    30-40 % of an interval), but each pulse spins the propeller up and brakes it again within
+    a mesh interval of about a second, and the path loop needs a smooth along-path force. A
+    switch waits at least ``min_dwell_s`` after the previous one, so the motor does not
+    chatter where ``s`` alternates from interval to interval.
+    """
+
+    off_below: float = 0.2  #: on-fraction below which the motor is stopped [-] (0 .. 1)
+    min_dwell_s: float = 0.5  #: least time between two motor switches [s]
+
+    def __post_init__(self) -> None:
+        if not (0.0 <= self.off_below <= 1.0):
+            raise ValueError(f"MotorGate.off_below: {self.off_below!r} out of range (allowed 0 .. 1)")
+        if not (0.0 <= self.min_dwell_s <= 60.0):
+            raise ValueError(f"MotorGate.min_dwell_s: {self.min_dwell_s!r} s out of range (allowed 0 .. 60 s)")
+
+
+def reference_fold_time(meta: dict, aircraft_fold_time_s: float) -> float:
+    """Fold time [s] a reference (metadata ``meta``) is flown with on an aircraft whose fold
+    actuator takes ``aircraft_fold_time_s`` for its full travel: the reference's
+    ``fold_time_s`` (absent = 0: optimised with an instantaneous fold, flown with the
+    FOLD_LEAD/UNFOLD_LEAD parameters). A fold time the aircraft can fly (0, or at least its
+    actuator's) is returned; a faster one raises a one-line :class:`InputError`."""
+    ft = meta.get("fold_time_s")
+    ft = 0.0 if ft is None else float(ft)
+    if not math.isfinite(ft) or ft < 0.0:
+        raise InputError(f"reference metadata.fold_time_s: {ft:g} s out of range (allowed 0 or >= {aircraft_fold_time_s:g} s)")
+    if 0.0 < ft < aircraft_fold_time_s - FOLD_TIME_TOL_S:
+        raise InputError(f"reference metadata.fold_time_s: {ft:g} s, faster than the aircraft's fold actuator "
+                         f"(fcs/wing-fold-time-s {aircraft_fold_time_s:g} s); allowed 0 (an instantaneous fold) or "
+                         f">= {aircraft_fold_time_s:g} s: optimise the reference with the aircraft's fold time")
+    return ft
+
+
 class Autopilot:
     """Controller for :class:`fdm_awe.cosim.CoSim` and :class:`VehicleInterface` for MAVLink.
 
@@ -62,6 +119,10 @@ class Autopilot:
     ``load_resistance``: the generator's R_L [ohm] (definition default of the ground station).
     ``thruster``/``winch``/``line_EA``: the paper plant's ideal thruster, ``"ideal"`` for its
     kinematic winch, and the line's axial stiffness EA [N] (ground-station definition).
+    ``motor``: when AUTO stops the motor (:class:`MotorGate`; default gate if None).
+
+    A foldable reference whose fold time the aircraft cannot fly (faster than its fold
+    actuator, :func:`reference_fold_time`) raises :class:`~fdm_awe.errors.InputError`.
     """
 
     def __init__(
@@ -77,11 +138,14 @@ class Autopilot:
         thruster: Any = None,
         winch: str = "physical",
         line_EA: float = 22600.0,
+        motor: MotorGate | None = None,
     ) -> None:
         if config not in CONFIGS:
             raise ValueError(f"config {config!r} unknown (allowed: {', '.join(CONFIGS)})")
         if winch not in ("physical", "ideal"):
             raise ValueError(f"winch {winch!r} unknown (allowed: physical, ideal)")
+        if reference is not None and config == "foldable":
+            reference_fold_time(reference.meta, glider.fold_time_s)
         #: paper plant: an ideal thruster (:class:`fdm_awe.paper_plant.IdealThruster`) takes the
         #: thrust command instead of the propeller's throttle (held at zero)
         self.thruster = thruster
@@ -123,6 +187,11 @@ class Autopilot:
         #: zero-thrust advance ratio times the tip speed scale); sets the throttle feed-forward
         self._v_zero_thrust = params["THR_VZERO"]
         self._line_EA = line_EA
+        self.motor_gate = motor if motor is not None else MotorGate()
+        #: AUTO runs the motor (False: stopped where the reference's motor is off)
+        self.motor_running = True
+        self.motor_switches = 0  #: motor stops and starts in AUTO so far
+        self._motor_switch_t = -math.inf  # time of the last switch [s]
         for name in params.names():
             params.on_change(name, self._on_param)
 
@@ -246,8 +315,8 @@ class Autopilot:
 
     def _throttle(self, thrust_cmd: float, thrust: float, airspeed: float, dt: float) -> float:
         """Thrust loop: feed-forward plus PI on the measured thrust. Thrust 0 is flown as
-        zero thrust, not zero throttle: a stopped motor lets the propeller windmill, which
-        at 20 m/s costs ~2 N of drag."""
+        zero thrust with the motor running (the propeller turning at its zero-thrust advance
+        ratio); stopping the motor is :meth:`_motor_update`'s decision."""
         p = self.params
         if not self.armed:
             self._thr_int = 0.0
@@ -268,6 +337,46 @@ class Autopilot:
             self.thruster.command(thrust_cmd if self.armed else 0.0)
             return 0.0
         return self._throttle(thrust_cmd, s.thrust_N, s.airspeed, dt)
+
+    def _motor_update(self, on_fraction: float, t: float) -> bool:
+        """Whether the motor runs this step in AUTO: stopped where the reference's on-fraction
+        is below the gate's ``off_below``, a switch at least ``min_dwell_s`` after the last."""
+        want = on_fraction >= self.motor_gate.off_below
+        if want != self.motor_running and t - self._motor_switch_t >= self.motor_gate.min_dwell_s:
+            self.motor_running = want
+            self._motor_switch_t = t
+            self.motor_switches += 1
+        return self.motor_running
+
+    def _motor_stop(self) -> float:
+        """Throttle 0 with the motor stopped (the ESC brakes the propeller; the thrust loop's
+        integral is held for the restart); an ideal thruster takes zero thrust."""
+        if self.thruster is not None:
+            self.thruster.command(0.0)
+        return 0.0
+
+    def fold_command(self, t_cycle: float, T1: float, period: float) -> float:
+        """Fold command (0 open .. 1 folded) at cycle time ``t_cycle`` [s] of a cycle of
+        ``period`` [s] whose recovery starts at ``T1`` [s]; 0 for the nominal configuration.
+
+        With the reference's fold time ``f`` (metadata ``fold_time_s`` > 0) the command is the
+        optimiser's fold law (:func:`fdm_awe.ocp.model.fold_fraction`: folding from the start
+        of recovery, unfolding over its last ``f``), a ramp the rate-limited actuator follows
+        (at its own full rate when ``f`` is the aircraft's fold time). A reference optimised
+        with an instantaneous fold (``fold_time_s`` 0 or absent) is flown as such references
+        always were: folded from ``FOLD_LEAD`` before the recovery to ``UNFOLD_LEAD`` before
+        its end."""
+        if self.config != "foldable":
+            return 0.0
+        ft = float(self.reference.meta.get("fold_time_s") or 0.0) if self.reference is not None else 0.0
+        if ft > 0.0:
+            if t_cycle < T1:
+                return 0.0
+            from ..ocp.model import fold_fraction
+
+            return fold_fraction(t_cycle - T1, period - T1, ft)
+        p = self.params
+        return 1.0 if (T1 - p["FOLD_LEAD"]) <= t_cycle < (period - p["UNFOLD_LEAD"]) else 0.0
 
     def _pay_out(self, s: SixDofState, gs: Any, load_resistance: float, slack: float) -> WinchCommand:
         """Let line out in generator mode: through the load resistor on the real winch; on a
@@ -326,16 +435,14 @@ class Autopilot:
         wind = s.vel_ned - s.vel_air_ned
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         taut = gs is not None and not gs.slack and r.phase == GENERATION
-        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt, taut=taut)
+        # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
+        motor = self._motor_update(r.motor_on, t)
+        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt, taut=taut,
+                                   thrust_max=None if motor else 0.0)
         self.track_error = cmd.pos_error
         self.last_guidance = cmd
         tc, T1, T = r.t_cycle, ref_traj.T1, ref_traj.period
-        # fold schedule
-        if self.config == "foldable":
-            folded = (T1 - p["FOLD_LEAD"]) <= tc < (T - p["UNFOLD_LEAD"])
-            fold_cmd = 1.0 if folded else 0.0
-        else:
-            fold_cmd = 0.0
+        fold_cmd = self.fold_command(tc, T1, T)
         phase = "generation" if r.phase == GENERATION else "recovery"
         if phase != self.phase:
             self._note(f"phase {self.phase} -> {phase} (cycle {r.cycle}, t_cycle {tc:.2f} s)")
@@ -366,7 +473,7 @@ class Autopilot:
                 if gs.tension > p["REC_TENSION"]:
                     v += 0.2 * (gs.tension - p["REC_TENSION"])
             wcmd = WinchCommand(mode="motor", reel_speed_ref=min(v, 0.5))
-        thr = self._propulsion(cmd.thrust, s, dt)
+        thr = self._propulsion(cmd.thrust, s, dt) if motor else self._motor_stop()
         return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
 
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..aero import fold_blend
 from ..definitions.aircraft import AeroParams
 from .tracking import RefPoint
 
@@ -54,18 +55,13 @@ class GuidanceCommand:
 
 
 def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> tuple[float, float, float, float, float, float]:
-    """Area-weighted polar of the morphing wing at fold state ``fold`` (0 unfolded .. 1 folded),
-    on the unfolded reference area: (S, CL0, CLalpha, CLmax, CD0, CDa1, CDa2)-like tuple of
-    ``S*coefficient`` values: (S_CL0, S_CLa, S_CLmax, S_CD0, S_CDa1, S_CDa2)."""
-    w_u, w_f = (1.0 - fold) * aero_u.S, fold * aero_f.S
-    return (
-        w_u * aero_u.CL0 + w_f * aero_f.CL0,
-        w_u * aero_u.CLalpha + w_f * aero_f.CLalpha,
-        w_u * aero_u.CLmax + w_f * aero_f.CLmax,
-        w_u * aero_u.CD0 + w_f * aero_f.CD0,
-        w_u * aero_u.CDalpha1 + w_f * aero_f.CDalpha1,
-        w_u * aero_u.CDalpha2 + w_f * aero_f.CDalpha2,
-    )
+    """Polar of the morphing wing at fold state ``fold`` (0 unfolded .. 1 folded) as
+    ``S*coefficient`` values on its reference area, (S_CL0, S_CLa, S_CLmax, S_CD0, S_CDa1,
+    S_CDa2) [m^2, m^2/rad, m^2, m^2, m^2/rad, m^2/rad^2]: the blend of the 6-DOF model
+    (:func:`fdm_awe.aero.fold_blend`, the one source of it)."""
+    a = fold_blend(aero_u, aero_f, fold)
+    S = a.S
+    return (S * a.CL0, S * a.CLalpha, S * a.CLmax, S * a.CD0, S * a.CDalpha1, S * a.CDalpha2)
 
 
 def norm3(a: np.ndarray) -> float:
@@ -98,6 +94,14 @@ class Guidance:
         self.aero_u, self.aero_f = aero_u, aero_f
         self.rho, self.g = rho, g
         self.integral = [0.0, 0.0, 0.0]  #: position-error integral, NED [m s]
+        self._polar: tuple[float, tuple[float, ...]] | None = None  # (fold state, blended_polar) of the last step
+
+    def polar(self, fold: float) -> tuple[float, float, float, float, float, float]:
+        """:func:`blended_polar` at fold state ``fold``, kept while the fold state does not move."""
+        c = self._polar
+        if c is None or c[0] != fold:
+            c = self._polar = (fold, blended_polar(self.aero_u, self.aero_f, fold))
+        return c[1]  # type: ignore[return-value]
 
     def reset(self) -> None:
         self.integral = [0.0, 0.0, 0.0]
@@ -112,15 +116,19 @@ class Guidance:
         fold: float,
         dt: float,
         taut: bool = False,
+        thrust_max: float | None = None,
     ) -> GuidanceCommand:
         """``taut``: the line is taut, so the radial motion is the winch's: the position loop
         then acts only on the sphere's tangent plane, and the radial aerodynamic force is the
         reference's (feeding the measured tension back would close a positive loop through
-        the line: more pull -> more tension -> more pull)."""
+        the line: more pull -> more tension -> more pull). ``thrust_max`` [N]: the thrust
+        available this step (None: the gains' ``thrust_max``; 0 with the motor stopped, so an
+        along-path force the glider lacks is traded through the flight path)."""
         # written on scalars (x, y, z components; numpy on 3-vectors cost ~100 us a call):
         # every operation as in the vector formulas of the comments, in the same order, so the
         # results are those of the numpy form (tests/test_autopilot_guidance.py)
         k = self.k
+        t_max = k.thrust_max if thrust_max is None else thrust_max
         rpx, rpy, rpz = _xyz(ref.pos)
         rvx, rvy, rvz = _xyz(ref.vel)
         rax, ray, raz = _xyz(ref.acc)
@@ -206,7 +214,7 @@ class Guidance:
         e1x, e1y, e1z = vax / V, vay / V, vaz / V
         F_par = Fx * e1x + Fy * e1y + Fz * e1z
         Qx, Qy, Qz = Fx - F_par * e1x, Fy - F_par * e1y, Fz - F_par * e1z  # F_perp
-        qS_cl0, qS_cla, qS_clmax, qS_cd0, qS_cd1, qS_cd2 = blended_polar(self.aero_u, self.aero_f, fold)
+        qS_cl0, qS_cla, qS_clmax, qS_cd0, qS_cd1, qS_cd2 = self.polar(fold)
         q = 0.5 * self.rho * V * V
         horiz = math.hypot(e1x, e1y)
         if horiz > 1e-6:
@@ -226,8 +234,8 @@ class Guidance:
             excess = F_par + drag
             if excess < 0.0:
                 c = k.energy_trade * excess
-            elif excess > k.thrust_max:
-                c = k.energy_trade * (excess - k.thrust_max)
+            elif excess > t_max:
+                c = k.energy_trade * (excess - t_max)
             else:
                 break
             # F_perp = F - F_par e1 - c up0
@@ -247,7 +255,7 @@ class Guidance:
         # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
         alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-        thrust = min(max(F_par + drag, 0.0), k.thrust_max)
+        thrust = min(max(F_par + drag, 0.0), t_max)
         # the bank limit keeps the lift above the horizon in level flight; climbing or diving
         # steeply the wind-axis bank no longer says where the lift points relative to gravity
         # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical

@@ -3,7 +3,7 @@
 Built from sampled point-mass states and controls (as the optimiser writes them), it gives,
 at any flight time, the reference position, ground velocity and acceleration (NED, winch at
 origin), the feed-forward controls (alpha, bank, thrust), the tension, the tether length and
-the reel speed, and the phase. The acceleration is evaluated from the point-mass dynamics at
+the reel speed, the phase and the motor's on-fraction. The acceleration is evaluated from the point-mass dynamics at
 the reference state and controls, not by differentiating noisy samples.
 """
 
@@ -37,6 +37,9 @@ class RefPoint:
     tension: float  #: [N]
     length: float  #: tether length [m]
     reel_speed: float  #: [m/s], + = reel-out
+    #: the motor's on-fraction of the optimiser's interval here (0 stopped .. 1 running; the
+    #: reference's motor-off mode, ``thrust`` is then the mean thrust); 1 without the mode
+    motor_on: float = 1.0
 
 
 @dataclass
@@ -58,11 +61,17 @@ class TrackingReference:
     T1: float
     T2: float
     meta: dict = field(default_factory=dict)
+    #: the motor's on-fraction per sample (0 .. 1, held per optimiser interval; None: 1
+    #: throughout, the motor runs)
+    motor_on: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = len(self.t)
         if n < 2 or np.any(np.diff(self.t) <= 0):
             raise ValueError("reference time must be strictly increasing with at least 2 samples")
+        self.motor_on = np.ones(n) if self.motor_on is None else np.asarray(self.motor_on, float)
+        if self.motor_on.shape != (n,) or not np.all((self.motor_on >= 0.0) & (self.motor_on <= 1.0)):
+            raise ValueError(f"reference motor_on must have {n} samples in 0 .. 1")
         for name in ("pos", "vel", "acc"):
             if getattr(self, name).shape != (n, 3):
                 raise ValueError(f"reference {name} must have shape ({n}, 3)")
@@ -97,11 +106,15 @@ class TrackingReference:
         i = min(max(i, 0), len(ts) - 2)
         w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
         row = tab[i] * (1.0 - w) + tab[i + 1] * w
+        phase = GENERATION if tc < self.T1 else RECOVERY
+        # the on-fraction is held per interval: the sample at or before tc, except after the
+        # last generation sample (t = T1), which carries the generation's last interval
+        on = self.motor_on[i] if self.phase[i] == phase else self.motor_on[i + 1]  # type: ignore[index]
         return RefPoint(
-            t_cycle=tc, cycle=k, phase=GENERATION if tc < self.T1 else RECOVERY,
+            t_cycle=tc, cycle=k, phase=phase,
             pos=row[0:3], vel=row[3:6], acc=row[6:9], airspeed=float(row[9]), alpha=float(row[10]),
             phi=float(row[11]), thrust=float(row[12]), tension=float(row[13]), length=float(row[14]),
-            reel_speed=float(row[15]),
+            reel_speed=float(row[15]), motor_on=float(on),
         )
 
     def waypoints(self, n: int = 60) -> list[tuple[float, float, float, float, int]]:
@@ -159,7 +172,8 @@ class TrackingReference:
         The file is checked field by field first (:func:`fdm_awe.ocp.result.read_reference`): a
         malformed file raises :class:`~fdm_awe.errors.InputError` with one line naming the file,
         the field and its allowed range or form. ``meta`` carries the checked metadata
-        (``scenario``, ``config``, ``T1_s``, ``T2_s``, ``wind_ned_mps``, ``tether_drag_scale``, ...).
+        (``scenario``, ``config``, ``T1_s``, ``T2_s``, ``wind_ned_mps``, ``tether_drag_scale``,
+        ``fold_time_s``, ``motor_off``, ...).
         """
         from ..ocp.result import read_reference
 
@@ -170,7 +184,8 @@ class TrackingReference:
         """From an optimiser :class:`~fdm_awe.ocp.result.ReferenceTrajectory` (checked again by
         :func:`~fdm_awe.ocp.result.check_reference`, so one built in memory gets the same checks).
 
-        Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata; the
+        Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata; ``motor_on``
+        from the optional column of that name (absent: 1, the motor runs throughout); the
         acceleration is the time derivative of the velocity samples (second-order differences
         within each phase, so the jump of the controls at the phase switch is not smeared).
         """
@@ -199,6 +214,7 @@ class TrackingReference:
             alpha=c["alpha"][keep], phi=c["phi"][keep], thrust=c["T"][keep], tension=c["tension"][keep],
             length=c["tether_length"][keep], reel_speed=c["reel_speed"][keep],
             T1=float(meta["T1_s"]), T2=float(meta["T2_s"]), meta=meta,
+            motor_on=c["motor_on"][keep] if "motor_on" in c else None,
         )
 
     @classmethod
