@@ -1,10 +1,20 @@
-"""Solve the cycle OCP robustly: a few crosswind-loop starts, homotopy, warm starts.
+"""Solve the cycle OCP robustly: a global multi-start strategy, homotopy, warm starts, NLP caches.
 
 ``solve_cycle(problem)`` returns a :class:`CycleResult` whose ``status`` is ``"ok"`` only when
 IPOPT reports success AND the scaled constraints hold within :data:`VIOLATION_TOL`; otherwise
 ``"failed"`` with the reason (never a result presented as valid).
 
-Strategy (cold): for each start of :func:`fdm_awe.ocp.guess.default_starts` solve the NLP; if
+Global strategy (a cold solve through the coarse mesh, the default of ``fdm-awe optimize``;
+:mod:`fdm_awe.ocp.strategy`, docs/design.md section 5): every start of
+:func:`fdm_awe.ocp.strategy.strategy_starts` (loops and figures of eight, both turn
+directions) is solved to a local optimum on :data:`COARSE_MESH` by the local strategy below,
+in parallel processes; the best :data:`fdm_awe.ocp.strategy.REFINE` by average power (ties
+within :data:`fdm_awe.ocp.strategy.TIE_W` to the earlier start) are refined to the target mesh;
+the winner by the same rule is polished (:data:`POLISH_OPTIONS`). ``result.strategy`` records
+every start's outcome. ``cold_check=True`` compares a warm-started solution with a cold solve
+of the same point and keeps the better.
+
+Local strategy (one start, or ``strategy="first"``): for each start solve the NLP; if
 it fails and the scenario has tether drag, retry by homotopy (tether drag factor 0 -> 0.5 -> 1,
 each step started from the previous solution); for the foldable glider, finally through the
 nominal recovery (aerodynamics morphed 0 -> 1); the foldable glider first tries an elastic solve
@@ -15,9 +25,11 @@ the best average power among them is kept. Warm: start from a previous result of
 structure (e.g. the neighbouring wind speed of a sweep) with its multipliers; on failure fall
 back to the cold strategy.
 
-Limits are iteration counts (per attempt and in total, deterministic); wall time is only a
-safety net. Built NLPs are cached per structure (scenario, configuration, geometry, bounds, mesh) in the
-process, so sweeps and repeated solves pay the build once.
+Limits are iteration counts (per attempt and in total, deterministic; in the global strategy
+per start and per refinement); wall time is only a safety net. Built NLPs are cached per
+structure (scenario, configuration, geometry, bounds, mesh) in the process, so sweeps and
+repeated solves pay the build once, and on disk (:mod:`fdm_awe.ocp.nlpcache`), so a new
+process loads them instead of building them.
 """
 
 from __future__ import annotations

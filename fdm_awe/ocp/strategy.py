@@ -3,7 +3,7 @@
 IPOPT finds a local optimum, and which one depends on the start and, over a few hundred
 iterations, on the last bits of the machine's rounding. A single start therefore gives an
 answer that can differ between two machines by several watts. The strategy (used by
-:func:`fdm_awe.ocp.solve.solve_cycle` for a cold solve, docs/design.md section 9):
+:func:`fdm_awe.ocp.solve.solve_cycle` for a cold solve, docs/design.md section 5):
 
 1. **Starts** (:func:`strategy_starts`): the two families of crosswind paths, loops and
    figures of eight, each with the recovery turning the same way as the generation or the
