@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -21,6 +23,17 @@ def cache_on(tmp_path, monkeypatch):
     return tmp_path / "nlp"
 
 
+def _entries(folder, timeout_s: float = 120.0, avoid: bytes | None = None):
+    """The cache entries once one is there (a new NLP is written by a background process)."""
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout_s:
+        found = sorted(folder.glob("*.casadi")) if folder.is_dir() else []
+        if found and (avoid is None or found[0].read_bytes() != avoid):
+            return found
+        time.sleep(0.1)
+    return []
+
+
 def _problem(**kw) -> CycleProblem:
     return CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, mesh=MESH, **kw)
 
@@ -36,7 +49,7 @@ def test_loaded_nlp_gives_the_same_iterates(cache_on):
     iterate within rounding (the same functions, serialised)."""
     pr = _problem()
     built, _ = get_nlp(pr, cache=False, disk_cache=True)
-    files = list(cache_on.glob("*.casadi"))
+    files = _entries(cache_on)
     assert len(files) == 1 and not hasattr(built, "loaded_from")
     loaded, _ = get_nlp(pr, cache=False, disk_cache=True)
     assert getattr(loaded, "loaded_from", None) == str(files[0])
@@ -64,7 +77,7 @@ def test_key_covers_the_structure_but_not_the_wind():
 def test_damaged_entry_is_ignored_with_one_warning_and_rebuilt(cache_on, capsys):
     pr = _problem()
     get_nlp(pr, cache=False, disk_cache=True)
-    (path,) = cache_on.glob("*.casadi")
+    (path,) = _entries(cache_on)
     data = bytearray(path.read_bytes())
     data[len(data) // 2] ^= 0xFF  # one damaged byte, the name (and its checksum) unchanged
     path.write_bytes(bytes(data))
@@ -73,7 +86,7 @@ def test_damaged_entry_is_ignored_with_one_warning_and_rebuilt(cache_on, capsys)
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "unusable entry ignored and rebuilt" in err[0] and str(path) in err[0]
     assert not hasattr(nlp, "loaded_from")  # built again
-    (again,) = cache_on.glob("*.casadi")
+    (again,) = _entries(cache_on, avoid=bytes(data))
     assert again.read_bytes() != bytes(data)
     loaded, _ = get_nlp(pr, cache=False, disk_cache=True)  # the rewritten entry loads
     assert getattr(loaded, "loaded_from", None) == str(again)
@@ -82,7 +95,7 @@ def test_damaged_entry_is_ignored_with_one_warning_and_rebuilt(cache_on, capsys)
 def test_truncated_entry_is_ignored(cache_on, capsys):
     pr = _problem()
     get_nlp(pr, cache=False, disk_cache=True)
-    (path,) = cache_on.glob("*.casadi")
+    (path,) = _entries(cache_on)
     path.write_bytes(path.read_bytes()[:1000])
     capsys.readouterr()
     nlp, _ = get_nlp(pr, cache=False, disk_cache=True)
@@ -94,6 +107,7 @@ def test_switched_off_writes_nothing(tmp_path, monkeypatch):
     monkeypatch.setenv(nlpcache.DIR_ENV, str(tmp_path))
     monkeypatch.setenv(nlpcache.SWITCH_ENV, "off")
     get_nlp(_problem(), cache=False, disk_cache=True)
+    time.sleep(1.0)  # a background writer would have written a small NLP by now
     assert not list(tmp_path.rglob("*.casadi"))
 
 

@@ -116,3 +116,22 @@ def test_global_solve_is_the_same_serial_and_parallel():
     assert rec["polish"]["status"] == "ok" and abs(a.P_avg_W - win["P_avg_W"]) < 0.05 and "polished" in a.start
     b = solve.solve_cycle(pr, strategy="global", coarse=None, workers=2)
     assert b.strategy["winner"] == rec["winner"] and b.P_avg_W == a.P_avg_W and b.iterations == a.iterations
+
+
+def test_cold_check_keeps_the_better_and_records_both():
+    """A warm-started point checked against a cold solve: both powers recorded, the kept one is
+    the better (a tie keeps the warm one), and a difference above 0.5 W is flagged."""
+    from fdm_awe.ocp.strategy import COLD_CHECK_W
+
+    pr = CycleProblem(scenario="paper", config="nominal", wind_speed=3.0, mesh=Mesh(10, 6, 3))
+    first = solve.solve_cycle(pr, coarse=None)
+    assert first.ok, first.reason
+    res = solve.solve_cycle(pr.with_wind(3.5), warm=first, cold_check=True, workers=1)
+    assert res.ok, res.reason
+    chk = res.strategy["cold_check"]
+    warm_P, cold_P = chk["warm_P_avg_W"], chk["cold_P_avg_W"]
+    assert chk["warm_status"] == "ok" and chk["cold_status"] == "ok"
+    assert res.P_avg_W == pytest.approx(max(warm_P, cold_P), abs=TIE_W + 1e-6)
+    assert chk["kept"] == ("cold" if cold_P > warm_P + TIE_W else "warm")
+    assert chk["disagree"] == (abs(warm_P - cold_P) > COLD_CHECK_W)
+    assert chk["difference_W"] == pytest.approx(abs(warm_P - cold_P), abs=1e-5)

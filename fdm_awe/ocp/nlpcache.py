@@ -29,6 +29,7 @@ import dataclasses
 import functools
 import hashlib
 import json
+import multiprocessing
 import os
 import stat
 import sys
@@ -263,18 +264,36 @@ def _restore(problem: Any, model: Any, header: dict[str, Any], fns: list[Any]) -
     return nlp
 
 
-def save(nlp: Any) -> Path | None:
+def save(nlp: Any, background: bool = False) -> Path | None:
     """Store ``nlp`` (its derivative functions are generated first if no IPOPT instance did so
     yet); returns the file, or None when the cache is off or the NLP cannot be stored. A write
-    failure (disk full, read-only folder) gives one warning line, never an exception."""
+    failure (disk full, read-only folder) gives one warning line, never an exception.
+
+    ``background``: write from a forked process (detached: a double fork leaves it to the
+    system to reap) and return None at once; the caller goes on solving while the file is
+    serialised (as long as building the NLP). In the foreground where ``fork`` is not
+    available and inside a daemonic process (a pool's or a Dask worker, often threaded)."""
     if not enabled():
+        return None
+    if not nlp._derivatives:
+        nlp.solver  # the default IPOPT instance generates the derivative functions
+    if background and hasattr(os, "fork") and not multiprocessing.current_process().daemon:
+        pid = os.fork()
+        if pid == 0:  # child: start the writer and leave at once
+            try:
+                if os.fork() == 0:
+                    try:
+                        save(nlp)
+                    finally:
+                        os._exit(0)
+            finally:
+                os._exit(0)
+        os.waitpid(pid, 0)
         return None
     try:
         key = entry_key(nlp.problem, nlp.model)
         fns: list[Any] = []
         state = {name: _encode(v, fns) for name, v in vars(nlp).items() if name not in _NOT_STORED}
-        if not nlp._derivatives:
-            nlp.solver  # the default IPOPT instance generates the derivative functions
         nlp_fn = nlp.nlp if isinstance(nlp.nlp, ca.Function) else ca.Function(
             "nlp", [nlp.nlp["x"], nlp.nlp["p"]], [nlp.nlp["f"], nlp.nlp["g"]], ["x", "p"], ["f", "g"])
         fns.append(nlp_fn)

@@ -137,7 +137,7 @@ def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchEle
         nlp = CycleNLP(problem, model)
         if disk_cache:
             s0 = nlp.solvers_build_s
-            nlpcache.save(nlp)  # generates the derivative functions (the first IPOPT instance) if needed
+            nlpcache.save(nlp, background=True)  # generates the derivative functions (the first IPOPT instance)
             nlp.build_s += nlp.solvers_build_s - s0  # counted once, as the build of this NLP
             nlp.solvers_build_s = s0
     if cache:
@@ -478,8 +478,8 @@ def _with_cold_check(problem: CycleProblem, warm: CycleResult, starts: list[Loop
     within :data:`TIE_W` keeps the warm one, the chain's continuation) and both are recorded."""
     rw = solve_cycle(problem, warm=warm, starts=starts, coarse=coarse, warm_fallback=warm_fallback, strategy=strategy,
                      workers=workers, polish=polish, **limits)
-    rc = solve_cycle(problem, starts=starts, coarse=True if coarse is None else coarse, strategy=strategy,
-                     workers=workers, polish=polish, **limits)
+    rc = solve_cycle(problem, starts=starts, coarse=coarse if coarse else None,
+                     strategy="global" if strategy == "auto" else strategy, workers=workers, polish=polish, **limits)
     ranked = select([_outcome(0, "warm", rw), _outcome(1, "cold", rc)])
     keep = ranked[0].payload if ranked else rw
     other = rc if keep is rw else rw
