@@ -73,26 +73,71 @@ class MotorGate:
     """When AUTO stops the motor (the reference's motor-off mode, column ``motor_on``).
 
     The optimiser's on-fraction ``s`` of an interval is the share of it the motor runs
-    (thrust ``s T_on`` on average, power ``s P_on + (1 - s) P0``). Where ``s`` is below
-    ``off_below`` the throttle is cut: the ESC brakes the propeller to a stop (no thrust, no
-    windmill drag) and the glider draws only P0; the thrust loop is off and its integral held.
-    Elsewhere the motor runs and flies the guidance's thrust, the reference's mean thrust
-    ``s T_on`` plus corrections, continuously: a pulsed motor (``T_on`` for a share ``s``) would
-    draw less (the optimum runs the drive at ~1.6 N, its best thrust per watt above idle, for
-    30-40 % of an interval), but each pulse spins the propeller up and brakes it again within
-    a mesh interval of about a second, and the path loop needs a smooth along-path force. A
-    switch waits at least ``min_dwell_s`` after the previous one, so the motor does not
-    chatter where ``s`` alternates from interval to interval.
+    (thrust ``s T_on`` on average, power ``s P_on + (1 - s) P0``). The motor stops where ``s``
+    is below ``off_below``: throttle 0, the ESC brakes the propeller to a stop (no thrust, no
+    windmill drag), the glider draws only P0, the thrust loop is off and its integral held.
+    Elsewhere it runs and flies the guidance's thrust (the reference's mean thrust ``s T_on``
+    plus corrections) continuously.
+
+    Each start costs what the optimiser's model does not book: the 6-DOF drive spinning its
+    propeller up from rest draws 40-80 J more than running on (12.5-20 m/s; rotor and propeller
+    1e-4 kg m^2 at 5500-7900 rpm, plus the coil's losses of the spin-up), and its thrust arrives
+    0.3-0.5 s late. So the motor neither pulses within an interval (a pulse per interval would
+    cost more than the duty cycle saves, 2-8 W) nor follows every switch of the reference
+    (:meth:`plan`): a pause shorter than ``min_off_s`` is bridged with the motor running at the
+    guidance's (near zero) thrust, which draws the idle power of the turning propeller (5-30 W
+    above P0), less than a restart; then a lone burst shorter than ``min_on_s`` is left out (the
+    guidance trades its along-path force through the flight path). A switch waits at least
+    ``min_dwell_s`` after the previous one (no chattering).
     """
 
     off_below: float = 0.2  #: on-fraction below which the motor is stopped [-] (0 .. 1)
+    min_off_s: float = 3.0  #: shortest reference pause the motor is stopped for [s]
+    min_on_s: float = 1.0  #: shortest lone reference burst the stopped motor is started for [s]
     min_dwell_s: float = 0.5  #: least time between two motor switches [s]
+    #: soft start: after a start the throttle may rise from 0 to 1 only over this time [s]
+    soft_start_s: float = 1.0
 
     def __post_init__(self) -> None:
         if not (0.0 <= self.off_below <= 1.0):
             raise ValueError(f"MotorGate.off_below: {self.off_below!r} out of range (allowed 0 .. 1)")
-        if not (0.0 <= self.min_dwell_s <= 60.0):
-            raise ValueError(f"MotorGate.min_dwell_s: {self.min_dwell_s!r} s out of range (allowed 0 .. 60 s)")
+        for name in ("min_off_s", "min_on_s", "min_dwell_s", "soft_start_s"):
+            v = getattr(self, name)
+            if not (0.0 <= v <= 60.0):
+                raise ValueError(f"MotorGate.{name}: {v!r} s out of range (allowed 0 .. 60 s)")
+
+    def plan(self, ref: TrackingReference) -> np.ndarray:
+        """Whether the motor runs on each segment of ``ref``
+        (:meth:`~.tracking.TrackingReference.motor_segments`; the cycle repeats): on where the
+        on-fraction is at least ``off_below``, pauses shorter than ``min_off_s`` filled, then
+        bursts shorter than ``min_on_s`` removed (both measured around the cycle's end too)."""
+        run = ref.motor_segments() >= self.off_below
+        dur = np.diff(ref.t)
+        dur[-1] += max(ref.period - float(ref.t[-1]), 0.0)
+        run = _flip_short(run, dur, False, self.min_off_s)
+        return _flip_short(run, dur, True, self.min_on_s)
+
+
+def _flip_short(flags: np.ndarray, dur: np.ndarray, value: bool, limit: float) -> np.ndarray:
+    """``flags`` with every cyclic run of ``value`` lasting less than ``limit`` [s] (segment
+    durations ``dur``) flipped; unchanged when ``value`` fills the whole cycle or never occurs."""
+    flags = np.asarray(flags, bool)
+    n = len(flags)
+    if limit <= 0.0 or n == 0 or flags.all() or not flags.any():
+        return flags.copy()
+    out = flags.copy()
+    start = int(np.flatnonzero(flags != np.roll(flags, 1))[0])  # a run starts here
+    order = np.roll(np.arange(n), -start)
+    i = 0
+    while i < n:
+        j = i
+        while j < n and flags[order[j]] == flags[order[i]]:
+            j += 1
+        run = order[i:j]
+        if flags[run[0]] == value and float(dur[run].sum()) < limit:
+            out[run] = not value
+        i = j
+    return out
 
 
 def reference_fold_time(meta: dict, aircraft_fold_time_s: float) -> float:
@@ -192,6 +237,7 @@ class Autopilot:
         self.motor_running = True
         self.motor_switches = 0  #: motor stops and starts in AUTO so far
         self._motor_switch_t = -math.inf  # time of the last switch [s]
+        self._motor_plan: tuple[Any, MotorGate, np.ndarray] | None = None  # (reference, gate, gate.plan(reference))
         for name in params.names():
             params.on_change(name, self._on_param)
 
@@ -313,10 +359,11 @@ class Autopilot:
         i = int(np.argmin(np.linalg.norm(ref.pos - s.pos_ned, axis=1)))
         return float(ref.t[i])
 
-    def _throttle(self, thrust_cmd: float, thrust: float, airspeed: float, dt: float) -> float:
+    def _throttle(self, thrust_cmd: float, thrust: float, airspeed: float, dt: float, u_max: float = 1.0) -> float:
         """Thrust loop: feed-forward plus PI on the measured thrust. Thrust 0 is flown as
         zero thrust with the motor running (the propeller turning at its zero-thrust advance
-        ratio); stopping the motor is :meth:`_motor_update`'s decision."""
+        ratio); stopping the motor is :meth:`_motor_update`'s decision. ``u_max``: the
+        throttle's ceiling (the soft start after a motor start, :class:`MotorGate`)."""
         p = self.params
         if not self.armed:
             self._thr_int = 0.0
@@ -326,22 +373,25 @@ class Autopilot:
         ff = v0 + (1.0 - v0) * math.sqrt(min(max(thrust_cmd, 0.0) / self._thrust_max_static, 1.0))
         self._thr_int = min(max(self._thr_int + p["THR_KI"] * e * dt, -1.0), 1.0)
         u = ff + p["THR_KP"] * e + self._thr_int
-        if u > 1.0 or u < 0.0:  # anti-windup: undo the last integration when saturated
+        if u > u_max or u < 0.0:  # anti-windup: undo the last integration when saturated
             self._thr_int -= p["THR_KI"] * e * dt
-        return min(max(u, 0.0), 1.0)
+        return min(max(u, 0.0), u_max)
 
-    def _propulsion(self, thrust_cmd: float, s: SixDofState, dt: float) -> float:
-        """Throttle for the thrust command; with an ideal thruster it takes the command and
-        the propeller's throttle stays at zero."""
+    def _propulsion(self, thrust_cmd: float, s: SixDofState, dt: float, u_max: float = 1.0) -> float:
+        """Throttle for the thrust command (at most ``u_max``); with an ideal thruster it takes
+        the command and the propeller's throttle stays at zero."""
         if self.thruster is not None:
             self.thruster.command(thrust_cmd if self.armed else 0.0)
             return 0.0
-        return self._throttle(thrust_cmd, s.thrust_N, s.airspeed, dt)
+        return self._throttle(thrust_cmd, s.thrust_N, s.airspeed, dt, u_max)
 
-    def _motor_update(self, on_fraction: float, t: float) -> bool:
-        """Whether the motor runs this step in AUTO: stopped where the reference's on-fraction
-        is below the gate's ``off_below``, a switch at least ``min_dwell_s`` after the last."""
-        want = on_fraction >= self.motor_gate.off_below
+    def _motor_update(self, ref: TrackingReference, t_cycle: float, t: float) -> bool:
+        """Whether the motor runs this step in AUTO at cycle time ``t_cycle`` [s] of ``ref``:
+        as :meth:`MotorGate.plan` says, a switch at least ``min_dwell_s`` after the last."""
+        plan = self._motor_plan
+        if plan is None or plan[0] is not ref or plan[1] is not self.motor_gate:
+            plan = self._motor_plan = (ref, self.motor_gate, self.motor_gate.plan(ref))
+        want = bool(plan[2][ref.segment_index(t_cycle)])
         if want != self.motor_running and t - self._motor_switch_t >= self.motor_gate.min_dwell_s:
             self.motor_running = want
             self._motor_switch_t = t
@@ -436,7 +486,7 @@ class Autopilot:
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         taut = gs is not None and not gs.slack and r.phase == GENERATION
         # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
-        motor = self._motor_update(r.motor_on, t)
+        motor = self._motor_update(ref_traj, r.t_cycle, t)
         cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt, taut=taut,
                                    thrust_max=None if motor else 0.0)
         self.track_error = cmd.pos_error
@@ -473,7 +523,13 @@ class Autopilot:
                 if gs.tension > p["REC_TENSION"]:
                     v += 0.2 * (gs.tension - p["REC_TENSION"])
             wcmd = WinchCommand(mode="motor", reel_speed_ref=min(v, 0.5))
-        thr = self._propulsion(cmd.thrust, s, dt) if motor else self._motor_stop()
+        if not motor:
+            thr = self._motor_stop()
+        elif self.motor_switches and t - self._motor_switch_t < self.motor_gate.soft_start_s:
+            # soft start: the propeller spins up from rest under a rising throttle ceiling
+            thr = self._propulsion(cmd.thrust, s, dt, (t - self._motor_switch_t) / self.motor_gate.soft_start_s)
+        else:
+            thr = self._propulsion(cmd.thrust, s, dt)
         return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
 
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:

@@ -69,9 +69,11 @@ class TrackingReference:
         n = len(self.t)
         if n < 2 or np.any(np.diff(self.t) <= 0):
             raise ValueError("reference time must be strictly increasing with at least 2 samples")
-        self.motor_on = np.ones(n) if self.motor_on is None else np.asarray(self.motor_on, float)
-        if self.motor_on.shape != (n,) or not np.all((self.motor_on >= 0.0) & (self.motor_on <= 1.0)):
+        on = np.ones(n) if self.motor_on is None else np.asarray(self.motor_on, float)
+        # the optimiser meets the bounds 0 and 1 to its tolerance (the file check allows that slack)
+        if on.shape != (n,) or not np.all((on >= -1e-6) & (on <= 1.0 + 1e-6)):
             raise ValueError(f"reference motor_on must have {n} samples in 0 .. 1")
+        self.motor_on = np.clip(on, 0.0, 1.0)
         for name in ("pos", "vel", "acc"):
             if getattr(self, name).shape != (n, 3):
                 raise ValueError(f"reference {name} must have shape ({n}, 3)")
@@ -93,6 +95,25 @@ class TrackingReference:
             self.__dict__["_tab"] = tab
         return tab
 
+    def motor_segments(self) -> np.ndarray:
+        """The motor's on-fraction on each segment ``[t_i, t_i+1)`` between samples (``n - 1``
+        values; the last runs to the period): the optimiser holds it per interval, so it is the
+        value of the sample opening the segment, except for the segment after the last
+        generation sample (``t = T1``), which is the recovery's."""
+        seg = self.__dict__.get("_motor_seg")
+        if seg is None:
+            on = np.asarray(self.motor_on, float)
+            # a segment belongs to the phase of the sample closing it
+            seg = np.where(self.phase[:-1] == self.phase[1:], on[:-1], on[1:])
+            self.__dict__["_motor_seg"] = seg
+        return seg
+
+    def segment_index(self, t_cycle: float) -> int:
+        """Index of the segment ``[t_i, t_i+1)`` holding cycle time ``t_cycle`` [s] (the last
+        one beyond the last sample)."""
+        i = int(np.searchsorted(self.t, t_cycle, side="right")) - 1
+        return min(max(i, 0), len(self.t) - 2)
+
     def cycle_time(self, t: float) -> tuple[int, float]:
         k = int(t // self.period)
         return k, t - k * self.period
@@ -106,15 +127,11 @@ class TrackingReference:
         i = min(max(i, 0), len(ts) - 2)
         w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
         row = tab[i] * (1.0 - w) + tab[i + 1] * w
-        phase = GENERATION if tc < self.T1 else RECOVERY
-        # the on-fraction is held per interval: the sample at or before tc, except after the
-        # last generation sample (t = T1), which carries the generation's last interval
-        on = self.motor_on[i] if self.phase[i] == phase else self.motor_on[i + 1]  # type: ignore[index]
         return RefPoint(
-            t_cycle=tc, cycle=k, phase=phase,
+            t_cycle=tc, cycle=k, phase=GENERATION if tc < self.T1 else RECOVERY,
             pos=row[0:3], vel=row[3:6], acc=row[6:9], airspeed=float(row[9]), alpha=float(row[10]),
             phi=float(row[11]), thrust=float(row[12]), tension=float(row[13]), length=float(row[14]),
-            reel_speed=float(row[15]), motor_on=float(on),
+            reel_speed=float(row[15]), motor_on=float(self.motor_segments()[i]),
         )
 
     def waypoints(self, n: int = 60) -> list[tuple[float, float, float, float, int]]:
