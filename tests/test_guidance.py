@@ -328,3 +328,41 @@ def test_scalar_guidance_is_the_vector_formulas_bit_for_bit(variant):
         c = gd.update(ref, pos, vel, wind, tf, fold, dt, taut=taut)
         got = (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error, list(gd.integral))
         assert got == want, (i, got, want)
+
+
+def test_guidance_polar_is_the_6dof_models_fold_blend():
+    """The guidance inverts the polar the 6-DOF model flies: aero.fold_blend (C S linear in the
+    fold state on the unfolded area), the unfolded and folded forms at its ends."""
+    from fdm_awe.aero import fold_blend
+    from fdm_awe.autopilot.guidance import blended_polar
+
+    g = load_glider()
+    u, f = g.unfolded.aero, g.folded.aero
+    gd = Guidance(GAINS, g.unfolded.mass.mass, u, f)
+    for fold in (0.0, 0.25, 0.5, 0.8, 1.0):
+        a = fold_blend(u, f, fold)
+        want = (a.S * a.CL0, a.S * a.CLalpha, a.S * a.CLmax, a.S * a.CD0, a.S * a.CDalpha1, a.S * a.CDalpha2)
+        assert gd.polar(fold) == want == blended_polar(u, f, fold)
+    assert blended_polar(u, f, 0.0) == (u.S * u.CL0, u.S * u.CLalpha, u.S * u.CLmax, u.S * u.CD0, u.S * u.CDalpha1,
+                                        u.S * u.CDalpha2)
+    np.testing.assert_allclose(blended_polar(u, f, 1.0), (f.S * f.CL0, f.S * f.CLalpha, f.S * f.CLmax, f.S * f.CD0,
+                                                          f.S * f.CDalpha1, f.S * f.CDalpha2), rtol=1e-13)
+
+
+def test_thrust_limit_of_a_step():
+    """The thrust available this step: None is the gains' limit exactly; with the motor stopped
+    (0) the guidance commands no thrust and trades the along-path force it lacks through the
+    flight path (nose lower: height into speed)."""
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    pos, vel = np.array([100.0, 0.0, -100.0]), np.array([0.0, 12.0, 0.0])
+    ref = RefPoint(0.0, 0, 0, pos + np.array([0.0, 6.0, 0.0]), np.array([0.0, 15.0, 0.0]), np.zeros(3), 15.0, 0.1, 0.0,
+                   1.0, 0.0, 150.0, 0.0)
+    cmds = {}
+    for limit in (None, GAINS.thrust_max, 0.0):
+        gd = Guidance(GAINS, g.unfolded.mass.mass, g.unfolded.aero, g.folded.aero)
+        cmds[limit] = gd.update(ref, pos, vel, np.zeros(3), np.zeros(3), 0.0, 0.01, thrust_max=limit)
+    assert cmds[None] == cmds[GAINS.thrust_max]
+    assert cmds[None].thrust > 0.5
+    assert cmds[0.0].thrust == 0.0 and cmds[0.0].pitch < cmds[None].pitch - 0.01

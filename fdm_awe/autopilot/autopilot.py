@@ -79,16 +79,23 @@ class MotorGate:
     Elsewhere it runs and flies the guidance's thrust (the reference's mean thrust ``s T_on``
     plus corrections) continuously.
 
-    Each start costs what the optimiser's model does not book: the 6-DOF drive spinning its
-    propeller up from rest draws 40-80 J more than running on (12.5-20 m/s; rotor and propeller
-    1e-4 kg m^2 at 5500-7900 rpm, plus the coil's losses of the spin-up), and its thrust arrives
-    0.3-0.5 s late. So the motor neither pulses within an interval (a pulse per interval would
-    cost more than the duty cycle saves, 2-8 W) nor follows every switch of the reference
-    (:meth:`plan`): a pause shorter than ``min_off_s`` is bridged with the motor running at the
-    guidance's (near zero) thrust, which draws the idle power of the turning propeller (5-30 W
-    above P0), less than a restart; then a lone burst shorter than ``min_on_s`` is left out (the
-    guidance trades its along-path force through the flight path). A switch waits at least
-    ``min_dwell_s`` after the previous one (no chattering).
+    Each start costs what the optimiser's model does not book: the 6-DOF drive spins its
+    propeller up from rest (rotor and propeller 1e-4 kg m^2: 15-30 J at 5500-7900 rpm, lost
+    again when the ESC brakes it) through the coil's resistance, 40-80 J more than running on
+    after a throttle step at 12.5-20 m/s (about 90 J after the thrust loop's jump to ~0.9
+    throttle on the nominal 8 m/s cycle), and its thrust comes 0.3-0.5 s late. So:
+
+    - the motor starts soft: the throttle's ceiling rises from 0 to 1 over ``soft_start_s``
+      after a start, which limits the inrush current as an ESC's soft start does (1 s halves
+      the start's cost on that cycle, to about 50 J);
+    - it does not pulse within an interval (each pulse would cost a start, more than the duty
+      cycle saves, 2-8 W);
+    - it does not follow every switch of the reference (:meth:`plan`): a pause shorter than
+      ``min_off_s`` is bridged with the motor running at the guidance's (near zero) thrust,
+      which draws the turning propeller's idle power (5-30 W above P0), less than a restart;
+      then a lone burst shorter than ``min_on_s`` is left out (the guidance trades its
+      along-path force through the flight path);
+    - a switch waits at least ``min_dwell_s`` after the previous one (no chattering).
     """
 
     off_below: float = 0.2  #: on-fraction below which the motor is stopped [-] (0 .. 1)
