@@ -250,7 +250,10 @@ def test_line_drag_is_what_closes_the_folded_recovery():
     +6.9..+8.8 W (defects <= 0.07 %)."""
     fold_pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, tether_drag_scale=0.5,
                            **FAILING_FOLD_PLANT)
-    fold = solve_cycle(fold_pr)
+    # the claim holds for whichever local optimum a start reaches (checked from perturbed
+    # starts), so one start's path suffices: the global strategy's exploration of every start
+    # would only multiply the time
+    fold = solve_cycle(fold_pr, strategy="first")
     assert fold.ok, fold.reason
     assert fold.max_violation < 1e-6
     v = verify(fold, get_nlp(fold_pr)[0])
@@ -258,7 +261,7 @@ def test_line_drag_is_what_closes_the_folded_recovery():
     assert v.nlp_max_violation < 1e-6
     nom_pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, tether_drag_scale=0.5,
                           **FAILING_FOLD_PLANT)
-    nom = solve_cycle(nom_pr)
+    nom = solve_cycle(nom_pr, strategy="first")
     assert nom.ok, nom.reason
     vn = verify(nom, get_nlp(nom_pr)[0])
     assert vn.accurate(), (vn.position_error_rel, vn.energy_error_rel)
@@ -333,9 +336,9 @@ def test_physical_reintegrates_default_mesh():
     assert res.ok, res.reason
     v = verify(res, get_nlp(pr)[0])
     assert v.nlp_max_violation < 1e-6
-    assert v.position_error_rel < 0.005
+    assert v.position_error_rel < POSITION_TOL_REL
     for k, e in v.energy_error_rel.items():
-        assert e < 0.01, k
+        assert e < ENERGY_TOL_REL, k
 
 
 def test_warm_start_from_neighbouring_wind():
