@@ -128,7 +128,7 @@ def test_plan_bridges_short_pauses_and_drops_lone_short_bursts():
 
 
 def test_gate_parameters_are_checked():
-    for kw in ({"off_below": 1.5}, {"min_off_s": -1.0}, {"soft_start_s": 100.0}):
+    for kw in ({"off_below": 1.5}, {"min_off_s": -1.0}, {"soft_start_s": 100.0}, {"rescue_error_m": 0.0}):
         with pytest.raises(ValueError, match=r"MotorGate\.\w+: .* out of range"):
             MotorGate(**kw)
 
@@ -155,6 +155,20 @@ def test_motor_switches_keep_the_dwell_time(autopilot_parts):
             switches.append(k * dt)
     assert len(switches) >= 10
     assert np.min(np.diff(switches)) >= 0.5 - 1e-9
+
+
+def test_motor_is_the_reserve_when_the_glider_loses_its_path(autopilot_parts):
+    """Planned off, the motor runs while the position error exceeds MotorGate.rescue_error_m
+    and stops again once it is below half of that."""
+    glider, airframes, params = autopilot_parts
+    ref = _reference(_with_motor(_doc(NOMINAL), lambda t, p: 0.0))
+    ap = Autopilot(glider, airframes, params, ref, config="nominal", motor=MotorGate(rescue_error_m=10.0, min_dwell_s=0.5))
+    runs = []
+    for k, err in enumerate([float("nan"), 3.0, 9.0, 11.0, 11.0, 8.0, 6.0, 4.0, 4.0]):
+        ap.track_error = err
+        runs.append(ap._motor_update(ref, 1.0 + k, 1.0 + k))
+    assert runs == [False, False, False, True, True, True, True, False, False]
+    assert ap.motor_switches == 3  # stopped at the start, started for the error, stopped again
 
 
 # ------------------------------------------------------------------ flights

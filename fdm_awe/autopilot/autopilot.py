@@ -95,7 +95,11 @@ class MotorGate:
       which draws the turning propeller's idle power (5-30 W above P0), less than a restart;
       then a lone burst shorter than ``min_on_s`` is left out (the guidance trades its
       along-path force through the flight path);
-    - a switch waits at least ``min_dwell_s`` after the previous one (no chattering).
+    - a switch waits at least ``min_dwell_s`` after the previous one (no chattering);
+    - the motor is the glider's reserve: when the position error exceeds ``rescue_error_m``
+      it runs whatever the plan says, until the error is back below half of that (a glider
+      that lost its path without thrust, e.g. in a slow low-tension climb, sinks away from it
+      for good).
     """
 
     off_below: float = 0.2  #: on-fraction below which the motor is stopped [-] (0 .. 1)
@@ -104,6 +108,8 @@ class MotorGate:
     min_dwell_s: float = 0.5  #: least time between two motor switches [s]
     #: soft start: after a start the throttle may rise from 0 to 1 only over this time [s]
     soft_start_s: float = 1.0
+    #: position error above which the motor runs whatever the plan says [m]
+    rescue_error_m: float = 10.0
 
     def __post_init__(self) -> None:
         if not (0.0 <= self.off_below <= 1.0):
@@ -112,6 +118,8 @@ class MotorGate:
             v = getattr(self, name)
             if not (0.0 <= v <= 60.0):
                 raise ValueError(f"MotorGate.{name}: {v!r} s out of range (allowed 0 .. 60 s)")
+        if not (self.rescue_error_m > 0.0):
+            raise ValueError(f"MotorGate.rescue_error_m: {self.rescue_error_m!r} m out of range (allowed > 0 m)")
 
     def plan(self, ref: TrackingReference) -> np.ndarray:
         """Whether the motor runs on each segment of ``ref``
@@ -243,6 +251,7 @@ class Autopilot:
         #: AUTO runs the motor (False: stopped where the reference's motor is off)
         self.motor_running = True
         self.motor_switches = 0  #: motor stops and starts in AUTO so far
+        self.motor_rescue = False  #: the motor runs for a position error beyond MotorGate.rescue_error_m
         self._motor_switch_t = -math.inf  # time of the last switch [s]
         self._motor_plan: tuple[Any, MotorGate, np.ndarray] | None = None  # (reference, gate, gate.plan(reference))
         for name in params.names():
@@ -394,11 +403,20 @@ class Autopilot:
 
     def _motor_update(self, ref: TrackingReference, t_cycle: float, t: float) -> bool:
         """Whether the motor runs this step in AUTO at cycle time ``t_cycle`` [s] of ``ref``:
-        as :meth:`MotorGate.plan` says, a switch at least ``min_dwell_s`` after the last."""
+        as :meth:`MotorGate.plan` says, or for a position error (the last step's) beyond the
+        gate's ``rescue_error_m``; a switch at least ``min_dwell_s`` after the last."""
+        gate = self.motor_gate
         plan = self._motor_plan
-        if plan is None or plan[0] is not ref or plan[1] is not self.motor_gate:
-            plan = self._motor_plan = (ref, self.motor_gate, self.motor_gate.plan(ref))
+        if plan is None or plan[0] is not ref or plan[1] is not gate:
+            plan = self._motor_plan = (ref, gate, gate.plan(ref))
         want = bool(plan[2][ref.segment_index(t_cycle)])
+        if not want:
+            e = self.track_error
+            if e > gate.rescue_error_m:
+                self.motor_rescue = True
+            elif not e > 0.5 * gate.rescue_error_m:  # below half of it, or no error yet (NaN)
+                self.motor_rescue = False
+            want = self.motor_rescue
         if want != self.motor_running and t - self._motor_switch_t >= self.motor_gate.min_dwell_s:
             self.motor_running = want
             self._motor_switch_t = t
