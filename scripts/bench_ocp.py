@@ -60,17 +60,22 @@ def whole_process(n: int, cli_args: list[str], cache_dir: str | None, fresh: boo
                 if fresh:
                     shutil.rmtree(Path(cache_dir) / "nlp", ignore_errors=True)
             out = Path(tmp) / "r.json"
+            import resource
+
+            ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
             t0 = time.perf_counter()
             p = subprocess.run([sys.executable, "-m", "fdm_awe.cli", "optimize", *cli_args, "--json", str(out)],
                                cwd=src or root, env=env, capture_output=True, text=True)
             wall = time.perf_counter() - t0
+            ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)  # the process and its pool
             s = json.loads(out.read_text()) if out.exists() else {}
             strat = s.get("strategy") or {}
-            runs.append({"wall_s": round(wall, 3), "exit": p.returncode, "P_avg_W": s.get("P_avg_W"),
+            runs.append({"wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "exit": p.returncode, "P_avg_W": s.get("P_avg_W"),
                          "iterations": s.get("iterations"), "build_s": s.get("build_s"), "solve_s": s.get("solve_s"),
                          "winner": (strat.get("winner") or {}).get("family"),
                          "starts_P_avg_W": [st.get("P_avg_W") for st in strat.get("starts", [])]})
-            print(f"    {'before' if src else ('cold' if fresh else 'warm')}: {wall:.2f} s, exit {p.returncode}, "
+            print(f"    {'before' if src else ('cold' if fresh else 'warm')}: {wall:.2f} s (CPU {cpu:.2f} s), exit {p.returncode}, "
                   f"P_avg {s.get('P_avg_W')}, winner {runs[-1]['winner']}", flush=True)
     return runs
 
@@ -107,10 +112,13 @@ def main() -> int:
         proc["warm_cache"] = whole_process(args.process, cli, cache_dir, False)
         med = {k: statistics.median(r["wall_s"] for r in v) for k, v in proc.items() if isinstance(v, list) and v and isinstance(v[0], dict)}
         proc["median_s"] = med
+        proc["median_cpu_s"] = {k: statistics.median(r["cpu_s"] for r in v) for k, v in proc.items()
+                                if isinstance(v, list) and v and isinstance(v[0], dict)}
         ref = med.get("before", PROCESS_BEFORE_S)
         proc["ratio_to_before"] = {k: v / ref for k, v in med.items()}
         proc["ratio_to_5_5_s"] = {k: v / PROCESS_BEFORE_S for k, v in med.items()}
         out["whole_process"] = proc
+        print("  CPU medians: " + ", ".join(f"{k} {v:.2f} s" for k, v in proc["median_cpu_s"].items()), flush=True)
         print("  medians: " + ", ".join(f"{k} {v:.2f} s (x{v / ref:.2f} of before, x{v / PROCESS_BEFORE_S:.2f} of "
                                           f"{PROCESS_BEFORE_S:g} s)" for k, v in med.items()), flush=True)
     for case in [c for c in args.cases.split(",") if c]:
