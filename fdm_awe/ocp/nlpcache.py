@@ -48,8 +48,9 @@ FORMAT_VERSION = 1
 DIR_ENV = "FDM_AWE_CACHE_DIR"
 SWITCH_ENV = "FDM_AWE_NLP_CACHE"
 MAX_MB_ENV = "FDM_AWE_NLP_CACHE_MAX_MB"
-#: default size limit of the cache folder [bytes] (a default-mesh entry is about 150 MB)
-MAX_BYTES = 2 * 2**30
+#: default size limit of the cache folder [bytes] (a default-mesh entry is about 150 MB, its
+#: coarse mesh about 40 MB)
+MAX_BYTES = 2**30
 #: attributes of a CycleNLP that are not stored: rebuilt from the inputs or created on use
 _NOT_STORED = {"problem", "model", "_solvers", "solvers_build_s", "build_s", "nlp", "_derivatives"}
 
@@ -272,12 +273,17 @@ def save(nlp: Any, background: bool = False) -> Path | None:
     ``background``: write from a forked process (detached: a double fork leaves it to the
     system to reap) and return None at once; the caller goes on solving while the file is
     serialised (as long as building the NLP). In the foreground where ``fork`` is not
-    available and inside a daemonic process (a pool's or a Dask worker, often threaded)."""
+    available; not at all inside a daemonic process (a pool's or a Dask worker: often
+    threaded, so not forked, and a sweep's design variants are rarely solved again, while
+    writing one costs as much as building it)."""
     if not enabled():
+        return None
+    daemon = multiprocessing.current_process().daemon
+    if background and daemon:
         return None
     if not nlp._derivatives:
         nlp.solver  # the default IPOPT instance generates the derivative functions
-    if background and hasattr(os, "fork") and not multiprocessing.current_process().daemon:
+    if background and hasattr(os, "fork"):
         pid = os.fork()
         if pid == 0:  # child: start the writer and leave at once
             try:
