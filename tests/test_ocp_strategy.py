@@ -39,6 +39,17 @@ def test_select_does_not_depend_on_arrival_order():
         assert [o.index for o in select(outs)] == want
 
 
+def test_refine_candidates_band_and_minimum():
+    from fdm_awe.ocp.strategy import REFINE, REFINE_BAND_W, refine_candidates
+
+    far = [Outcome(0, "a", True, 10.0), Outcome(1, "b", True, 10.0 - 3 * REFINE_BAND_W),
+           Outcome(2, "c", True, 10.0 - 4 * REFINE_BAND_W)]
+    assert [o.index for o in refine_candidates(select(far))] == [0, 1][:max(REFINE, 1)]
+    near = [Outcome(i, str(i), True, 10.0 - 0.4 * REFINE_BAND_W * i) for i in range(4)]
+    assert [o.index for o in refine_candidates(select(near))] == [0, 1, 2]
+    assert refine_candidates([]) == []
+
+
 def _slow_identity(i: int, n: int) -> int:
     time.sleep(0.05 * (n - i))  # the first task finishes last
     return i

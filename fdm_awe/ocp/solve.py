@@ -8,8 +8,9 @@ Global strategy (a cold solve through the coarse mesh, the default of ``fdm-awe 
 :mod:`fdm_awe.ocp.strategy`, docs/design.md section 5): every start of
 :func:`fdm_awe.ocp.strategy.strategy_starts` (loops and figures of eight, both turn
 directions) is solved to a local optimum on :data:`COARSE_MESH` by the local strategy below,
-in parallel processes; the best :data:`fdm_awe.ocp.strategy.REFINE` by average power (ties
-within :data:`fdm_awe.ocp.strategy.TIE_W` to the earlier start) are refined to the target mesh;
+in parallel processes; those within :data:`fdm_awe.ocp.strategy.REFINE_BAND_W` of the best
+average power (at least :data:`fdm_awe.ocp.strategy.REFINE`; ties within
+:data:`fdm_awe.ocp.strategy.TIE_W` to the earlier start) are refined to the target mesh;
 the winner by the same rule is polished (:data:`POLISH_OPTIONS`). ``result.strategy`` records
 every start's outcome. ``cold_check=True`` compares a warm-started solution with a cold solve
 of the same point and keeps the better.
@@ -49,8 +50,8 @@ from . import nlpcache
 from .model import CycleModel
 from .problem import CycleProblem, Mesh
 from .result import CycleResult
-from .strategy import (COLD_CHECK_W, REFINE, TIE_W, Outcome, auto_workers, family, outcome_record, run_tasks, select,
-                       strategy_starts)
+from .strategy import (COLD_CHECK_W, REFINE, TIE_W, Outcome, auto_workers, family, outcome_record, refine_candidates,
+                       run_tasks, select, strategy_starts)
 
 #: largest scaled constraint violation accepted as a solution
 VIOLATION_TOL = 1e-6
@@ -389,8 +390,9 @@ def _outcome(index: int, label: str, r: CycleResult) -> Outcome:
 def _solve_global(problem: CycleProblem, starts: list[LoopStart] | None, coarse: Mesh | None,
                   limits: dict[str, Any], workers: int | None, polish: bool) -> CycleResult:
     """The global strategy (:mod:`fdm_awe.ocp.strategy`): explore every start on the coarse mesh
-    (or on the target mesh when ``coarse`` is None), refine the best :data:`REFINE` candidates,
-    pick by :func:`fdm_awe.ocp.strategy.select`, polish. Each start and each refinement has its
+    (or on the target mesh when ``coarse`` is None), refine the candidates of
+    :func:`fdm_awe.ocp.strategy.refine_candidates`, pick by :func:`fdm_awe.ocp.strategy.select`,
+    polish. Each start and each refinement has its
     own iteration budget (``max_iter_total``), so no outcome depends on another's."""
     from dataclasses import replace as _replace
 
@@ -419,9 +421,11 @@ def _solve_global(problem: CycleProblem, starts: list[LoopStart] | None, coarse:
         return failed(where + "; ".join(f"{o.label.split(':')[0]}: {o.reason}" for o in outcomes))
     if coarse:
         refined: list[Outcome] = []
+        first = refine_candidates(ranked)
         todo = list(ranked)
         while todo and not any(o.ok for o in refined):
-            batch, todo = todo[:REFINE], todo[REFINE:]
+            size = len(first) if not refined else REFINE  # then the next ones, until one refines
+            batch, todo = todo[:size], todo[size:]
             n = min(n_workers, len(batch))
             if n > 1:
                 build_s += _prebuild(problem, limits)
