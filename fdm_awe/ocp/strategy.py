@@ -45,7 +45,7 @@ TIE_W = 0.05
 #: watts and rank close optima by chance (measured at 8 m/s: coarse optima 2.0..2.3 W refine to
 #: -13.2..-9.3 W, in another order); only clearly worse starts are left out
 REFINE = 2
-REFINE_BAND_W = 2.0
+REFINE_BAND_W = 1.0
 #: a warm-started solution and a cold solve of the same point that differ by more than this
 #: [W] are reported (``solve_cycle(..., cold_check=True)`` keeps the better)
 COLD_CHECK_W = 0.5
