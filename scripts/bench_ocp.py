@@ -118,6 +118,10 @@ def main() -> int:
         proc["ratio_to_before"] = {k: v / ref for k, v in med.items()}
         proc["ratio_to_5_5_s"] = {k: v / PROCESS_BEFORE_S for k, v in med.items()}
         out["whole_process"] = proc
+        if not args.cache_dir:
+            import shutil
+
+            shutil.rmtree(cache_dir, ignore_errors=True)  # the temporary cache folder of these runs
         print("  CPU medians: " + ", ".join(f"{k} {v:.2f} s" for k, v in proc["median_cpu_s"].items()), flush=True)
         print("  medians: " + ", ".join(f"{k} {v:.2f} s (x{v / ref:.2f} of before, x{v / PROCESS_BEFORE_S:.2f} of "
                                           f"{PROCESS_BEFORE_S:g} s)" for k, v in med.items()), flush=True)
