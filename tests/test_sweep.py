@@ -122,7 +122,24 @@ def test_spec_points_and_chains():
     assert [p.wind for p in first.points] == [8, 9, 10, 11, 12] and first.after is None
     assert [p.wind for p in ch[1].points] == [7, 6, 5, 4, 3] and ch[1].after == 0
     with pytest.raises(InputError, match="fold time"):
-        SweepSpec(winds=(5.0,), fold_times=(2.0,)).points()
+        SweepSpec(winds=(5.0,), fold_times=(-1.0,)).points()
+    with pytest.raises(InputError, match="fold time"):
+        SweepSpec(winds=(5.0,), fold_times=(float("nan"),)).points()
+
+
+def test_fold_time_axis_takes_real_values():
+    """Foldable points fold over the times asked (default: the aircraft definition's, resolved
+    to its number); nominal points never fold; the points' problems carry the fold time."""
+    from fdm_awe.ocp.model import definition_fold_time
+    from fdm_awe.sweep.runner import point_problem
+
+    pts = SweepSpec(winds=(8.0,), fold_times=(None, 0.0, 1.5)).points()
+    fold = {p.fold_time for p in pts if p.config == "foldable"}
+    assert fold == {definition_fold_time(), 0.0, 1.5}
+    assert [p.fold_time for p in pts if p.config == "nominal"] == [0.0]
+    assert len({p.id for p in pts}) == len(pts) == 4
+    for p in pts:
+        assert point_problem(p).fold_time == (p.fold_time if p.config == "foldable" else None)
     with pytest.raises(InputError, match="wind"):
         parse_floats("3:1:1", "wind", "m/s")
 
@@ -300,7 +317,7 @@ def test_cli_rejects_bad_input(tmp_path, capsys):
 
     assert main(["sweep", "--wind", "3:x:1", "--out", str(tmp_path)]) == 2
     assert "--wind" in capsys.readouterr().err
-    assert main(["sweep", "--wind", "5", "--fold-time", "1.5", "--out", str(tmp_path)]) == 2
+    assert main(["sweep", "--wind", "5", "--fold-time", "-1.5", "--out", str(tmp_path)]) == 2
     assert "fold time" in capsys.readouterr().err
 
 

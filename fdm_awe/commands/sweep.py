@@ -34,7 +34,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--folded-drag-area", metavar="LIST", help="folded drag areas C_Dmin S_f [m2] (default: the definition's)")
     p.add_argument("--wing-area", metavar="LIST", help="unfolded wing areas [m2] at the definition's aspect ratio (default: the definition's)")
     p.add_argument("--tether-range", default="200:250", metavar="D0:DTF,...", help="reel-out ranges d0:d_tf [m] (default 200:250)")
-    p.add_argument("--fold-time", default="0", metavar="LIST", help="fold times [s]; only 0 is supported (instant fold)")
+    p.add_argument("--fold-time", default=None, metavar="LIST",
+                   help="fold (and unfold) times of the foldable glider [s], each 0..60 (default: the aircraft "
+                        "definition's, 2 s; 0 = the instantaneous switch of earlier sweeps)")
     p.add_argument("--mesh", default=None, metavar="NGEN,NREC[,DEG]", help="collocation mesh (default: the optimiser's)")
     p.add_argument("--max-iter", type=int, default=None, help="IPOPT iteration limit per solve, 10..100000 (default 1000)")
     p.add_argument("--max-iter-total", type=int, default=None,
@@ -126,7 +128,7 @@ def build_spec(args: argparse.Namespace):
         folded_drag_areas=opt(args.folded_drag_area, "--folded-drag-area", "m2"),
         wing_areas=opt(args.wing_area, "--wing-area", "m2"),
         tether_ranges=parse_tether_ranges(args.tether_range),
-        fold_times=parse_floats(args.fold_time, "--fold-time", "s"),
+        fold_times=(None,) if args.fold_time is None else parse_floats(args.fold_time, "--fold-time", "s"),
         scenario=args.scenario, mesh=mesh, max_iter=args.max_iter if args.max_iter is not None else DEFAULT_MAX_ITER,
         max_iter_total=args.max_iter_total if args.max_iter_total is not None else DEFAULT_MAX_ITER_TOTAL,
         warm_fallback=args.warm_fallback, anchor_every=args.anchor_every,

@@ -130,7 +130,8 @@ def point_problem(point: Point) -> Any:
     prop = point.propeller or ("momentum" if point.scenario == "physical" else None)
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
                         d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=prop,
-                        line_weight=point.line_weight, line=point.line)
+                        line_weight=point.line_weight, line=point.line,
+                        fold_time=point.fold_time if point.config == "foldable" else None)
 
 
 @functools.lru_cache(maxsize=16)

@@ -8,8 +8,11 @@ A :class:`SweepSpec` holds the axes (SI units):
   folded definition's value);
 - ``wing_areas`` [m^2] (``None`` = the definition's);
 - ``tether_ranges``: reel-out range ``(d0, d_tf)`` [m];
-- ``fold_times`` [s]: only ``0`` (the cycle optimiser folds the wing instantly at the phase
-  switch; any other value is refused with an :class:`~fdm_awe.errors.InputError`);
+- ``fold_times`` [s]: how long the foldable glider takes to fold (and to unfold) its wing
+  (:attr:`fdm_awe.ocp.problem.CycleProblem.fold_time`); ``None`` = the aircraft definition's
+  (``fcs/wing-fold-time-s``, resolved to its number so the point's id and record name it),
+  ``0`` = the instantaneous switch of sweeps made before fold transitions existed (their ids are
+  unchanged). Nominal points never fold: their fold time is 0;
 - ``lines``: tether lines of the ground-station definition by name (not the warm-start *lines*
   below; :data:`fdm_awe.groundstation.line.LINES`; ``None`` = the scenario's default line,
   :data:`fdm_awe.ocp.problem.PLANT_DEFAULTS`);
@@ -157,7 +160,7 @@ class SweepSpec:
     folded_drag_areas: tuple[float | None, ...] = (None,)
     wing_areas: tuple[float | None, ...] = (None,)
     tether_ranges: tuple[tuple[float, float], ...] = ((200.0, 250.0),)
-    fold_times: tuple[float, ...] = (0.0,)
+    fold_times: tuple[float | None, ...] = (None,)  #: [s] None: the aircraft definition's fold time
     scenario: str = "physical"
     mesh: Mesh = field(default_factory=Mesh)
     max_iter: int = DEFAULT_MAX_ITER
@@ -197,10 +200,13 @@ class SweepSpec:
         for d0, dtf in self.tether_ranges:
             if not (math.isfinite(d0) and math.isfinite(dtf) and 0 < d0 < dtf):
                 raise InputError(f"tether range {d0!r}:{dtf!r} m invalid (allowed 0 < d0 < d_tf)")
+        from ..definitions.aircraft import FOLD_TIME_MAX_S
+
+        if not self.fold_times:
+            raise InputError("fold time: at least one value (or none given: the aircraft definition's)")
         for t in self.fold_times:
-            if t != 0.0:
-                raise InputError(f"fold time {t!r} s not supported (allowed: 0; the cycle optimiser folds the wing "
-                                 "instantly at the switch to recovery)")
+            if t is not None and not (isinstance(t, (int, float)) and math.isfinite(t) and 0.0 <= t <= FOLD_TIME_MAX_S):
+                raise InputError(f"fold time {t!r} s out of range (allowed 0..{FOLD_TIME_MAX_S:g} s; 0 = instantaneous)")
         self.mesh.validate()
         for name, (lo, hi) in (("max_iter", MAX_ITER_RANGE), ("max_iter_total", MAX_ITER_TOTAL_RANGE)):
             v = getattr(self, name)
@@ -245,8 +251,9 @@ class SweepSpec:
         prop = None if plant["propeller"] == "momentum" else plant["propeller"]
         line_axes = [(n, d) for n in self.line_names()
                      for d in (self.line_diameters if n == "sized" else (None,))]
+        fold_times = tuple(dict.fromkeys(self._fold_time(t) for t in self.fold_times))
         for cfg in self.configs:
-            fold_axes = ([(b, a, t) for b in self.folded_spans for a in self.folded_drag_areas for t in self.fold_times]
+            fold_axes = ([(b, a, t) for b in self.folded_spans for a in self.folded_drag_areas for t in fold_times]
                          if cfg == "foldable" else [(None, None, 0.0)])
             for S in self.wing_areas:
                 for d0, dtf in self.tether_ranges:
@@ -261,6 +268,15 @@ class SweepSpec:
                                     seen.add(p.id)
                                     out.append(p)
         return out
+
+    @staticmethod
+    def _fold_time(t: float | None) -> float:
+        """``t`` [s], or the aircraft definition's fold time for None."""
+        if t is not None:
+            return float(t)
+        from ..ocp.model import definition_fold_time
+
+        return float(definition_fold_time())
 
     def to_dict(self) -> dict:
         d = asdict(self)
