@@ -18,22 +18,6 @@ REF = DATA / "ref_physical_nominal_8mps.json"
 REF_FOLDABLE = DATA / "ref_physical_foldable_8mps_halfline.json"
 
 
-@pytest.fixture
-def no_work(monkeypatch):
-    import fdm_awe.flight as flight
-    import fdm_awe.ocp.solve as solve
-    import fdm_awe.sweep.execute as execute
-
-    def spy(name):
-        def f(*a, **kw):
-            raise AssertionError(f"{name} was called: the work started although an option was bad")
-        return f
-
-    monkeypatch.setattr(flight, "fly", spy("fly"))
-    monkeypatch.setattr(solve, "solve_cycle", spy("solve_cycle"))
-    monkeypatch.setattr(execute, "run_sweep", spy("run_sweep"))
-
-
 def _refused(argv: list[str], capsys, *words: str) -> str:
     t0 = time.monotonic()
     rc = main(argv)

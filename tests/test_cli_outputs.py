@@ -26,30 +26,6 @@ DATA = Path(__file__).parent / "data"
 REF = DATA / "ref_physical_nominal_8mps.json"
 
 
-class WorkStarted(AssertionError):
-    """Raised by a spy: the command began its work although an input was bad."""
-
-
-@pytest.fixture
-def no_work(monkeypatch):
-    """Every command's work raises :class:`WorkStarted` (fly: the flight, optimize/compare and
-    fly without a reference: the optimisation, sweep: the sweep, info: the glide computations)."""
-    import fdm_awe.flight as flight
-    import fdm_awe.ocp.solve as solve
-    import fdm_awe.performance as performance
-    import fdm_awe.sweep.execute as execute
-
-    def spy(name):
-        def f(*a, **kw):
-            raise WorkStarted(f"{name} was called")
-        return f
-
-    monkeypatch.setattr(flight, "fly", spy("fly"))
-    monkeypatch.setattr(solve, "solve_cycle", spy("solve_cycle"))
-    monkeypatch.setattr(execute, "run_sweep", spy("run_sweep"))
-    monkeypatch.setattr(performance, "steady_glide", spy("steady_glide"))  # info's work
-
-
 def _tree(root: Path) -> set[str]:
     return {str(p.relative_to(root)) for p in root.rglob("*")}
 
