@@ -38,7 +38,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_plant_model_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
-    p.add_argument("--starts", type=int, default=1, metavar="N", help=f"successful starts to compare, 1..{MAX_STARTS} (default 1)")
+    p.add_argument("--starts", type=int, default=1, metavar="N", help=f"successful starts to compare, 1..{MAX_STARTS} (default 1), on meshes solved "
+                        "without the global strategy (coarse --mesh); at the default mesh the global strategy "
+                        "solves every start and keeps the best, and this option has no effect there")
     p.add_argument("--time-budget", type=float, default=180.0, metavar="S",
                    help=f"solver seconds before the optimisation is reported as failed, > 0 and <= {MAX_TIME_BUDGET_S:g} "
                         "(default 180)")
