@@ -23,12 +23,12 @@ import json
 import math
 import os
 import re
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterator
 
 from fdm_awe.errors import DefinitionError, InputError
+from fdm_awe.fileio import atomic_write_text
 
 ParamCallback = Callable[[str, float], None]
 
@@ -206,19 +206,8 @@ class ParamStore:
         data.update(self.as_dict())
         self._saved = data
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=self.path.name, suffix=".tmp", dir=self.path.parent)
-        try:
-            with os.fdopen(fd, "w") as f:
-                json.dump({"format": "fdm-awe-params-1", "params": data}, f, indent=1,
-                          sort_keys=True)
-                f.write("\n")
-            os.replace(tmp, self.path)
-        except BaseException:
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
-            raise
+        atomic_write_text(self.path, json.dumps({"format": "fdm-awe-params-1", "params": data}, indent=1,
+                                                sort_keys=True) + "\n")
 
     def _read_file(self) -> dict[str, float]:
         assert self.path is not None
