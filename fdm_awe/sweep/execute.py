@@ -223,6 +223,7 @@ def _submit(client: Any, chain_list: list, done: dict[str, dict], store: PointSt
                 if rec.get("status") == "ok":
                     w = store.load_warm(p.id)
                     if w is not None:
+                        w.family = rec.get("family")  # the start family its chain carries on
                         cur = w
                 elif not isinstance(cur, Future):  # failed on disk: the next point is told so
                     cur = FailedUpstream(cur.warm if isinstance(cur, FailedUpstream) else cur)

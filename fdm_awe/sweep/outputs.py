@@ -23,7 +23,7 @@ from typing import Any, Sequence
 
 from ..fileio import atomic_path
 from .references import ReferenceCurves
-from .runner import RECORD_FIELDS
+from .runner import COLD_CHECK_TOLERANCE_W, RECORD_FIELDS
 
 
 def write_csv(records: Sequence[dict[str, Any]], path: str | Path) -> Path:
@@ -264,6 +264,46 @@ def answer_sentence(ans: dict[str, Any], scenario: str) -> str:
             f"b_f = {b['b_f_m']:.3g} m, wind {b['wind_mps']:g} m/s ({b['P_foldable_W']:.1f} W vs {b['P_nominal_W']:.1f} W).")
 
 
+def cold_check_differences(records: Sequence[dict[str, Any]], tol_W: float = COLD_CHECK_TOLERANCE_W) -> dict[str, Any]:
+    """The cold check over a sweep: how many points had it, and every point whose warm-started
+    and cold solutions differ by more than ``tol_W`` [W] or where only one of them converged
+    (both powers [W], which was kept, the kept and the cold start family)."""
+    checked = [r for r in records if r.get("kept") is not None or r.get("P_warm_W") is not None
+               or r.get("P_cold_W") is not None]
+    rows = []
+    for r in sorted(checked, key=_order):
+        pw, pc = r.get("P_warm_W"), r.get("P_cold_W")
+        diff = None if pw is None or pc is None else pc - pw
+        if (pw is None) == (pc is None) and (diff is None or abs(diff) <= tol_W):
+            continue  # both agree, or both failed (the point's own failure is listed with the failures)
+        rows.append({"id": r["id"], "line": _line_label(r), "wind_mps": r["wind_mps"], "P_warm_W": pw, "P_cold_W": pc,
+                     "cold_minus_warm_W": diff, "kept": r.get("kept"), "family": r.get("family"),
+                     "cold_family": r.get("cold_family"), "warm_from": r.get("warm_from")})
+    return {"tolerance_W": tol_W, "n_checked": len(checked), "n_different": len(rows), "different": rows}
+
+
+def _w(v: Any) -> str:
+    return "failed" if v is None else f"{float(v):.2f}"
+
+
+def cold_check_markdown(check: dict[str, Any]) -> list[str]:
+    """The summary's section on the cold check (empty when no point had it)."""
+    if not check["n_checked"]:
+        return []
+    out = ["", f"## Warm start vs cold solve (cold check, {check['n_checked']} warm-started points)", ""]
+    if not check["different"]:
+        return out + [f"Every warm-started point's cold solve agrees within {check['tolerance_W']:g} W (or both failed)."]
+    out += [f"{check['n_different']} point(s) where the warm-started and the cold solution differ by more than "
+            f"{check['tolerance_W']:g} W or only one converged; the better one is kept (and passed on along the chain):", "",
+            "| line | wind [m/s] | warm [W] | cold [W] | cold - warm [W] | kept | family kept | cold family |",
+            "|---|---|---|---|---|---|---|---|"]
+    for d in check["different"]:
+        dd = "" if d["cold_minus_warm_W"] is None else f"{d['cold_minus_warm_W']:+.2f}"
+        out.append(f"| {d['line']} | {d['wind_mps']:g} | {_w(d['P_warm_W'])} | {_w(d['P_cold_W'])} | {dd} | "
+                   f"{d['kept'] or ''} | {d['family'] or ''} | {d['cold_family'] or ''} |")
+    return out
+
+
 def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], scenario: str, refs: ReferenceCurves | None,
                      files: dict[str, str], notes: Sequence[str] = (), n_expected: int | None = None) -> str:
     """Short markdown report: the answer, the power table, failures, references, files."""
@@ -296,6 +336,7 @@ def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], sce
                    "(rerun the same command to compute them; blank cells above)")
     for r in bad:
         out.append(f"- failed: {_line_label(r)}, wind {r['wind_mps']:g} m/s: {r['reason']}")
+    out += cold_check_markdown(cold_check_differences(recs))
     if notes:
         out += ["", "## Notes", ""] + [f"- {n}" for n in notes]
     out += ["", "## Files", ""] + [f"- {k}: `{v}`" for k, v in files.items()]

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from ..fileio import atomic_write_text
-from .outputs import answer, answer_sentence, folding_cells, folding_map_plot, power_curve_plot, summary_markdown, write_csv
+from .outputs import answer, answer_sentence, cold_check_differences, folding_cells, folding_map_plot, power_curve_plot, summary_markdown, write_csv
 from .references import ReferenceCurves, reference_curves, tether_properties
 from .spec import SweepSpec
 
@@ -17,7 +17,7 @@ NOTES = (
     "motor supply, propeller drive power with airspeed, tether drag).",
     "Folded-wing variants: S_f = b_f x chord, Helmbold lift slope at A_f = b_f/chord, Oswald factor, zero-lift "
     "angle and C_Lmax of the folded definition, C_Dmin from the folded drag area; mass and inertia unchanged.",
-    "The wing folds instantly at the switch to recovery (the cycle optimiser has no fold time).",
+    "Foldable points fold over the fold time of their record (fold_time_s; 0 = an instantaneous switch).",
     "Loyd and quasi-steady curves are reel-out (mechanical) powers without losses or recovery: upper references, "
     "not cycle averages.",
 )
@@ -32,6 +32,7 @@ class SweepReport:
     sentence: str
     refs: ReferenceCurves | None
     markdown: str
+    cold_check: dict[str, Any] | None = None  #: :func:`~.outputs.cold_check_differences` of the records
 
 
 def spec_references(spec: SweepSpec) -> ReferenceCurves:
@@ -87,4 +88,4 @@ def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: s
     md = summary_markdown(records, ans, spec.scenario, refs, files, (plant_note(spec),) + NOTES,
                           n_expected=len(spec.points()))
     atomic_write_text(files["summary"], md)
-    return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md)
+    return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md, cold_check_differences(records))

@@ -6,6 +6,12 @@ returns ``(record, warm_for_next)``: the point's record (a flat JSON-ready dict,
 :data:`RECORD_FIELDS`) and the warm start the next point should use (this point's solution
 if it succeeded, otherwise the one it was given). It never raises: an exception inside the
 optimiser becomes a ``failed`` record carrying the exception text as its reason.
+
+The cold check (``Point.cold_check``, warm-started points only) adds to the record: ``kept``
+(``warm`` or ``cold``), ``P_warm_W`` and ``P_cold_W`` (each solution's power [W], None when
+it failed), ``cold_family`` (the start family that won the cold solve). ``family`` is the
+start family of the kept solution: the global strategy's winner for a cold solve, and for a
+warm start the family its chain's solution came from (passed along in :class:`Warm`).
 """
 
 from __future__ import annotations
@@ -13,6 +19,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+import re
 import socket
 import time
 import traceback
@@ -32,7 +39,12 @@ RECORD_FIELDS = (
     "T1_s", "T2_s", "iterations", "solve_s", "build_s", "wall_s", "cpu_s", "worker", "warm_from", "start", "max_violation",
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
     "line_d_m", "line_mu_kg_per_m", "line_breaking_load_N",
+    "cold_check", "kept", "P_warm_W", "P_cold_W", "family", "cold_family",
 )
+
+#: |warm - cold| [W] above which a point's two solutions count as different in the summary
+#: (the optimiser's :data:`fdm_awe.ocp.strategy.COLD_CHECK_W`)
+COLD_CHECK_TOLERANCE_W = 0.5
 
 
 @dataclass
@@ -44,6 +56,7 @@ class Warm:
     lam_x: np.ndarray
     lam_g: np.ndarray
     k_wrap: int
+    family: str | None = None  #: start family of the solution (e.g. ``loop +1/-1``; None: unknown)
 
     def as_result(self, problem: Any) -> Any:
         """A minimal ``CycleResult`` accepted by ``solve_cycle(warm=...)`` for ``problem``."""
@@ -168,6 +181,42 @@ def _num(v: Any) -> float | None:
     return None if v is None or not math.isfinite(float(v)) else float(v)
 
 
+def _winner_family(strategy: dict[str, Any] | None) -> str | None:
+    """The start family that won a global-strategy solve (None: not a global solve)."""
+    win = (strategy or {}).get("winner")
+    return win.get("family") if isinstance(win, dict) else None
+
+
+def _label_family(start: Any) -> str | None:
+    """The start family named in a start's label (``loops ... turns=+1/-1`` -> ``loop +1/-1``;
+    a solve that was not the global strategy's records only the label)."""
+    m = re.search(r"\b(loop|eight)s\b.*?\bturns=([+-]\d)/([+-]\d)", str(start or ""))
+    return f"{m.group(1)} {m.group(2)}/{m.group(3)}" if m else None
+
+
+def _family_fields(res: Any, warm_in: Warm | None, cold_check: bool) -> dict[str, Any]:
+    """The cold-check and start-family fields of a point's record from its ``CycleResult``."""
+    st = res.strategy or {}
+    out: dict[str, Any] = {"cold_check": bool(cold_check)}
+    chk = st.get("cold_check")
+    if isinstance(chk, dict):
+        out["kept"] = chk.get("kept")
+        out["P_warm_W"] = _num(chk.get("warm_P_avg_W"))
+        out["P_cold_W"] = _num(chk.get("cold_P_avg_W"))
+        cold_st = st if chk.get("kept") == "cold" else None
+        out["cold_family"] = _winner_family(cold_st) if cold_st is not None else None
+    if not res.ok:
+        return out
+    own = _winner_family(st) or _label_family(res.start)
+    if own is not None:  # a cold global solve (an anchor, a cold point, or the cold check's winner)
+        out["family"] = own
+    elif warm_in is not None and str(res.start or "").startswith(("warm start", "from a previous solution")):
+        out["family"] = warm_in.family  # the chain's solution, carried on
+    if out.get("kept") == "cold":
+        out["cold_family"] = out.get("family")
+    return out
+
+
 def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm | None]:
     """Solve ``point`` warm-started from ``upstream`` (see the module docstring)."""
     t0 = time.perf_counter()
@@ -192,8 +241,12 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
         # after a failed neighbour that leaves no warm start, a cheap failure policy
         # (warm_fallback one / none) also bounds this point's cold search: one cold solve
         cold = "one" if upstream_failed and warm is None and point.warm_fallback != "all" else "all"
+        check = bool(point.cold_check) and warm is not None
+        # with the cold check the cold global-strategy solve is the fallback of a failed warm start
         res = solve_cycle(problem, warm=warm, glider=glider if custom else None, winch=point_winch(point), ipopt_options=opts,
-                          max_iter_total=int(point.max_iter_total), warm_fallback=point.warm_fallback, cold=cold)
+                          max_iter_total=int(point.max_iter_total), warm_fallback="none" if check else point.warm_fallback,
+                          cold=cold, cold_check=check)
+        rec.update(_family_fields(res, warm_in, point.cold_check))
         s = res.summary()
         rec.update({"status": "ok" if res.ok else "failed", "reason": str(res.reason), "iterations": int(res.iterations),
                     "solve_s": _num(res.solve_s), "build_s": _num(res.build_s), "start": res.start or None,
@@ -202,7 +255,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
             rec[k] = _num(s.get(k)) if res.ok else None
         if res.ok and res.w is not None:
             warm_out: Warm | None = Warm(point.id, np.asarray(res.w, float), np.asarray(res.lam_x, float),
-                                         np.asarray(res.lam_g, float), int(res.k_wrap))
+                                         np.asarray(res.lam_g, float), int(res.k_wrap), rec.get("family"))
         else:
             warm_out = warm_in
     except Exception as exc:  # a failed point is a result: record why

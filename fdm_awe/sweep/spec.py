@@ -31,7 +31,16 @@ A :class:`SweepSpec` holds the axes (SI units):
   (``all``: the whole cold strategy, default; ``one``: one cold solve from the first start;
   ``none``: the point fails at once). The cheaper fallbacks bound the cost of points that
   cannot converge, at the risk of missing a cycle only a later start finds;
-- ``anchor_every``: chain layout (below).
+- ``anchor_every``: chain layout (below);
+- ``cold_check``: every warm-started point is also solved cold with the optimiser's global
+  strategy and keeps the better of the two solutions (``solve_cycle(..., cold_check=True)``);
+  the record holds both powers, which was kept and the winning start family. The kept
+  solution is what the chain passes on, so a warm chain that sits on a worse local optimum
+  than a cold solve finds is brought back to the better one at that point (no jump in the
+  power curve where a cold anchor and a warm chain would disagree). After a failed warm start
+  the cold solve is the fallback (``warm_fallback`` is not used then). Anchors are cold
+  solves anyway. Off (``--no-cold-check``), a point has the id it had before the check
+  existed.
 
 Nominal points do not depend on the folded-wing axes, so they are not repeated over them.
 
@@ -40,7 +49,7 @@ used as its file name: a rerun with the same (or an overlapping) sweep finds fin
 
 Point ids: fields added to :class:`Point` after the first stores were written enter the id only
 when they differ from their value before they existed (:data:`_ID_DEFAULTS`: momentum propeller,
-no line weight, Table 1's line, its own diameter), so a point of an earlier sweep keeps its id
+no line weight, Table 1's line, its own diameter, no cold check), so a point of an earlier sweep keeps its id
 and a stored sweep resumes; a point of today's physical defaults (sized line, engine, line
 weight) is another problem and has another id.
 
@@ -90,7 +99,7 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 #: they differ from these values (each field's meaning before it existed), so finished points
 #: of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
-                "line_weight": False, "line": "paper", "line_diameter": None}
+                "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False}
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -119,6 +128,9 @@ class Point:
     line_weight: bool = False  #: the glider carries its share of the line's weight (CycleProblem.line_weight)
     line: str = "paper"  #: tether line (CycleProblem.line; "paper", Table 1's line, before lines were named)
     line_diameter: float | None = None  #: [m] the sized line resized to this diameter (None: as defined)
+    #: a warm-started point is also solved cold (the optimiser's global strategy) and keeps the
+    #: better solution (False: the warm start alone, as before the cold check existed)
+    cold_check: bool = False
 
     @property
     def id(self) -> str:
@@ -171,6 +183,9 @@ class SweepSpec:
     line_weight: bool | None = None  #: CycleProblem.line_weight of every point (physical; None: the scenario's)
     lines: tuple[str | None, ...] = (None,)  #: tether lines (None: the scenario's default line)
     line_diameters: tuple[float | None, ...] = (None,)  #: [m] diameters of the resized sized line (None: as defined)
+    #: warm-started points also solved cold, the better kept (``fdm-awe sweep`` turns it on unless
+    #: ``--no-cold-check`` or ``--cold``; off here so that library callers keep their point ids)
+    cold_check: bool = False
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -220,6 +235,8 @@ class SweepSpec:
             raise InputError("propeller / line weight: only the physical scenario has these choices")
         if self.line_weight is not None and not isinstance(self.line_weight, bool):
             raise InputError(f"line weight {self.line_weight!r} invalid (allowed true or false)")
+        if not isinstance(self.cold_check, bool):
+            raise InputError(f"cold check {self.cold_check!r} invalid (allowed true or false)")
         if not self.lines:
             raise InputError(f"line: at least one of {', '.join(LINES)}")
         for n in self.lines:
@@ -263,7 +280,8 @@ class SweepSpec:
                                 p = Point(self.scenario, cfg, float(v), float(d0), float(dtf), b, a, S, t, mesh,
                                           self.max_iter, self.max_iter_total, self.warm_fallback, propeller=prop,
                                           line_weight=bool(plant["line_weight"]), line=line,
-                                          line_diameter=None if dl is None else float(dl))
+                                          line_diameter=None if dl is None else float(dl),
+                                          cold_check=bool(self.cold_check))
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)

@@ -39,10 +39,13 @@ REQUIRED_FIELDS: dict[str, tuple[type, ...]] = {
     "id": (str,), "scenario": (str,), "config": (str,), "wind_mps": (int, float), "d0_m": (int, float),
     "d_tf_m": (int, float), "status": (str,),
 }
-#: Record fields holding text (or null); ``line_weight`` is a boolean; every other field of
-#: :data:`~fdm_awe.sweep.runner.RECORD_FIELDS` is a number or null.
+#: Record fields holding text (or null); :data:`BOOL_FIELDS` are booleans; every other field of
+#: :data:`~fdm_awe.sweep.runner.RECORD_FIELDS` is a number or null (records written before a
+#: field existed lack it: read as null).
 TEXT_FIELDS = frozenset({"id", "scenario", "config", "mesh", "warm_fallback", "propeller", "line", "status", "reason", "worker",
-                         "warm_from", "start"})
+                         "warm_from", "start", "kept", "family", "cold_family"})
+#: Record fields holding a boolean (or null).
+BOOL_FIELDS = frozenset({"line_weight", "cold_check"})
 #: Arrays of a warm-start file.
 WARM_ARRAYS = ("w", "lam_x", "lam_g", "k_wrap")
 
@@ -77,7 +80,7 @@ def record_problem(record: Any, pid: str) -> str | None:
             continue
         if key in TEXT_FIELDS:
             ok = isinstance(v, str)
-        elif key == "line_weight":
+        elif key in BOOL_FIELDS:
             ok = isinstance(v, bool)
         else:
             ok = _number(v)
