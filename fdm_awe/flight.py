@@ -361,6 +361,12 @@ def fly(
     # the line the reference was optimised with; a reference written before lines were named
     # was optimised with Table 1's line ("paper"). Read (and an unknown name refused) before JSBSim loads
     line = meta.get("line")
+    gen = meta.get("generator")
+    if not paper and gen == "ideal":
+        from .errors import InputError
+
+        raise InputError("reference metadata.generator: 'ideal' is the optimiser's upper bound (a loss-free converter "
+                         "holding any tension), which no ground station realises; allowed passive, boost")
     gsp = load_ground_station(line="paper" if line is None else check_line(line, "reference metadata.line"))
     glider = JSBSimGlider("glider_foldable", dt=dt, wind_ned=wind, turbulence=turbulence)
     airframes = load_glider()

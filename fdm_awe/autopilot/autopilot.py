@@ -538,7 +538,8 @@ class Autopilot:
                 # radial position is the winch's job: pay out faster (higher R_L, less
                 # braking) when the line is shorter than the reference, slower when longer
                 rl = min(max(self.R_L + p["GEN_RL_KP"] * (r.length - gs.length), 0.2), 20.0)
-            wcmd = WinchCommand(mode="generator", load_resistance=rl)
+            # the generator's T2 duty as the optimiser chose it (0: the passive rectifier)
+            wcmd = WinchCommand(mode="generator", load_resistance=rl, boost_duty=r.boost_duty)
         else:
             # reel in at the reference speed scaled by the path rate, trimmed towards the reference
             # length, and ease off when the line pulls the glider harder than REC_TENSION

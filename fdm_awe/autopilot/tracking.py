@@ -40,6 +40,9 @@ class RefPoint:
     #: the motor's on-fraction of the optimiser's interval here (0 stopped .. 1 running; the
     #: reference's motor-off mode, ``thrust`` is then the mean thrust); 1 without the mode
     motor_on: float = 1.0
+    #: the generator's T2 duty of the optimiser's interval here (generator ``boost``; 0: the
+    #: passive rectifier, and in recovery)
+    boost_duty: float = 0.0
 
 
 @dataclass
@@ -64,6 +67,9 @@ class TrackingReference:
     #: the motor's on-fraction per sample (0 .. 1, held per optimiser interval; None: 1
     #: throughout, the motor runs)
     motor_on: np.ndarray | None = None
+    #: the generator's T2 duty per sample (0 .. 1, held per optimiser interval; None: 0
+    #: throughout, the passive rectifier)
+    boost_duty: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = len(self.t)
@@ -74,6 +80,10 @@ class TrackingReference:
         if on.shape != (n,) or not np.all((on >= -1e-6) & (on <= 1.0 + 1e-6)):
             raise ValueError(f"reference motor_on must have {n} samples in 0 .. 1")
         self.motor_on = np.clip(on, 0.0, 1.0)
+        d2 = np.zeros(n) if self.boost_duty is None else np.asarray(self.boost_duty, float)
+        if d2.shape != (n,) or not np.all((d2 >= -1e-6) & (d2 <= 1.0 + 1e-6)):
+            raise ValueError(f"reference boost_duty must have {n} samples in 0 .. 1")
+        self.boost_duty = np.clip(d2, 0.0, 1.0)
         for name in ("pos", "vel", "acc"):
             if getattr(self, name).shape != (n, 3):
                 raise ValueError(f"reference {name} must have shape ({n}, 3)")
@@ -100,12 +110,21 @@ class TrackingReference:
         values; the last runs to the period): the optimiser holds it per interval, so it is the
         value of the sample opening the segment, except for the segment after the last
         generation sample (``t = T1``), which is the recovery's."""
-        seg = self.__dict__.get("_motor_seg")
+        return self._segments("motor_on")
+
+    def duty_segments(self) -> np.ndarray:
+        """The generator's T2 duty on each segment between samples (held per optimiser
+        interval, as :meth:`motor_segments`)."""
+        return self._segments("boost_duty")
+
+    def _segments(self, name: str) -> np.ndarray:
+        """Per-segment values of the interval-held control column ``name``."""
+        seg = self.__dict__.get("_seg_" + name)
         if seg is None:
-            on = np.asarray(self.motor_on, float)
+            on = np.asarray(getattr(self, name), float)
             # a segment belongs to the phase of the sample closing it
             seg = np.where(self.phase[:-1] == self.phase[1:], on[:-1], on[1:])
-            self.__dict__["_motor_seg"] = seg
+            self.__dict__["_seg_" + name] = seg
         return seg
 
     def segment_index(self, t_cycle: float) -> int:
@@ -132,6 +151,7 @@ class TrackingReference:
             pos=row[0:3], vel=row[3:6], acc=row[6:9], airspeed=float(row[9]), alpha=float(row[10]),
             phi=float(row[11]), thrust=float(row[12]), tension=float(row[13]), length=float(row[14]),
             reel_speed=float(row[15]), motor_on=float(self.motor_segments()[i]),
+            boost_duty=float(self.duty_segments()[i]),
         )
 
     def waypoints(self, n: int = 60) -> list[tuple[float, float, float, float, int]]:
@@ -232,6 +252,7 @@ class TrackingReference:
             length=c["tether_length"][keep], reel_speed=c["reel_speed"][keep],
             T1=float(meta["T1_s"]), T2=float(meta["T2_s"]), meta=meta,
             motor_on=c["motor_on"][keep] if "motor_on" in c else None,
+            boost_duty=c["boost_duty"][keep] if "boost_duty" in c else None,
         )
 
     @classmethod

@@ -71,26 +71,34 @@ def zero_wind_verdict(scenario: str, summary: dict[str, Any]) -> str:
 LINE_WORDS = {"sized": "the line sized for its load (50 N x 4.5)", "paper": "Table 1's line (0.72 mm)"}
 
 
-def plant_sentence(scenario: str, line: str, propeller: str | None = None, line_weight: bool = False) -> str:
+#: the generator loads in a few words (the compare report's)
+GENERATOR_WORDS = {"passive": "generator: passive rectifier", "boost": "generator: T2 duty optimised (boost)",
+                   "ideal": "generator: ideal converter, any tension (an upper bound)"}
+
+
+def plant_sentence(scenario: str, line: str, propeller: str | None = None, line_weight: bool = False,
+                   generator: str | None = None) -> str:
     """The optimiser's plant model in one sentence (the compare report's)."""
     parts = [f"line `{line}`, {LINE_WORDS.get(line, line)}"]
     if scenario == "physical":
         parts.append("propeller: the 6-DOF glider's own drive (engine files)" if propeller == "engine"
                      else "propeller: momentum theory with efficiencies")
         parts.append("the glider carries its share of the line's weight" if line_weight else "massless line")
+        if generator is not None:
+            parts.append(GENERATOR_WORDS.get(generator, generator))
     return "Optimiser plant model: " + "; ".join(parts) + "."
 
 
 def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, dict] | None,
              tether_drag_scale: float = 1.0, propeller: str | None = None, line_weight: bool = False,
-             line: str | None = None) -> str:
+             line: str | None = None, generator: str | None = None) -> str:
     """The report; ``line``/``propeller``/``line_weight`` are the solved problems' (None line: no
     plant sentence)."""
     lines = [f"# Nominal vs foldable glider: `{scenario}` scenario, wind {wind:g} m/s", ""]
     if tether_drag_scale != 1.0:
         lines += [f"Line drag scaled by {tether_drag_scale:g} (sensitivity study; the defined line is 1).", ""]
     if line is not None:
-        lines += [plant_sentence(scenario, line, propeller, line_weight), ""]
+        lines += [plant_sentence(scenario, line, propeller, line_weight, generator), ""]
     lines.append("Our columns count gains as positive (`E_net = E_generated - E_thrust - E_reel_in`, all terms >= 0); "
                  "the paper's Table 3 prints gains as negative numbers, and its column is quoted as printed "
                  "(3 m/s from the south, its own simplifications).")
@@ -144,7 +152,8 @@ def run(args: argparse.Namespace) -> int:
                                        mesh=mesh, tether_drag_scale=args.tether_drag_scale,
                                        propeller=getattr(args, "propeller", None),
                                        line_weight=getattr(args, "line_weight", None),
-                                       line=getattr(args, "line", None)).validate()
+                                       line=getattr(args, "line", None),
+                                       generator=getattr(args, "generator", None)).validate()
                 for cfg in ("nominal", "foldable") for w in winds}
     out: dict[tuple[str, float], dict] = {}
     for (cfg, w), pr in problems.items():
@@ -153,7 +162,8 @@ def run(args: argparse.Namespace) -> int:
     res = {cfg: out[(cfg, args.wind)] for cfg in ("nominal", "foldable")}
     zero = None if args.no_zero_wind else {cfg: out[(cfg, 0.0)] for cfg in ("nominal", "foldable")}
     pr = problems[("nominal", args.wind)]
-    text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, pr.propeller, pr.line_weight, pr.line)
+    text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, pr.propeller, pr.line_weight, pr.line,
+                    pr.generator)
     print(text)
     if args.report:
         atomic_write_text(args.report, text + "\n")
@@ -162,7 +172,8 @@ def run(args: argparse.Namespace) -> int:
                           and any(z["status"] == "ok" and z["E_net_J"] > 0 for z in zero.values()))
     if args.json:
         doc = {"scenario": args.scenario, "wind_mps": args.wind, "wind_from_deg": args.wind_from,
-               "plant": {"line": pr.line, "propeller": pr.propeller, "line_weight": pr.line_weight},
+               "plant": {"line": pr.line, "propeller": pr.propeller, "line_weight": pr.line_weight,
+                         "generator": pr.generator},
                "paper_table3_as_printed": PAPER_TABLE3, "sign_note": "ours: gains > 0; paper Table 3: gains < 0",
                "results": res, "zero_wind": zero,
                "zero_wind_verdict": None if zero is None else {c: zero_wind_verdict(args.scenario, z) for c, z in zero.items()}}

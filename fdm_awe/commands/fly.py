@@ -53,7 +53,8 @@ DEFAULT_SCENARIO = "physical"
 
 #: the options a reference fixes (only used when optimising): attribute -> option
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
-                   "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight"}
+                   "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight",
+                   "generator": "--generator"}
 
 
 def _flyable_bounds(gamma_max: float | None = None):
@@ -88,7 +89,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
                         "reference), 0..10; default: the --reference file's tether_drag_scale, else 1 = the defined line")
-    add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ")
+    from ..ocp.problem import FLYABLE_GENERATORS
+
+    add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ",
+                         generators=FLYABLE_GENERATORS)
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
@@ -166,7 +170,8 @@ def reference_problem(args: argparse.Namespace):
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
                         bounds=_flyable_bounds(args.gamma_max),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
-                        propeller=args.propeller, line_weight=args.line_weight, line=args.line).validate()
+                        propeller=args.propeller, line_weight=args.line_weight, line=args.line,
+                        generator=args.generator).validate()
 
 
 def optimise_reference(problem):

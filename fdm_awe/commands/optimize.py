@@ -58,16 +58,29 @@ MAX_STARTS = 100
 MAX_TIME_BUDGET_S = 86400.0
 
 
-def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis: bool = False) -> None:
+def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis: bool = False,
+                         generators: tuple[str, ...] | None = None) -> None:
     """``--line``, ``--propeller`` and ``--line-weight``/``--no-line-weight``: the plant the
     optimiser models (``prefix`` opens the help texts, e.g. when the command optimises).
 
     Every option defaults to None (not given): the scenario's default
     (:data:`fdm_awe.ocp.problem.PLANT_DEFAULTS`; physical: the sized line, the glider's own
     drive, the line's weight), so that a command can tell an explicit option from its default.
-    ``line_axis``: ``--line`` takes a comma list of line names (a sweep axis)."""
+    ``line_axis``: ``--line`` takes a comma list of line names (a sweep axis). ``generators``:
+    the ``--generator`` choices (None: every generator of
+    :data:`fdm_awe.ocp.problem.GENERATORS`; empty: no such option, the sweep's case)."""
     from ..groundstation.line import LINES  # plain module: no CasADi import
-    from ..ocp.problem import PROPELLERS
+    from ..ocp.problem import GENERATORS, PROPELLERS
+
+    gens = GENERATORS if generators is None else generators
+    if gens:
+        p.add_argument("--generator", choices=gens, default=None,
+                       help=prefix + "generator load in generation (physical scenario): passive, the passive rectifier "
+                                     "(the default; the tension follows the reel speed, about 8 N per m/s), or boost, "
+                                     "the converter's T2 duty as a control of the optimiser (0 .. the definition's "
+                                     "boost_duty_max), flown by the ground station"
+                                     + (", or ideal, a loss-free converter that holds any tension: an upper bound "
+                                        "that no flight can realise" if "ideal" in gens else ""))
 
     if line_axis:
         p.add_argument("--line", default=None, metavar="LIST",
@@ -103,6 +116,10 @@ def check_plant_args(args: argparse.Namespace, scenario: str | None = None) -> N
     if getattr(args, "line_weight", None):
         raise InputError(f"--line-weight: only the physical scenario has a line model (the {scn} scenario's line is "
                          f"massless)")
+    gen = getattr(args, "generator", None)
+    if gen is not None:
+        raise InputError(f"--generator {gen}: only the physical scenario has a generator model (the {scn} scenario's "
+                         f"tension is a free control)")
 
 
 def parse_mesh(text: str | None, option: str = "--mesh", two: bool = False):
@@ -161,7 +178,7 @@ def problem_from_args(args: argparse.Namespace):
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
-                        line=getattr(args, "line", None)).validate()
+                        line=getattr(args, "line", None), generator=getattr(args, "generator", None)).validate()
 
 
 def print_summary(res, file=sys.stdout) -> None:
@@ -185,7 +202,7 @@ def plant_text(problem) -> str:
     if problem.scenario != "physical":
         return f"line {problem.line}"
     return (f"line {problem.line}, propeller {problem.propeller}, "
-            f"line weight {'on' if problem.line_weight else 'off'}")
+            f"line weight {'on' if problem.line_weight else 'off'}, generator {problem.generator}")
 
 
 def trajectory_path(args: argparse.Namespace) -> str | None:

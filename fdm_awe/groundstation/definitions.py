@@ -86,6 +86,8 @@ class ConverterParams:
     link_capacitance: float  #: C_Link, F
     load_resistance: float  #: default R_L, ohm
     boost_duty: float  #: default T2 duty in generator mode, - (0 = passive rectifier)
+    #: largest T2 duty in generator mode, - (the bound of the optimiser's boost-duty control)
+    boost_duty_max: float = 0.8
 
 
 @dataclass(frozen=True)
@@ -296,7 +298,12 @@ def load_ground_station(path: str | Path | None = None, line: str | None = None)
         link_capacitance=v("converter/link_capacitance", "F", lo=0.0, lo_open=True),
         load_resistance=v("converter/load_resistance", "OHM", lo=0.0, lo_open=True),
         boost_duty=v("converter/boost_duty", "ND", lo=0.0, hi=1.0),
+        boost_duty_max=v("converter/boost_duty_max", "ND", lo=0.0, hi=0.95),
     )
+    if converter.boost_duty > converter.boost_duty_max:
+        raise DefinitionError(doc.path, "converter/boost_duty",
+                              f"value {converter.boost_duty:g} out of range (allowed 0 .. boost_duty_max "
+                              f"{converter.boost_duty_max:g})")
     if 2.0 * converter.device_drop >= converter.supply_voltage:
         raise DefinitionError(doc.path, "converter/device_drop",
                               f"value {converter.device_drop:g} V out of range (allowed < half the supply voltage "

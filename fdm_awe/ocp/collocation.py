@@ -53,6 +53,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from .energy import ideal_generator_current
 from .model import GEN_STATES, ON_FRACTION, REC_STATES, CycleModel
 from .problem import CycleProblem
 
@@ -63,7 +64,7 @@ REG_WEIGHT = 1e-3
 P_SCALE = 10.0  #: objective scale [W]
 
 STATE_SCALE = {"x": 100.0, "y": 100.0, "z": 100.0, "V": 10.0, "gamma": 1.0, "psi": 1.0, "l": 100.0}
-CONTROL_SCALE = {"alpha": 0.3, "phi": 1.0, "T": 5.0, "G": 30.0, "v_reel": 5.0, "s": 1.0}
+CONTROL_SCALE = {"alpha": 0.3, "phi": 1.0, "T": 5.0, "G": 30.0, "v_reel": 5.0, "s": 1.0, "D2": 0.5}
 TIME_SCALE = 10.0
 NP = 7  #: number of NLP parameters
 #: elastic slacks of the recovery dynamics: fictitious accelerations added to the airspeed
@@ -275,7 +276,8 @@ class CycleNLP:
             a_hi = m.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
             a_lo = m.alpha_lower(ip, bnd.alpha_max, bnd.cl_margin)
             ctrl_bounds = {"alpha": (a_lo, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
-                           "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0)}
+                           "G": (G_lo, bnd.G_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0),
+                           "D2": (0.0, m.winch.boost_duty_max)}
             # a folding wing needs the whole fold and unfold inside the recovery
             ph.T, ph.idx_T = new_var(f"T{ip + 1}", TIME_SCALE, max(bnd.T_phase_min, 2.0 * ph.fold_time), bnd.t_max)
             nx, nu = len(ph.states), len(ph.controls)
@@ -396,6 +398,8 @@ class CycleNLP:
         out = self.model.generation(*args) if ip == 0 else self.model.recovery(*args, p[4], f if fold else None)
         if ip == 0:
             path = [out["v_reel"], out["G"]]
+            if self.model.scenario.generator == "ideal":  # the half-bridge carries one current direction
+                path.append(ideal_generator_current(out["G"], out["v_reel"], self.model.winch))
         else:
             path = [out["l"] - out["d"]]
         if self.model.scenario.propeller in ("physical", "engine"):
@@ -412,6 +416,8 @@ class CycleNLP:
             add(path[0] / 5.0, 0.0, ca.inf, f"ddot_{tag}")
             if not m.scenario.tension_control:
                 add(path[1] / 30.0, bnd.G_min / 30.0, bnd.G_max / 30.0, f"G_{tag}")
+            if m.scenario.generator == "ideal":
+                add(path[2] / 10.0, 0.0, ca.inf, f"current_{tag}")
         else:
             add(path[0] / 100.0, 0.0, ca.inf, f"slack_{tag}")
         if m.scenario.propeller in ("physical", "engine"):

@@ -9,6 +9,12 @@ Quasi-static winch + DC machine + converter (paper eqs. 14-19 with ``di/dt = 0``
 - generation, passive rectifier into ``R_L``: ``omega = v_reel / r_w``,
   ``i = max(0, K_e omega - 2 U_d) / (R + R_L)``, tension ``G = (M_c + B omega + K_t i) / r_w``,
   energy into the load ``P_load = R_L i^2``;
+- generation with the T2 duty ``d2`` (eq. 18, averaged boost): the same with the load the
+  armature sees, ``R_eff = (1 - d2)^2 R_load``: a larger duty brakes harder at a given speed and
+  puts a larger share of the power into the armature resistance (``P_load = R_eff i^2``);
+- generation through an ideal converter (a bound, not the half-bridge): any tension ``G``; the
+  current follows from the drum's torque balance, ``i = (r_w G - M_c - B omega) / K_t``, and the
+  converter delivers ``(K_e omega - 2 U_d) i - R i^2``;
 - recovery, motor reels in at ``v_reel < 0`` against friction only (slack tether, G = 0):
   ``i = (M_c + B |omega|) / K_t``, supply power ``P_supply = (K_e |omega| + R i + 2 U_d) i``;
   the speed is limited by full duty: ``K_e |omega| + R i + 2 U_d <= V_a``.
@@ -43,12 +49,14 @@ class WinchElectrics:
     R: float  #: armature resistance [ohm]
     U_d: float  #: voltage drop of one diode/switch [V]
     V_a: float  #: supply voltage in motor mode [V]
-    R_L: float  #: generator load resistance [ohm]
+    R_L: float  #: load resistance the armature sees with the definition's default T2 duty: (1 - d2)^2 R_load [ohm]
     tether_diameter: float  #: [m]
     tether_cd_perp: float  #: tether drag coefficient normal to the line [-]
     #: weight per metre of paid-out line the glider carries: weight share x mass per length x g [N/m]
     line_weight_per_length: float = 0.0
     gs_params: Any = None  #: the full ground-station parameters, when read from the definition
+    R_load: float | None = None  #: the load resistor itself [ohm] (None: R_L, a definition without boost duty)
+    boost_duty_max: float = 0.0  #: largest T2 duty of the generator mode [-] (the converter definition's)
 
     @classmethod
     def from_ground_station(cls, params: Any = None, line: str | None = None) -> "WinchElectrics":
@@ -66,7 +74,7 @@ class WinchElectrics:
         return cls(r_w=w.radius, B=w.viscous_friction, M_c=w.coulomb_friction, K_e=m.k, K_t=m.k, R=m.resistance,
                    U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,
                    tether_cd_perp=t.cd_perpendicular, line_weight_per_length=t.weight_share * t.mass_per_length * t.gravity,
-                   gs_params=gs)
+                   gs_params=gs, R_load=c.load_resistance, boost_duty_max=c.boost_duty_max)
 
     @property
     def R_sum(self) -> float:
@@ -83,22 +91,50 @@ def smooth_pos(a: Any, eps: float) -> Any:
     return 0.5 * (a + mo.sqrt(a * a + eps * eps))
 
 
-def generator_current(v_reel: Any, w: WinchElectrics) -> Any:
-    """Armature current [A] of the passive-rectifier generator at reel-out speed ``v_reel`` [m/s]."""
+def load_seen(w: WinchElectrics, boost_duty: Any = None) -> Any:
+    """Load resistance [ohm] the armature sees: ``(1 - d2)^2 R_load`` with T2 duty ``boost_duty``
+    (None: the definition's default duty, ``w.R_L``)."""
+    if boost_duty is None:
+        return w.R_L
+    R_load = w.R_L if w.R_load is None else w.R_load
+    return (1 - boost_duty) * (1 - boost_duty) * R_load
+
+
+def generator_current(v_reel: Any, w: WinchElectrics, boost_duty: Any = None) -> Any:
+    """Armature current [A] of the generator at reel-out speed ``v_reel`` [m/s]: passive
+    rectifier, or boost with T2 duty ``boost_duty`` (None: the definition's default)."""
     omega = v_reel / w.r_w
-    return smooth_pos(w.K_e * omega - 2 * w.U_d, DIODE_EPS_V) / w.R_sum
+    return smooth_pos(w.K_e * omega - 2 * w.U_d, DIODE_EPS_V) / (w.R + load_seen(w, boost_duty))
 
 
-def generator_tension(v_reel: Any, w: WinchElectrics) -> Any:
-    """Tether tension [N] that holds the winch at reel-out speed ``v_reel`` [m/s] (quasi-static)."""
+def generator_tension(v_reel: Any, w: WinchElectrics, boost_duty: Any = None) -> Any:
+    """Tether tension [N] that holds the winch at reel-out speed ``v_reel`` [m/s] (quasi-static)
+    with T2 duty ``boost_duty`` (None: the definition's default)."""
     omega = v_reel / w.r_w
-    return (w.M_c + w.B * omega + w.K_t * generator_current(v_reel, w)) / w.r_w
+    return (w.M_c + w.B * omega + w.K_t * generator_current(v_reel, w, boost_duty)) / w.r_w
 
 
-def generator_load_power(v_reel: Any, w: WinchElectrics) -> Any:
-    """Electrical power into the load resistor [W] at reel-out speed ``v_reel`` [m/s]."""
-    i = generator_current(v_reel, w)
-    return w.R_L * i * i
+def generator_load_power(v_reel: Any, w: WinchElectrics, boost_duty: Any = None) -> Any:
+    """Electrical power into the load resistor [W] at reel-out speed ``v_reel`` [m/s] with T2
+    duty ``boost_duty`` (None: the definition's default)."""
+    i = generator_current(v_reel, w, boost_duty)
+    return load_seen(w, boost_duty) * i * i
+
+
+def ideal_generator_current(G: Any, v_reel: Any, w: WinchElectrics) -> Any:
+    """Armature current [A] that holds tension ``G`` [N] at reel-out speed ``v_reel`` [m/s] (the
+    drum's torque balance; an ideal converter sets it)."""
+    omega = v_reel / w.r_w
+    return (w.r_w * G - w.M_c - w.B * omega) / w.K_t
+
+
+def ideal_generator_power(G: Any, v_reel: Any, w: WinchElectrics) -> Any:
+    """Electrical power [W] a loss-free converter delivers holding tension ``G`` [N] at reel-out
+    speed ``v_reel`` [m/s]: ``(K_e omega - 2 U_d) i - R i^2``, ``i`` from
+    :func:`ideal_generator_current` (the machine's friction, copper and device losses kept)."""
+    omega = v_reel / w.r_w
+    i = ideal_generator_current(G, v_reel, w)
+    return (w.K_e * omega - 2 * w.U_d) * i - w.R * i * i
 
 
 def motor_supply_power(v_reel: Any, w: WinchElectrics) -> Any:

@@ -131,7 +131,9 @@ def loop_guess(problem: CycleProblem, model: CycleModel, start: LoopStart, wind_
                         0.8 * model.alpha_upper(ip, b.alpha_max, b.cl_margin))
         X = np.column_stack([P, Vc, gamma, psi] + ([l_rec] if ip == 1 else []))
         if ip == 0:
-            U = np.column_stack([alpha, phi, np.full(n, 1.0)] + ([G] if model.scenario.tension_control else []))
+            # the tension where it is a control, a passive start (zero T2 duty) where the duty is
+            extra = {"G": [G], "D2": [np.zeros(n)]}
+            U = np.column_stack([alpha, phi, np.full(n, 1.0)] + [c for name in model.gen_controls[3:] for c in extra.get(name, [])])
         else:
             U = np.column_stack([alpha, phi, np.full(n, 1.0), np.full(n, -(d1 - d0) / T)])
         phases.append({"T": T, "state": _interp(t, X), "control": _interp(t, U)})
@@ -150,8 +152,9 @@ def guess_from_result(result: Any, model: CycleModel) -> tuple[list[dict[str, An
     """Per-phase guesses interpolated from a solved cycle (any mesh, any scenario).
 
     States are interpolated linearly between the collocation points; controls are held per
-    interval. Controls the source lacks (the tension of the ``paper`` generation phase when the
-    source is ``physical``) come from its tension column.
+    interval. Controls the source lacks come from its columns: the tension of a free-tension
+    generation phase from its tension column, a T2 duty as 0 (the passive rectifier), the motor's
+    on-fraction as 1 (added when the guess is packed).
     """
     phases = []
     for ip, ph in enumerate(result.phases):
@@ -168,7 +171,12 @@ def guess_from_result(result: Any, model: CycleModel) -> tuple[list[dict[str, An
             k = int(min(max(tq / T * n, 0), n - 1))
             out = []
             for c in want:
-                out.append(U[k, names.index(c)] if c in names else float(np.interp(tq, t_col, G_col)))
+                if c in names:
+                    out.append(U[k, names.index(c)])
+                elif c == "D2":  # a source without the T2 duty control ran the passive rectifier
+                    out.append(0.0)
+                elif c == "G":
+                    out.append(float(np.interp(tq, t_col, G_col)))
             return np.array(out)
 
         phases.append({"T": T, "state": _interp(t, X), "control": control})

@@ -3,7 +3,10 @@
 Generation (phase 1): state ``(x, y, z, V, gamma, psi)`` [m, m, m, m/s, rad, rad]; the tether
 is taut, so its length equals the distance ``d = |P|`` and the reel speed is ``ddot``.
 Controls ``(alpha, phi, T, G)`` in the ``paper`` scenario (tension is a control),
-``(alpha, phi, T)`` in ``physical`` (tension follows the passive-rectifier generator).
+``(alpha, phi, T)`` in ``physical`` (tension follows the passive-rectifier generator),
+``(alpha, phi, T, D2)`` with the ``boost`` generator (the T2 duty sets the load the armature
+sees, :mod:`fdm_awe.ocp.energy`), ``(alpha, phi, T, G)`` with the ``ideal`` generator bound
+(tension free, power through a loss-free converter). The motor-off mode appends ``s``.
 
 Recovery (phase 2): state ``(x, y, z, V, gamma, psi, l)`` with tether length ``l`` [m],
 ``ldot = v_reel``; tether slack (``G = 0``, ``d <= l``). Controls ``(alpha, phi, T, v_reel)``.
@@ -39,7 +42,7 @@ from ..aero import fold_blend, tether_drag_coefficient
 from ..definitions.aircraft import FOLD_TIME_MAX_S, AeroParams, Airframe, Glider, aircraft_path
 from ..definitions.xmlutil import XmlDoc
 from ..pointmass import Environment, PointMassModel
-from .energy import (WinchElectrics, duty_cycled_power, generator_load_power, generator_tension,
+from .energy import (WinchElectrics, duty_cycled_power, generator_load_power, generator_tension, ideal_generator_power,
                      mechanical_tether_power, motor_supply_power, thrust_power)
 from ..definitions.engine import ElectricDrive, load_electric_drive
 from .problem import CycleProblem, Scenario
@@ -50,6 +53,8 @@ TETHER_VN_EPS = 0.1
 REC_STATES = GEN_STATES + ("l",)
 #: the motor's on-fraction control (motor-off mode)
 ON_FRACTION = "s"
+#: name of the generation phase's T2-duty control (generator "boost")
+BOOST_DUTY = "D2"
 #: propeller models with a motor-off mode: the running drive draws more than the stopped one at
 #: zero thrust (the ``engine`` drive turns its propeller at the zero-thrust advance ratio, ~10 W
 #: at 13 m/s). Momentum theory draws exactly ``P0`` at zero thrust and is convex in the thrust,
@@ -112,8 +117,18 @@ class CycleModel:
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
-        base = ("alpha", "phi", "T", "G") if self.scenario.tension_control else ("alpha", "phi", "T")
+        if self.scenario.tension_control:  # the paper's free tension, or the ideal generator's
+            base: tuple[str, ...] = ("alpha", "phi", "T", "G")
+        elif self.scenario.generator == "boost":
+            base = ("alpha", "phi", "T", BOOST_DUTY)
+        else:
+            base = ("alpha", "phi", "T")
         return base + ((ON_FRACTION,) if self.motor_off else ())
+
+    def boost_duty(self, u: Sequence[Any]) -> Any:
+        """The T2 duty in generation controls ``u`` (None: not a control, the definition's
+        default duty applies)."""
+        return u[3] if self.scenario.generator == "boost" and not self.scenario.tension_control else None
 
     @property
     def rec_controls(self) -> tuple[str, ...]:
@@ -193,15 +208,18 @@ class CycleModel:
         x = list(s[:6])
         d = mo.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
         ddot = pm.distance_rate(x)
+        duty = self.boost_duty(u)
         if self.scenario.tension_control:
             G = u[3]
         else:
-            G = generator_tension(ddot, self.winch)
+            G = generator_tension(ddot, self.winch, duty)
         cd_t, G_t = self._tether_drag(self.gen_airframe.aero, x, d, d, drag_factor)
         on = self.on_fraction(0, u)
         f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(0, u), G + G_t), cd_t, self._line_weight(d))
-        if self.scenario.electrical:
-            P_gen = generator_load_power(ddot, self.winch)
+        if self.scenario.electrical and self.scenario.generator == "ideal":
+            P_gen = ideal_generator_power(G, ddot, self.winch)
+        elif self.scenario.electrical:
+            P_gen = generator_load_power(ddot, self.winch, duty)
         else:
             P_gen = mechanical_tether_power(G, ddot)
         return {"f": f, "G": G, "v_reel": ddot, "d": d, "l": d, "P_gen": P_gen,

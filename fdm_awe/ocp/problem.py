@@ -21,6 +21,17 @@ CONFIGS = ("nominal", "foldable")
 #: propeller models of the physical scenario: the 6-DOF glider's own drive from the engine files
 #: (fdm_awe.propeller.power_engine, its default) or momentum theory + efficiencies
 PROPELLERS = ("momentum", "engine")
+#: generator loads of the physical scenario's generation phase (docs/design.md section 6):
+#: ``passive``, the passive rectifier into the load resistor (T2 off, the paper's choice; the
+#: tension follows the reel speed, about 8 N per m/s); ``boost``, the T2 duty of the asymmetric
+#: half-bridge (eq. 18) as a bounded control, which scales the load the armature sees to
+#: ``(1 - d2)^2 R_L`` and so chooses the tension at a given speed, paying its copper and device
+#: losses; ``ideal``, a loss-free current-controlled converter that holds any tension within the
+#: bounds (the machine's copper, device and friction losses kept): the physical counterpart of the
+#: paper's free tension, an upper bound the half-bridge cannot reach, so it cannot be flown
+GENERATORS = ("passive", "boost", "ideal")
+#: generator loads a flight's ground station can realise
+FLYABLE_GENERATORS = ("passive", "boost")
 
 #: What each scenario optimises when :class:`CycleProblem` is given no ``line``, ``propeller``
 #: or ``line_weight``: the ``physical`` scenario models the plant the 6-DOF glider flies (the
@@ -28,8 +39,8 @@ PROPELLERS = ("momentum", "engine")
 #: ``paper`` scenario keeps Table 1's line and its own massless line and eq. 39 propeller fit.
 #: ``propeller`` None is the paper scenario's eq. 39 fit (it has no choice).
 PLANT_DEFAULTS: dict[str, dict[str, object]] = {
-    "physical": {"line": "sized", "propeller": "engine", "line_weight": True},
-    "paper": {"line": "paper", "propeller": None, "line_weight": False},
+    "physical": {"line": "sized", "propeller": "engine", "line_weight": True, "generator": "passive"},
+    "paper": {"line": "paper", "propeller": None, "line_weight": False, "generator": None},
 }
 #: The plant model of the physical numbers published before the defaults above (Table 1's line,
 #: momentum-theory propeller, massless line): ``CycleProblem(**LEGACY_PHYSICAL_PLANT, ...)``
@@ -57,6 +68,9 @@ class Scenario:
     electrical: bool  #: electrical (True) or mechanical (False) energy accounting
     tension_control: bool  #: tension G is a free control in generation (paper) or follows the generator (physical)
     P_rw: float = 6.0  #: constant reel-in power of the paper scenario [W]
+    #: generator load of the physical scenario (:data:`GENERATORS`; "passive" unless a problem's
+    #: :attr:`CycleProblem.scenario_spec` chooses another); the paper scenario's tension is free
+    generator: str = "passive"
 
     @classmethod
     def named(cls, name: str) -> "Scenario":
@@ -194,6 +208,10 @@ class CycleProblem:
     #: (foldable configuration; the aerodynamics blend with the fold state as in the 6-DOF model).
     #: None: the aircraft definition's (``fcs/wing-fold-time-s``); 0: an instantaneous switch
     fold_time: float | None = None
+    #: generator load in generation (physical scenario, :data:`GENERATORS`): the passive
+    #: rectifier, the T2 duty as a control (``boost``) or the ``ideal`` bound. None: the scenario's
+    #: default ("passive" in ``physical``; always None in ``paper``, whose tension is free)
+    generator: str | None = None
 
     def __post_init__(self) -> None:
         # None = the scenario's default; an unknown scenario is left for validate() to name
@@ -230,6 +248,11 @@ class CycleProblem:
             if self.scenario != "physical":
                 raise InputError(f"propeller {self.propeller!r}: only the physical scenario has a choice "
                                  f"(the paper scenario uses its eq. 39 fit)")
+        if self.scenario == "physical" and self.generator not in GENERATORS:
+            raise InputError(f"generator {self.generator!r} unknown (allowed: {', '.join(GENERATORS)})")
+        if self.scenario != "physical" and self.generator is not None:
+            raise InputError(f"generator {self.generator!r}: only the physical scenario has a generator model "
+                             f"(the paper scenario's tension is a free control)")
         if self.line_weight and self.scenario != "physical":
             raise InputError("line_weight: only the physical scenario has a line model (the paper's line is massless)")
         self.bounds.validate()
@@ -253,6 +276,10 @@ class CycleProblem:
         spec = Scenario.named(self.scenario)
         if self.propeller == "engine":
             spec = replace(spec, propeller="engine")
+        if self.generator == "boost":
+            spec = replace(spec, generator="boost")
+        elif self.generator == "ideal":
+            spec = replace(spec, generator="ideal", tension_control=True)
         return spec
 
     @property

@@ -24,7 +24,9 @@ appears twice, once per phase):
   (> 0 paid out), ``fold`` (0 unfolded, 1 folded);
 - ``p_generated_W, p_thrust_W, p_reel_in_W`` [W] the scenario's power terms;
 - optional ``motor_on`` (0 .. 1): the motor's on-fraction of the interval (motor-off mode;
-  ``T`` is then the mean thrust); absent = 1, the motor runs throughout.
+  ``T`` is then the mean thrust); absent = 1, the motor runs throughout;
+- optional ``boost_duty`` (0 .. 1): the generator's T2 duty of the interval (generator
+  ``boost``; 0 in recovery); absent = 0, the passive rectifier.
 
 Metadata: ``scenario`` (physical | paper) and ``config`` (foldable | nominal) are required;
 ``T1_s``, ``T2_s`` [s] > 0 (at most 3600 each) are required; the wind is given as ``wind_mps``
@@ -38,7 +40,10 @@ named was optimised with it, and a flight flies it. ``fold_time_s`` [s] (0 .. 60
 nominal config) is the fold (and unfold) time the cycle was optimised with; absent means 0, the
 instantaneous fold every file written before fold transitions was optimised with.
 ``motor_off`` (boolean) says whether the optimiser could stop the motor (column ``motor_on``);
-absent means false, and then ``motor_on`` (if present) must be 1 throughout.
+absent means false, and then ``motor_on`` (if present) must be 1 throughout. ``generator``
+(physical scenario: :data:`fdm_awe.ocp.problem.GENERATORS`) is the generator load of the
+generation phase; absent means ``passive``, and then ``boost_duty`` (if present) must be 0
+throughout.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,
@@ -73,7 +78,7 @@ COLUMN_UNITS = {
     "fold": "-", "p_generated_W": "W", "p_thrust_W": "W", "p_reel_in_W": "W",
 }
 #: Columns a reference may carry beyond the required :data:`COLUMN_UNITS` (absent: the default)
-OPTIONAL_COLUMN_UNITS = {"motor_on": "-"}
+OPTIONAL_COLUMN_UNITS = {"motor_on": "-", "boost_duty": "-"}
 
 
 @dataclass
@@ -166,6 +171,7 @@ class CycleResult:
                        "tether_drag_scale": pr.tether_drag_scale,
                        "propeller": {"physical": "momentum"}.get(pr.scenario_spec.propeller, pr.scenario_spec.propeller),
                        "line_weight": pr.line_weight, "line": pr.line,
+                       **({"generator": pr.generator} if pr.generator is not None else {}),
                        "mesh": {"n_gen": pr.mesh.n_gen, "n_rec": pr.mesh.n_rec, "degree": pr.mesh.degree},
                        "bounds": {k: v for k, v in pr.bounds.__dict__.items()}})
         return md
@@ -226,7 +232,7 @@ class ReferenceTrajectory:
             if k in ("t", "phase"):
                 continue
             c = col[sel]
-            if k in ("alpha", "phi", "T", "fold", "motor_on"):
+            if k in ("alpha", "phi", "T", "fold", "motor_on", "boost_duty"):
                 out[k] = float(c[i])
             else:
                 out[k] = float(np.interp(tc, ts, c))
@@ -247,7 +253,7 @@ COLUMN_RANGES: dict[str, tuple[float, float, bool] | None] = {
     "alpha": (-math.pi / 2, math.pi / 2, False), "phi": (-math.pi / 2, math.pi / 2, False), "T": (0.0, 1e3, False),
     "tension": (0.0, 1e4, False), "tether_length": (0.0, 1e4, True), "reel_speed": (-100.0, 100.0, False),
     "fold": (0.0, 1.0, False), "p_generated_W": None, "p_thrust_W": None, "p_reel_in_W": None,
-    "motor_on": (0.0, 1.0, False),
+    "motor_on": (0.0, 1.0, False), "boost_duty": (0.0, 1.0, False),
 }
 SLACK = 1e-6
 #: Relative tolerance of the time relations (t ends at T1 + T2, the phase switch at T1, period_s).
@@ -447,7 +453,7 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     (``wind_*``, ``period_s``, ``tether_drag_scale``)."""
     from ..groundstation.line import LINES
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
-    from .problem import CONFIGS, PROPELLERS, SCENARIOS
+    from .problem import CONFIGS, GENERATORS, PROPELLERS, SCENARIOS
 
     md = dict(md)
     scenario = _meta_choice(src, md, "scenario", SCENARIOS)
@@ -496,6 +502,12 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     if mo is not None and not isinstance(mo, bool):
         raise InputError(f"{src}: metadata.motor_off: {_show(mo)} not allowed (allowed true or false; absent = false)")
     md["motor_off"] = bool(mo)
+    gen = md.get("generator")
+    if gen is not None and (not isinstance(gen, str) or gen not in GENERATORS or scenario != "physical"):
+        raise InputError(f"{src}: metadata.generator: {_show(gen)} not allowed (allowed {', '.join(GENERATORS)}, "
+                         f"physical scenario only; absent = passive)")
+    if scenario == "physical":
+        md["generator"] = "passive" if gen is None else gen
     lw = md.get("line_weight")
     if lw is not None and (not isinstance(lw, bool) or (lw and scenario != "physical")):
         raise InputError(f"{src}: metadata.line_weight: {_show(lw)} not allowed (allowed true or false; true only in the physical scenario)")
@@ -579,6 +591,10 @@ def check_reference(ref: ReferenceTrajectory) -> ReferenceTrajectory:
         i = int(np.flatnonzero(cols["motor_on"] != 1.0)[0])
         raise InputError(f"{src}: columns.motor_on[{i}]: {cols['motor_on'][i]:g}, but metadata.motor_off is not true "
                          f"(the motor runs throughout; allowed 1)")
+    if "boost_duty" in cols and md.get("generator") != "boost" and np.any(cols["boost_duty"] != 0.0):
+        i = int(np.flatnonzero(cols["boost_duty"] != 0.0)[0])
+        raise InputError(f"{src}: columns.boost_duty[{i}]: {cols['boost_duty'][i]:g}, but metadata.generator is "
+                         f"{md.get('generator', 'passive')!r} (no T2 duty; allowed 0)")
     units = ref.units if isinstance(ref.units, dict) else {}
     return ReferenceTrajectory(md, cols, dict(units), source=src)
 

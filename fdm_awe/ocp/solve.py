@@ -112,7 +112,7 @@ def structure_key(problem: CycleProblem) -> tuple:
     """Everything that shapes the NLP except the wind (a parameter)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
-            problem.line_weight, problem.line, problem.fold_time)
+            problem.line_weight, problem.line, problem.fold_time, problem.generator)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
@@ -536,7 +536,7 @@ def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.n
     wind = (float(params[0]), float(params[1]))
     rows: dict[str, list[float]] = {k: [] for k in ("t", "phase", "x", "y", "z", "V", "gamma", "psi", "alpha", "phi", "T",
                                                     "tension", "tether_length", "reel_speed", "fold", "p_generated_W",
-                                                    "p_thrust_W", "p_reel_in_W", "motor_on")}
+                                                    "p_thrust_W", "p_reel_in_W", "motor_on", "boost_duty")}
     t_off = 0.0
     for ip, ph in enumerate(phases):
         X, U, t = ph["X"], ph["U"], ph["t"]
@@ -561,5 +561,7 @@ def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.n
             rows["p_reel_in_W"].append(float(out["P_rw"]))
             on = m.on_fraction(ip, u)  # None: no motor-off mode, the motor runs throughout
             rows["motor_on"].append(1.0 if on is None else float(on))
+            duty = m.boost_duty(u) if ip == 0 else None  # None: the passive rectifier (recovery: motor mode)
+            rows["boost_duty"].append(0.0 if duty is None else float(duty))
         t_off += ph["T"]
     return {k: np.asarray(v, float) for k, v in rows.items()}
