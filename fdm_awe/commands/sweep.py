@@ -16,6 +16,10 @@ Every option is checked before the cluster starts (numbers in range, list items 
 writable); bad input is one line and exit 2. The outputs are written atomically; the JSON
 writes NaN as ``null``.
 
+``--compare OTHER_DIR`` solves nothing: it compares the points of ``--out`` with those of
+another sweep's folder (:mod:`fdm_awe.sweep.compare`; exit 0 when they agree within 0.5 W or
+every difference is explained by the records, 1 otherwise).
+
 Exit codes: 0 when every point of the sweep has a result (converged or failed: failed points
 are counted, listed and do not change the exit code); 1 when some points have no result (a
 worker died, ``--stop-after``); 2 on bad input; 130 on Ctrl-C: the cluster is shut down
@@ -78,6 +82,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="stop after N >= 1 newly finished points (as an interruption would; for testing resume)")
     p.add_argument("--report-only", action="store_true",
                    help="compute nothing: write the outputs from the points already finished in --out")
+    p.add_argument("--compare", metavar="OTHER_DIR",
+                   help="compute nothing: compare the points in --out with those in OTHER_DIR (another sweep's --out), "
+                        "matched by their physical identity; prints both powers and the difference per point, flags "
+                        "differences over 0.5 W with their explanation from the records; --json writes the comparison; "
+                        "exit 0 when every point agrees or is explained, 1 otherwise")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -153,6 +162,11 @@ def run(args: argparse.Namespace) -> int:
     from . import _checks as chk
 
     check_args(args)
+    if args.compare is not None:  # report-only: nothing is solved, the sweep options play no part
+        from ..sweep.compare import run_compare
+
+        chk.outputs(files=[("--json", args.json)])
+        return run_compare(args.out, args.compare, args.json)
     spec = build_spec(args)
     from ..sweep.report import output_files
 
