@@ -119,15 +119,20 @@ def test_a_push_over_is_flown_with_negative_lift(negative_lift):
     down_force = g.unfolded.mass.mass * 0.5 * 9.81
     if negative_lift:
         assert c.mu == pytest.approx(0.0, abs=1e-9)
-        cl = -down_force / (0.5 * 1.225 * V * V * aero.S)
-        assert c.alpha == pytest.approx((cl - aero.CL0) / aero.CLalpha, rel=1e-6)
-        assert c.lift_coefficient == pytest.approx(cl, rel=1e-6)
+        # the wing's (negative) lift and the propeller's share along the lift axis (thrust on
+        # the body x-axis, alpha below the air velocity) push down together
+        qS = 0.5 * 1.225 * V * V * aero.S
+        assert c.alpha < 0.0 and c.thrust > 0.0
+        assert c.lift_coefficient == pytest.approx(aero.CL0 + aero.CLalpha * c.alpha, rel=1e-9)
+        assert qS * c.lift_coefficient + c.thrust * math.sin(c.alpha) == pytest.approx(-down_force, rel=1e-4)
     else:
         assert abs(c.mu) == pytest.approx(1.1)
 
 
 def _lift_vector(gd, cmd, vel, wind=np.zeros(3)):
-    """Lift force [N, NED] the command asks for (fold 0): q S CL along the banked lift axis."""
+    """Force across the air velocity [N, NED] the command asks for (fold 0): the wing's lift
+    q S CL and the thrust's share T sin(alpha) (thrust on the body x-axis) along the banked lift
+    axis."""
     va = vel - wind
     V = float(np.linalg.norm(va))
     e1 = va / V
@@ -135,7 +140,8 @@ def _lift_vector(gd, cmd, vel, wind=np.zeros(3)):
     right0 = np.array([-e1[1], e1[0], 0.0]) / h
     up0 = np.cross(right0, e1)
     eL = math.cos(cmd.mu) * up0 + math.sin(cmd.mu) * right0
-    return 0.5 * 1.225 * V * V * gd.aero_u.S * cmd.lift_coefficient * eL
+    prop = cmd.thrust * math.sin(cmd.alpha) if gd.k.thrust_on_body_axis else 0.0
+    return (0.5 * 1.225 * V * V * gd.aero_u.S * cmd.lift_coefficient + prop) * eL
 
 
 def test_a_faster_glider_turns_on_the_paths_radius():
@@ -271,10 +277,11 @@ def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
     for _ in range(2):
         alpha = min(max((norm3(F_perp) / q - cl0) / cla, k.alpha_min), min(k.alpha_max, a_stall))
         excess = F_par + q * (cd0 + cd1 * alpha + cd2 * alpha * alpha)
+        t_par = k.thrust_max * math.cos(alpha) if k.thrust_on_body_axis else k.thrust_max
         if excess < 0.0:
             F_perp = F - F_par * e1 - k.energy_trade * excess * up0
-        elif excess > k.thrust_max:
-            F_perp = F - F_par * e1 - k.energy_trade * (excess - k.thrust_max) * up0
+        elif excess > t_par:
+            F_perp = F - F_par * e1 - k.energy_trade * (excess - t_par) * up0
         else:
             break
     L = norm3(F_perp)
@@ -282,8 +289,18 @@ def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
     if k.negative_lift and abs(mu) > math.pi - k.phi_max:
         mu -= math.copysign(math.pi, mu)
         L = -L
-    alpha = min(max((L / q - cl0) / cla, k.alpha_min), min(k.alpha_max, a_stall))
-    thrust = min(max(F_par + q * (cd0 + cd1 * alpha + cd2 * alpha * alpha), 0.0), k.thrust_max)
+    a_hi = min(k.alpha_max, a_stall)
+    alpha = min(max((L / q - cl0) / cla, k.alpha_min), a_hi)
+    if k.thrust_on_body_axis:
+        # thrust along the body x-axis: T cos(alpha) - D = F_par, L_wing + T sin(alpha) = L
+        drag = q * (cd0 + cd1 * alpha + cd2 * alpha * alpha)
+        for _ in range(3):
+            thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), k.thrust_max)
+            alpha = min(max(((L - thrust * math.sin(alpha)) / q - cl0) / cla, k.alpha_min), a_hi)
+            drag = q * (cd0 + cd1 * alpha + cd2 * alpha * alpha)
+        thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), k.thrust_max)
+    else:
+        thrust = min(max(F_par + q * (cd0 + cd1 * alpha + cd2 * alpha * alpha), 0.0), k.thrust_max)
     phi_lim = k.phi_max
     if k.phi_max_vertical is not None and k.phi_max_vertical > k.phi_max:
         phi_lim += (k.phi_max_vertical - k.phi_max) * (1.0 - horiz * horiz)
@@ -297,7 +314,7 @@ def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
             (cl0 + cla * alpha) / ((1 - fold) * gd.aero_u.S + fold * gd.aero_f.S), norm3(e_p), integral.tolist())
 
 
-@pytest.mark.parametrize("variant", ["plain", "curvature", "negative_lift", "vertical_bank"])
+@pytest.mark.parametrize("variant", ["plain", "curvature", "negative_lift", "vertical_bank", "thrust_on_velocity"])
 def test_scalar_guidance_is_the_vector_formulas_bit_for_bit(variant):
     """The scalar implementation (written out for speed) gives exactly the numbers of the vector
     formulas, over random states covering taut/slack line, energy trade both ways, saturated
@@ -310,9 +327,11 @@ def test_scalar_guidance_is_the_vector_formulas_bit_for_bit(variant):
     gains = replace(GAINS, overspeed_tension=8.0, overspeed_margin=3.0, energy_trade=1.0,
                     curv_scale_max=2.25 if variant == "curvature" else None,
                     negative_lift=variant == "negative_lift",
-                    phi_max_vertical=2.2 if variant == "vertical_bank" else None)
+                    phi_max_vertical=2.2 if variant == "vertical_bank" else None,
+                    thrust_on_body_axis=variant != "thrust_on_velocity")
     gd = Guidance(gains, g.unfolded.mass.mass, g.unfolded.aero, g.folded.aero)
-    rng = np.random.default_rng({"plain": 1, "curvature": 2, "negative_lift": 3, "vertical_bank": 4}[variant])
+    rng = np.random.default_rng({"plain": 1, "curvature": 2, "negative_lift": 3, "vertical_bank": 4,
+                                 "thrust_on_velocity": 5}[variant])
     for i in range(400):
         pos = rng.normal(0.0, 80.0, 3) + np.array([0.0, 0.0, -60.0])
         vel = rng.normal(0.0, 12.0, 3)

@@ -4,8 +4,11 @@ The commanded acceleration ``a_cmd = a_ref + Kp e_p + Kd e_v + Ki int(e_p)`` (er
 saturated) is turned into the force the air must provide,
 ``F = m (a_cmd - g) - F_tether`` (the tether force is measured at the ground station and
 fed forward), and split along the air velocity (thrust minus drag) and across it (lift).
-The lift vector's size gives the lift coefficient and so the angle of attack; its direction
-about the air velocity gives the wind-axis bank. The desired body attitude follows from the
+The propeller pushes along the body x-axis, alpha above the air velocity: ``T cos(alpha)``
+of it acts along the path and ``T sin(alpha)`` across it with the lift, so the wing lifts the
+rest (:attr:`GuidanceGains.thrust_on_body_axis`). The wing's lift gives the lift
+coefficient and so the angle of attack; the direction of the force across the air velocity
+gives the wind-axis bank. The desired body attitude follows from the
 air velocity, alpha and bank (no sideslip), and the inner loops fly it.
 """
 
@@ -40,6 +43,10 @@ class GuidanceGains:
     overspeed_tension: float = 0.0  #: taut line: extra radial force per m/s of airspeed above the reference's plus the margin [N s/m]
     overspeed_margin: float = 3.0  #: airspeed excess over the reference's tolerated before overspeed_tension acts [m/s]
     phi_max_vertical: float | None = None  #: wind-axis bank limit in vertical flight [rad] (None = phi_max); blended with sin^2 of the flight-path angle
+    #: the thrust acts along the body x-axis (the 6-DOF propeller and the paper plant's ideal
+    #: thruster), alpha above the air velocity: it is inverted as such (False: along the air
+    #: velocity, the point-mass model's thrust)
+    thrust_on_body_axis: bool = True
 
 
 @dataclass(frozen=True)
@@ -232,10 +239,12 @@ class Guidance:
             alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
             drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
             excess = F_par + drag
+            # the propeller pushes along the body x-axis: at most t_max cos(alpha) along the path
+            t_par = t_max * math.cos(alpha) if k.thrust_on_body_axis else t_max
             if excess < 0.0:
                 c = k.energy_trade * excess
-            elif excess > t_max:
-                c = k.energy_trade * (excess - t_max)
+            elif excess > t_par:
+                c = k.energy_trade * (excess - t_par)
             else:
                 break
             # F_perp = F - F_par e1 - c up0
@@ -253,9 +262,21 @@ class Guidance:
             mu -= math.copysign(math.pi, mu)
             L = -L
         # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
-        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
+        a_hi = min(k.alpha_max, alpha_stall)
+        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-        thrust = min(max(F_par + drag, 0.0), t_max)
+        if k.thrust_on_body_axis:
+            # the propeller pushes along the body x-axis, alpha above the air velocity: T cos(alpha)
+            # along the path (against the drag), T sin(alpha) along the lift, so the wing lifts
+            # only L - T sin(alpha) (fixed-point passes: T sin(alpha) is a few percent of L, each
+            # pass shrinks the error by about that share)
+            for _ in range(3):
+                thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
+                alpha = min(max(((L - thrust * math.sin(alpha)) / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
+                drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+            thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
+        else:
+            thrust = min(max(F_par + drag, 0.0), t_max)
         # the bank limit keeps the lift above the horizon in level flight; climbing or diving
         # steeply the wind-axis bank no longer says where the lift points relative to gravity
         # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical
