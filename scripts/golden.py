@@ -17,7 +17,8 @@ The set (from the repository root, the package of this checkout):
   ledger term of every step as CSV, with ``FDM_AWE_JIT=0`` and with the default (compiled)
 
 The optimiser runs set ``FDM_AWE_NLP_CACHE=off``. Compare mode reads every JSON and CSV file of
-each run, number by number (JSON: every numeric leaf except wall-clock keys; CSV: every cell),
+each run, number by number (JSON: every numeric leaf except wall-clock keys; CSV: every cell;
+NPZ: every element),
 prints the largest absolute and relative difference per file, and exits 0 only when every
 file is bit-identical (other files, e.g. plots, are listed as not compared).
 """
@@ -179,9 +180,13 @@ def _number(s: str):
         return s
 
 
-def _compare_json(a: Path, b: Path) -> tuple[int, int, float, float, str]:
-    la = dict(_leaves(json.loads(a.read_text())))
-    lb = dict(_leaves(json.loads(b.read_text())))
+def _compare_json(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int, float, float, str]:
+    """Every leaf; strings compared with each run's own folder written as ``<DIR>``."""
+    def load(p: Path, root: Path) -> dict:
+        return {k: (v.replace(str(root), "<DIR>") if isinstance(v, str) else v)
+                for k, v in _leaves(json.loads(p.read_text()))}
+
+    la, lb = load(a, roots[0]), load(b, roots[1])
     n = bad = 0
     mabs = mrel = 0.0
     worst = ""
@@ -201,7 +206,7 @@ def _compare_json(a: Path, b: Path) -> tuple[int, int, float, float, str]:
     return n, bad, mabs, mrel, worst
 
 
-def _compare_csv(a: Path, b: Path) -> tuple[int, int, float, float, str]:
+def _compare_csv(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int, float, float, str]:
     ra = list(csv.reader(a.open()))
     rb = list(csv.reader(b.open()))
     n = bad = 0
@@ -227,6 +232,30 @@ def _compare_csv(a: Path, b: Path) -> tuple[int, int, float, float, str]:
     return n, bad, mabs, mrel, worst
 
 
+def _compare_npz(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int, float, float, str]:
+    import numpy as np
+
+    with np.load(a) as za, np.load(b) as zb:
+        if sorted(za.files) != sorted(zb.files):
+            return 0, 1, math.inf, math.inf, f"arrays {sorted(za.files)} vs {sorted(zb.files)}"
+        n = bad = 0
+        mabs = mrel = 0.0
+        worst = ""
+        for k in za.files:
+            x, y = np.ravel(za[k]), np.ravel(zb[k])
+            if x.shape != y.shape:
+                return n, bad + 1, math.inf, math.inf, f"{k}: shape {x.shape} vs {y.shape}"
+            for j, (u, v) in enumerate(zip(x.tolist(), y.tolist())):
+                n += 1
+                same, da, dr = _diff(u, v)
+                if not same:
+                    bad += 1
+                    if da >= mabs:
+                        worst = f"{k}[{j}]: {u!r} vs {v!r}"
+                    mabs, mrel = max(mabs, da), max(mrel, dr)
+    return n, bad, mabs, mrel, worst
+
+
 def compare(golden: Path, fresh: Path, only: list[str] | None) -> bool:
     ok = True
     for name in _runs(golden):
@@ -242,14 +271,15 @@ def compare(golden: Path, fresh: Path, only: list[str] | None) -> bool:
             ok = False
         for rel in files:
             a, b = ga / rel, fr / rel
-            if rel.suffix not in (".json", ".csv"):
+            if rel.suffix not in (".json", ".csv", ".npz"):
                 print(f"  {name}/{rel}: not compared ({rel.suffix or 'no suffix'})")
                 continue
             if not b.exists():
                 print(f"  {name}/{rel}: MISSING in the new run")
                 ok = False
                 continue
-            n, bad, mabs, mrel, worst = (_compare_json if rel.suffix == ".json" else _compare_csv)(a, b)
+            how = {".json": _compare_json, ".csv": _compare_csv, ".npz": _compare_npz}[rel.suffix]
+            n, bad, mabs, mrel, worst = how(a, b, (golden, fresh))
             flag = "identical" if bad == 0 else f"DIFFERS in {bad} of {n}"
             print(f"  {name}/{rel}: {n} numbers, {flag}; max abs {mabs:.3g}, max rel {mrel:.3g}"
                   + (f"; largest: {worst}" if bad else ""))
