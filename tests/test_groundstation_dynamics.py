@@ -132,15 +132,16 @@ def test_pi_reel_in_settles_without_steady_error():
 
 
 def _stall_then_release(monkeypatch=None, naive=False):
-    if naive:  # plain PI: output clipped, integrator free (the wind-up reference)
-        import fdm_awe.groundstation.drivetrain as drivetrain
-
-        def plain(c, err, integ, h):
-            u = c.kp * err + integ
-            return min(max(u, c.duty_min), c.duty_max), integ + c.ki * err * h
-
-        monkeypatch.setattr(drivetrain, "pi_update", plain)
     gs = GroundStation(P)
+    if naive:  # plain PI: output clipped, integrator free (the wind-up reference), run by Python
+        import fdm_awe.groundstation.substeps as substeps
+
+        def plain(kp, ki, d_min, d_max, err, integ, h):
+            u = kp * err + integ
+            return min(max(u, d_min), d_max), integ + ki * err * h
+
+        gs.drivetrain._kernel = None
+        monkeypatch.setattr(substeps, "pi_step", plain)
     gs.reset(200.0, 0.0, "motor")
     cmd = WinchCommand("motor", reel_speed_ref=-3.0)
     dt = 1 / 120

@@ -1,4 +1,6 @@
-"""The compiled sub-step loop (numba) gives exactly the Python reference loop's numbers."""
+"""The ground station's step compiled by numba gives exactly the numbers of the same functions
+run by Python (one source, two executions). Numba is a dependency: these tests fail, not skip,
+when it does not compile; only ``FDM_AWE_JIT=0`` (Python asked for) skips them."""
 
 import dataclasses
 import math
@@ -11,8 +13,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
-from fdm_awe.groundstation.substeps import compiled, drum_speed
-from fdm_awe.groundstation.winch import solve_drum_speed
+from fdm_awe.groundstation.substeps import compiled, compiled_station, drum_speed, pi_step
 
 P = load_ground_station()
 U = np.array([math.cos(math.radians(30.0)), 0.0, -math.sin(math.radians(30.0))])
@@ -20,10 +21,16 @@ E = np.array([0.0, 1.0, 0.0])
 GEN = WinchCommand("generator")
 
 
+def _require_compiled() -> None:
+    """Skip under ``FDM_AWE_JIT=0``; otherwise fail when the step did not compile."""
+    if os.environ.get("FDM_AWE_JIT", "1") == "0":
+        pytest.skip("FDM_AWE_JIT=0: only Python runs")
+    assert compiled() is not None and compiled_station() is not None, "numba did not compile the ground-station step"
+
+
 def _pair(tether_drag_scale: float = 1.0):
-    """Two stations from the same start: the Python loop and the compiled loop."""
-    if compiled() is None:
-        pytest.skip("numba not installed (or FDM_AWE_JIT=0): only the Python loop runs")
+    """Two stations from the same start: the Python execution and the compiled one."""
+    _require_compiled()
     py, jit = (GroundStation(P, wind_ned=(3.0, 0.0, 0.0), tether_drag_scale=tether_drag_scale) for _ in range(2))
     py.drivetrain._kernel = None
     assert jit.drivetrain._kernel is not None and jit._step_kernel is not None  # the whole step compiled
@@ -142,8 +149,7 @@ def test_python_step_without_numba():
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
     py_vals = eval(out.stdout.strip())
-    if compiled() is None:
-        return
+    _require_compiled()
     gs = GroundStation(wind_ned=(3.0, 0.0, 0.0))
     gs.reset(100.0, 0.0, "generator")
     for k in range(240):
@@ -152,11 +158,38 @@ def test_python_step_without_numba():
     assert o.tension > 0.0
 
 
-def test_drum_speed_without_lists_equals_the_winch_solver():
+def _jit(f):
+    """``f`` compiled by numba (its calls registered as in the ground station's step)."""
+    import numba
+
+    from fdm_awe.groundstation.substeps import _register
+
+    _register()
+    return numba.njit(f)
+
+
+def test_drum_speed_compiled_equals_python():
+    """The drum solver (stick, the fast piece, the walk over the kinks) on random inputs."""
+    _require_compiled()
+    jit = _jit(drum_speed)
     rnd = random.Random(7)
     for _ in range(20000):
         args = (rnd.uniform(0.01, 1.0), rnd.uniform(-30, 30) * (rnd.random() < 0.8), rnd.choice((1e-3, 2e-3, 1e-2)),
                 rnd.uniform(0, 0.05), rnd.uniform(0, 2.0), rnd.uniform(0.02, 0.2), rnd.uniform(-200, 400),
                 rnd.uniform(0, 50) * (rnd.random() < 0.8), rnd.uniform(0.05, 1.0), rnd.uniform(-50, 50),
                 rnd.uniform(0, 5) * (rnd.random() < 0.8))
-        assert drum_speed(*args) == solve_drum_speed(*args), args
+        assert drum_speed(*args) == jit(*args), args
+
+
+def test_pi_step_compiled_equals_python_and_holds_at_the_limits():
+    _require_compiled()
+    jit = _jit(pi_step)
+    c = P.controller
+    rnd = random.Random(3)
+    for _ in range(5000):
+        args = (c.kp, c.ki, c.duty_min, c.duty_max, rnd.uniform(-50, 50), rnd.uniform(c.duty_min, c.duty_max), 1e-3)
+        duty, integ = pi_step(*args)
+        assert (duty, integ) == jit(*args)
+        assert c.duty_min <= duty <= c.duty_max and c.duty_min <= integ <= c.duty_max
+    # saturated high with a positive error: the integrator holds (conditional integration)
+    assert pi_step(c.kp, c.ki, c.duty_min, c.duty_max, 1e3, 0.5, 1e-3) == (c.duty_max, 0.5)

@@ -10,6 +10,7 @@ Modules, one job each:
 - :mod:`.converter` -- averaged asymmetric half-bridge (generator: rectifier/boost; motor: PWM)
 - :mod:`.controller` -- PI of the T1 duty with limits and anti-windup
 - :mod:`.drivetrain` -- the coupled implicit sub-step integrator
+- :mod:`.substeps` -- every relation of the step, written once (numba compiles it when available)
 - :mod:`.ledger` -- energy ledger
 - :mod:`.station` -- ``GroundStation.step`` co-simulation interface
 - :mod:`.steady` -- steady-state relations for NumPy and CasADi (OCP)

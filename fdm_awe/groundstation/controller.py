@@ -5,27 +5,17 @@
 reel-in sense than commanded has e > 0). The integrator ``x_I`` (duty) integrates ``Ki e``
 (forward Euler at the ground station's sub-step) only while that does not push further into a
 saturated limit (conditional integration) and is itself kept inside the duty limits.
-Gains and limits come from the definition file (``speed_controller``).
+Gains and limits come from the definition file (``speed_controller``). The law is
+:func:`fdm_awe.groundstation.substeps.pi_step` (the ground station's step calls it there).
 """
 
 from __future__ import annotations
 
 from .definitions import SpeedControllerParams
+from .substeps import pi_step
 
 
 def pi_update(c: SpeedControllerParams, err: float, integ: float, h: float) -> tuple[float, float]:
-    """One controller sample: returns ``(duty, new integrator state)``."""
-    u = c.kp * err + integ
-    if u > c.duty_max:
-        duty, hold = c.duty_max, err > 0.0
-    elif u < c.duty_min:
-        duty, hold = c.duty_min, err < 0.0
-    else:
-        duty, hold = u, False
-    if not hold:
-        integ += c.ki * err * h
-        if integ > c.duty_max:
-            integ = c.duty_max
-        elif integ < c.duty_min:
-            integ = c.duty_min
-    return duty, integ
+    """One controller sample (speed error ``err`` rad/s, sample ``h`` s): returns ``(duty, new
+    integrator state)`` (:func:`.substeps.pi_step` with the gains and limits of ``c``)."""
+    return pi_step(c.kp, c.ki, c.duty_min, c.duty_max, err, integ, h)

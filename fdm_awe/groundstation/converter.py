@@ -14,29 +14,17 @@ Motor mode (T2 on, T1 PWM with duty ``d1``), fed from the supply ``V_a``:
   Averaged: source ``d1 V_a``; the supply delivers ``d1 V_a i``. The link capacitor stays on
   ``R_L`` and discharges into it.
 
-:func:`link_coefficients` and :func:`source_and_coupling` give the terms of one backward-Euler
-sub-step.
+:func:`link_coefficients` (:mod:`.substeps`) gives the link's terms of one backward-Euler
+sub-step; the step takes ``v_src = d1 V_a, s = 0`` in motor mode and ``v_src = 0, s = 1 - d2``
+in generator mode.
 """
 
 from __future__ import annotations
+
+from .substeps import link_coefficients
 
 GENERATOR = "generator"
 MOTOR = "motor"
 MODES = (GENERATOR, MOTOR)
 
-
-def link_coefficients(C: float, RL: float, h: float, s: float) -> tuple[float, float]:
-    """Backward-Euler DC-link voltage over one sub-step ``h`` (s) as ``u1 = cu u0 + q i1``.
-
-    ``C (u1 - u0) = h (s i1 - u1 / R_L)`` -> ``cu = C / (C + h/R_L)``, ``q = h s / (C + h/R_L)``.
-    ``C`` F, ``RL`` ohm, ``s`` link coupling (-). Returns ``(cu [-], q [V/A])``.
-    """
-    den = C + h / RL
-    return C / den, h * s / den
-
-
-def source_and_coupling(mode: str, duty_t1: float, duty_t2: float, Va: float) -> tuple[float, float]:
-    """Averaged source voltage ``v_src`` (V) and link coupling ``s`` (-) of the armature loop."""
-    if mode == MOTOR:
-        return duty_t1 * Va, 0.0
-    return 0.0, 1.0 - duty_t2
+__all__ = ["GENERATOR", "MODES", "MOTOR", "link_coefficients"]

@@ -14,38 +14,15 @@ T2 and D2 for the rest). Every path holds two devices: ``2 U_d``.
 
 The electrical time constants (L_a / R ~ 0.4 ms, R_L C ~ 1.5 ms) are integrated with backward
 Euler inside the ground station's sub-steps: L-stable, exact in steady state, and the current
-at the end of a sub-step is affine in the unknown drum speed (:func:`armature_affine`), which
-lets the drum, line and armature be solved together without iteration.
+at the end of a sub-step is affine in the unknown drum speed (:func:`armature_coefficients`,
+in :mod:`.substeps`), which lets the drum, line and armature be solved together without iteration.
 """
 
 from __future__ import annotations
 
+from .substeps import MACHINE_MODES, armature_coefficients, machine_mode_code
 
-def armature_coefficients(L: float, R: float, K: float, h: float, s: float, q: float) -> tuple[float, float, float]:
-    """Coefficients of the backward-Euler armature current over one sub-step ``h`` (s)::
-
-        i1 = aL i0 + aH (v_src - 2 U_d - s p) + beta omega1     (before the i >= 0 clamp)
-
-    from ``L (i1 - i0) = h (v_src + K omega1 - R i1 - 2 U_d - s u1)`` with the link voltage at the
-    end of the sub-step ``u1 = p + q i1`` (:func:`fdm_awe.groundstation.converter.link_coefficients`).
-    ``L`` H, ``R`` ohm, ``K`` V s/rad, ``s`` link coupling (-). Returns ``(aL [-], aH [A/V],
-    beta [A s/rad])``.
-    """
-    D = L + h * R + h * s * q
-    return L / D, h / D, h * K / D
-
-
-def armature_affine(
-    L: float, R: float, K: float, h: float, i0: float,
-    v_src: float, two_ud: float, s: float, p: float, q: float,
-) -> tuple[float, float]:
-    """Backward-Euler armature current as ``i1 = alpha + beta omega1`` (before the i >= 0 clamp).
-
-    ``i0`` A, ``v_src`` V, ``two_ud`` = 2 U_d V, other arguments as in
-    :func:`armature_coefficients`. Returns ``(alpha [A], beta [A s/rad])``.
-    """
-    aL, aH, beta = armature_coefficients(L, R, K, h, s, q)
-    return aL * i0 + aH * (v_src - two_ud - s * p), beta
+__all__ = ["armature_coefficients", "load_torques", "machine_mode"]
 
 
 def machine_mode(omega: float, current: float, tension: float, K: float, r: float) -> str:
@@ -59,11 +36,7 @@ def machine_mode(omega: float, current: float, tension: float, K: float, r: floa
     the rule leaves open (line slack, or braking against the rotation): ``T_e < 0`` ->
     generator, ``T_e > 0`` -> motor; ``"idle"`` when no torque or no rotation.
     """
-    if omega == 0.0 or current <= 0.0:
-        return "idle"
-    sg = 1.0 if omega > 0.0 else -1.0
-    te = -sg * K * current
-    return "generator" if te < 0.0 else "motor"
+    return MACHINE_MODES[machine_mode_code(omega, current, K)]
 
 
 def load_torques(omega: float, current: float, tension: float, K: float, r: float) -> tuple[float, float]:

@@ -2,7 +2,9 @@
 
 Wires the line (:mod:`.tether`), drum (:mod:`.winch`), DC machine (:mod:`.machine`), converter
 (:mod:`.converter`) and PI speed controller (:mod:`.controller`) through the implicit
-sub-stepping of :mod:`.drivetrain`, and returns the force the line exerts on the glider.
+sub-stepping of :mod:`.drivetrain`, and returns the force the line exerts on the glider. One
+step is :func:`.substeps.station_step`: compiled by numba when available, run by Python
+otherwise (the same function).
 
 Coupling with the flight model: the glider position/velocity at the start of the flight step
 are given; inside the step the glider is advanced linearly with that velocity; the returned
@@ -21,17 +23,13 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
-from . import controller as _controller
-from .controller import pi_update as _pi_update
 from .converter import GENERATOR, MODES, MOTOR
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
 from .machine import machine_mode
-from .substeps import EVENTS, compiled_station
-from .tether import check_tether_drag_scale, line_drag_share, line_weight_share
-
-_MACHINE_MODES = ("idle", "generator", "motor")
+from .substeps import EVENTS, MACHINE_MODES as _MACHINE_MODES, compiled_station, station_step
+from .tether import check_tether_drag_scale, line_drag_coefficient
 _new = object.__new__
 _NAN = float("nan")
 
@@ -254,32 +252,18 @@ class GroundStation:
         self._dt = -1.0
         self._n = 1
         self._last_cmd: Any = object()  # nothing seen yet: the first command is checked
-        self._k = self.params.machine.k
         self._r = self.params.winch.radius
         tp = self._tp = self.params.tether
         self._RL = self.params.converter.load_resistance
         self._d2 = self.params.converter.boost_duty
-        # hot-path constants of the line shares (tether module), factored in the same order so
-        # the products round exactly as line_drag_share / line_weight_share do (a scale of 1
-        # multiplies exactly: the defined line's numbers are unchanged)
-        self._drag_c = (-0.5 * tp.drag_share * tp.air_density * tp.cd_perpendicular * tp.diameter
-                        * self.tether_drag_scale)
-        self._drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
-        self._weight_c = tp.weight_share * tp.mass_per_length
-        self._g = tp.gravity
-        # the compiled step (substeps.station_step): constants in the order of STATION_CONSTANTS
+        # the step (substeps.station_step, compiled when numba is available) and its constants
+        # (STATION_CONSTANTS: the drivetrain's, the wind, the line-share factors of the tether module)
         self._step_kernel = compiled_station()
-        self._set_step_constants()
-
-    def _set_step_constants(self) -> None:
-        p = self.params
-        tp, wp, mp, cp, ctrl = p.tether, p.winch, p.machine, p.converter, p.controller
-        self._sc = np.array((wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
-                             tp.axial_stiffness, tp.breaking_load, tp.min_length, tp.max_length, mp.k,
-                             mp.resistance, mp.inductance, 2.0 * cp.device_drop, cp.supply_voltage,
-                             cp.link_capacitance, ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max)
-                            + self.wind + (self._drag_c, 1.0 if self._drag_on else 0.0, self._weight_c, self._g),
-                            dtype=float)
+        drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
+        self._scl = self.drivetrain._cl + list(self.wind) + [
+            line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
+            tp.weight_share * tp.mass_per_length, tp.gravity]
+        self._sc = np.array(self._scl, dtype=float)
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -288,6 +272,7 @@ class GroundStation:
             raise InputError("wind_ned: need 3 components (N, E, D)")
         self.wind = (w[0], w[1], w[2])
         if hasattr(self, "_sc"):
+            self._scl[19:22] = self.wind
             self._sc[19:22] = self.wind
 
     @property
@@ -367,12 +352,12 @@ class GroundStation:
         """For a compiled loop that calls :func:`.substeps.station_step` itself (the
         co-simulation kernel): the state array (updated in place: the ledger and
         :attr:`drivetrain` follow), the constants and the sub-step count for steps of ``dt`` s;
-        None when this station steps in Python (numba missing, ``FDM_AWE_JIT=0``, a replaced
-        PI law). Per step the loop also needs :meth:`command_terms`."""
+        None when this station steps in Python (numba missing, ``FDM_AWE_JIT=0``). Per step the
+        loop also needs :meth:`command_terms`."""
         if not (0.0 < dt <= 1.0):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
         dtr = self.drivetrain
-        if self._step_kernel is None or dtr._kernel is None or _controller.pi_update is not _pi_update:
+        if self._step_kernel is None or dtr._kernel is None:
             return None
         return dtr._s, self._sc, self._substeps(dt)
 
@@ -414,54 +399,14 @@ class GroundStation:
             self._set_command(cmd)
         n = self._n if dt == self._dt else self._substeps(dt)
         dtr = self.drivetrain
+        mode, motor, omega_ref, duty, d2, RL = self._cmd_terms
         kern = self._step_kernel
-        if kern is not None and dtr._kernel is not None and _controller.pi_update is _pi_update:
-            # the compiled twin of the Python code below (substeps.station_step, identical results)
-            mode, motor, omega_ref, duty, d2, RL = self._cmd_terms
+        if kern is not None and dtr._kernel is not None:  # compiled
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
                 dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
-            r = self._r
-            return _output(fx, fy, fz, tmean, length, r * w, w, i, duty, mode, u_link, p_el, ev, mm,
-                           tmean * r * w, d, slack, broken)
-        RL = self._RL if cmd.load_resistance is None else cmd.load_resistance
-        d2 = self._d2 if cmd.boost_duty is None else cmd.boost_duty
+        else:  # the same function in Python
+            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station_step(
+                dtr._s, self._scl, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
         r = self._r
-        st = dtr._s  # the drivetrain's states (substeps.STATE) and ledger
-        l_start = st.item(0)
-        mode = cmd.mode
-        tmean, pload, psup, event = dtr.advance(
-            dt, n, x, y, z, vx, vy, vz, mode, cmd.reel_speed_ref / r, cmd.duty, d2, RL)
-        length, w, i, u_link, _, duty, broken, _, stretch = st[:9].tolist()
-        broken = broken != 0.0
-        # force on the glider: mean tension along the line, plus drag and weight shares
-        # (tether module's line_drag_share and line_weight_share, written out)
-        d = math.sqrt(x * x + y * y + z * z)
-        lg = dtr.ledger
-        if broken and event != "tether_break":
-            fx = fy = fz = 0.0
-        else:
-            if d <= 0.0 or not self._drag_on:
-                fx = fy = fz = 0.0
-            else:
-                wx, wy, wz = self.wind
-                vax, vay, vaz = vx - wx, vy - wy, vz - wz
-                ux, uy, uz = x / d, y / d, z / d
-                vr = vax * ux + vay * uy + vaz * uz
-                px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
-                c = self._drag_c * l_start * math.sqrt(px * px + py * py + pz * pz)
-                fx, fy, fz = c * px, c * py, c * pz
-            lg.line_drag_work_on_glider += (fx * vx + fy * vy + fz * vz) * dt
-            fw = self._weight_c * l_start * self._g
-            lg.line_weight_work_on_glider += fw * vz * dt
-            fz += fw
-            if d > 0.0 and tmean > 0.0:
-                c = -tmean / d
-                fx += c * x
-                fy += c * y
-                fz += c * z
-        # machine_mode (machine module, eq. 17 sign rule), written out
-        mm = "idle" if (w == 0.0 or i <= 0.0) else ("generator" if -(1.0 if w > 0.0 else -1.0) * self._k * i < 0.0
-                                                  else "motor")
-        return GroundStationOutput(
-            (fx, fy, fz), tmean, length, r * w, w, i, duty, mode,
-            u_link, pload - psup, event, mm, tmean * r * w, d, stretch <= 0.0, broken)
+        return _output(fx, fy, fz, tmean, length, r * w, w, i, duty, mode, u_link, p_el, ev, mm,
+                       tmean * r * w, d, slack, broken)

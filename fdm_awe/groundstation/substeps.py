@@ -1,21 +1,21 @@
-"""The drivetrain's sub-step loop as one function of floats, compiled with numba when available.
+"""Every relation of the ground station's step, written once as plain functions of floats.
 
-:meth:`fdm_awe.groundstation.drivetrain.Drivetrain.advance` is the reference: its Python loop
-is the model (backward Euler for line, drum, armature and link at once; see that module).
-:func:`substeps` is the same loop, the same operations in the same order, written on plain
-scalars so that numba compiles it (``cache=True``: compiled once per installation, loaded from
-the cache afterwards). Round-off is identical (no fast-math), and a test runs both on the
-same scenarios and compares every state and ledger term for exact equality.
+Numba compiles these functions when it is available; Python runs the same functions when it
+is not (or when ``FDM_AWE_JIT=0`` is set): there is no second copy. A test runs both
+executions on the same scenarios and compares every state and ledger term for exact equality
+(no fast-math: the compiled code rounds as Python does).
 
-:func:`station_step` is the whole :meth:`GroundStation.step` on the line in the same way (the
-coefficients, the set-up of :meth:`Drivetrain.advance`, this loop, the ledger accumulation, the
-force on the glider and the machine mode): one compiled call per flight step, on the
-drivetrain's state array (states and ledger, updated in place). Its reference is the Python
-code of ``GroundStation.step`` and ``Drivetrain.advance``; a test compares both bit for bit.
+The relations (the modules that describe them in parentheses): :func:`pi_step` (:mod:`.controller`),
+:func:`link_coefficients` (:mod:`.converter`), :func:`armature_coefficients` and
+:func:`machine_mode_code` (:mod:`.machine`), :func:`drum_speed`, :func:`drum_step` and
+:func:`end_stop` (:mod:`.winch`), :func:`drag_share` and :func:`weight_share` (:mod:`.tether`);
+the sub-step loop :func:`substeps`, one drivetrain step with its ledger :func:`advance`
+(:mod:`.drivetrain`) and one :meth:`.station.GroundStation.step` :func:`station_step`.
 
-:func:`compiled` / :func:`compiled_station` return the compiled functions, or None when numba
-is not installed or ``FDM_AWE_JIT=0`` is set in the environment; the ground station then runs
-its Python code.
+All of them live in this one module because numba's on-disk cache (``cache=True``) is
+invalidated only by a change of the compiled function's own source file.
+:func:`compiled` / :func:`compiled_station` return the compiled :func:`advance` /
+:func:`station_step`, or None when numba is missing or ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -26,16 +26,79 @@ import os
 import warnings
 from typing import Callable
 
-import numpy as np
-
-#: Event codes returned by :func:`substeps` (0: none).
+#: Event codes (0: none).
 EVENTS = (None, "tether_fully_reeled_in", "tether_fully_paid_out", "tether_break")
+#: Machine-mode codes of :func:`machine_mode_code`.
+MACHINE_MODES = ("idle", "generator", "motor")
+
+#: The drivetrain's states at the head of its state array (``broken``, ``at_stop`` 0/1,
+#: ``motor`` 1 in motor mode); the energy ledger's terms follow (``ledger.FIELDS`` order).
+STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
+_NS = len(STATE)
+# ledger terms, offsets in the state array (ledger.FIELDS order)
+(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
+ _NUMERICAL, _DRUM, _AIRGAP, _DRAG_W, _WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 24)
+
+#: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
+#: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
+#: ``len(DRIVETRAIN_CONSTANTS)``.
+STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
+                     "C", "kp", "ki", "d_min", "d_max", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
+                     "weight_c", "g")
+DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:19]
+
+
+def pi_step(kp: float, ki: float, d_min: float, d_max: float, err: float, integ: float,
+            h: float) -> tuple[float, float]:
+    """One PI sample of the T1 duty: ``(duty, new integrator)`` (both -) for the speed error
+    ``err`` (rad/s) over the sample ``h`` (s); see :mod:`.controller`."""
+    u = kp * err + integ
+    if u > d_max:
+        duty, hold = d_max, err > 0.0
+    elif u < d_min:
+        duty, hold = d_min, err < 0.0
+    else:
+        duty, hold = u, False
+    if not hold:  # conditional integration, the integrator kept inside the duty limits
+        integ += ki * err * h
+        if integ > d_max:
+            integ = d_max
+        elif integ < d_min:
+            integ = d_min
+    return duty, integ
+
+
+def link_coefficients(C: float, RL: float, h: float, s: float) -> tuple[float, float]:
+    """Backward-Euler DC-link voltage over one sub-step ``h`` (s) as ``u1 = cu u0 + q i1``.
+
+    ``C (u1 - u0) = h (s i1 - u1 / R_L)`` -> ``cu = C / (C + h/R_L)``, ``q = h s / (C + h/R_L)``.
+    ``C`` F, ``RL`` ohm, ``s`` link coupling (-). Returns ``(cu [-], q [V/A])``.
+    """
+    den = C + h / RL
+    return C / den, h * s / den
+
+
+def armature_coefficients(L: float, R: float, K: float, h: float, s: float, q: float) -> tuple[float, float, float]:
+    """Backward-Euler armature current over one sub-step ``h`` (s)::
+
+        i1 = aL i0 + aH (v_src - 2 U_d - s p) + beta omega1     (before the i >= 0 clamp)
+
+    from ``L (i1 - i0) = h (v_src + K omega1 - R i1 - 2 U_d - s u1)`` with the link voltage at the
+    end of the sub-step ``u1 = p + q i1`` (:func:`link_coefficients`). ``L`` H, ``R`` ohm, ``K``
+    V s/rad, ``s`` link coupling (-). Returns ``(aL [-], aH [A/V], beta [A s/rad])``.
+    """
+    D = L + h * R + h * s * q
+    return L / D, h / D, h * K / D
 
 
 def drum_speed(J: float, w0: float, h: float, B: float, Mc: float, r: float,
                tA: float, tB: float, K: float, iA: float, iB: float) -> tuple[float, float]:
-    """:func:`fdm_awe.groundstation.winch.solve_drum_speed` without lists (same operations,
-    same results): the drum speed w (rad/s) and friction torque M_f (N m) of one sub-step."""
+    """One backward-Euler step of the drum speed with set-valued Coulomb friction: solves
+    ``J (w - w0) = h [r T(w) - K i(w) - B w - M_f]``, ``M_f in Mc Sign(w)``, ``T(w) = max(0, tA -
+    tB w)`` (N, tB >= 0), ``i(w) = max(0, iA + iB w)`` (A, iB >= 0). The residual is continuous,
+    piecewise linear and strictly increasing (a unique solution): the stick condition at w = 0,
+    then the linear pieces between the kinks. Returns ``(w rad/s, M_f N m)`` (> 0 opposes reel-out).
+    """
     hM = h * Mc
     R0 = -J * w0 - h * r * (tA if tA > 0.0 else 0.0) + h * K * (iA if iA > 0.0 else 0.0)
     if R0 + hM < 0.0:
@@ -101,19 +164,95 @@ def _piece(J: float, w0: float, h: float, B: float, r: float, tA: float, tB: flo
     return (c - a) / b
 
 
-def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,  # noqa: C901
-             l0, w0, i0, u0, integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, fixed_tension, e_glider, c):
-    """``n`` sub-steps of :meth:`Drivetrain.advance` (see there for the model and the names).
+def drum_step(J: float, Jb: float, w0: float, h: float, B: float, Mc: float, r: float, K: float,
+              hr: float, hK: float, hM: float, tA: float, tB: float, iA: float, iB: float,
+              t_on: bool, i_on: bool) -> tuple[float, float]:
+    """:func:`drum_speed` with a fast path: the friction sign of ``w0`` and the tension/current
+    pieces active in the last sub-step (``t_on``, ``i_on``) are tried first (``Jb = J + h B``,
+    ``hr = h r``, ``hK = h K``, ``hM = h Mc``). Returns ``(w rad/s, M_f N m)``."""
+    if w0 != 0.0:
+        a_ = -J * w0
+        b_ = Jb
+        if t_on:
+            a_ -= hr * tA
+            b_ += hr * tB
+        if i_on:
+            a_ += hK * iA
+            b_ += hK * iB
+        if w0 > 0.0:
+            w1 = (-hM - a_) / b_
+            ok = w1 > 0.0
+            mf = Mc
+        else:
+            w1 = (hM - a_) / b_
+            ok = w1 < 0.0
+            mf = -Mc
+        if ok and (tA - tB * w1 > 0.0) == t_on and (iA + iB * w1 > 0.0) == i_on:
+            return w1, mf
+    return drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
 
-    ``e_glider`` is the glider work booked before the loop (J). ``c`` holds the constants in
-    the order of :data:`CONSTANTS` (a float array: the cheapest argument to pass). Returns the end states
-    ``(l, omega, i, u_L, integ, duty, broken, at_stop, s, k)``, the event code (index into
-    :data:`EVENTS`), and the step's energy sums ``(e_glider, e_supply, e_stop, e_brk, e_numel,
-    S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)``.
+
+def end_stop(J: float, w0: float, w1: float, l0: float, l1: float, h: float, hr: float, r: float, B: float,
+             K: float, Mc: float, lmin: float, lmax: float, tA: float, tB: float, iA: float,
+             iB: float) -> tuple[float, float, float, float]:
+    """The drum stopped at the end stop (length ``lmin``/``lmax`` m) that the free sub-step
+    (``w1`` rad/s, ``l1`` m) would pass: ``(w1 rad/s, l1 m, M_f N m, energy absorbed J)``."""
+    w1 = ((lmin if w1 < 0.0 else lmax) - l0) / hr
+    if w1 * (l1 - l0) <= 0.0:
+        w1 = 0.0
+    l1 = l0 + hr * w1
+    mf = Mc if w1 > 0.0 else (-Mc if w1 < 0.0 else 0.0)
+    i1 = iA + iB * w1
+    T1 = tA - tB * w1
+    tau_stop = J * (w1 - w0) / h - (r * (T1 if T1 > 0.0 else 0.0) - K * (i1 if i1 > 0.0 else 0.0) - B * w1 - mf)
+    return w1, l1, mf, -h * tau_stop * w1 + 0.5 * J * (w1 - w0) ** 2
+
+
+def drag_share(x: float, y: float, z: float, d: float, vax: float, vay: float, vaz: float,
+               c_l: float) -> tuple[float, float, float]:
+    """The glider's share of the line drag, NED, N: ``c_l |v_perp| v_perp``, ``v_perp`` the air
+    velocity ``(vax, vay, vaz)`` (m/s) normal to the line to ``(x, y, z)`` (m, ``d`` > 0 away),
+    ``c_l = -share 0.5 rho C_D_perp d_t scale l`` (kg/m, :mod:`.tether`)."""
+    ux, uy, uz = x / d, y / d, z / d
+    vr = vax * ux + vay * uy + vaz * uz
+    px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
+    c = c_l * math.sqrt(px * px + py * py + pz * pz)
+    return c * px, c * py, c * pz
+
+
+def weight_share(weight_c: float, length: float, g: float) -> float:
+    """The glider's share of the line weight, N, down: ``weight_c = share mu`` (kg/m), ``length``
+    m, ``g`` m/s^2."""
+    return weight_c * length * g
+
+
+def machine_mode_code(omega: float, current: float, K: float) -> int:
+    """Eq. 17 sign rule as an index into :data:`MACHINE_MODES` (see :func:`.machine.machine_mode`):
+    the machine torque ``T_e = -sgn(omega) K i`` < 0 -> generator, > 0 -> motor, idle without
+    rotation or current."""
+    if omega == 0.0 or current <= 0.0:
+        return 0
+    return 1 if -(1.0 if omega > 0.0 else -1.0) * K * current < 0.0 else 2
+
+
+def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,  # noqa: C901
+             l0, w0, i0, u0, integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, fixed_tension, e_glider,
+             r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aS, iB, kp, ki, d_min, d_max):
+    """``n`` backward-Euler sub-steps of ``h`` s of line, drum, armature and link (see
+    :mod:`.drivetrain` for the model and the names).
+
+    The glider moves from ``(px, py, pz)`` by ``(hvx, hvy, hvz)`` per sub-step (m); ``pi`` the
+    PI runs, else ``v_src`` (V) is the open-loop source; ``fixed`` a prescribed tension
+    ``fixed_tension`` (N) replaces the line. ``e_glider`` the glider work booked before the
+    loop (J). Returns the end states ``(l, omega, i, u_L, integ, duty, broken, at_stop, s,
+    k)``, the event code (index into :data:`EVENTS`), and the step's energy sums ``(e_glider,
+    e_supply, e_stop, e_brk, e_numel, S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2,
+    S_du2, t_sum)``.
+
+    Over 80 lines on purpose: one loop whose sums live in local variables (registers, compiled);
+    its pieces are the functions above.
     """
-    r, B, Mc, K, Va, two_ud, lmin, lmax = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]
-    Tbreak, q, cu, aL, aH, aS, iB, hr = c[8], c[9], c[10], c[11], c[12], c[13], c[14], c[15]
-    hK, hM, kp, ki, d_min, d_max = c[16], c[17], c[18], c[19], c[20], c[21]
+    hr, hK, hM = h * r, h * K, h * Mc
     event = 0
     e_supply = e_stop = e_brk = e_numel = 0.0
     S_u2 = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
@@ -122,69 +261,29 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
     t_on = i_on = True
     d1 = 0.0
     for _ in range(n):
-        if pi:  # controller module: PI sample on the measured drum speed
-            err = w0 - omega_ref
-            u_ = kp * err + integ
-            if u_ > d_max:
-                duty, hold = d_max, err > 0.0
-            elif u_ < d_min:
-                duty, hold = d_min, err < 0.0
-            else:
-                duty, hold = u_, False
-            if not hold:
-                integ += ki * err * h
-                if integ > d_max:
-                    integ = d_max
-                elif integ < d_min:
-                    integ = d_min
+        if pi:  # PI sample on the measured drum speed
+            duty, integ = pi_step(kp, ki, d_min, d_max, w0 - omega_ref, integ, h)
             v_src = duty * Va
-        iA = aL * i0 + aH * (v_src - two_ud) - aS * u0
+        iA = aL * i0 + aH * (v_src - two_ud) - aS * u0  # armature: i1 = iA + iB w1 before the clamp
         if line:
             px += hvx
             py += hvy
             pz += hvz
             d1 = math.sqrt(px * px + py * py + pz * pz)
-            tA = k * (d1 - l0)
+            tA = k * (d1 - l0)  # line: T1 = tA - tB w1 before the slack clamp
         elif broken:
             tA = 0.0
         else:
             tA = fixed_tension
-        if w0 != 0.0:
-            a_ = -J * w0
-            b_ = Jb
-            if t_on:
-                a_ -= hr * tA
-                b_ += hr * tB
-            if i_on:
-                a_ += hK * iA
-                b_ += hK * iB
-            if w0 > 0.0:
-                w1 = (-hM - a_) / b_
-                ok = w1 > 0.0
-                mf = Mc
-            else:
-                w1 = (hM - a_) / b_
-                ok = w1 < 0.0
-                mf = -Mc
-            if not (ok and (tA - tB * w1 > 0.0) == t_on and (iA + iB * w1 > 0.0) == i_on):
-                w1, mf = drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
-        else:
-            w1, mf = drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
+        w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, i_on)
         l1 = l0 + hr * w1
         if (l1 < lmin and w1 < 0.0) or (l1 > lmax and w1 > 0.0):  # drum end stops
-            w1 = ((lmin if w1 < 0.0 else lmax) - l0) / hr
-            if w1 * (l1 - l0) <= 0.0:
-                w1 = 0.0
-            l1 = l0 + hr * w1
-            mf = Mc if w1 > 0.0 else (-Mc if w1 < 0.0 else 0.0)
+            w1, l1, mf, e = end_stop(J, w0, w1, l0, l1, h, hr, r, B, K, Mc, lmin, lmax, tA, tB, iA, iB)
             if not at_stop:
                 event = 1 if l1 < 0.5 * (lmin + lmax) else 2
             at_stop = True
-            i1 = iA + iB * w1
-            T1 = tA - tB * w1
-            tau_stop = J * (w1 - w0) / h - (r * (T1 if T1 > 0.0 else 0.0) - K * (i1 if i1 > 0.0 else 0.0) - B * w1 - mf)
-            e_stop += -h * tau_stop * w1 + 0.5 * J * (w1 - w0) ** 2
-            S_dw2 -= (w1 - w0) ** 2
+            e_stop += e
+            S_dw2 -= (w1 - w0) ** 2  # booked as end-stop loss, not integrator dissipation
         else:
             at_stop = False
         i1 = iA + iB * w1
@@ -196,6 +295,7 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         t_on = T1 > 0.0
         if not t_on:
             T1 = 0.0
+        # ledger sums (end-of-sub-step powers, backward-Euler consistent)
         S_u2 += u1 * u1
         S_i2 += i1 * i1
         S_i += i1
@@ -234,72 +334,43 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
             S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)
 
 
-#: Names of the constants tuple ``c`` of :func:`substeps`.
-CONSTANTS = ("r", "B", "Mc", "K", "Va", "two_ud", "lmin", "lmax", "Tbreak", "q", "cu", "aL", "aH", "aS",
-             "iB", "hr", "hK", "hM", "kp", "ki", "d_min", "d_max")
-
-#: The drivetrain's states at the head of its state array (``broken``, ``at_stop`` 0/1,
-#: ``motor`` 1 in motor mode); the energy ledger's terms follow (``ledger.FIELDS`` order).
-STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
-_NS = len(STATE)
-# ledger terms, offsets in the state array (ledger.FIELDS order)
-(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
- _NUMERICAL, _DRUM, _AIRGAP, _DRAG_W, _WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 24)
-
-#: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
-#: ground station's line-share factors; fixed for a station).
-STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
-                     "C", "kp", "ki", "d_min", "d_max", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
-                     "weight_c", "g")
-
-
-def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):  # noqa: C901
-    """One flight step of :meth:`fdm_awe.groundstation.station.GroundStation.step` on the line
-    (coefficients, :meth:`Drivetrain.advance`'s set-up, the sub-step loop :func:`substeps`, the
-    ledger, the force on the glider and the machine mode) in one call, written on scalars for
-    numba: the same operations in the same order as the Python reference, identical results.
+def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, fixed, fixed_tension):
+    """One flight step ``dt`` s of the drivetrain in ``n`` sub-steps (:meth:`.drivetrain.Drivetrain.advance`).
 
     ``s`` the state array (:data:`STATE`, then the ledger; updated in place), ``c`` the
-    constants (:data:`STATION_CONSTANTS`), ``n`` sub-steps in ``dt`` s, the hook position (m)
-    and velocity (m/s) NED, ``motor`` the converter mode, ``omega_ref`` rad/s, ``duty_cmd`` the
-    open-loop T1 duty (NaN: PI), ``boost_duty``, ``RL`` ohm. Returns ``(fx, fy, fz, mean tension,
-    length, omega, current, duty, u_link, p_electrical, event code, machine mode code (0 idle,
-    1 generator, 2 motor), distance, slack, broken)``.
+    constants (:data:`DRIVETRAIN_CONSTANTS` first), the glider at ``(x, y, z) + (vx, vy, vz) t``
+    (m, m/s), ``motor`` the converter mode, ``omega_ref`` rad/s, ``duty_cmd`` the open-loop T1
+    duty (NaN: PI), ``boost_duty`` the T2 duty, ``RL`` ohm; ``fixed``: ``fixed_tension`` (N) at
+    the drum instead of the line. Returns ``(mean tension N, mean load power W, mean supply
+    power W, event code)``. The line stiffness EA/l and the paid-out line inertia mu l r_w^2
+    are taken at the start of the step; the ledger books their change at its end.
     """
     r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
     K, R, L, two_ud, Va, C, kp, ki, d_min, d_max = c[9], c[10], c[11], c[12], c[13], c[14], c[15], c[16], c[17], c[18]
     h = dt / n
-    if motor != (s[9] != 0.0):  # mode switch (drivetrain: the PI integrator restarts at 0)
+    if motor != (s[9] != 0.0):  # mode switch: the PI integrator restarts at 0
         if motor:
             s[4] = 0.0
         s[9] = 1.0 if motor else 0.0
-    # converter / armature coefficients (converter.link_coefficients, machine.armature_coefficients)
-    s_cpl = 0.0 if motor else 1.0 - boost_duty
-    den = C + h / RL
-    cu, q = C / den, h * s_cpl / den
-    D = L + h * R + h * s_cpl * q
-    aL, aH, iB = L / D, h / D, h * K / D
-    kc = np.empty(22)
-    kc[0], kc[1], kc[2], kc[3], kc[4], kc[5], kc[6], kc[7], kc[8] = r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak
-    kc[9], kc[10], kc[11], kc[12], kc[13], kc[14] = q, cu, aL, aH, aH * s_cpl * cu, iB
-    hr = h * r
-    kc[15], kc[16], kc[17] = hr, h * K, h * Mc
-    kc[18], kc[19], kc[20], kc[21] = kp, ki, d_min, d_max
-    hB = h * B
-    l_start = s[0]
-    J = Jw + mu * l_start * r * r
-    Jb = J + hB
-    integ, duty, broken, at_stop = s[4], s[5], s[6] != 0.0, s[7] != 0.0
+    s_cpl = 0.0 if motor else 1.0 - boost_duty  # converter: link coupling (motor: v_src = duty V_a)
+    cu, q = link_coefficients(C, RL, h, s_cpl)  # u1 = cu u0 + q i1
+    aL, aH, iB = armature_coefficients(L, R, K, h, s_cpl, q)
+    l_start, stretch0 = float(s[0]), float(s[8])
+    integ, duty, broken, at_stop = float(s[4]), float(s[5]), float(s[6]) != 0.0, float(s[7]) != 0.0
+    J = Jw + mu * l_start * r * r  # drum + paid-out line
     e_glider = 0.0
     k = 0.0 if broken else EA / l_start
-    tB = 0.0 if broken else k * hr
-    if broken:
+    tB = 0.0 if (fixed or broken) else k * (h * r)
+    if fixed or broken:
         s0 = d0 = 0.0
+        if not broken and stretch0 > 0.0:  # line replaced by a prescribed tension
+            e_glider -= 0.5 * k * stretch0 * stretch0
     else:
         d0 = math.sqrt(x * x + y * y + z * z)
         s0 = d0 - l_start
+        # the glider's real position differs from the last prediction: work at the line end
         a_ = s0 if s0 > 0.0 else 0.0
-        b_ = s[8] if s[8] > 0.0 else 0.0
+        b_ = stretch0 if stretch0 > 0.0 else 0.0
         e_glider += 0.5 * k * (a_ * a_ - b_ * b_)
     v_src = 0.0
     pi = motor and duty_cmd != duty_cmd
@@ -311,14 +382,14 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
         duty = boost_duty
     (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_stop, e_brk, e_numel,
      S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(
-        n, h, x, y, z, h * vx, h * vy, h * vz, pi, motor, False, broken, at_stop, l_start, s[1], s[2], s[3],
-        integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, 0.0, e_glider, kc)
-    # Drivetrain.advance: states and ledger
-    s[7] = 1.0 if at_stop else 0.0
-    s[0], s[1], s[2], s[3] = l0, w0, i0, u0
-    s[4], s[5], s[6] = integ, duty, 1.0 if broken else 0.0
-    stretch = s0 if not broken else 0.0
-    s[8] = stretch
+        n, h, x, y, z, h * vx, h * vy, h * vz, pi, motor, fixed, broken, at_stop, l_start, float(s[1]),
+        float(s[2]), float(s[3]), integ, duty, v_src, d0, s0, k, tB, J, J + h * B, omega_ref, fixed_tension,
+        e_glider, r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aH * s_cpl * cu, iB, kp, ki, d_min,
+        d_max)
+    stretch = s0 if not broken else 0.0  # (0 with a prescribed tension)
+    s[0], s[1], s[2], s[3], s[4], s[5] = l0, w0, i0, u0, integ, duty
+    s[6], s[7], s[8] = 1.0 if broken else 0.0, 1.0 if at_stop else 0.0, stretch
+    # the ledger (ledger.FIELDS)
     s[_GLIDER_WORK] += e_glider
     s[_SUPPLY] += h * e_supply
     J_end = Jw + mu * l0 * r * r
@@ -337,23 +408,32 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
     s[_DRUM] += h * r * S_Tw
     s[_AIRGAP] += h * K * S_iw
     s[_SK], s[_SI], s[_SC], s[_SE] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
-    tmean, pload, psup = t_sum / n, S_u2 / (RL * n), e_supply / n
-    # GroundStation.step: the force on the glider (line tension, drag and weight shares)
+    return t_sum / n, S_u2 / (RL * n), e_supply / n, ev
+
+
+def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
+    """One flight step of :meth:`.station.GroundStation.step`: :func:`advance` on the line, the
+    force on the glider (mean tension along the line at the start position, plus the drag and
+    weight shares, their work booked in the ledger) and the machine mode.
+
+    Arguments as :func:`advance` (``c``: all :data:`STATION_CONSTANTS`). Returns ``(fx, fy, fz
+    N, mean tension N, length m, omega rad/s, current A, duty, u_link V, p_electrical W, event
+    code, machine mode code, distance m, slack, broken)``.
+    """
+    l_start = float(s[0])
+    tmean, pload, psup, ev = advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty,
+                                     RL, False, 0.0)
+    broken = float(s[6]) != 0.0
     d = math.sqrt(x * x + y * y + z * z)
-    if broken and ev != 3:
+    if broken and ev != 3:  # no line, no force
         fx = fy = fz = 0.0
     else:
         if d <= 0.0 or c[23] == 0.0:
             fx = fy = fz = 0.0
         else:
-            vax, vay, vaz = vx - c[19], vy - c[20], vz - c[21]
-            ux, uy, uz = x / d, y / d, z / d
-            vr = vax * ux + vay * uy + vaz * uz
-            px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
-            cd = c[22] * l_start * math.sqrt(px * px + py * py + pz * pz)
-            fx, fy, fz = cd * px, cd * py, cd * pz
+            fx, fy, fz = drag_share(x, y, z, d, vx - c[19], vy - c[20], vz - c[21], c[22] * l_start)
         s[_DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
-        fw = c[24] * l_start * c[25]
+        fw = weight_share(c[24], l_start, c[25])
         s[_WEIGHT_W] += fw * vz * dt
         fz += fw
         if d > 0.0 and tmean > 0.0:
@@ -361,14 +441,50 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
             fx += ct * x
             fy += ct * y
             fz += ct * z
-    # machine.machine_mode (eq. 17 sign rule)
-    if w0 == 0.0 or i0 <= 0.0:
-        mm = 0
-    elif -(1.0 if w0 > 0.0 else -1.0) * K * i0 < 0.0:
-        mm = 1
-    else:
-        mm = 2
-    return (fx, fy, fz, tmean, l0, w0, i0, duty, u0, pload - psup, ev, mm, d, stretch <= 0.0, broken)
+    w, i = float(s[1]), float(s[2])
+    return (fx, fy, fz, tmean, float(s[0]), w, i, float(s[5]), float(s[3]), pload - psup, ev,
+            machine_mode_code(w, i, c[9]), d, float(s[8]) <= 0.0, broken)
+
+
+#: the functions called by :func:`advance` and :func:`station_step` (compiled with them)
+_CALLED = (pi_step, link_coefficients, armature_coefficients, drum_speed, _piece, drum_step, end_stop, drag_share,
+           weight_share, machine_mode_code, substeps, advance)
+
+
+@functools.lru_cache(maxsize=None)
+def _register() -> None:
+    """Let numba compile the calls of :data:`_CALLED` inside compiled functions (once)."""
+    from numba.extending import register_jitable
+
+    for g in _CALLED:
+        register_jitable(g)
+
+
+def _njit(f: Callable, sig: tuple) -> Callable | None:
+    """``f`` compiled by numba for ``sig`` (cached on disk), or None (numba missing, or
+    ``FDM_AWE_JIT=0``, or a broken numba install: the Python functions run instead)."""
+    if os.environ.get("FDM_AWE_JIT", "1") == "0":
+        return None
+    try:
+        import numba
+    except ImportError:
+        return None
+    try:
+        _register()
+        f8, b1 = numba.float64, numba.boolean
+        args = tuple({"f": f8, "b": b1, "a": f8[::1], "i": numba.int64}[ch] for ch in sig)
+        return numba.njit(args, cache=True)(f)
+    except Exception as exc:  # a broken numba install must not stop a simulation
+        warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python step runs instead",
+                      RuntimeWarning, stacklevel=3)
+        return None
+
+
+@functools.lru_cache(maxsize=None)
+def compiled() -> Callable | None:
+    """:func:`advance` compiled by numba for one explicit signature (when the ground station is
+    built, not inside its first step), or None (numba missing, or ``FDM_AWE_JIT=0``)."""
+    return _njit(advance, "aaifffffffbffffbf")
 
 
 @functools.lru_cache(maxsize=None)
@@ -376,43 +492,8 @@ def compiled_station() -> Callable | None:
     """:func:`station_step` compiled by numba (cached on disk), or None (as :func:`compiled`)."""
     if compiled() is None:
         return None
-    import numba
-    from numba.extending import register_jitable
-    register_jitable(substeps)
-    f8, b1 = numba.float64, numba.boolean
-    sig = (f8[::1], f8[::1], numba.int64) + (f8,) * 7 + (b1,) + (f8,) * 4
-    try:
-        return numba.njit(sig, cache=True)(station_step)
-    except Exception as exc:  # a broken numba install must not stop a simulation
-        warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python step runs instead",
-                      RuntimeWarning, stacklevel=2)
-        return None
+    return _njit(station_step, "aaifffffffbffff")
 
 
-@functools.lru_cache(maxsize=None)
-def compiled() -> Callable | None:
-    """:func:`substeps` compiled by numba (cached on disk), or None (numba missing, or the
-    environment sets ``FDM_AWE_JIT=0``)."""
-    if os.environ.get("FDM_AWE_JIT", "1") == "0":
-        return None
-    try:
-        import numba
-        from numba.extending import register_jitable
-    except ImportError:
-        return None
-    register_jitable(_piece)
-    register_jitable(drum_speed)
-    f8, b1 = numba.float64, numba.boolean
-    # one explicit signature: compiled (or loaded from the cache) here, when the ground station
-    # is built, not inside the first co-simulation step; other argument types are converted
-    sig = (numba.int64,) + (f8,) * 7 + (b1,) * 5 + (f8,) * 16 + (f8[::1],)
-    try:
-        return numba.njit(sig, cache=True)(substeps)
-    except Exception as exc:  # a broken numba install must not stop a simulation
-        warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python loop runs instead",
-                      RuntimeWarning, stacklevel=2)
-        return None
-
-
-__all__ = ["CONSTANTS", "EVENTS", "STATE", "STATION_CONSTANTS", "compiled", "compiled_station", "drum_speed",
-           "station_step", "substeps"]
+__all__ = ["DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE", "STATION_CONSTANTS", "advance",
+           "compiled", "compiled_station", "drum_speed", "machine_mode_code", "pi_step", "station_step", "substeps"]

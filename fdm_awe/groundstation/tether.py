@@ -15,13 +15,15 @@ Model (straight line from the winch at the NED origin to the glider attachment p
 - Line weight: the glider carries ``weight_share`` (default 1/2) of ``mu l g`` (straight line,
   moment balance about the winch), acting down (+z NED).
 - The axial mass of the paid-out line ``mu l`` moves with the drum surface and is added to the
-  drum inertia (``mu l r_w^2``, :func:`fdm_awe.groundstation.winch.effective_inertia`).
+  drum inertia (``mu l r_w^2``, :func:`fdm_awe.groundstation.substeps.advance`).
 
 The line's numbers (diameter, mass per length, EA, breaking load) are those of the line selected
 from the ground-station definition (:mod:`fdm_awe.groundstation.line`: ``sized`` by default, or
 Table 1's ``paper`` line).
 
-All functions take and return plain floats (SI), for a cheap hot path.
+The ground station's step computes the drag and weight shares with
+:func:`fdm_awe.groundstation.substeps.drag_share` and ``weight_share``; the functions here give
+them from the definition's :class:`TetherParams`.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ import math
 
 from ..errors import InputError
 from .definitions import TetherParams
+from .substeps import drag_share
 
 #: allowed line-drag sensitivity factor (``tether_drag_scale`` of the optimiser and of the
 #: ground station; 1 = the defined line)
@@ -42,16 +45,6 @@ def check_tether_drag_scale(value: float) -> float:
     if not (isinstance(value, (int, float)) and math.isfinite(value) and 0.0 <= value <= TETHER_DRAG_SCALE_MAX):
         raise InputError(f"tether_drag_scale = {value!r} out of range (allowed 0 .. {TETHER_DRAG_SCALE_MAX:g})")
     return float(value)
-
-
-def distance(x: float, y: float, z: float) -> float:
-    """Winch-glider distance d = |P|, m."""
-    return math.sqrt(x * x + y * y + z * z)
-
-
-def stiffness(p: TetherParams, length: float) -> float:
-    """Axial spring constant EA / l of the paid-out line, N/m."""
-    return p.axial_stiffness / length
 
 
 def elastic_tension(p: TetherParams, dist: float, length: float) -> float:
@@ -84,14 +77,10 @@ def line_drag_share(
     d = math.sqrt(x * x + y * y + z * z)
     if d <= 0.0 or p.drag_share <= 0.0 or scale <= 0.0:
         return 0.0, 0.0, 0.0
-    ux, uy, uz = x / d, y / d, z / d
-    vr = vax * ux + vay * uy + vaz * uz
-    px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
-    vp = math.sqrt(px * px + py * py + pz * pz)
-    c = -0.5 * p.drag_share * p.air_density * p.cd_perpendicular * p.diameter * scale * length * vp
-    return c * px, c * py, c * pz
+    return drag_share(x, y, z, d, vax, vay, vaz, line_drag_coefficient(p, scale) * length)
 
 
-def line_weight_share(p: TetherParams, length: float) -> float:
-    """Share of the line weight acting on the glider, N, pointing down (+z NED)."""
-    return p.weight_share * p.mass_per_length * length * p.gravity
+def line_drag_coefficient(p: TetherParams, scale: float = 1.0) -> float:
+    """``-share 0.5 rho C_D_perp d_t scale`` (kg/m^2): times the paid-out length and ``|v_perp|
+    v_perp`` the glider's share of the line drag, N."""
+    return -0.5 * p.drag_share * p.air_density * p.cd_perpendicular * p.diameter * scale

@@ -17,75 +17,11 @@ Drum equation (reel-out positive, omega = reel speed / r_w):
 
 from __future__ import annotations
 
-from .definitions import TetherParams, WinchParams
+from .substeps import drum_speed
 
+#: One backward-Euler step of the drum speed with set-valued Coulomb friction:
+#: ``solve_drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB) -> (w rad/s, M_f N m)``
+#: (:func:`fdm_awe.groundstation.substeps.drum_speed`).
+solve_drum_speed = drum_speed
 
-def effective_inertia(w: WinchParams, t: TetherParams, length: float) -> float:
-    """Drum inertia plus the axial mass of the paid-out line, kg m^2."""
-    return w.inertia + t.mass_per_length * length * w.radius * w.radius
-
-
-def solve_drum_speed(
-    J: float, w0: float, h: float, B: float, Mc: float, r: float,
-    tA: float, tB: float, K: float, iA: float, iB: float,
-) -> tuple[float, float]:
-    """One backward-Euler step of the drum speed with set-valued Coulomb friction.
-
-    Solves for ``w`` (rad/s)::
-
-        J (w - w0) = h [ r T(w) - K i(w) - B w - M_f ],   M_f in Mc Sign(w)
-        T(w) = max(0, tA - tB w)   (tether tension at the end of the step, N; tB >= 0)
-        i(w) = max(0, iA + iB w)   (armature current at the end of the step, A; iB >= 0)
-
-    The residual ``R(w) = J (w - w0) - h [r T(w) - K i(w) - B w]`` is continuous, piecewise
-    linear and strictly increasing, so the solution is unique; it is found exactly by checking
-    the stick condition at w = 0 and then the linear pieces between the kinks.
-    Returns ``(w, M_f)`` with the friction torque M_f in N m (>0 opposes reel-out).
-    """
-    hM = h * Mc
-    R0 = -J * w0 - h * r * (tA if tA > 0.0 else 0.0) + h * K * (iA if iA > 0.0 else 0.0)
-    if R0 + hM < 0.0:
-        c, sgn = -hM, 1.0
-    elif R0 - hM > 0.0:
-        c, sgn = hM, -1.0
-    else:
-        return 0.0, -R0 / h  # stuck: friction holds the drum, |M_f| <= Mc
-    # Fast path: the pieces active at a guess on the right side of zero.
-    g = w0 if w0 * sgn > 0.0 else sgn * 1e-9
-    w = _piece(J, w0, h, B, r, tA, tB, K, iA, iB, c, tA - tB * g > 0.0, iA + iB * g > 0.0)
-    if w * sgn > 0.0 and (tA - tB * w > 0.0) == (tA - tB * g > 0.0) and (iA + iB * w > 0.0) == (iA + iB * g > 0.0):
-        return w, sgn * Mc
-    # General case: walk the linear pieces of the half-line.
-    kinks = []
-    if tB > 0.0:
-        kinks.append(tA / tB)
-    if iB > 0.0:
-        kinks.append(-iA / iB)
-    pts = sorted(k for k in kinks if k * sgn > 0.0)
-    edges = [0.0] + pts if sgn > 0.0 else pts + [0.0]
-    lo_hi = []
-    if sgn > 0.0:
-        for j, a in enumerate(edges):
-            lo_hi.append((a, edges[j + 1] if j + 1 < len(edges) else float("inf")))
-    else:
-        for j, b in enumerate(edges):
-            lo_hi.append((edges[j - 1] if j > 0 else float("-inf"), b))
-    for lo, hi in lo_hi:
-        m = 0.5 * (lo + hi) if (lo != float("-inf") and hi != float("inf")) else (lo + 1.0 if hi == float("inf") else hi - 1.0)
-        w = _piece(J, w0, h, B, r, tA, tB, K, iA, iB, c, tA - tB * m > 0.0, iA + iB * m > 0.0)
-        if lo - 1e-12 * (1.0 + abs(lo)) <= w <= hi + 1e-12 * (1.0 + abs(hi)):
-            return w, sgn * Mc
-    return w, sgn * Mc  # unreachable for consistent inputs (monotone residual)
-
-
-def _piece(J, w0, h, B, r, tA, tB, K, iA, iB, c, t_on, i_on):
-    """Root of the linear piece of R(w) = c with the given active tension/current terms."""
-    a = -J * w0
-    b = J + h * B
-    if t_on:
-        a -= h * r * tA
-        b += h * r * tB
-    if i_on:
-        a += h * K * iA
-        b += h * K * iB
-    return (c - a) / b
+__all__ = ["solve_drum_speed"]
