@@ -29,7 +29,15 @@ HEARTBEAT (MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_GENERIC, custom mode from
 VFR_HUD, SYS_STATUS, BATTERY_STATUS, HOME_POSITION and NAMED_VALUE_FLOAT with
 ``tension`` (N), ``reel_spd`` (m/s, + = reel-out), ``winch_pwr`` (W electrical,
 + = generated), ``net_energy`` (J), ``phase`` (code from
-:data:`~fdm_awe.mavlink.vehicle.PHASE_CODES`) and ``fold`` (0..1).
+:data:`~fdm_awe.mavlink.vehicle.PHASE_CODES`) and ``fold`` (0..1); GPS_RAW_INT,
+MISSION_CURRENT, NAV_CONTROLLER_OUTPUT and SERVO_OUTPUT_RAW (:mod:`fdm_awe.mavlink.messages`).
+The winch is its own component (:mod:`fdm_awe.mavlink.winch`, id 169): its HEARTBEAT goes
+with the autopilot's, WINCH_STATUS is the stream ``WINCH_STATUS``.
+
+STATUSTEXT reports mode, arm, cycling, phase and winch changes and the flight's end
+(:meth:`MavlinkEndpoint.flight_ended`; :mod:`fdm_awe.mavlink.statustext`). Signing
+(``signing_key``): :mod:`fdm_awe.mavlink.signing`; messages refused by it are counted in
+``stats["signing"]`` and SYS_STATUS ``errors_count3``.
 
 SYS_STATUS: all simulated sensors/controllers are present, enabled and healthy,
 including the geofence bit (the tether is the fence; without the health bit MAVProxy
@@ -67,7 +75,8 @@ OPERATION_CANCELLED (timeout) or INVALID (the vehicle's ``set_mission`` refused;
 goes out as STATUSTEXT). An upload of zero items and MISSION_CLEAR_ALL clear the mission.
 
 Parameters: PARAM_REQUEST_LIST (sent ``param_burst`` per update), PARAM_REQUEST_READ,
-PARAM_SET -> PARAM_VALUE (the old value and a STATUSTEXT when refused). MAVFTP
+PARAM_SET -> PARAM_VALUE (the old value and a STATUSTEXT when refused); a value is stored as
+typed (:func:`fdm_awe.mavlink.params.from_wire`), not as the float32 that carried it. MAVFTP
 (FILE_TRANSFER_PROTOCOL) is answered with a NAK (UnknownCommand) so ground stations fall
 back to the parameter protocol at once.
 """
