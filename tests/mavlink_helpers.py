@@ -14,7 +14,7 @@ from pymavlink import mavutil  # noqa: E402
 
 from fdm_awe.mavlink.endpoint import MavlinkEndpoint  # noqa: E402
 from fdm_awe.mavlink.params import ParamStore  # noqa: E402
-from fdm_awe.mavlink.vehicle import Telemetry, Waypoint  # noqa: E402
+from fdm_awe.mavlink.vehicle import NavTarget, Telemetry, Waypoint  # noqa: E402
 
 GCS_SYSID = 255
 GCS_COMPID = 190
@@ -118,7 +118,12 @@ def telemetry_at(t: float, v: StandInVehicle | None = None) -> Telemetry:
                      tension_N=30.0, reel_speed_mps=3.5, winch_power_W=56.7, net_energy_J=120.0,
                      phase="generation", fold=0.0, battery_voltage_V=11.8, battery_current_A=2.5,
                      battery_remaining=0.8, mode=v.mode if v else "AUTO",
-                     armed=v.armed if v else True, cycling=v.cycling if v else True)
+                     armed=v.armed if v else True, cycling=v.cycling if v else True,
+                     line_length_m=160.0, winch_voltage_V=48.5, winch_current_A=1.25,
+                     winch_mode="generator", surfaces=(0.1, -0.2, 0.05, 0.0), mission_seq=3,
+                     nav=NavTarget(roll=0.3, pitch=0.1, heading=1.4, target_bearing=1.6,
+                                   distance_m=7.5, alt_error_m=-1.5, airspeed_error_mps=0.5,
+                                   xtrack_m=2.0))
 
 
 class Link:

@@ -28,7 +28,14 @@ from fdm_awe.pacing import RealtimePacer
 
 TEST_RATES = {"HEARTBEAT": 1.0, "ATTITUDE": 20.0, "GLOBAL_POSITION_INT": 10.0, "VFR_HUD": 4.0,
               "SYS_STATUS": 2.0, "BATTERY_STATUS": 1.0, "HOME_POSITION": 0.5,
-              "NAMED_VALUE_FLOAT": 2.0}
+              "NAMED_VALUE_FLOAT": 2.0, "GPS_RAW_INT": 5.0, "MISSION_CURRENT": 1.0,
+              "NAV_CONTROLLER_OUTPUT": 4.0, "SERVO_OUTPUT_RAW": 4.0, "WINCH_STATUS": 2.0}
+
+
+def _stream_key(m) -> str:
+    """Message type, with ``@winch`` for what the winch component (169) sends besides WINCH_STATUS."""
+    t = m.get_type()
+    return f"{t}@winch" if m.get_srcComponent() == mav.MAV_COMP_ID_WINCH and t != "WINCH_STATUS" else t
 
 
 @pytest.fixture
@@ -61,8 +68,10 @@ def test_every_stream_within_10_percent_of_its_rate_over_simulated_time():
     while time.monotonic() < t_end:        # collect what is still in flight
         lk.drain()
         time.sleep(0.01)
-    counts = Counter(m.get_type() for m in lk.received)
+    counts = Counter(_stream_key(m) for m in lk.received)
     lk.close()
+    # the winch's own heartbeat goes with the autopilot's
+    assert counts["HEARTBEAT@winch"] == counts["HEARTBEAT"]
     names = Counter(m.name for m in lk.received if m.get_type() == "NAMED_VALUE_FLOAT")
     for stream, hz in TEST_RATES.items():
         per = 6 if stream == "NAMED_VALUE_FLOAT" else 1      # six named values per period
@@ -83,7 +92,7 @@ def test_streams_at_wall_rate_with_realtime_pacing():
         lk.ep.update(t, lambda: telemetry_at(t, lk.vehicle))
         now = time.monotonic()
         for m in lk.drain():
-            arrivals.setdefault(m.get_type(), []).append(now)
+            arrivals.setdefault(_stream_key(m), []).append(now)
         pacer.wait(t)
     lk.close()
     st = pacer.stats()

@@ -1,35 +1,47 @@
-"""MAVProxy connects headless to the endpoint and shows vehicle, parameters and mission.
+"""MAVProxy against the real vehicle: ``fdm-awe fly --mavlink`` flying a stored reference.
 
-MAVProxy (a dev extra) runs as a subprocess with ``--non-interactive``; its commands are
-scheduled with its ``repeat`` module so they run after the vehicle is detected. The
-endpoint runs in a thread with simulation time following wall time. Bounded: MAVProxy
-is stopped after a fixed wall time.
+The flight (the autopilot of :mod:`fdm_awe.autopilot`, its parameters from
+``aircraft/glider_foldable/autopilot.xml``, the reference path as its mission) runs as a
+subprocess paced at real time; MAVProxy (a dev extra) connects headless with
+``--non-interactive`` and runs its commands with its ``repeat`` module once the vehicle's first
+heartbeat has arrived. Bounded: MAVProxy is stopped after a fixed wall time, the flight with
+Ctrl-C (SIGINT) after that.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import json
 import os
 import re
+import signal
 import subprocess
 import sys
-import threading
 import time
+from pathlib import Path
 
 import pytest
 
-from mavlink_helpers import StandInVehicle, free_udp_port, telemetry_at
+from mavlink_helpers import free_udp_port
+from pymavlink import mavutil
 
-from fdm_awe.mavlink.endpoint import MavlinkEndpoint
+from fdm_awe.autopilot.config import load_autopilot_definition
 from fdm_awe.mavlink.geo import GeoFrame
 
-# a path to upload, written here in the QGC WPL 110 text format MAVProxy loads
-# (index, current, frame 6 = GLOBAL_RELATIVE_ALT_INT, command 16 = NAV_WAYPOINT, p1-p4,
-# lat, lon, alt, autocontinue)
+REF = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
+
+# a path to upload, written in the QGC WPL 110 text format MAVProxy loads (index, current,
+# frame 6 = GLOBAL_RELATIVE_ALT_INT, command 16 = NAV_WAYPOINT, p1-p4, lat, lon, alt, autocontinue)
 UPLOAD_NED = [(110.0 + 12.0 * k, -20.0 + 8.0 * k, -55.0 - 4.0 * k) for k in range(6)]
 
+pytestmark = pytest.mark.skipif(importlib.util.find_spec("MAVProxy") is None,
+                                reason="MAVProxy not installed (pip install 'fdm-awe[dev]')")
 
-def _write_wpl(path):
+RUN_S = 16.0        # MAVProxy's wall time once the vehicle is up
+START_S = 60.0      # the flight's start (imports, JSBSim) at most
+
+
+def _write_wpl(path: Path) -> None:
     geo = GeoFrame()
     lines = ["QGC WPL 110"]
     for i, (n, e, d) in enumerate(UPLOAD_NED):
@@ -37,75 +49,79 @@ def _write_wpl(path):
         lines.append(f"{i}\t0\t6\t16\t0\t0\t0\t0\t{lat:.8f}\t{lon:.8f}\t{-d:.3f}\t1")
     path.write_text("\n".join(lines) + "\n")
 
-pytestmark = pytest.mark.skipif(importlib.util.find_spec("MAVProxy") is None,
-                                reason="MAVProxy not installed (pip install 'fdm-awe[dev]')")
 
-RUN_S = 12.0
-
-
-def test_mavproxy_shows_vehicle_parameters_and_mission(tmp_path):
-    port = free_udp_port()
-    v = StandInVehicle(params_path=tmp_path / "params.json")
-    ep = MavlinkEndpoint(f"udpout:127.0.0.1:{port}", v)
-    stop = threading.Event()
-
-    def loop():
-        t0 = time.monotonic()
-        while not stop.is_set():
-            t = time.monotonic() - t0
-            ep.update(t, lambda: telemetry_at(t, v))
-            time.sleep(0.002)
-
-    th = threading.Thread(target=loop, daemon=True)
-    th.start()
-    wpl = tmp_path / "upload.txt"
-    _write_wpl(wpl)
-    cmds = "; ".join([
-        "repeat add 4 wp list",
-        f"repeat add 7 wp load {wpl}",
-        "repeat add 5 long MISSION_START",
-        "repeat add 5 param show AP_*",
-        "repeat add 3 mode AUTO",
-        "repeat add 3 arm throttle",
-        "repeat add 4 param set WINCH_PI_KP 0.006",
-    ])
-    mavproxy = [sys.executable, "-m", "MAVProxy.mavproxy"]
-    proc = subprocess.Popen(
-        mavproxy + [f"--master=udpin:127.0.0.1:{port}", "--non-interactive", "--no-state",
-                    f"--cmd={cmds}"],
-        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        cwd=tmp_path, env=dict(os.environ, MAVLINK20="1"))
-    try:
-        out, _ = proc.communicate(timeout=RUN_S)
-    except subprocess.TimeoutExpired:
-        proc.terminate()
+def _stop(proc: subprocess.Popen, sig: int = signal.SIGTERM, wait: float = 20.0) -> None:
+    if proc.poll() is None:
+        proc.send_signal(sig)
         try:
-            out, _ = proc.communicate(timeout=5)
+            proc.wait(timeout=wait)
         except subprocess.TimeoutExpired:
             proc.kill()
-            out, _ = proc.communicate()
+            proc.wait(timeout=10)
+
+
+def test_mavproxy_reads_the_real_vehicles_parameters_and_mission(tmp_path):
+    port = free_udp_port()
+    params = tmp_path / "params.json"
+    env = dict(os.environ, MAVLINK20="1")
+    fly = subprocess.Popen(
+        [sys.executable, "-m", "fdm_awe", "fly", "--reference", str(REF), "--cycles", "1", "--quiet",
+         "--mavlink", f"udpout:127.0.0.1:{port}", "--realtime", "1", "--params", str(params),
+         "--json", str(tmp_path / "flight.json")],
+        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    mavproxy = None
+    log = tmp_path / "mavproxy.txt"
+    try:
+        # wait for the vehicle's first heartbeat, then hand the port to MAVProxy
+        probe = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}")
+        hb = probe.recv_match(type="HEARTBEAT", blocking=True, timeout=START_S)
+        probe.close()
+        assert hb is not None, "the flight sent no heartbeat"
+        wpl = tmp_path / "upload.txt"
+        _write_wpl(wpl)
+        cmds = "; ".join([
+            # periods chosen so that a download (wp list) never overlaps an upload (wp load)
+            "repeat add 4 param show GUID_*",
+            "repeat add 5 param set GUID_KP 1.1",
+            "repeat add 7 wp load " + str(wpl),
+            "repeat add 10 wp list",
+            "repeat add 12 mode RTL",
+        ])
+        with open(log, "w") as out:
+            mavproxy = subprocess.Popen(
+                [sys.executable, "-m", "MAVProxy.mavproxy", f"--master=udpin:127.0.0.1:{port}",
+                 "--non-interactive", "--no-state", f"--cmd={cmds}"],
+                stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT, text=True, cwd=tmp_path, env=env)
+            time.sleep(RUN_S)
+            _stop(fly, signal.SIGINT)              # Ctrl-C: the flight ends, its outputs are written
+            time.sleep(1.0)                        # the flight's last STATUSTEXT reaches MAVProxy
+            _stop(mavproxy)
     finally:
-        stop.set()
-        th.join(timeout=2)
-        ep.close()
+        for p in (fly, mavproxy):
+            if p is not None:
+                _stop(p, signal.SIGKILL, 5.0)
+    out = log.read_text()
+    flown = fly.stdout.read()
     print(out)
-    assert "Detected vehicle 1:1" in out
-    assert "Mode MANUAL" in out or "Mode AUTO" in out          # heartbeat decoded with its mode
-    assert "Received 7 parameters" in out                      # MAVFTP refused, PARAM_* used
-    # the mission download: 24 waypoints before the upload below, 6 after it
+    print(flown)
+    assert fly.returncode == 130, flown                        # interrupted by the Ctrl-C above
+    assert "Detected vehicle 1:1" in out and "Detected vehicle 1:169" in out    # autopilot and winch
+    # the real vehicle's parameters: those of the autopilot definition, none of a stand-in's
+    defined = [d.id for d in load_autopilot_definition()]
+    assert f"Received {len(defined)} parameters" in out
+    assert re.search(r"^GUID_KD\s+2\.0\b", out, re.M) and "AP_ROLL_KP" not in out
+    # its mission: the reference path, 60 waypoints (NAV_WAYPOINT, GLOBAL_RELATIVE_ALT_INT)
     listed = re.findall(r"Requesting (\d+) waypoints", out)
-    assert listed and set(listed) <= {"24", "6"}
-    assert out.count("16 6 ") >= int(listed[0])                # NAV_WAYPOINT, GLOBAL_RELATIVE_ALT_INT
-    assert "AP_ROLL_KP" in out
-    assert "fence breach" not in out
-    # commands from MAVProxy reached the vehicle
-    assert "DO_SET_MODE: ACCEPTED" in out and v.mode == "AUTO"
-    assert "COMPONENT_ARM_DISARM: ACCEPTED" in out and v.armed
-    assert v.params["WINCH_PI_KP"] == pytest.approx(0.006)
-    assert "MISSION_START: ACCEPTED" in out and v.cycling
-    # upload from MAVProxy's file reached the vehicle (8 decimals in the file ~ 1 mm)
+    assert listed and listed[0] == "60" and set(listed) <= {"60"}
+    assert out.count("16 6 ") >= 60
+    # a path uploaded from MAVProxy's file is accepted by the autopilot
     assert "Sent all 6 waypoints" in out and "MISSION_ACK: TYPE_MISSION: ACCEPTED" in out
-    got = v.received_missions[-1]
-    assert len(got) == 6
-    for w, (n, e, d) in zip(got, UPLOAD_NED):
-        assert (w.north, w.east, w.down) == pytest.approx((n, e, d), abs=0.02)
+    # the mode change, its STATUSTEXT, and the flight's end
+    assert "DO_SET_MODE: ACCEPTED" in out or "Mode RTL" in out
+    assert "mode AUTO -> RECOVER" in out
+    assert "flight interrupted" in out
+    # the parameter as typed: 1.1 in the vehicle's parameter file, not float32's 1.100000023841858
+    saved = json.loads(params.read_text())["params"]
+    assert saved["GUID_KP"] == 1.1 and "1.1000000" not in params.read_text()
+    doc = json.loads((tmp_path / "flight.json").read_text())
+    assert doc["status"] == "interrupted"

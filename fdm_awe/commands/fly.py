@@ -108,6 +108,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mavlink", metavar="URL", nargs="?", const="udpout:127.0.0.1:14550",
                    help="speak MAVLink 2 to a ground station: udpout|udpin|udp|tcp|tcpin:HOST:PORT, the host must "
                         "resolve (default URL udpout:127.0.0.1:14550)")
+    p.add_argument("--mavlink-key", metavar="FILE",
+                   help="MAVLink 2 signing key: a 32-byte key file, or a one-line passphrase (hashed with SHA-256 like "
+                        "MAVProxy's 'signing setup'); only signed commands are obeyed (needs --mavlink)")
     p.add_argument("--realtime", metavar="FACTOR", type=float, nargs="?", const=1.0,
                    help="pace against the wall clock, > 0 and <= 1000 (default 1x)")
     p.add_argument("--params", metavar="FILE", help="autopilot parameter file (PARAM_SET changes are saved there)")
@@ -129,6 +132,12 @@ def _check(args: argparse.Namespace) -> None:
     chk.number(args.gamma_max, "--gamma-max", 0.1, 1.5, unit="rad", what="flight-path angle bound")
     args.turbulence = chk.turbulence(args.turbulence)
     chk.mavlink_url(args.mavlink)
+    if args.mavlink_key is not None:
+        if not args.mavlink:
+            raise InputError("--mavlink-key: only with --mavlink (there is no link to sign)")
+        from ..mavlink.signing import load_key
+
+        args.signing_key = load_key(args.mavlink_key)  # checked before any work (one line)
     if args.reference is not None:
         given = [("--no-line-weight" if attr == "line_weight" and getattr(args, attr) is False else opt)
                  for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
@@ -276,7 +285,8 @@ def run(args: argparse.Namespace) -> int:
             from ..mavlink.endpoint import MavlinkEndpoint
             from ..mavlink.bridge import telemetry_builder
 
-            endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap)
+            endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap, signing_key=getattr(args, "signing_key", None),
+                                       signing_key_file=args.mavlink_key)
             build = telemetry_builder(ap, sim)
             def link(k, s, o) -> None:
                 build.integrate(s)
@@ -305,6 +315,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
                      on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale)
+        if endpoint is not None:
+            endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
     finally:
         if bar is not None:
             bar.close()

@@ -4,7 +4,9 @@
 - :mod:`fdm_awe.mavlink.params`: ParamStore (named parameters, ranges, callbacks, file).
 - :mod:`fdm_awe.mavlink.geo`: local NED <-> lat/lon/alt about a home.
 - :mod:`fdm_awe.mavlink.endpoint`: MavlinkEndpoint (imports pymavlink; import it only
-  when a link is wanted).
+  when a link is wanted), with :mod:`~fdm_awe.mavlink.winch` (the winch component),
+  :mod:`~fdm_awe.mavlink.messages` (standard streams), :mod:`~fdm_awe.mavlink.statustext`
+  and :mod:`~fdm_awe.mavlink.signing` (MAVLink 2 signing, key files).
 """
 
 from fdm_awe.mavlink.geo import GeoFrame, Home

@@ -29,7 +29,15 @@ HEARTBEAT (MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_GENERIC, custom mode from
 VFR_HUD, SYS_STATUS, BATTERY_STATUS, HOME_POSITION and NAMED_VALUE_FLOAT with
 ``tension`` (N), ``reel_spd`` (m/s, + = reel-out), ``winch_pwr`` (W electrical,
 + = generated), ``net_energy`` (J), ``phase`` (code from
-:data:`~fdm_awe.mavlink.vehicle.PHASE_CODES`) and ``fold`` (0..1).
+:data:`~fdm_awe.mavlink.vehicle.PHASE_CODES`) and ``fold`` (0..1); GPS_RAW_INT,
+MISSION_CURRENT, NAV_CONTROLLER_OUTPUT and SERVO_OUTPUT_RAW (:mod:`fdm_awe.mavlink.messages`).
+The winch is its own component (:mod:`fdm_awe.mavlink.winch`, id 169): its HEARTBEAT goes
+with the autopilot's, WINCH_STATUS is the stream ``WINCH_STATUS``.
+
+STATUSTEXT reports mode, arm, cycling, phase and winch changes and the flight's end
+(:meth:`MavlinkEndpoint.flight_ended`; :mod:`fdm_awe.mavlink.statustext`). Signing
+(``signing_key``): :mod:`fdm_awe.mavlink.signing`; messages refused by it are counted in
+``stats["signing"]`` and SYS_STATUS ``errors_count3``.
 
 SYS_STATUS: all simulated sensors/controllers are present, enabled and healthy,
 including the geofence bit (the tether is the fence; without the health bit MAVProxy
@@ -67,7 +75,8 @@ OPERATION_CANCELLED (timeout) or INVALID (the vehicle's ``set_mission`` refused;
 goes out as STATUSTEXT). An upload of zero items and MISSION_CLEAR_ALL clear the mission.
 
 Parameters: PARAM_REQUEST_LIST (sent ``param_burst`` per update), PARAM_REQUEST_READ,
-PARAM_SET -> PARAM_VALUE (the old value and a STATUSTEXT when refused). MAVFTP
+PARAM_SET -> PARAM_VALUE (the old value and a STATUSTEXT when refused); a value is stored as
+typed (:func:`fdm_awe.mavlink.params.from_wire`), not as the float32 that carried it. MAVFTP
 (FILE_TRANSFER_PROTOCOL) is answered with a NAK (UnknownCommand) so ground stations fall
 back to the parameter protocol at once.
 """
@@ -82,12 +91,18 @@ from typing import Any, Callable
 
 from fdm_awe.errors import InputError
 from fdm_awe.mavlink.geo import GeoFrame, Home
+from fdm_awe.mavlink.params import from_wire, param_text
 from fdm_awe.mavlink.vehicle import (MODE_NAMES, MODE_NUMBERS, PHASE_CODES, Telemetry,
                                      VehicleInterface, Waypoint)
 
 # Imported at module level on purpose: importing this module is the opt-in to MAVLink.
 from pymavlink import mavutil  # noqa: E402
 from pymavlink.dialects.v20 import common as mav  # noqa: E402
+
+from fdm_awe.mavlink import signing as _signing  # noqa: E402
+from fdm_awe.mavlink.messages import RATES as _EXTRA_RATES, SENDERS as _EXTRA_SENDERS  # noqa: E402
+from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
+from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
 #: Default stream rates, Hz of simulation time.
 DEFAULT_RATES: dict[str, float] = {
@@ -99,6 +114,7 @@ DEFAULT_RATES: dict[str, float] = {
     "BATTERY_STATUS": 1.0,
     "HOME_POSITION": 0.2,
     "NAMED_VALUE_FLOAT": 2.0,
+    **_EXTRA_RATES,   # GPS_RAW_INT, MISSION_CURRENT, NAV_CONTROLLER_OUTPUT, SERVO_OUTPUT_RAW, WINCH_STATUS
 }
 
 #: Names and units of the NAMED_VALUE_FLOAT values (names <= 10 characters).
@@ -202,6 +218,8 @@ def parse_datagram(parser: mav.MAVLink, data: bytes) -> tuple[list[Any], int]:
                 kind = m.get_type()
                 if kind == "BAD_DATA" and m.reason == "Bad prefix":
                     bad += 1  # junk before a start byte: skipped
+                elif kind == "BAD_DATA" and m.reason == "Invalid signature":
+                    msgs.append(m)  # a whole frame refused by the signature check: counted there
                 elif kind == "BAD_DATA" or kind.startswith("UNKNOWN"):
                     # a frame that failed (bad CRC or flags; an unknown id cannot be checked):
                     # look again from the byte after its start
@@ -272,6 +290,10 @@ class MavlinkEndpoint:
         max_rx_per_poll: datagrams/reads handled per poll at most (bounds a poll's cost).
         param_burst: PARAM_VALUE messages sent per update while streaming the list.
         clock: wall clock for timeouts (monotonic seconds).
+        signing_key: 32-byte MAVLink 2 signing key (:mod:`fdm_awe.mavlink.signing`), or
+            None for no signing.
+        signing_key_file: where a key set with SETUP_SIGNING is saved (None: kept in memory).
+        signing_link_id: link id of the outgoing signatures, 0..255.
 
     Raises:
         InputError: bad URL, rate, id or option (one line naming it).
@@ -286,7 +308,9 @@ class MavlinkEndpoint:
                  mission_timeout_s: float = 1.5, mission_retries: int = 5,
                  max_mission_items: int = 2000, max_range_m: float = 20000.0,
                  max_rx_per_poll: int = 200, param_burst: int = 20,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 signing_key: bytes | None = None, signing_key_file: Any = None,
+                 signing_link_id: int = 0) -> None:
         for name, v in (("sysid", sysid), ("compid", compid)):
             if not isinstance(v, int) or not 1 <= v <= 255:
                 raise InputError(f"MAVLink {name}: {v!r} outside [1, 255]")
@@ -331,6 +355,8 @@ class MavlinkEndpoint:
             "SYS_STATUS": self._send_sys_status, "BATTERY_STATUS": self._send_battery,
             "HOME_POSITION": self._send_home, "NAMED_VALUE_FLOAT": self._send_named_values,
         }
+        for name, fn in _EXTRA_SENDERS.items():
+            self._senders[name] = (lambda f: lambda tel, t: f(self, tel, t))(fn)
 
         try:
             self._conn = mavutil.mavlink_connection(url, source_system=sysid,
@@ -339,8 +365,14 @@ class MavlinkEndpoint:
             raise InputError(f"--mavlink {url!r}: cannot open ({type(e).__name__}: {e})") from None
         # Our own MAVLink 2 codec on pymavlink's transport: independent of mavutil's
         # process-wide dialect/protocol-version switch.
-        self._mav = mav.MAVLink(self._conn, srcSystem=sysid, srcComponent=compid)
+        self._mav = _signing.Codec(self._conn, srcSystem=sysid, srcComponent=compid)
         self._mav.robust_parsing = True
+        #: the winch, its own component (MAV_COMP_ID_WINCH) on this connection
+        self.winch = WinchComponent(self._conn, sysid)
+        #: MAVLink 2 signing of both components (off without a key)
+        self.signer = _signing.Signer([self._mav, self.winch.mav], signing_key, signing_link_id)
+        self.signing_key_file = signing_key_file
+        self._reporter = ChangeReporter()
         #: UDP (one message set per datagram, parsed on its own) or a byte stream (TCP, serial)
         self._datagrams = isinstance(self._conn, DATAGRAM_TRANSPORTS)
 
@@ -367,7 +399,9 @@ class MavlinkEndpoint:
         self.stats: dict[str, Any] = {"sent": {}, "received": 0, "bad_packets": 0,
                                       "handler_errors": 0, "send_errors": 0, "link_losses": 0,
                                       "polls": 0, "datagrams": 0, "bad_time": 0,
-                                      "warnings_suppressed": 0}
+                                      "warnings_suppressed": 0,
+                                      "signing": {"accepted": 0, "unsigned_rejected": 0,
+                                                  "bad_signature_rejected": 0}}
         self._warned: dict[str, float] = {}
         self._handlers: dict[str, Callable[[Any], None]] = {
             "HEARTBEAT": lambda m: None,
@@ -381,8 +415,10 @@ class MavlinkEndpoint:
             "MISSION_ITEM": self._on_mission_item, "MISSION_ACK": self._on_mission_ack,
             "MISSION_CLEAR_ALL": self._on_mission_clear_all,
             "FILE_TRANSFER_PROTOCOL": self._on_ftp,
+            "SETUP_SIGNING": lambda m: _signing.on_setup_signing(self, m),
         }
-        self._info(f"MAVLink endpoint on {url} as system {sysid} component {compid}")
+        self._info(f"MAVLink endpoint on {url} as system {sysid} component {compid} (winch component "
+                   f"{WINCH_COMPID}); signing {'on' if self.signer.on else 'off'}")
 
     # ------------------------------------------------------------------ public API
     def update(self, t: float, telemetry: Telemetry | Callable[[], Telemetry]) -> None:
@@ -417,9 +453,19 @@ class MavlinkEndpoint:
         return {s.name: (0.0 if math.isinf(s.period) else 1.0 / s.period) for s in self._streams}
 
     def statustext(self, text: str, severity: int = mav.MAV_SEVERITY_INFO) -> None:
-        """Send a STATUSTEXT (truncated to 50 characters) to the ground station."""
-        data = text.encode("ascii", "replace")[:50]
-        self._send("STATUSTEXT", self._mav.statustext_send, severity, data)
+        """Send a STATUSTEXT to the ground station; a text over 50 characters goes out in
+        chunks (:func:`fdm_awe.mavlink.statustext.chunks`)."""
+        if self._closed:
+            return
+        for tid, seq, data in chunks(text):
+            self._send("STATUSTEXT", self._mav.statustext_send, severity, data, tid, seq)
+
+    def flight_ended(self, status: str, message: str) -> None:
+        """Tell the ground station how the flight ended (STATUSTEXT ``flight STATUS: MESSAGE``;
+        CRITICAL for a crash, a broken line or a limit, NOTICE for a completed flight or a
+        landing, WARNING for an incomplete or interrupted one)."""
+        self._reporter.vehicle(self, self.vehicle)
+        self.statustext(f"flight {status}: {message}", END_SEVERITY.get(status, mav.MAV_SEVERITY_CRITICAL))
 
     def close(self) -> None:
         """Close the connection (idempotent)."""
@@ -456,6 +502,7 @@ class MavlinkEndpoint:
         if t >= self._next_rx:
             self._next_rx = self._next_rx + self.rx_period if t - self._next_rx < self.rx_period else t + self.rx_period
             self._poll()
+            self._reporter.vehicle(self, self.vehicle)
 
         for s in self._streams:
             if t >= s.next_t:
@@ -486,11 +533,13 @@ class MavlinkEndpoint:
             src = self._tel_src
             tel = src() if callable(src) else src
             self._tel = tel if isinstance(tel, Telemetry) else Telemetry(t=self._t_now)
+            self._reporter.telemetry(self, self._tel)
         return self._tel
 
     # ------------------------------------------------------------------ receive
     def _poll(self) -> None:
         self.stats["polls"] += 1
+        self.signer.tick()
         conn = self._conn
         parse = self._mav.parse_buffer
         datagrams = self._datagrams
@@ -527,8 +576,15 @@ class MavlinkEndpoint:
     def _handle(self, m: Any) -> None:
         mtype = m.get_type()
         if mtype == "BAD_DATA" or mtype.startswith("UNKNOWN"):
-            self.stats["bad_packets"] += 1
+            refused = _signing.rejection(m)
+            if refused is None:
+                self.stats["bad_packets"] += 1
+            else:
+                self.stats["signing"][f"{refused}_rejected"] += 1
+                self._warn(f"MAVLink: {refused.replace('_', ' ')} message ignored (signing on)")
             return
+        if self.signer.on:
+            self.stats["signing"]["accepted"] += 1
         src = (m.get_srcSystem(), m.get_srcComponent())
         if src == (self.sysid, self.compid):
             return  # our own packet echoed back (e.g. broadcast)
@@ -557,16 +613,18 @@ class MavlinkEndpoint:
 
     # ------------------------------------------------------------------ commands
     def _on_command_long(self, m: Any) -> None:
-        if not self._for_me(m):
-            return
         p = (m.param1, m.param2, m.param3, m.param4, m.param5, m.param6, m.param7)
-        self._run_command(m, p)
+        if m.target_system == self.sysid and m.target_component == WINCH_COMPID:
+            self.winch.on_command(self, m, p)
+        elif self._for_me(m):
+            self._run_command(m, p)
 
     def _on_command_int(self, m: Any) -> None:
-        if not self._for_me(m):
-            return
         p = (m.param1, m.param2, m.param3, m.param4, float(m.x), float(m.y), m.z)
-        self._run_command(m, p)
+        if m.target_system == self.sysid and m.target_component == WINCH_COMPID:
+            self.winch.on_command(self, m, p)
+        elif self._for_me(m):
+            self._run_command(m, p)
 
     def _run_command(self, m: Any, p: tuple[float, ...]) -> None:
         handler = self._commands.get(m.command)
@@ -762,9 +820,9 @@ class MavlinkEndpoint:
         if ps is None or name not in ps:
             self.statustext(f"unknown parameter {name[:24]}", mav.MAV_SEVERITY_WARNING)
             return
-        ok, why = ps.try_set(name, float(m.param_value))
+        ok, why = ps.try_set(name, from_wire(m.param_value))   # the value as typed, not float32's
         if ok:
-            self._info(f"MAVLink: parameter {name} = {ps[name]:g}"
+            self._info(f"MAVLink: parameter {name} = {param_text(ps[name])}"
                        + ("" if why == "ok" else f" ({why})"))
             if why != "ok":
                 self.statustext(why, mav.MAV_SEVERITY_WARNING)
@@ -1013,6 +1071,7 @@ class MavlinkEndpoint:
             status = mav.MAV_STATE_ACTIVE if armed else mav.MAV_STATE_STANDBY
         self._send("HEARTBEAT", self._mav.heartbeat_send, mav.MAV_TYPE_FIXED_WING,
                    mav.MAV_AUTOPILOT_GENERIC, base, custom, status)
+        self.winch.send_heartbeat(self, tel)
 
     @staticmethod
     def _ms(t: float) -> int:
@@ -1052,7 +1111,11 @@ class MavlinkEndpoint:
                    _clamp_int(_f(tel.battery_current_A, -0.01) * 100.0, -1, 32767, -1),
                    self._remaining_pct(tel), 10000 if lost else 0,
                    min(st["bad_packets"], 65535), min(st["link_losses"], 65535),
-                   min(st["handler_errors"], 65535), 0, 0)
+                   min(st["handler_errors"], 65535), min(self._signing_rejected(), 65535), 0)
+
+    def _signing_rejected(self) -> int:
+        sg = self.stats["signing"]
+        return sg["unsigned_rejected"] + sg["bad_signature_rejected"]
 
     @staticmethod
     def _remaining_pct(tel: Telemetry) -> int:

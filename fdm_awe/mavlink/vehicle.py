@@ -112,6 +112,15 @@ class Telemetry:
         armed: motor armed.
         cycling: pumping cycles running.
         health_ok: False when the simulation reports a fault (clears the AHRS health bit).
+        line_length_m: unstretched line paid out at the winch, m (NaN = unknown).
+        winch_voltage_V: winch DC-link voltage, V (NaN = unknown).
+        winch_current_A: winch machine (armature) current, A (NaN = unknown).
+        winch_mode: what the winch machine does: "generator", "motor", "idle" or "" (unknown).
+        winch_ok: False when the winch is out of order (line broken).
+        line_fully_in: the line is reeled in completely.
+        surfaces: aileron, elevator, rudder (-1..1) and fold command (0..1) as commanded.
+        mission_seq: index of the mission item being flown to, -1 when no mission is flown.
+        nav: what the path follower aims at (:class:`NavTarget`), None outside path following.
     """
 
     t: float = 0.0
@@ -134,6 +143,39 @@ class Telemetry:
     armed: bool = False
     cycling: bool = False
     health_ok: bool = True
+    line_length_m: float = math.nan
+    winch_voltage_V: float = math.nan
+    winch_current_A: float = math.nan
+    winch_mode: str = ""
+    winch_ok: bool = True
+    line_fully_in: bool = False
+    surfaces: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+    mission_seq: int = -1
+    nav: "NavTarget | None" = None
+
+
+@dataclass(frozen=True)
+class NavTarget:
+    """What the path follower aims at (NAV_CONTROLLER_OUTPUT), SI units, angles in rad.
+
+    Attributes:
+        roll, pitch: commanded body roll and pitch, rad.
+        heading: commanded body heading, rad.
+        target_bearing: bearing from the glider to the reference point, rad (0 = north).
+        distance_m: distance to the reference point, m.
+        alt_error_m: reference altitude minus glider altitude, m (+ = glider too low).
+        airspeed_error_mps: reference airspeed minus airspeed, m/s (+ = too slow).
+        xtrack_m: horizontal offset across the reference track, m (+ = right of it).
+    """
+
+    roll: float
+    pitch: float
+    heading: float
+    target_bearing: float
+    distance_m: float
+    alt_error_m: float
+    airspeed_error_mps: float
+    xtrack_m: float
 
 
 @dataclass(frozen=True)
