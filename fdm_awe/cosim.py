@@ -39,8 +39,10 @@ from typing import Any, Callable, Protocol, Sequence
 
 import numpy as np
 
+from .cosim_events import E_FORCE, E_HOOK, E_INTERRUPT, E_JSBSIM, E_NONE, event_message, limit_vector, step_event
 from .errors import InputError
 from .sixdof.adapter import JSBSimGlider
+from .sixdof.row import FBZ, MASS, T, VT
 from .sixdof.state import SixDofState, Surfaces
 
 STATUSES = ("ok", "ground_contact", "tether_break", "nonfinite", "airspeed_limit", "load_limit", "interrupted")
@@ -97,6 +99,17 @@ COLUMNS: tuple[str, ...] = (
     "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd", "phase",
 )
 _C = {name: i for i, name in enumerate(COLUMNS)}
+#: column ranges of the vector-valued names: (first, end)
+_SPANS = {"pos": (_C["x"], _C["z"] + 1), "vel": (_C["vn"], _C["vd"] + 1), "quat": (_C["qw"], _C["qz"] + 1),
+          "euler": (_C["phi"], _C["psi"] + 1), "omega_body": (_C["p"], _C["r"] + 1),
+          "tether_force": (_C["fx"], _C["fz"] + 1), "controls": (_C["aileron"], _C["fold_cmd"] + 1)}
+#: the ground station's logged columns (tension .. fz)
+_GS_SPAN = (_C["tension"], _C["fz"] + 1)
+#: logged columns (or ranges, see _SPANS) from the glider's converted rows: (column, JSBSimGlider.convert_raw key)
+_FROM_STATE = (("t", "t"), ("pos", "pos_ned"), ("vel", "vel_ned"), ("quat", "quat"), ("euler", "euler"),
+               ("omega_body", "omega_body"), ("airspeed", "airspeed"), ("alpha", "alpha"), ("beta", "beta"),
+               ("fold", "fold"), ("thrust", "thrust_N"), ("p_prop", "prop_power_W"), ("load_factor", "load_factor"))
+_N_GS = _GS_SPAN[1] - _GS_SPAN[0]
 
 
 @dataclass
@@ -119,37 +132,15 @@ class FlightResult:
     steps: int
 
     def __getattr__(self, name: str) -> np.ndarray:
-        if name in _C and "data" in self.__dict__:
-            return self.__dict__["data"][:, _C[name]]
+        """A logged column (:data:`COLUMNS`) or a vector's columns (``pos``, ``vel``, ``quat``,
+        ``euler``, ``omega_body``, ``tether_force``, ``controls``) as a view of ``data``."""
+        if "data" in self.__dict__:
+            if name in _C:
+                return self.__dict__["data"][:, _C[name]]
+            if name in _SPANS:
+                a, b = _SPANS[name]
+                return self.__dict__["data"][:, a:b]
         raise AttributeError(name)
-
-    @property
-    def pos(self) -> np.ndarray:
-        return self.data[:, 1:4]
-
-    @property
-    def vel(self) -> np.ndarray:
-        return self.data[:, 4:7]
-
-    @property
-    def quat(self) -> np.ndarray:
-        return self.data[:, 7:11]
-
-    @property
-    def euler(self) -> np.ndarray:
-        return self.data[:, 11:14]
-
-    @property
-    def omega_body(self) -> np.ndarray:
-        return self.data[:, 14:17]
-
-    @property
-    def tether_force(self) -> np.ndarray:
-        return self.data[:, 31:34]
-
-    @property
-    def controls(self) -> np.ndarray:
-        return self.data[:, 34:39]
 
     @property
     def phase(self) -> list[str]:
@@ -158,7 +149,8 @@ class FlightResult:
 
     @property
     def sim_time_s(self) -> float:
-        return float(self.data[-1, 0] - self.data[0, 0]) if len(self.data) else 0.0
+        t = _C["t"]
+        return float(self.data[-1, t] - self.data[0, t]) if len(self.data) else 0.0
 
     @property
     def realtime_factor(self) -> float:
@@ -171,7 +163,7 @@ class FlightResult:
         self.data = self.data[: steps + 1]
         self.steps = steps
         if self.event is not None and self.event.kind == "interrupted" and len(self.data):
-            self.event = Event("interrupted", float(self.data[-1, 0]), self.event.message)
+            self.event = Event("interrupted", float(self.data[-1, _C["t"]]), self.event.message)
 
 
 class CoSim:
@@ -243,24 +235,19 @@ class CoSim:
         codes: dict[str, int] = {}
         s = g.state()
         t0 = s.t
-        nan7 = (math.nan,) * 10
+        nan_gs = (math.nan,) * _N_GS  # no ground-station step yet
         raw0 = g.raw()
         ncol = len(raw0)
         raws.extend(raw0)
-        gsrec.extend(nan7)
+        gsrec.extend(nan_gs)
         ctl.append(g.controls)
         phases.append(self._phase_code(ctrl, labels, codes))
-        airborne = not s.on_ground
-        r = s._r  # the state's raw JSBSim values (adapter order: [0] time, [29] weight on wheels)
-        # the SixDofState airspeed and load-factor conversions, written out on the raw row
-        k_v, k_fz, k_m = s._k[13], s._k[21], s._k[22]
+        r = s._r  # the state's raw JSBSim row (positions of sixdof.row)
+        # the event checks' thresholds, airborne flag and the state's SI factors (SixDofState)
+        lim_v = limit_vector(lim, t0, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS])
         gs_out = self.last_gs_output
         event: Event | None = None
         k = 0
-        v_min = lim.airspeed_min
-        v_max = lim.airspeed_max
-        t_max = lim.max_tension
-        n_max = lim.max_load_factor
         set_controls = g.set_controls
         advance = getattr(g, "advance", None)  # force, step and new state in one call
         if advance is None:  # a glider without it: the three calls
@@ -275,24 +262,19 @@ class CoSim:
         raws_add = raws.fromlist if type(raw0) is list else raws.extend
         has_phase = hasattr(ctrl, "phase")
         last_phase, last_code = None, -1
-        check_v = v_max is not None or v_min is not None
-        inf = math.inf  # a disabled limit is never crossed
-        v_hi, v_lo = (inf if v_max is None else v_max), (-inf if v_min is None else v_min)
-        t_hi = inf if t_max is None else t_max
-        grace = lim.grace_s
-        ground_contact = lim.ground_contact
+        check = step_event
         ndarray = np.ndarray
         isfinite = math.isfinite
         wall0 = time.perf_counter()
         try:
             while k < n:
-                surf, wcmd = update(r[0], s, gs_out)  # r[0]: the state's time
+                surf, wcmd = update(r[T], s, gs_out)
                 set_controls(surf)
                 hp, hv = s._hook  # the state's tether attachment point (glider.hook_kinematics())
                 try:
                     gs_out = gs_step(dt, hp, hv, wcmd)
                 except InputError as exc:
-                    event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
+                    event = self._event(E_HOOK, s, gs_out, error=str(exc))
                     break
                 try:
                     fx, fy, fz = gs_out.force_xyz
@@ -302,12 +284,12 @@ class CoSim:
                         f = f.tolist()
                     fx, fy, fz = f[0], f[1], f[2]
                 if not isfinite(fx + fy + fz):
-                    event = Event("nonfinite", s.t, f"non-finite tether force {(fx, fy, fz)!r}")
+                    event = self._event(E_FORCE, s, gs_out, force=(fx, fy, fz))
                     break
                 try:
                     s_new = advance(fx, fy, fz)
                 except (RuntimeError, ValueError, ArithmeticError) as exc:  # JSBSim gave up on the state
-                    event = Event("nonfinite", s.t, f"JSBSim failed: {exc}")
+                    event = self._event(E_JSBSIM, s, gs_out, error=str(exc))
                     break
                 k += 1
                 s = s_new
@@ -325,49 +307,21 @@ class CoSim:
                     phases.append(last_code)
                 if on_step is not None and on_step(k, s, gs_out):
                     break  # the caller's end condition (e.g. N cycles flown): status "ok"
-                # ---- events (on floats; the state's position, velocity, attitude and rates)
-                if not isfinite(sum(r[1:16])):
-                    event = Event("nonfinite", s.t, "non-finite glider state")
+                code = check(r, tension, gs_out.event is not None, lim_v)  # as the compiled step
+                if code:
+                    event = self._event(code, s, gs_out)
                     break
-                gev = gs_out.event
-                if gev is not None:
-                    kind = "tether_break" if gev == "tether_break" else str(gev)
-                    event = Event(kind, s.t, f"ground station event: {gev}")
-                    break
-                if r[29] > 0.5:  # SixDofState.on_ground, without the property call
-                    if airborne and ground_contact:
-                        event = Event("ground_contact", s.t, f"ground contact at x={s.x:.1f} m, y={s.y:.1f} m, "
-                                      f"{s.airspeed:.1f} m/s")
-                        break
-                else:
-                    airborne = True
-                if check_v and r[0] - t0 >= grace:
-                    v = r[13] * k_v  # SixDofState.airspeed
-                    if v > v_hi:
-                        event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s above {v_max:g} m/s")
-                        break
-                    if v < v_lo:
-                        event = Event("airspeed_limit", s.t, f"airspeed {v:.2f} m/s below {v_min:g} m/s")
-                        break
-                if tension > t_hi:
-                    event = Event("load_limit", s.t, f"tether tension {tension:.1f} N above {t_max:g} N")
-                    break
-                if n_max is not None:
-                    nz = -r[21] * k_fz / (r[22] * k_m) / 9.80665  # SixDofState.load_factor
-                    if nz > n_max or nz < -n_max:
-                        event = Event("load_limit", s.t, f"load factor {nz:.2f} g beyond {n_max:g} g")
-                        break
         except KeyboardInterrupt:
-            event = Event("interrupted", s.t, "interrupted by the user")
+            event = self._event(E_INTERRUPT, s, gs_out)
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
         # an interrupt may fall between the appends of a step: keep the rows every record has
-        m = min(len(raws) // ncol, len(gsrec) // 10, len(ctl), len(phases) if has_phase else len(ctl))
+        m = min(len(raws) // ncol, len(gsrec) // _N_GS, len(ctl), len(phases) if has_phase else len(ctl))
         data = self._assemble(np.frombuffer(raws, dtype=float).reshape(-1, ncol)[:m],
-                              np.frombuffer(gsrec, dtype=float).reshape(-1, 10)[:m], ctl[:m],
+                              np.frombuffer(gsrec, dtype=float).reshape(-1, _N_GS)[:m], ctl[:m],
                               phases if has_phase else None)
         if event is not None and event.kind == "interrupted" and m:
-            event = Event("interrupted", float(data[-1, 0]), event.message)
+            event = Event("interrupted", float(data[-1, _C["t"]]), event.message)
         status = "ok" if event is None else event.kind
         return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
                             steps=m - 1)
@@ -398,18 +352,9 @@ class CoSim:
         p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = dt, nsub, lat0, m0, n0cos
         p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
         p[ck.P_FT], p[ck.P_LBF] = FT, LBF
-        inf = math.inf
-        p[ck.P_VHI] = inf if lim.airspeed_max is None else lim.airspeed_max
-        p[ck.P_VLO] = -inf if lim.airspeed_min is None else lim.airspeed_min
-        p[ck.P_THI] = inf if lim.max_tension is None else lim.max_tension
-        p[ck.P_NMAX] = math.nan if lim.max_load_factor is None else lim.max_load_factor
-        p[ck.P_GRACE], p[ck.P_T0] = lim.grace_s, s.t
-        p[ck.P_CHECKV] = 1.0 if (lim.airspeed_max is not None or lim.airspeed_min is not None) else 0.0
-        p[ck.P_GROUND] = 1.0 if lim.ground_contact else 0.0
-        p[ck.P_AIRBORNE] = 0.0 if s.on_ground else 1.0
-        p[ck.P_KV], p[ck.P_KFZ], p[ck.P_KM] = s._k[13], s._k[21], s._k[22]
         (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s._hook
         p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g._force
+        lim_v = np.array(limit_vector(lim, s.t, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS]))
         ctl: list[Surfaces] = [g.controls]
         phases: list[int] = []
         labels: list[str] = []
@@ -425,7 +370,6 @@ class CoSim:
         # the compiled function without numba's argument-type dispatch (its one signature)
         call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
         i_motor = ck.P_MOTOR
-        e_none = ck.E_NONE
         last_wcmd: Any = None
         mode = ""
         event: Event | None = None
@@ -440,14 +384,14 @@ class CoSim:
                     try:
                         mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
                     except InputError as exc:  # as GroundStation.step in the Python loop
-                        event = Event("nonfinite", s.t, f"ground station rejected the glider state: {exc}")
+                        event = self._event(E_HOOK, s, gs_out, error=str(exc))
                         break
                     p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
                     last_wcmd = wcmd
                 m = block if n - k > block else n - k
                 if k + m >= len(log):
                     log = np.concatenate((log, np.full((min(n + 1, 2 * len(log)) - len(log), width), math.nan)))
-                done, code = call(h, p, log, s_gs, c_gs, k, m)
+                done, code = call(h, p, lim_v, log, s_gs, c_gs, k, m)
                 if done:
                     k += done
                     if done == 1:
@@ -465,60 +409,49 @@ class CoSim:
                             phases.extend([last_code] * done)
                     row = log[k].tolist()
                     r = row[:nr]
-                    hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]
+                    hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL_COLUMNS
                     hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
                     s = make_state(r, hook, force)
                     sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
-                    t = r[0]
+                    t = r[T]
                     gs_out = output_from_row(row[nr:ng], mode)
                     if on_step is not None and on_step(k, s, gs_out):
-                        code = e_none
+                        code = E_NONE
                         break  # the caller's end condition: status "ok"
-                if code != e_none:
+                if code != E_NONE:
                     event = self._compiled_event(code, s, gs_out, p)
                     break
         except KeyboardInterrupt:
-            event = Event("interrupted", s.t, "interrupted by the user")
+            event = self._event(E_INTERRUPT, s, gs_out)
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
         # an interrupt may fall between counting a step and appending its commands or phase:
         # keep the rows every record has
         m = min(k + 1, len(ctl), len(phases) if has_phase else k + 1)
-        data = self._assemble(log[:m, :nr], log[:m, nr:nr + 10], ctl[:m], phases if has_phase else None)
+        data = self._assemble(log[:m, :nr], log[:m, nr:nr + _N_GS], ctl[:m], phases if has_phase else None)
         if event is not None and event.kind == "interrupted":
-            event = Event("interrupted", float(data[-1, 0]), event.message)
+            event = Event("interrupted", float(data[-1, _C["t"]]), event.message)
         status = "ok" if event is None else event.kind
         return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
                             steps=m - 1)
 
     def _compiled_event(self, code: int, s: SixDofState, gs_out: Any, p: np.ndarray) -> Event:
-        """The :class:`Event` (with the Python loop's message) of a compiled loop's event code."""
+        """The :class:`Event` of a compiled loop's event code, as the Python loop gives it."""
         from . import cosim_kernel as ck
 
-        lim = self.limits
-        if code == ck.E_HOOK:
+        if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
             hp, hv = s._hook
-            return Event("nonfinite", s.t, "ground station rejected the glider state: glider position/velocity "
-                         f"must be finite, got pos={tuple(hp)!r} vel={tuple(hv)!r}")
-        if code == ck.E_FORCE:
-            f = (float(p[ck.P_FX]), float(p[ck.P_FY]), float(p[ck.P_FZ]))
-            return Event("nonfinite", s.t, f"non-finite tether force {f!r}")
-        if code == ck.E_STATE:
-            return Event("nonfinite", s.t, "non-finite glider state")
-        if code == ck.E_GS:
-            gev = gs_out.event
-            kind = "tether_break" if gev == "tether_break" else str(gev)
-            return Event(kind, s.t, f"ground station event: {gev}")
-        if code == ck.E_GROUND:
-            return Event("ground_contact", s.t, f"ground contact at x={s.x:.1f} m, y={s.y:.1f} m, {s.airspeed:.1f} m/s")
-        if code == ck.E_VHI:
-            return Event("airspeed_limit", s.t, f"airspeed {s.airspeed:.2f} m/s above {lim.airspeed_max:g} m/s")
-        if code == ck.E_VLO:
-            return Event("airspeed_limit", s.t, f"airspeed {s.airspeed:.2f} m/s below {lim.airspeed_min:g} m/s")
-        if code == ck.E_TENSION:
-            return Event("load_limit", s.t, f"tether tension {gs_out.tension:.1f} N above {lim.max_tension:g} N")
-        nz = s.load_factor
-        return Event("load_limit", s.t, f"load factor {nz:.2f} g beyond {lim.max_load_factor:g} g")
+            return self._event(code, s, gs_out, error="glider position/velocity must be finite, got "
+                               f"pos={tuple(hp)!r} vel={tuple(hv)!r}")
+        if code == E_FORCE:
+            return self._event(code, s, gs_out, force=(float(p[ck.P_FX]), float(p[ck.P_FY]), float(p[ck.P_FZ])))
+        return self._event(code, s, gs_out)
+
+    def _event(self, code: int, s: SixDofState, gs_out: Any, force: tuple[float, float, float] | None = None,
+               error: str = "") -> Event:
+        """The :class:`Event` of event ``code`` (:data:`fdm_awe.cosim_events.EVENTS`) at state ``s``."""
+        kind, message = event_message(code, self.limits, s, gs_out, force, error)
+        return Event(kind, s.t, message)
 
     @staticmethod
     def _phase_code(ctrl: Any, labels: list[str], codes: dict[str, int]) -> int:
@@ -537,21 +470,20 @@ class CoSim:
         if n == 0:
             return data
         si = self.glider.convert_raw(raws)
-        data[:, 0] = si["t"]
-        data[:, 1:4] = si["pos_ned"]
-        data[:, 4:7] = si["vel_ned"]
-        data[:, 7:11] = si["quat"]
-        data[:, 11:14] = si["euler"]
-        data[:, 14:17] = si["omega_body"]
-        for col, key in ((17, "airspeed"), (18, "alpha"), (19, "beta"), (20, "fold"), (21, "thrust_N"),
-                         (22, "prop_power_W"), (23, "load_factor")):
-            data[:, col] = si[key]
-        data[:, 24:34] = gsrec
-        data[:, 34:39] = np.array([(c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd) for c in ctl])
+        for name, key in _FROM_STATE:
+            if name in _SPANS:
+                i, j = _SPANS[name]
+                data[:, i:j] = si[key]
+            else:
+                data[:, _C[name]] = si[key]
+        i, j = _GS_SPAN
+        data[:, i:j] = gsrec
+        i, j = _SPANS["controls"]
+        data[:, i:j] = np.array([(c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd) for c in ctl])
         if phases is not None:
             ph = np.array(phases[:n], dtype=float)
             ph[ph < 0] = np.nan
-            data[: len(ph), 39] = ph
+            data[: len(ph), _C["phase"]] = ph
         return data
 
 

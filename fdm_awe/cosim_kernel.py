@@ -4,18 +4,22 @@
 in between: the ground station's compiled step (:func:`fdm_awe.groundstation.substeps.station_step`)
 on the hook kinematics of the current state, the force written to the JSBSim tether hook, one
 ``FGFDMExec::Run()``, the state's properties read into the next log row, the next hook
-kinematics, and the event checks in the order of the Python loop. JSBSim is called through its
+kinematics (:func:`fdm_awe.sixdof.row.hook_kinematics`), and the event checks
+(:func:`fdm_awe.cosim_events.step_event`): the same functions the Python loop runs. JSBSim is called through its
 library (:mod:`fdm_awe.sixdof.native`); the operations are those of the Python path
 (``JSBSimGlider.advance``/``_read``, ``GroundStation.step``, ``CoSim.run``) in the same order, so
 both give identical results (tested).
 
 Arguments are packed to keep a one-step call cheap:
 
-- ``h`` int64: Run, getDoubleValue, setDoubleValue, FGFDMExec*, the three tether-force nodes
-  (x, y, z), then the nodes read per step (0: constant 0.0);
-- ``p`` float64 parameters (``P_*`` offsets): step, sub-steps, frame and hook constants,
-  limits, the winch command's terms, the airborne flag (updated), the current hook
-  kinematics (updated) and the last line force (updated);
+- ``h`` int64 (``H_*`` offsets): Run, getDoubleValue, setDoubleValue, FGFDMExec*, the three
+  tether-force nodes (x, y, z), then the nodes read per step (0: constant 0.0), in the order
+  of the raw row (:mod:`fdm_awe.sixdof.row`);
+- ``p`` float64 parameters (``P_*`` offsets): step, sub-steps, frame and hook constants, the
+  winch command's terms, the current hook kinematics (updated) and the last line force
+  (updated);
+- ``lim`` float64 thresholds of the event checks and the airborne flag (updated), as
+  :func:`fdm_awe.cosim_events.limit_vector` builds them;
 - ``log`` one row per step (row ``k0``: the current state), each row the JSBSim values (one
   per read node), then the ground-station outputs (:data:`GS_COLUMNS`), then the hook
   kinematics after the step and the line force applied during it (:data:`TAIL_COLUMNS`), so
@@ -30,53 +34,31 @@ from __future__ import annotations
 
 import functools
 import math
+import os
+import sys
 import warnings
-from typing import Callable
+from typing import Any, Callable
+
+from .cosim_events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
+from .sixdof.row import hook_kinematics
 
 # parameter offsets in ``p``
-(P_DT, P_NSUB, P_LAT0, P_M0, P_N0COS, P_OX, P_OY, P_OZ, P_FT, P_LBF, P_VHI, P_VLO, P_THI, P_NMAX, P_GRACE,
- P_T0, P_CHECKV, P_GROUND, P_AIRBORNE, P_MOTOR, P_WREF, P_DUTY, P_D2, P_RL, P_KV, P_KFZ, P_KM,
- P_HX, P_HY, P_HZ, P_HVX, P_HVY, P_HVZ, P_FX, P_FY, P_FZ) = range(36)
-N_PARAMS = 36
-#: offset of the first read node in ``h``
-H_GETTERS = 7
-#: ground-station output columns per row (the first ten are CoSim's logged columns)
+(P_DT, P_NSUB, P_LAT0, P_M0, P_N0COS, P_OX, P_OY, P_OZ, P_FT, P_LBF, P_MOTOR, P_WREF, P_DUTY, P_D2, P_RL,
+ P_HX, P_HY, P_HZ, P_HVX, P_HVY, P_HVZ, P_FX, P_FY, P_FZ) = range(24)
+N_PARAMS = 24
+# offsets in ``h``: the calls, the object, the tether-force nodes, then the read nodes
+(H_RUN, H_GET, H_SET, H_FDM, H_TX, H_TY, H_TZ, H_GETTERS) = range(8)
+#: ground-station output columns per row, after the raw values (the first ten are CoSim's
+#: logged columns)
 GS_COLUMNS = ("tension", "length", "reel_speed", "omega", "current", "duty", "p_electrical", "fx", "fy", "fz",
               "u_link", "event", "machine_mode", "p_mechanical", "distance", "slack", "broken")
-#: the row's last columns: hook position and velocity after the step, line force during it
+(G_TENSION, G_LENGTH, G_REEL_SPEED, G_OMEGA, G_CURRENT, G_DUTY, G_P_EL, G_FX, G_FY, G_FZ, G_U_LINK, G_EVENT,
+ G_MACHINE_MODE, G_P_MECH, G_DISTANCE, G_SLACK, G_BROKEN) = range(17)
+N_GS = 17
+#: the row's last columns, after the ground-station ones: hook position and velocity after the
+#: step, line force during it
 TAIL_COLUMNS = ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "fx", "fy", "fz")
-#: event codes returned by :func:`cosim_steps`
-EVENT_CODES = ("none", "hook_rejected", "nonfinite_force", "nonfinite_state", "ground_station", "ground_contact",
-               "airspeed_high", "airspeed_low", "tension", "load_factor")
-(E_NONE, E_HOOK, E_FORCE, E_STATE, E_GS, E_GROUND, E_VHI, E_VLO, E_TENSION, E_LOAD) = range(len(EVENT_CODES))
-
-
-def _hook(r, p):
-    """Hook position and velocity (NED) from a row of raw values: ``JSBSimGlider._read``."""
-    ft = p[P_FT]
-    x = (r[1] - p[P_LAT0]) * p[P_M0]
-    y = r[2] * p[P_N0COS]
-    z = -r[3] * ft
-    vx, vy, vz = r[4] * ft, r[5] * ft, r[6] * ft
-    ox, oy, oz = p[P_OX], p[P_OY], p[P_OZ]
-    if ox == 0.0 and oy == 0.0 and oz == 0.0:
-        p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY], p[P_HVZ] = x, y, z, vx, vy, vz
-        return
-    phi, th, psi = r[7], r[8], r[9]
-    cf, sf = math.cos(phi), math.sin(phi)
-    ct, st = math.cos(th), math.sin(th)
-    cp, sp = math.cos(psi), math.sin(psi)
-    pp, q, rr = r[10], r[11], r[12]
-    wx, wy, wz = q * oz - rr * oy, rr * ox - pp * oz, pp * oy - q * ox
-    m00, m01, m02 = ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp
-    m10, m11, m12 = ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp
-    m20, m21, m22 = -st, sf * ct, cf * ct
-    p[P_HX] = x + m00 * ox + m01 * oy + m02 * oz
-    p[P_HY] = y + m10 * ox + m11 * oy + m12 * oz
-    p[P_HZ] = z + m20 * ox + m21 * oy + m22 * oz
-    p[P_HVX] = vx + m00 * wx + m01 * wy + m02 * wz
-    p[P_HVY] = vy + m10 * wx + m11 * wy + m12 * wz
-    p[P_HVZ] = vz + m20 * wx + m21 * wy + m22 * wz
+(K_HX, K_HY, K_HZ, K_HVX, K_HVY, K_HVZ, K_FX, K_FY, K_FZ) = range(len(TAIL_COLUMNS))
 
 
 def _globals() -> tuple:
@@ -86,23 +68,26 @@ def _globals() -> tuple:
     station = compiled_station()
     if station is None:
         return None, None, None, None
-    from .sixdof.native import _intrinsics
+    from .sixdof.native import native_calls
 
-    return (station,) + _intrinsics()
+    return (station,) + native_calls()
 
 
 # module globals of the kernel: frozen into it when it is compiled
 station, native_run, native_get, native_set = _globals()
-hook = _hook
 
 
-def cosim_steps(h, p, log, s_gs, c_gs, k0, n):  # noqa: C901
-    f_run, f_get, f_set, fdm = h[0], h[1], h[2], h[3]
+def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
+    f_run, f_get, f_set, fdm = h[H_RUN], h[H_GET], h[H_SET], h[H_FDM]
     nget = h.shape[0] - H_GETTERS
     dt = p[P_DT]
     nsub = int(p[P_NSUB])
     lbf = p[P_LBF]
     motor = p[P_MOTOR] != 0.0
+    lat0, m0, n0cos, ft = p[P_LAT0], p[P_M0], p[P_N0COS], p[P_FT]
+    ox, oy, oz = p[P_OX], p[P_OY], p[P_OZ]
+    g = nget  # first ground-station column
+    e = nget + N_GS  # first tail column
     k = k0
     code = E_NONE
     while k < k0 + n:
@@ -117,9 +102,9 @@ def cosim_steps(h, p, log, s_gs, c_gs, k0, n):  # noqa: C901
         if not math.isfinite(fx + fy + fz):
             code = E_FORCE
             break
-        native_set(f_set, h[4], fx / lbf)
-        native_set(f_set, h[5], fy / lbf)
-        native_set(f_set, h[6], fz / lbf)
+        native_set(f_set, h[H_TX], fx / lbf)
+        native_set(f_set, h[H_TY], fy / lbf)
+        native_set(f_set, h[H_TZ], fz / lbf)
         native_run(f_run, fdm)
         k += 1
         r = log[k]
@@ -127,50 +112,39 @@ def cosim_steps(h, p, log, s_gs, c_gs, k0, n):  # noqa: C901
             a = h[H_GETTERS + j]
             r[j] = native_get(f_get, a) if a != 0 else 0.0
         rr = c_gs[0] * w
-        j = nget
-        r[j], r[j + 1], r[j + 2], r[j + 3], r[j + 4], r[j + 5], r[j + 6] = tmean, length, rr, w, i, duty, p_el
-        r[j + 7], r[j + 8], r[j + 9], r[j + 10], r[j + 11], r[j + 12] = fx, fy, fz, u_link, ev, mm
-        r[j + 13], r[j + 14] = tmean * c_gs[0] * w, d
-        r[j + 15], r[j + 16] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
-        hook(r, p)
-        j += 17
-        r[j], r[j + 1], r[j + 2], r[j + 3], r[j + 4], r[j + 5] = (p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY],
-                                                              p[P_HVZ])
-        r[j + 6], r[j + 7], r[j + 8] = fx, fy, fz
-        # ---- events, in the order of CoSim.run
-        sm = 0.0
-        for j in range(1, 16):
-            sm += r[j]
-        if not math.isfinite(sm):
-            code = E_STATE
+        r[g + G_TENSION], r[g + G_LENGTH], r[g + G_REEL_SPEED], r[g + G_OMEGA] = tmean, length, rr, w
+        r[g + G_CURRENT], r[g + G_DUTY], r[g + G_P_EL] = i, duty, p_el
+        r[g + G_FX], r[g + G_FY], r[g + G_FZ], r[g + G_U_LINK], r[g + G_EVENT], r[g + G_MACHINE_MODE] = (
+            fx, fy, fz, u_link, ev, mm)
+        r[g + G_P_MECH], r[g + G_DISTANCE] = tmean * c_gs[0] * w, d
+        r[g + G_SLACK], r[g + G_BROKEN] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
+        (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, lat0, m0, n0cos, ft, ox, oy, oz)
+        p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY], p[P_HVZ] = hx, hy, hz, hvx, hvy, hvz
+        r[e + K_HX], r[e + K_HY], r[e + K_HZ], r[e + K_HVX], r[e + K_HVY], r[e + K_HVZ] = hx, hy, hz, hvx, hvy, hvz
+        r[e + K_FX], r[e + K_FY], r[e + K_FZ] = fx, fy, fz
+        code = step_event(r, tmean, ev != 0, lim)  # the events, as CoSim.run checks them
+        if code != E_NONE:
             break
-        if ev != 0:
-            code = E_GS
-            break
-        if r[29] > 0.5:
-            if p[P_AIRBORNE] != 0.0 and p[P_GROUND] != 0.0:
-                code = E_GROUND
-                break
-        else:
-            p[P_AIRBORNE] = 1.0
-        if p[P_CHECKV] != 0.0 and r[0] - p[P_T0] >= p[P_GRACE]:
-            v = r[13] * p[P_KV]
-            if v > p[P_VHI]:
-                code = E_VHI
-                break
-            if v < p[P_VLO]:
-                code = E_VLO
-                break
-        if tmean > p[P_THI]:
-            code = E_TENSION
-            break
-        if p[P_NMAX] == p[P_NMAX]:  # NaN: no load-factor limit
-            nz = -r[21] * p[P_KFZ] / (r[22] * p[P_KM]) / 9.80665
-            if nz > p[P_NMAX] or nz < -p[P_NMAX]:
-                code = E_LOAD
-                break
     return k - k0, code
 
+
+def _cache_follows_sources(kern: Any) -> None:
+    """Tie the on-disk cache of ``kern`` to the source files of the functions compiled into it
+    (numba's cache checks only the file that defines the kernel): an edit of the event check,
+    the row's relations or the ground station's step compiles the kernel anew. Where numba's
+    cache looks otherwise, nothing changes."""
+    from .groundstation import substeps
+    from .sixdof import native
+
+    cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
+    stamp = getattr(cache_file, "_source_stamp", None)
+    if stamp is None:
+        return
+    deps = []
+    for mod in (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps, native):
+        st = os.stat(mod.__file__)
+        deps.append((st.st_mtime, st.st_size))
+    cache_file._source_stamp = (stamp, tuple(deps))
 
 
 @functools.lru_cache(maxsize=None)
@@ -183,14 +157,21 @@ def compiled_kernel() -> Callable | None:
         import numba
         from numba.extending import register_jitable
 
-        register_jitable(_hook)
+        register_jitable(hook_kinematics)
+        register_jitable(step_event)
         f8, i8 = numba.float64, numba.int64
-        sig = numba.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
-        return numba.njit(sig, cache=True)(cosim_steps)
+        sig = numba.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
+        kern = numba.njit(cache=True)(cosim_steps)
+        _cache_follows_sources(kern)
+        kern.compile(sig)  # its one signature, compiled or loaded from the cache here
+        kern.disable_compile()
+        return kern
     except Exception as exc:  # a broken numba install must not stop a simulation
         warnings.warn(f"fdm_awe.cosim_kernel: numba failed ({exc}); the Python loop runs instead",
                       RuntimeWarning, stacklevel=2)
         return None
 
 
-__all__ = ["EVENT_CODES", "GS_COLUMNS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
+__all__ = ["EVENT_CODES", "GS_COLUMNS", "N_LIMITS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
+if len(GS_COLUMNS) != N_GS or len(TAIL_COLUMNS) != K_FZ + 1:  # pragma: no cover - a definition error here
+    raise RuntimeError("fdm_awe.cosim_kernel: column names and offsets disagree")

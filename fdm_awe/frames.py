@@ -40,28 +40,7 @@ def c_to_n(vec_c: Sequence[Any], gamma: Any, psi: Any, phi: Any) -> list[Any]:
     return [R[0][j] * vec_c[0] + R[1][j] * vec_c[1] + R[2][j] * vec_c[2] for j in range(3)]
 
 
-def air_velocity_ned(V: Any, gamma: Any, psi: Any) -> list[Any]:
-    """Air-relative velocity in N: ``V c1`` (eq. 6)."""
-    return [V * mo.cos(gamma) * mo.cos(psi), V * mo.cos(gamma) * mo.sin(psi), -V * mo.sin(gamma)]
-
-
 def tether_direction_ned(x: Any, y: Any, z: Any) -> list[Any]:
     """Unit vector from the glider towards the winch, ``-P/|P|`` (corrected eqs. 8/31)."""
     d = mo.sqrt(x * x + y * y + z * z)
     return [-x / d, -y / d, -z / d]
-
-
-def elevation_azimuth(x: Any, y: Any, z: Any) -> tuple[Any, Any]:
-    """Tether elevation above the ground plane and azimuth from north [rad] of position P."""
-    return mo.atan2(-z, mo.sqrt(x * x + y * y)), mo.atan2(y, x)
-
-
-def position_from_spherical(d: float, elevation: float, azimuth: float) -> tuple[float, float, float]:
-    """NED position at distance ``d`` [m], ``elevation`` and ``azimuth`` [rad] from the winch."""
-    import math
-
-    return (
-        d * math.cos(elevation) * math.cos(azimuth),
-        d * math.cos(elevation) * math.sin(azimuth),
-        -d * math.sin(elevation),
-    )

@@ -198,7 +198,7 @@ for name in ("glider_unfolded", "glider_folded", "glider_foldable"):
     glider.reset((0.0, 0.0, -100.0), 15.0 if name != "glider_folded" else 25.0)
     for _ in range(24):
         glider.step()
-    if not glider.raw_finite():
+    if not glider.state().is_finite():
         sys.exit(f"{name} from {fdm_awe.ROOT}: non-finite state after 0.2 s")
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.definitions.engine import load_electric_drive

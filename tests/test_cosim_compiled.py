@@ -5,15 +5,20 @@ ground-station state and energy ledger; and the fall-backs where it cannot run."
 from __future__ import annotations
 
 import dataclasses
+import importlib.util
 import math
+import os
+import random
 
 import numpy as np
 import pytest
 
-from fdm_awe.cosim import CoSim, Limits
+from fdm_awe import cosim_events as ce
+from fdm_awe.cosim import STATUSES, CoSim, Limits
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
+from fdm_awe.sixdof import row as R
 
 pytestmark = pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")
 
@@ -86,12 +91,19 @@ def _assert_same(a, b):
     assert sa.last_gs_output == sb.last_gs_output
 
 
+def _numba_expected() -> bool:
+    """numba installed and not switched off: the compiled loop must run, its tests must not skip."""
+    return importlib.util.find_spec("numba") is not None and os.environ.get("FDM_AWE_JIT", "1") != "0"
+
+
 @pytest.fixture(scope="module", autouse=True)
 def _compiled_available():
     g, gs = _setup()
     sim = CoSim(g, gs, Fixed(g.controls, HOLD))
     sim.run(g.dt)
     if sim.loop != "compiled":
+        if _numba_expected():
+            pytest.fail(f"numba is installed but the compiled loop does not run: {sim.loop_reason}")
         pytest.skip(f"compiled loop not available here: {sim.loop_reason}")
 
 
@@ -199,3 +211,91 @@ def test_a_bad_winch_command_ends_both_loops_alike():
     a, b = _both(lambda g: BadWinch(g.controls, HOLD, constant=False), 2.0)
     assert a[0].status == "nonfinite" and "expected WinchCommand" in a[0].event.message
     _assert_same(a, b)
+
+
+# ---------------------------------------------------------------------------------------------
+# the relations written once: the same source compiled by numba and run by Python
+
+
+def _random_row(rnd: random.Random) -> list[float]:
+    r = [rnd.uniform(-2.0, 2.0) for _ in range(R.N_ROW)]
+    r[R.T] = rnd.uniform(0.0, 20.0)
+    r[R.H_SL] = rnd.uniform(-10.0, 500.0)
+    r[R.VT] = rnd.uniform(0.0, 150.0)
+    r[R.FBZ] = rnd.uniform(-60.0, 10.0)
+    r[R.MASS] = rnd.uniform(0.02, 0.1)
+    r[R.WOW] = rnd.choice((0.0, 1.0))
+    return r
+
+
+def test_hook_kinematics_compiled_equals_python():
+    """Bit for bit on random rows, with and without a hook offset; the offset-free hook is the CG."""
+    import numba
+
+    jit = numba.njit(R.hook_kinematics)
+    rnd = random.Random(5)
+    frame = (0.1, 6.33e6, 6.37e6, 0.3048)
+    for k in range(300):
+        r = _random_row(rnd)
+        off = (0.0, 0.0, 0.0) if k % 5 == 0 else tuple(rnd.uniform(-0.1, 0.1) for _ in range(3))
+        py = R.hook_kinematics(r, *frame, *off)
+        assert jit(np.array(r), *frame, *off) == py
+        if off == (0.0, 0.0, 0.0):
+            assert py[1] == (r[R.V_NORTH] * 0.3048, r[R.V_EAST] * 0.3048, r[R.V_DOWN] * 0.3048)
+
+
+def test_step_event_compiled_equals_python_and_reaches_every_code():
+    """The event check on random rows and limits: the same code and the same airborne flag
+    compiled and in Python; every code of the per-step table is reached."""
+    import numba
+
+    jit = numba.njit(ce.step_event)
+    rnd = random.Random(11)
+    seen = set()
+    for k in range(3000):
+        r = _random_row(rnd)
+        if k % 50 == 0:
+            r[rnd.randrange(R.FINITE_FIRST, R.FINITE_END)] = rnd.choice((math.nan, math.inf))
+        lim = Limits(airspeed_min=rnd.choice((None, 5.0)), airspeed_max=rnd.choice((None, 40.0)),
+                     max_tension=rnd.choice((None, 150.0)), max_load_factor=rnd.choice((None, 12.0)),
+                     ground_contact=rnd.random() < 0.8, grace_s=rnd.choice((0.0, 5.0)))
+        v = ce.limit_vector(lim, 0.0, rnd.random() < 0.5, 0.3048, 4.448, 14.59)
+        va = np.array(v)
+        tension, gs_event = rnd.uniform(0.0, 200.0), rnd.random() < 0.05
+        code = ce.step_event(r, tension, gs_event, v)
+        assert jit(np.array(r), tension, gs_event, va) == code
+        assert np.array_equal(va, np.array(v), equal_nan=True)  # the airborne flag updated alike
+        seen.add(code)
+    assert seen == {ce.E_NONE, ce.E_STATE, ce.E_GS, ce.E_GROUND, ce.E_VHI, ce.E_VLO, ce.E_TENSION, ce.E_LOAD}
+
+
+def test_kernel_row_layout_matches_the_logged_columns():
+    """The compiled step's ground-station columns start with CoSim's logged ones, in order."""
+    from fdm_awe import cosim_kernel as ck
+    from fdm_awe.cosim import COLUMNS
+
+    logged = COLUMNS[COLUMNS.index("tension"):COLUMNS.index("fz") + 1]
+    assert tuple(c.replace("p_electrical", "p_elec") for c in ck.GS_COLUMNS[:len(logged)]) == logged
+    assert ck.N_GS == len(ck.GS_COLUMNS) and ck.K_FZ + 1 == len(ck.TAIL_COLUMNS)
+
+
+def test_event_table_orders_and_names():
+    """Codes are table positions; statuses are run statuses; a non-finite state wins over every
+    other event of its step, a ground-station event over the limits; the airborne flag is set
+    once the glider is off the ground, and a contact ends a run only after that."""
+    assert [e.code for e in ce.EVENTS] == list(range(len(ce.EVENTS)))
+    assert {e.status for e in ce.EVENTS} - {""} <= set(STATUSES)
+    lim = Limits(airspeed_max=10.0, max_tension=1.0)
+    r = [0.0] * R.N_ROW
+    r[R.VT], r[R.MASS], r[R.WOW] = 100.0, 1.0, 1.0
+    v = ce.limit_vector(lim, 0.0, False, 1.0, 1.0, 1.0)
+    assert ce.step_event(r, 5.0, True, v) == ce.E_GS
+    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.L_AIRBORNE] == 0.0  # on the ground at the start
+    r[R.WOW] = 0.0
+    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.L_AIRBORNE] == 1.0
+    r[R.WOW] = 1.0
+    assert ce.step_event(r, 5.0, False, v) == ce.E_GROUND
+    r[R.ALPHA] = math.nan
+    assert ce.step_event(r, 5.0, True, v) == ce.E_STATE
+    assert ce.event_message(ce.E_TENSION, lim, None, type("Out", (), {"tension": 2.5, "event": None})()) == (
+        "load_limit", "tether tension 2.5 N above 1 N")

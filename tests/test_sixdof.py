@@ -283,3 +283,31 @@ def test_advance_is_force_step_and_state_and_reads_every_property():
         assert sa._r == sb._r and sa._hook == sb._hook and sa._force == sb._force
         assert sa is a.state()
     assert a.raw() == [get() for get in a._get] and a.state().fold > 0.4
+
+
+def test_raw_row_positions_read_their_named_properties_and_give_the_hook():
+    """Each named position of the raw row (fdm_awe.sixdof.row) holds its JSBSim property; the
+    hook follows the CG by the body offset rotated to NED (velocity: v + C_bn (omega x o))."""
+    from fdm_awe.sixdof import dcm_body_to_ned
+    from fdm_awe.sixdof import row as R
+
+    for name in ("glider_foldable", "glider_unfolded"):
+        g = JSBSimGlider(name)
+        g.reset((40.0, 5.0, -60.0), 14.0, psi=2.0, phi=0.3)
+        g.set_controls(Surfaces(aileron=0.3, elevator=-0.2))
+        for _ in range(30):
+            g.advance(-2.0, 0.5, 3.0)
+        r = g.raw()
+        assert len(r) == R.N_ROW == len(R.PROPERTIES)
+        for i, prop in R.PROPERTIES.items():
+            if i == R.FOLD:
+                assert r[i] == (g.fdm[R.FOLD_PROPERTY] if g.foldable else 0.0)
+            else:
+                assert r[i] == g.fdm[prop], prop
+        s = g.state()
+        c = dcm_body_to_ned(s.phi, s.theta, s.psi)
+        o = g.hook_offset_body
+        hp, hv = g.hook_kinematics()
+        np.testing.assert_allclose(hp, s.pos_ned + c @ o, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(hv, s.vel_ned + c @ np.cross(s.omega_body, o), rtol=0, atol=1e-9)
+        assert abs(s.omega_body[0]) > 0.01  # the rates take part

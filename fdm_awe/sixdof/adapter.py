@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import os
-from math import cos, sin
 from pathlib import Path
 from typing import Callable, Sequence
 
@@ -31,7 +30,10 @@ from ..definitions.aircraft import check_aircraft_file
 from ..definitions.xmlutil import XmlDoc
 from ..errors import DefinitionError, InputError
 from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
-from .state import SixDofState, Surfaces, dcm_body_to_ned, euler_to_quat
+from .row import (ALPHA, BETA, CURRENT, FBX, FBZ, FOLD, FOLD_PROPERTY, H_SL, LAT, LON, MASS, P_RATE, PHI,
+                  PROPERTIES, PSI, QBAR, R_RATE, RHO, SHAFT_HP, THETA, THROTTLE, THRUST, V_DOWN, V_NORTH, VT,
+                  WIND_DOWN, WIND_NORTH, WOW, T, hook_kinematics)
+from .state import SixDofState, Surfaces, dcm_body_to_ned
 
 _WGS84_A = 6378137.0
 _WGS84_F = 1.0 / 298.257223563
@@ -41,20 +43,9 @@ _HP_W = 745.69987158227022
 #: Turbulence levels: (JSBSim MIL-F-8785C severity index, wind speed at 20 ft in knots)
 TURBULENCE_LEVELS: dict[str, tuple[int, float]] = {"light": (3, 15.0), "moderate": (4, 30.0), "severe": (6, 45.0)}
 
-# Properties read after every step, in this order (units converted in _convert).
-_READ = (
-    "simulation/sim-time-sec",
-    "position/lat-geod-rad", "position/long-gc-rad", "position/h-sl-ft",
-    "velocities/v-north-fps", "velocities/v-east-fps", "velocities/v-down-fps",
-    "attitude/phi-rad", "attitude/theta-rad", "attitude/psi-rad",
-    "velocities/p-rad_sec", "velocities/q-rad_sec", "velocities/r-rad_sec",
-    "velocities/vt-fps", "aero/alpha-rad", "aero/beta-rad",
-    "atmosphere/total-wind-north-fps", "atmosphere/total-wind-east-fps", "atmosphere/total-wind-down-fps",
-    "forces/fbx-total-lbs", "forces/fby-total-lbs", "forces/fbz-total-lbs",
-    "inertia/mass-slugs", "aero/qbar-psf", "atmosphere/rho-slugs_ft3",
-    "propulsion/engine[0]/thrust-lbs", "propulsion/engine[0]/power-hp",
-    "propulsion/engine[0]/current-amperes", "fcs/throttle-pos-norm[0]", "gear/wow",
-)
+# Properties read after every step, in the order of the raw row (sixdof.row; the fold state,
+# position FOLD, is read from FOLD_PROPERTY on the foldable aircraft, else a constant 0.0)
+_READ = tuple(PROPERTIES[i] for i in range(FOLD))
 
 
 class JSBSimGlider:
@@ -100,9 +91,9 @@ class JSBSimGlider:
 
         self._node = node
         self._get = [node(p).get_double_value for p in _READ]
-        self._foldable = pm.hasNode("fcs/wing-fold-norm") if hasattr(pm, "hasNode") else self._has("fcs/wing-fold-norm")
-        self._fold_get = node("fcs/wing-fold-norm").get_double_value if self._foldable else (lambda: 0.0)
-        self._get.append(self._fold_get)  # raw[30]: fold state
+        self._foldable = pm.hasNode(FOLD_PROPERTY) if hasattr(pm, "hasNode") else self._has(FOLD_PROPERTY)
+        self._fold_get = node(FOLD_PROPERTY).get_double_value if self._foldable else (lambda: 0.0)
+        self._get.append(self._fold_get)  # position FOLD: fold state
         self._read_raw = _list_of_calls(self._get)
         self._set_tx = node("external_reactions/tether/x").set_double_value
         self._set_ty = node("external_reactions/tether/y").set_double_value
@@ -123,7 +114,7 @@ class JSBSimGlider:
                          fdm["external_reactions/tether/location-z-in"]]) * IN
         d = hook - cg
         self.hook_offset_body = np.array([-d[0], d[1], -d[2]])  # structural (x aft, z up) -> body
-        self._hook_off = tuple(float(v) for v in self.hook_offset_body)
+        self._hook_off = ox, oy, oz = tuple(float(v) for v in self.hook_offset_body)
         # surface deflection per unit command (rad), from the aircraft's own FCS
         for cmd in ("fcs/elevator-cmd-norm", "fcs/aileron-cmd-norm", "fcs/rudder-cmd-norm"):
             fdm[cmd] = 1.0
@@ -139,21 +130,23 @@ class JSBSimGlider:
         self._lat0 = lat0
         self._M0 = _WGS84_A * (1 - _WGS84_E2) / (1 - _WGS84_E2 * s2) ** 1.5
         self._N0cos = _WGS84_A / math.sqrt(1 - _WGS84_E2 * s2) * math.cos(lat0)
-        # raw JSBSim values -> SI: v = raw * scale + offset (order of _READ)
+        #: arguments of row.hook_kinematics after the row: ground frame and hook offset
+        self._hook_frame = (lat0, self._M0, self._N0cos, FT, ox, oy, oz)
+        # raw JSBSim values -> SI: v = raw * scale + offset (positions of sixdof.row)
         scale = np.ones(len(self._get))
         offset = np.zeros(len(self._get))
-        scale[1], offset[1] = self._M0, -self._lat0 * self._M0
-        scale[2] = self._N0cos
-        scale[3] = -FT
-        scale[4:7] = FT
-        scale[13] = FT
-        scale[16:19] = FT
-        scale[19:22] = LBF
-        scale[22] = SLUG
-        scale[23] = PSF
-        scale[24] = SLUG / FT**3
-        scale[25] = LBF
-        scale[26] = _HP_W
+        scale[LAT], offset[LAT] = self._M0, -self._lat0 * self._M0
+        scale[LON] = self._N0cos
+        scale[H_SL] = -FT
+        scale[V_NORTH:V_DOWN + 1] = FT
+        scale[VT] = FT
+        scale[WIND_NORTH:WIND_DOWN + 1] = FT
+        scale[FBX:FBZ + 1] = LBF
+        scale[MASS] = SLUG
+        scale[QBAR] = PSF
+        scale[RHO] = SLUG / FT**3
+        scale[THRUST] = LBF
+        scale[SHAFT_HP] = _HP_W
         self._scale, self._offset = scale, offset
         self._scale_l, self._offset_l = scale.tolist(), offset.tolist()
         self._hook: tuple = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
@@ -175,7 +168,7 @@ class JSBSimGlider:
         if self._native is None:
             from .native import native_jsbsim
 
-            getters = list(_READ) + (["fcs/wing-fold-norm"] if self._foldable else [None])
+            getters = list(_READ) + ([FOLD_PROPERTY] if self._foldable else [None])
             h, why = native_jsbsim(self.fdm, getters, ["external_reactions/tether/x", "external_reactions/tether/y",
                                                        "external_reactions/tether/z"])
             self._native = ((np.concatenate([h.calls, h.setters, h.getters]), "") if h is not None else (None, why))
@@ -418,28 +411,7 @@ class JSBSimGlider:
     def _read(self) -> None:
         r = self._raw = self._read_raw()
         self._state = None
-        # hook kinematics (see _hook_kinematics), written out: this runs every step
-        x = (r[1] - self._lat0) * self._M0
-        y = r[2] * self._N0cos
-        z = -r[3] * FT
-        vx, vy, vz = r[4] * FT, r[5] * FT, r[6] * FT
-        ox, oy, oz = self._hook_off
-        if ox == 0.0 and oy == 0.0 and oz == 0.0:
-            self._hook = (x, y, z), (vx, vy, vz)
-            return
-        phi, th, psi = r[7], r[8], r[9]
-        cf, sf = cos(phi), sin(phi)
-        ct, st = cos(th), sin(th)
-        cp, sp = cos(psi), sin(psi)
-        p, q, rr = r[10], r[11], r[12]
-        wx, wy, wz = q * oz - rr * oy, rr * ox - p * oz, p * oy - q * ox
-        m00, m01, m02 = ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp
-        m10, m11, m12 = ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp
-        m20, m21, m22 = -st, sf * ct, cf * ct
-        self._hook = ((x + m00 * ox + m01 * oy + m02 * oz, y + m10 * ox + m11 * oy + m12 * oz,
-                       z + m20 * ox + m21 * oy + m22 * oz),
-                      (vx + m00 * wx + m01 * wy + m02 * wz, vy + m10 * wx + m11 * wy + m12 * wz,
-                       vz + m20 * wx + m21 * wy + m22 * wz))
+        self._hook = hook_kinematics(r, *self._hook_frame)
 
     def raw(self) -> list[float]:
         """The property values of the last step in JSBSim units (order of ``_READ``)."""
@@ -448,28 +420,6 @@ class JSBSimGlider:
     def hook_kinematics(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
         """Tether attachment point position (m) and ground velocity (m/s), NED, as tuples."""
         return self._hook
-
-    def _hook_kinematics(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
-        r = self._raw
-        lat, lon, h = r[1], r[2], r[3]
-        x = (lat - self._lat0) * self._M0
-        y = lon * self._N0cos
-        z = -h * FT
-        vx, vy, vz = r[4] * FT, r[5] * FT, r[6] * FT
-        ox, oy, oz = self._hook_off
-        if ox == 0.0 and oy == 0.0 and oz == 0.0:
-            return (x, y, z), (vx, vy, vz)
-        cf, sf = math.cos(r[7]), math.sin(r[7])
-        ct, st = math.cos(r[8]), math.sin(r[8])
-        cp, sp = math.cos(r[9]), math.sin(r[9])
-        p, q, rr = r[10], r[11], r[12]
-        # omega x offset (body), then both rotated to NED
-        wx, wy, wz = q * oz - rr * oy, rr * ox - p * oz, p * oy - q * ox
-        m00, m01, m02 = ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp
-        m10, m11, m12 = ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp
-        m20, m21, m22 = -st, sf * ct, cf * ct
-        return ((x + m00 * ox + m01 * oy + m02 * oz, y + m10 * ox + m11 * oy + m12 * oz, z + m20 * ox + m21 * oy + m22 * oz),
-                (vx + m00 * wx + m01 * wy + m02 * wz, vy + m10 * wx + m11 * wy + m12 * wz, vz + m20 * wx + m21 * wy + m22 * wz))
 
     def state(self) -> SixDofState:
         """State after the last step or reset (SI, NED, winch origin); see :class:`SixDofState`."""
@@ -485,26 +435,23 @@ class JSBSimGlider:
         """SI time series from stacked raw rows (n x len(raw)), as :class:`SixDofState` names."""
         raw = np.atleast_2d(np.asarray(raw, dtype=float))
         v = raw * self._scale + self._offset
-        phi, th, psi = raw[:, 7], raw[:, 8], raw[:, 9]
+        phi, th, psi = raw[:, PHI], raw[:, THETA], raw[:, PSI]
         cr, sr = np.cos(0.5 * phi), np.sin(0.5 * phi)
         cp, sp = np.cos(0.5 * th), np.sin(0.5 * th)
         cy, sy = np.cos(0.5 * psi), np.sin(0.5 * psi)
         quat = np.stack((cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
                          cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy), axis=1)
-        mass = v[:, 22]
+        mass = v[:, MASS]
         return {
-            "t": raw[:, 0], "pos_ned": v[:, 1:4], "vel_ned": v[:, 4:7], "vel_air_ned": v[:, 4:7] - v[:, 16:19],
-            "quat": quat, "euler": raw[:, 7:10], "omega_body": raw[:, 10:13], "airspeed": v[:, 13],
-            "alpha": raw[:, 14], "beta": raw[:, 15], "fold": raw[:, 30], "thrust_N": v[:, 25],
-            "prop_power_W": raw[:, 28] * self._maxvolts * raw[:, 27], "shaft_power_W": v[:, 26],
-            "current_A": raw[:, 27], "accel_body": v[:, 19:22] / mass[:, None],
-            "load_factor": -v[:, 21] / mass / 9.80665, "mass": mass, "qbar": v[:, 23], "rho": v[:, 24],
-            "on_ground": raw[:, 29] > 0.5,
+            "t": raw[:, T], "pos_ned": v[:, LAT:H_SL + 1], "vel_ned": v[:, V_NORTH:V_DOWN + 1],
+            "vel_air_ned": v[:, V_NORTH:V_DOWN + 1] - v[:, WIND_NORTH:WIND_DOWN + 1],
+            "quat": quat, "euler": raw[:, PHI:PSI + 1], "omega_body": raw[:, P_RATE:R_RATE + 1], "airspeed": v[:, VT],
+            "alpha": raw[:, ALPHA], "beta": raw[:, BETA], "fold": raw[:, FOLD], "thrust_N": v[:, THRUST],
+            "prop_power_W": raw[:, THROTTLE] * self._maxvolts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
+            "current_A": raw[:, CURRENT], "accel_body": v[:, FBX:FBZ + 1] / mass[:, None],
+            "load_factor": -v[:, FBZ] / mass / 9.80665, "mass": mass, "qbar": v[:, QBAR], "rho": v[:, RHO],
+            "on_ground": raw[:, WOW] > 0.5,
         }
-
-    def raw_finite(self) -> bool:
-        """True when the position, velocity, attitude and rates of the last step are finite."""
-        return math.isfinite(math.fsum(self._raw[1:16]))  # type: ignore[index]
 
     def inertia(self) -> np.ndarray:
         """Current inertia matrix about the CG in body axes, kg m^2 (Table 2 layout)."""

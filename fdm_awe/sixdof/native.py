@@ -23,7 +23,9 @@ platform, another JSBSim layout, a missing symbol) gives ``None`` with the reaso
 keeps the Python path. ``FDM_AWE_JIT=0`` disables it, as it does the ground station's compiled
 step.
 
-The intrinsics below call a function by address (an ``int``, passed at run time): compiled
+Its interface is two functions: :func:`native_jsbsim` (the checked handles of one JSBSim
+instance) and :func:`native_calls` (the compiled calls that use them). The intrinsics call a
+function by address (an ``int``, passed at run time): compiled
 functions that use them can be cached on disk, since no address is baked into the code.
 """
 
@@ -164,7 +166,7 @@ def native_jsbsim(fdm: Any, getters: Sequence[str | None], setters: Sequence[str
 
 
 # ---------------------------------------------------------------------------------------- calls
-def _intrinsics() -> tuple[Any, Any, Any]:
+def native_calls() -> tuple[Any, Any, Any]:
     """numba intrinsics ``run(fn, obj) -> bool``, ``get(fn, obj) -> float``,
     ``set(fn, obj, value) -> bool``: calls by address (int64) of ``bool f(void*)``,
     ``double f(void*)`` and ``bool f(void*, double)``."""
@@ -202,4 +204,4 @@ def _intrinsics() -> tuple[Any, Any, Any]:
     return native_run, native_get, native_set
 
 
-__all__ = ["NativeJSBSim", "native_jsbsim"]
+__all__ = ["NativeJSBSim", "native_calls", "native_jsbsim"]

@@ -16,12 +16,12 @@ pass None (for stand-in ground stations that ignore it).
 
 from __future__ import annotations
 
-import math
 from math import atan2, cos, sin
 from dataclasses import dataclass
 from typing import Any
 
 from .adapter import JSBSimGlider
+from .row import ALPHA, BETA, FOLD, P_RATE, PHI, PSI, Q_RATE, QBAR, R_RATE, THETA, VT
 from .state import SixDofState, Surfaces
 
 
@@ -89,7 +89,7 @@ class Stabilizer:
         # the state's values straight from its raw row (SixDofState's properties written out:
         # the same numbers without a call each)
         rw, kk = s._r, s._k
-        fold = rw[30]
+        fold = rw[FOLD]
         if not abs(fold - self._coef_fold) < 1e-3:
             self._refresh(fold)
         tl = self._t_last
@@ -100,13 +100,13 @@ class Stabilizer:
             if not dt > 0.0:
                 dt = 0.0
         self._t_last = t
-        qbar = rw[23] * kk[23]
+        qbar = rw[QBAR] * kk[QBAR]
         if 1.0 > qbar:
             qbar = 1.0
-        p, q, r = rw[10], rw[11], rw[12]
+        p, q, r = rw[P_RATE], rw[Q_RATE], rw[R_RATE]
         S = self._S
         # pitch: alpha second-order response + integral, feed-forward trim
-        e_a = self.alpha_cmd - rw[14]
+        e_a = self.alpha_cmd - rw[ALPHA]
         ia = self._int + e_a * dt
         ia = ia if ia < 0.2 else 0.2
         ia = ia if ia > -0.2 else -0.2
@@ -115,7 +115,7 @@ class Stabilizer:
         m_des = self._iyy * (w**2 * (e_a + gn.ki_alpha * ia) - 2 * gn.z_alpha * w * q)
         de = self._de_trim + m_des / (qbar * S * self._c * self._cm_de)
         # roll: bank response
-        phi, theta, psi = rw[7], rw[8], rw[9]
+        phi, theta, psi = rw[PHI], rw[THETA], rw[PSI]
         phi_c = self.phi_cmd
         psi_cmd = self.psi_cmd
         if psi_cmd is not None:
@@ -134,11 +134,11 @@ class Stabilizer:
         qSb = qbar * S * self._b
         da = l_des / (qSb * self._cl_da)
         # yaw: damp r about the coordinated-turn rate, null sideslip
-        v = rw[13] * kk[13]
+        v = rw[VT] * kk[VT]
         if 1.0 > v:
             v = 1.0
         r_c = 9.81 * sin(phi) * cos(theta) / v
-        n_des = -self._izz * 2 * gn.w_r * (r - r_c) + gn.k_beta * qbar * S * self._b * self._cn_beta * rw[15]
+        n_des = -self._izz * 2 * gn.w_r * (r - r_c) + gn.k_beta * qbar * S * self._b * self._cn_beta * rw[BETA]
         dr = n_des / (qSb * self._cn_dr)
         a, e, rr = da / self._lim_a, de / self._lim_e, dr / self._lim_r
         surf = Surfaces._checked_fast(

@@ -8,6 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .row import (ALPHA, BETA, CURRENT, FBX, FBY, FBZ, FINITE_END, FINITE_FIRST, FOLD, H_SL, LAT, LON, MASS, P_RATE, PHI,
+                  PSI, Q_RATE, QBAR, R_RATE, RHO, SHAFT_HP, T, THETA, THROTTLE, THRUST, V_DOWN, V_EAST, V_NORTH, VT,
+                  WIND_DOWN, WIND_EAST, WIND_NORTH, WOW)
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,100 +100,100 @@ class SixDofState:
     # scalars -------------------------------------------------------------------------------
     @property
     def t(self) -> float:
-        return self._r[0]
+        return self._r[T]
 
     @property
     def x(self) -> float:
-        return self._r[1] * self._k[1] + self._o[1]
+        return self._r[LAT] * self._k[LAT] + self._o[LAT]
 
     @property
     def y(self) -> float:
-        return self._r[2] * self._k[2]
+        return self._r[LON] * self._k[LON]
 
     @property
     def z(self) -> float:
-        return self._r[3] * self._k[3]
+        return self._r[H_SL] * self._k[H_SL]
 
     @property
     def altitude(self) -> float:
         """Height of the CG above the winch, m."""
-        return -self._r[3] * self._k[3]
+        return -self._r[H_SL] * self._k[H_SL]
 
     @property
     def phi(self) -> float:
-        return self._r[7]
+        return self._r[PHI]
 
     @property
     def theta(self) -> float:
-        return self._r[8]
+        return self._r[THETA]
 
     @property
     def psi(self) -> float:
-        return self._r[9]
+        return self._r[PSI]
 
     @property
     def p(self) -> float:
-        return self._r[10]
+        return self._r[P_RATE]
 
     @property
     def q(self) -> float:
-        return self._r[11]
+        return self._r[Q_RATE]
 
     @property
     def r(self) -> float:
-        return self._r[12]
+        return self._r[R_RATE]
 
     @property
     def airspeed(self) -> float:
-        return self._r[13] * self._k[13]
+        return self._r[VT] * self._k[VT]
 
     @property
     def alpha(self) -> float:
-        return self._r[14]
+        return self._r[ALPHA]
 
     @property
     def beta(self) -> float:
-        return self._r[15]
+        return self._r[BETA]
 
     @property
     def mass(self) -> float:
-        return self._r[22] * self._k[22]
+        return self._r[MASS] * self._k[MASS]
 
     @property
     def qbar(self) -> float:
-        return self._r[23] * self._k[23]
+        return self._r[QBAR] * self._k[QBAR]
 
     @property
     def rho(self) -> float:
-        return self._r[24] * self._k[24]
+        return self._r[RHO] * self._k[RHO]
 
     @property
     def thrust_N(self) -> float:
-        return self._r[25] * self._k[25]
+        return self._r[THRUST] * self._k[THRUST]
 
     @property
     def shaft_power_W(self) -> float:
-        return self._r[26] * self._k[26]
+        return self._r[SHAFT_HP] * self._k[SHAFT_HP]
 
     @property
     def current_A(self) -> float:
-        return self._r[27]
+        return self._r[CURRENT]
 
     @property
     def prop_power_W(self) -> float:
-        return self._r[28] * self._volts * self._r[27]
+        return self._r[THROTTLE] * self._volts * self._r[CURRENT]
 
     @property
     def on_ground(self) -> bool:
-        return self._r[29] > 0.5
+        return self._r[WOW] > 0.5
 
     @property
     def fold(self) -> float:
-        return self._r[30]
+        return self._r[FOLD]
 
     @property
     def load_factor(self) -> float:
-        return -self._r[21] * self._k[21] / (self._r[22] * self._k[22]) / 9.80665
+        return -self._r[FBZ] * self._k[FBZ] / (self._r[MASS] * self._k[MASS]) / 9.80665
 
     # vectors -------------------------------------------------------------------------------
     @property
@@ -199,16 +202,16 @@ class SixDofState:
 
     @property
     def vel_ned(self) -> np.ndarray:
-        k = self._k[4]
+        k = self._k[V_NORTH]
         r = self._r
-        return np.array((r[4] * k, r[5] * k, r[6] * k))
+        return np.array((r[V_NORTH] * k, r[V_EAST] * k, r[V_DOWN] * k))
 
     @property
     def wind_ned(self) -> np.ndarray:
         """Total wind at the glider (steady + turbulence), m/s."""
-        k = self._k[16]
+        k = self._k[WIND_NORTH]
         r = self._r
-        return np.array((r[16] * k, r[17] * k, r[18] * k))
+        return np.array((r[WIND_NORTH] * k, r[WIND_EAST] * k, r[WIND_DOWN] * k))
 
     @property
     def vel_air_ned(self) -> np.ndarray:
@@ -216,22 +219,22 @@ class SixDofState:
 
     @property
     def euler(self) -> np.ndarray:
-        return np.array(self._r[7:10])
+        return np.array(self._r[PHI:PSI + 1])
 
     @property
     def quat(self) -> np.ndarray:
         r = self._r
-        return np.array(euler_to_quat(r[7], r[8], r[9]))
+        return np.array(euler_to_quat(r[PHI], r[THETA], r[PSI]))
 
     @property
     def omega_body(self) -> np.ndarray:
-        return np.array(self._r[10:13])
+        return np.array(self._r[P_RATE:R_RATE + 1])
 
     @property
     def accel_body(self) -> np.ndarray:
         r, k = self._r, self._k
-        m = r[22] * k[22]
-        return np.array((r[19] * k[19] / m, r[20] * k[20] / m, r[21] * k[21] / m))
+        m = r[MASS] * k[MASS]
+        return np.array((r[FBX] * k[FBX] / m, r[FBY] * k[FBY] / m, r[FBZ] * k[FBZ] / m))
 
     @property
     def hook_pos_ned(self) -> np.ndarray:
@@ -246,7 +249,7 @@ class SixDofState:
         return np.array(self._force)
 
     def is_finite(self) -> bool:
-        return math.isfinite(math.fsum(self._r[1:16]))
+        return math.isfinite(math.fsum(self._r[FINITE_FIRST:FINITE_END]))
 
     def as_dict(self) -> dict[str, object]:
         """All attributes, converted (for printing and records)."""

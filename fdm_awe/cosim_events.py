@@ -1,0 +1,142 @@
+"""The events that end a co-simulation run: one table of codes, statuses and messages, and the
+per-step check written once.
+
+:data:`EVENTS` lists every event with its code (the index), its name, the run status it gives
+and its one-line message (a ``str.format`` template; :func:`event_message` fills it).
+:func:`step_event` checks a step just run, in this order: a non-finite glider state, a
+ground-station event, ground contact after the glider was airborne, the airspeed limits (after
+the grace time), the line tension, the load factor. It is a plain function: the compiled
+co-simulation step (:mod:`fdm_awe.cosim_kernel`) compiles it with numba and the Python loop
+(:meth:`fdm_awe.cosim.CoSim.run`) runs the same source, so both end a run on the same step with
+the same code. Its thresholds come in a vector (``L_*`` positions) built by
+:func:`limit_vector`, a float64 array in the compiled step and a list in Python.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from .sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
+
+
+@dataclass(frozen=True)
+class EventKind:
+    """One event: ``code`` (its index in :data:`EVENTS`), ``name``, the run ``status`` it gives
+    ("" : the ground station's event name) and its ``message`` template (fields: ``error``,
+    ``force`` (N), ``gs_event``, ``x``, ``y`` (m), ``airspeed`` (m/s), ``tension`` (N),
+    ``load_factor`` (g) and the limits ``airspeed_max``, ``airspeed_min``, ``max_tension``,
+    ``max_load_factor``)."""
+
+    code: int
+    name: str
+    status: str
+    message: str
+
+
+#: every event, indexed by its code; the compiled step returns codes 0 .. 9, the Python loop
+#: also ``jsbsim_failed`` and ``interrupted``
+EVENTS: tuple[EventKind, ...] = (
+    EventKind(0, "none", "ok", ""),
+    EventKind(1, "hook_rejected", "nonfinite", "ground station rejected the glider state: {error}"),
+    EventKind(2, "nonfinite_force", "nonfinite", "non-finite tether force {force!r}"),
+    EventKind(3, "nonfinite_state", "nonfinite", "non-finite glider state"),
+    EventKind(4, "ground_station", "", "ground station event: {gs_event}"),
+    EventKind(5, "ground_contact", "ground_contact", "ground contact at x={x:.1f} m, y={y:.1f} m, {airspeed:.1f} m/s"),
+    EventKind(6, "airspeed_high", "airspeed_limit", "airspeed {airspeed:.2f} m/s above {airspeed_max:g} m/s"),
+    EventKind(7, "airspeed_low", "airspeed_limit", "airspeed {airspeed:.2f} m/s below {airspeed_min:g} m/s"),
+    EventKind(8, "tension", "load_limit", "tether tension {tension:.1f} N above {max_tension:g} N"),
+    EventKind(9, "load_factor", "load_limit", "load factor {load_factor:.2f} g beyond {max_load_factor:g} g"),
+    EventKind(10, "jsbsim_failed", "nonfinite", "JSBSim failed: {error}"),
+    EventKind(11, "interrupted", "interrupted", "interrupted by the user"),
+)
+(E_NONE, E_HOOK, E_FORCE, E_STATE, E_GS, E_GROUND, E_VHI, E_VLO, E_TENSION, E_LOAD, E_JSBSIM,
+ E_INTERRUPT) = range(len(EVENTS))
+#: event names by code
+EVENT_CODES: tuple[str, ...] = tuple(e.name for e in EVENTS)
+
+# positions in the vector of :func:`step_event`'s thresholds and state (see limit_vector)
+(L_VHI, L_VLO, L_THI, L_NMAX, L_GRACE, L_T0, L_CHECKV, L_GROUND, L_AIRBORNE, L_KV, L_KFZ, L_KM) = range(12)
+N_LIMITS = 12
+
+G0 = 9.80665  # m/s^2, the load factor's unit
+
+
+def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float, k_m: float) -> list[float]:
+    """:func:`step_event`'s vector from ``limits`` (:class:`fdm_awe.cosim.Limits`): airspeeds
+    m/s (disabled: -inf/inf), tension N (inf), load factor g (NaN), grace time s, start time
+    ``t0`` s, the airspeed-check and ground-contact flags, the ``airborne`` flag (updated by the
+    check) and the row's SI factors of airspeed (``k_v``), body z force (``k_fz``) and mass
+    (``k_m``)."""
+    inf = math.inf
+    v = [0.0] * N_LIMITS
+    v[L_VHI] = inf if limits.airspeed_max is None else limits.airspeed_max
+    v[L_VLO] = -inf if limits.airspeed_min is None else limits.airspeed_min
+    v[L_THI] = inf if limits.max_tension is None else limits.max_tension
+    v[L_NMAX] = math.nan if limits.max_load_factor is None else limits.max_load_factor
+    v[L_GRACE], v[L_T0] = limits.grace_s, t0
+    v[L_CHECKV] = 1.0 if (limits.airspeed_max is not None or limits.airspeed_min is not None) else 0.0
+    v[L_GROUND] = 1.0 if limits.ground_contact else 0.0
+    v[L_AIRBORNE] = 1.0 if airborne else 0.0
+    v[L_KV], v[L_KFZ], v[L_KM] = k_v, k_fz, k_m
+    return v
+
+
+def step_event(r, tension, gs_event, lim):
+    """Event code (:data:`EVENTS`) of a step just run, :data:`E_NONE` when the run goes on:
+    ``r`` the step's raw row (:mod:`fdm_awe.sixdof.row`), ``tension`` the line tension N,
+    ``gs_event`` true when the ground station reported an event, ``lim`` the vector of
+    :func:`limit_vector` (its airborne flag set once the glider is off the ground)."""
+    if not math.isfinite(sum(r[FINITE_FIRST:FINITE_END])):
+        return E_STATE
+    if gs_event:
+        return E_GS
+    if r[WOW] > 0.5:  # weight on wheels: a contact touches the ground
+        if lim[L_AIRBORNE] != 0.0 and lim[L_GROUND] != 0.0:
+            return E_GROUND
+    else:
+        lim[L_AIRBORNE] = 1.0
+    if lim[L_CHECKV] != 0.0 and r[T] - lim[L_T0] >= lim[L_GRACE]:
+        v = r[VT] * lim[L_KV]  # SixDofState.airspeed
+        if v > lim[L_VHI]:
+            return E_VHI
+        if v < lim[L_VLO]:
+            return E_VLO
+    if tension > lim[L_THI]:
+        return E_TENSION
+    nmax = lim[L_NMAX]
+    if nmax == nmax:  # NaN: no load-factor limit
+        nz = -r[FBZ] * lim[L_KFZ] / (r[MASS] * lim[L_KM]) / G0  # SixDofState.load_factor
+        if nz > nmax or nz < -nmax:
+            return E_LOAD
+    return E_NONE
+
+
+def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
+                  force: tuple[float, float, float] | None = None, error: str = "") -> tuple[str, str]:
+    """(status, message) of event ``code`` from the table: ``limits`` the run's
+    :class:`fdm_awe.cosim.Limits`, ``state`` the glider state (:class:`SixDofState`) at the
+    event, ``gs_out`` the ground station's last output, ``force`` the line force N, ``error``
+    the text of a rejected step."""
+    kind = EVENTS[code]
+    gev = getattr(gs_out, "event", None)
+    status = kind.status or str(gev)
+    msg = kind.message
+    if "{" not in msg:
+        return status, msg
+    values: dict[str, Any] = {"error": error, "force": force, "gs_event": gev,
+                              "airspeed_max": limits.airspeed_max, "airspeed_min": limits.airspeed_min,
+                              "max_tension": limits.max_tension, "max_load_factor": limits.max_load_factor}
+    if code == E_GROUND:
+        values.update(x=state.x, y=state.y, airspeed=state.airspeed)
+    elif code in (E_VHI, E_VLO):
+        values["airspeed"] = state.airspeed
+    elif code == E_LOAD:
+        values["load_factor"] = state.load_factor
+    elif code == E_TENSION:
+        values["tension"] = gs_out.tension
+    return status, msg.format(**values)
+
+
+__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "N_LIMITS", "event_message", "limit_vector", "step_event"]
