@@ -261,8 +261,9 @@ def test_sweep_on_separate_scheduler_and_worker(tmp_path, reference_run):
         procs.append(subprocess.Popen([dask, "worker", addr, "--host", "127.0.0.1", "--nthreads", "1", "--nworkers", "1",
                                        "--no-dashboard"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         js = tmp_path / "sweep.json"
+        # without the cold check: the points (and ids) of the reference sweep's library call
         code = main(["sweep", "--wind", "8,9", "--config", "nominal", "--mesh", "6,4,3", "--scheduler", addr,
-                     "--out", str(tmp_path), "--json", str(js), "--no-progress"])
+                     "--out", str(tmp_path), "--json", str(js), "--no-progress", "--no-cold-check"])
         assert code == 0
         doc = json.loads(js.read_text())
         assert doc["complete"] and doc["n_computed"] == 2 and doc["scheduler"] == addr and doc["workers"] == 1
