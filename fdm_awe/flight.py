@@ -285,6 +285,10 @@ class FlightReport:
     autopilot_log: list[tuple[float, str]] = field(default_factory=list)
     plant: str = "physical"  #: "physical" or "paper" (see PLANT_NOTES)
     tether_drag_scale: float = 1.0  #: factor on the line drag the ground station applied (1 = the defined line)
+    line: str | None = None  #: the tether line flown (:data:`fdm_awe.groundstation.line.LINES`)
+    #: the generator load the winch flew in generation (reference metadata ``generator``;
+    #: None on the paper plant, whose kinematic winch has none)
+    generator: str | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -301,6 +305,7 @@ class FlightReport:
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
             "config": self.config, "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
+            "line": self.line, "generator": self.generator,
             "status": self.status,
             "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),
             "realtime_factor": _json_float(self.realtime_factor, 1),
@@ -495,4 +500,5 @@ def fly(
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
         autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale),
+        line="paper" if line is None else str(line), generator=None if paper else str(gen or "passive"),
     )

@@ -153,3 +153,19 @@ def test_ideal_reference_is_refused_by_a_flight(three_generators, tmp_path):
     path = write_reference(three_generators["ideal"], tmp_path / "ideal.json")
     with pytest.raises(InputError, match="generator: 'ideal'"):
         fly(TrackingReference.from_ocp_file(path), config="nominal", cycles=1)
+
+
+def test_flight_json_names_the_line_and_the_generator_it_flew():
+    """The flight report says which line and which generator load flew (the reference's)."""
+    from flight_helpers import DATA
+
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import fly
+
+    rep = fly(TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps_sized.json"), config="nominal",
+              cycles=1, t_end=2.0)
+    doc = rep.as_json()
+    assert doc["line"] == "sized" and doc["generator"] == "passive"
+    old = fly(TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps.json"), config="nominal",
+              cycles=1, t_end=2.0).as_json()
+    assert old["line"] == "paper" and old["generator"] == "passive"  # written before lines and generators were named
