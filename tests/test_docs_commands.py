@@ -53,13 +53,17 @@ _PROGRAM = re.compile(r"^(?:\.venv/bin/)?(fdm-awe|python|rerun|bash|mavproxy\.py
 #: Stored references that stand for a documented optimisation in prose lines and scripts:
 #: (scenario, config, wind m/s, line-drag factor, gamma bound rad or None) -> file in tests/data.
 STORED_REFERENCES = {
-    ("physical", "nominal", 8.0, 1.0, None): "ref_physical_nominal_8mps.json",
+    ("physical", "nominal", 8.0, 1.0, None): "ref_physical_nominal_8mps_sized.json",
+    ("physical", "foldable", 8.0, 1.0, None): "ref_physical_foldable_8mps_sized.json",
     ("physical", "foldable", 8.0, 0.5, None): "ref_physical_foldable_8mps_halfline.json",
     ("paper", "nominal", 3.0, 1.0, 0.7): "ref_paper_nominal_3mps_gamma07.json",
     ("paper", "foldable", 3.0, 1.0, None): "ref_paper_foldable_3mps.json",
 }
 #: Options of ``fdm-awe fly`` that a reference fixes (refused together with ``--reference``).
-REFERENCE_FIXED = ("--wind", "--wind-from", "--gamma-max", "--propeller", "--line-weight")
+REFERENCE_FIXED = ("--wind", "--wind-from", "--gamma-max", "--line", "--propeller", "--line-weight",
+                   "--no-line-weight", "--generator")
+#: of those, the options that take no value
+REFERENCE_FIXED_FLAGS = ("--line-weight", "--no-line-weight")
 #: Documented exit codes other than 0, by command line (none so far).
 EXPECTED_EXIT: dict[str, int] = {}
 #: Command lines that fail today because of a default another change is fixing:
@@ -201,6 +205,10 @@ def _stored_reference(argv: list[str], default_config: str) -> str | None:
            float(_value(argv, "--wind") or 8.0), float(_value(argv, "--tether-drag-scale") or 1.0),
            None if _value(argv, "--gamma-max") is None else float(_value(argv, "--gamma-max")))
     name = STORED_REFERENCES.get(key)
+    # the stored references fly the scenario's default plant: another line or generator optimises
+    scenario_line = "sized" if key[0] == "physical" else "paper"
+    if _value(argv, "--line") not in (None, scenario_line) or _value(argv, "--generator") not in (None, "passive"):
+        return None
     return None if name is None else f"tests/data/{name}"
 
 
@@ -291,7 +299,7 @@ def plan(d: DocLine) -> Plan:
 
 def _without_reference_fixed(argv: list[str]) -> list[str]:
     for opt in REFERENCE_FIXED:
-        argv = _drop(argv, opt, takes_value=opt != "--line-weight")
+        argv = _drop(argv, opt, takes_value=opt not in REFERENCE_FIXED_FLAGS)
     return argv
 
 
