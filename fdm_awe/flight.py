@@ -21,7 +21,13 @@ Status (``FlightReport.status``, :data:`FLIGHT_STATUSES`):
   requested cycles were complete (e.g. a glider much slower than its reference);
 - ``interrupted``: Ctrl-C (SIGINT / KeyboardInterrupt) during the flight; the report holds
   everything flown up to the last whole step;
-- ``landed``: ground contact in RECOVER mode with a sink rate below :data:`LAND_SINK_MAX`;
+- ``landed``: ground contact in RECOVER mode at the winch (:func:`landing_verdict`: sink rate
+  at most :data:`LAND_SINK_MAX`, horizontal ground speed at most :data:`LAND_SPEED_MAX`, within
+  :data:`LAND_RADIUS_MAX` of the winch); ground contact in RECOVER outside these bounds is a
+  ``ground_contact`` (a crash), its message says which bound it broke;
+- ``parked``: the flight reached ``t_end`` in RECOVER holding on a short line (the
+  autopilot's :attr:`~fdm_awe.autopilot.autopilot.Autopilot.parked`: REC_LAND 0, circling at
+  REC_HOLD_ALT about the winch);
 - an event of the co-simulation (:data:`fdm_awe.cosim.STATUSES`: ``ground_contact``,
   ``tether_break``, ``nonfinite``, ``airspeed_limit``, ``load_limit``) or another
   ground-station event by name (e.g. ``tether_fully_reeled_in``).
@@ -62,12 +68,32 @@ PLANT_NOTES = {
              "kinematic winch on an elastic line (generation booked as tension x reel speed, reel-in at constant power)",
 }
 
-#: touchdown sink rate [m/s] below which ground contact in RECOVER counts as a landing
-LAND_SINK_MAX = 3.0
+#: largest touchdown sink rate [m/s] of a landing (ground contact in RECOVER)
+LAND_SINK_MAX = 1.5
+#: largest horizontal ground speed [m/s] at touchdown of a landing
+LAND_SPEED_MAX = 15.0
+#: largest horizontal distance [m] of a landing's touchdown from the winch
+LAND_RADIUS_MAX = 150.0
 
 #: statuses of a flight (see the module doc); other ground-station events appear by name
-FLIGHT_STATUSES = ("ok", "incomplete", "interrupted", "landed", "ground_contact", "tether_break", "nonfinite",
-                   "airspeed_limit", "load_limit")
+FLIGHT_STATUSES = ("ok", "incomplete", "interrupted", "landed", "parked", "ground_contact", "tether_break",
+                   "nonfinite", "airspeed_limit", "load_limit")
+
+
+def landing_verdict(pos_ned: np.ndarray, vel_ned: np.ndarray) -> str | None:
+    """None when a touchdown at ``pos_ned`` [m, NED from the winch] with ground velocity
+    ``vel_ned`` [m/s] is a landing (sink <= LAND_SINK_MAX, horizontal speed <= LAND_SPEED_MAX,
+    within LAND_RADIUS_MAX of the winch), else the bound it broke, as a phrase."""
+    sink = float(vel_ned[2])
+    speed = math.hypot(float(vel_ned[0]), float(vel_ned[1]))
+    dist = math.hypot(float(pos_ned[0]), float(pos_ned[1]))
+    if sink > LAND_SINK_MAX:
+        return f"sink {sink:.1f} m/s above {LAND_SINK_MAX:g} m/s"
+    if speed > LAND_SPEED_MAX:
+        return f"ground speed {speed:.1f} m/s above {LAND_SPEED_MAX:g} m/s"
+    if dist > LAND_RADIUS_MAX:
+        return f"{dist:.0f} m from the winch, beyond {LAND_RADIUS_MAX:g} m"
+    return None
 
 #: phase codes of the per-step labels (:func:`segment_cycles`): autopilot phase name -> code
 PHASE_CODES = {"generation": 0, "recovery": 1}
@@ -489,12 +515,17 @@ def fly(
         status, msg = "incomplete", (f"time cap of {T_total:.1f} s reached with {n_done} of {cycles} cycles "
                                      f"complete")
     if status == "ground_contact" and ap.mode == "RECOVER":
-        # a landing, not a crash: touchdown sink rate below LAND_SINK_MAX
+        # a landing, not a crash: at the winch, slow, gently (landing_verdict)
         v_down = float(res.vel[-1][2])
-        if v_down < LAND_SINK_MAX:
+        why = landing_verdict(res.pos[-1], res.vel[-1])
+        if why is None:
             status, msg = "landed", msg.replace("ground contact", "landed") + f", sink {v_down:.1f} m/s"
         else:
-            msg += f", sink {v_down:.1f} m/s (a crash, not a landing)"
+            msg += f", sink {v_down:.1f} m/s (a crash, not a landing: {why})"
+    elif status == "ok" and ap.mode == "RECOVER" and ap.parked:
+        d = float(np.linalg.norm(res.pos[-1]))
+        status, msg = "parked", (f"parked in the hold at t = {res.sim_time_s:.1f} s, {d:.0f} m from the winch, "
+                                 f"line {float(res.data[-1, COLUMNS.index('length')]):.0f} m")
     return FlightReport(
         scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind[0], wind[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,

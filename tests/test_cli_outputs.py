@@ -137,15 +137,24 @@ def _short_flights(monkeypatch, t_end: float = 3.0, mode: str | None = None) -> 
 
 
 def test_fly_json_of_a_flight_ended_by_an_event_has_null_for_nan(tmp_path, monkeypatch, capsys):
-    """RECOVER from the reference's start ends on ground contact within seconds (an event, exit
-    1). Numbers the report cannot compute are NaN in Python (injected here into the real report:
-    the ledger residual and one ledger term); the JSON is strict JSON with null for them."""
+    """MANUAL with the elevator at full deflection from the reference's start ends in an event
+    within seconds (exit 1). Numbers the report cannot compute are NaN in
+    Python (injected here into the real report: the ledger residual and one ledger term); the
+    JSON is strict JSON with null for them."""
     import fdm_awe.flight as flight
+    from fdm_awe.sixdof.state import Surfaces
 
     real = flight.fly
 
     def event_flight(*a, **kw):
-        rep = real(*a, **{**kw, "t_end": 30.0})
+        cli_setup = kw["setup"]
+
+        def setup(ap, sim):
+            cli_setup(ap, sim)
+            ap.set_mode("MANUAL")
+            ap.manual = Surfaces(0.0, -1.0, 0.0, 0.0, 0.0)
+
+        rep = real(*a, **{**kw, "t_end": 30.0, "setup": setup})
         rep.ledger_residual_rel = math.nan
         rep.ledger["glider_residual_J"] = math.inf
         return rep

@@ -36,7 +36,7 @@ at the next step.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -51,7 +51,7 @@ from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
 from .guidance import Guidance, GuidanceGains, norm3
-from .tracking import GENERATION, TrackingReference
+from .tracking import GENERATION, RECOVERY, RefPoint, TrackingReference
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
 CONFIGS = ("foldable", "nominal")
@@ -228,8 +228,20 @@ class Autopilot:
         #: a schedule (path following; the cycle's period is the glider's own).
         self.s_ref = 0.0
         self.path_rate = 1.0
-        self._rec_ref: TrackingReference | None = None  # landing path, built on entering RECOVER
-        self._rec_s = 0.0
+        #: RECOVER's stage: None (not entered), "return" (to the circle, descending), "hold"
+        #: (on the circle at its floor altitude), "final" (straight into the wind), "flare"
+        self.rec_stage: str | None = None
+        self._rec_sense = 1.0  # +1 clockwise, -1 counter-clockwise seen from above
+        self._rec_h = 0.0  # altitude reference [m]
+        self._rec_final: tuple[np.ndarray, np.ndarray] | None = None  # final approach: start, track
+        self._rec_park = False  # RECOVER parks in the hold instead of landing
+        self._rec_gust2 = 0.0  # mean square of the vertical wind [m^2/s^2], ~10 s filter
+        #: AUTO rejoin segment: (start time [s], position offset [m], velocity offset [m/s]) or None
+        self._rejoin: tuple[float, np.ndarray, np.ndarray] | None = None
+        self._rejoin_pending = False
+        self.airborne = True  #: no contact touched the ground at the last step
+        #: ground-station link: (up now, was up once, time it was lost [s])
+        self._gcs = (False, False, -math.inf)
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -291,14 +303,39 @@ class Autopilot:
             self._note(f"mode {self.mode} -> {name}")
             if name == "RECOVER":
                 self.phase = "recovery"
-                self._rec_ref = None
+                self.rec_stage = None  # a new recovery from wherever the glider is
+            if name == "AUTO":
+                self._rejoin_pending = True  # rejoin the path from the glider's own state
         self.mode = name
         return True
 
-    def arm(self, on: bool) -> bool:
+    def arm(self, on: bool, force: bool = False) -> bool:
+        """Arm or disarm the motor. A disarm in flight is refused unless ``force`` (as
+        ArduPilot refuses it: MAV_CMD_COMPONENT_ARM_DISARM with param2 21196 forces it)."""
+        if not on and self.armed and self.airborne and not force:
+            self._note("disarm refused: in flight (force it with 21196)")
+            return False
         self.armed = bool(on)
-        self._note("armed" if on else "disarmed")
+        self._note(("armed" if on else "disarmed") + (" (forced)" if force else ""))
         return True
+
+    def gcs_link(self, up: bool, t: float) -> None:
+        """The ground-station link's state at time ``t`` [s]. With FS_GCS_ENABL 1, a link that
+        was up once and has been lost for FS_LONG_TIMEOUT switches an armed glider in flight
+        to RECOVER (once per loss; the ground station may take another mode afterwards)."""
+        now_up, ever, t_lost = self._gcs
+        if up:
+            self._gcs = (True, True, -math.inf)
+            return
+        if now_up:
+            self._gcs = (False, ever, t)
+            return
+        p = self.params
+        if (ever and p["FS_GCS_ENABL"] > 0.5 and t - t_lost >= p["FS_LONG_TIMEOUT"] and self.mode != "RECOVER"
+                and self.armed and self.airborne):
+            self._note(f"failsafe: ground-station link lost for {t - t_lost:.1f} s")
+            self.set_mode("RECOVER")
+            self._gcs = (False, ever, math.inf)  # acted on this loss
 
     def start_cycling(self) -> bool:
         if self.reference is None:
@@ -307,6 +344,7 @@ class Autopilot:
             # restart the cycle at the reference point nearest to where the glider is
             self.s_ref = self._cycle_start() + self._nearest_cycle_time()
             self.guidance.reset()
+            self._rejoin_pending = True
             self._note("cycling started")
         self.cycling = True
         return True
@@ -473,6 +511,7 @@ class Autopilot:
         dt = 0.0 if self._t_last is None else max(0.0, t - self._t_last)
         self._t_last = t
         self._t_now = t
+        self.airborne = not s.on_ground
         if self.mode == "MANUAL":
             self.phase = "ground" if s.on_ground else self.phase
             if self.thruster is not None:
@@ -500,11 +539,57 @@ class Autopilot:
             rate = 1.0
         return r, rate, s_par + rate * dt
 
+    def _rejoin_start(self, ref: TrackingReference, s: SixDofState, t: float) -> None:
+        """Begin a rejoin segment: the path parameter moves to the reference point nearest the
+        glider's position and velocity (velocity error weighted by 2 s), and the offset
+        between them decays over RJ_TIME (:meth:`_rejoin_point`)."""
+        self._rejoin_pending = False
+        T = self.params["RJ_TIME"]
+        cost = (np.sum((ref.pos - s.pos_ned) ** 2, axis=1) + 4.0 * np.sum((ref.vel - s.vel_ned) ** 2, axis=1))
+        i = int(np.argmin(cost))
+        self.s_ref = self._cycle_start() + float(ref.t[i])
+        self.guidance.reset()
+        if T <= 0.0:
+            self._rejoin = None
+            return
+        r0 = ref.sample(self.s_ref)
+        self._rejoin = (t, np.asarray(s.pos_ned - r0.pos, float), np.asarray(s.vel_ned - r0.vel, float))
+        self._note(f"rejoin: {norm3(self._rejoin[1]):.1f} m, {norm3(self._rejoin[2]):.1f} m/s from the path "
+                   f"at t_cycle {r0.t_cycle:.2f} s, over {T:g} s")
+
+    def _rejoin_point(self, ref: TrackingReference, t: float):
+        """The reference point on the rejoin segment: the path's point plus an offset that
+        starts at the glider's position and velocity offsets (dp, dv) and vanishes with its
+        first two derivatives after RJ_TIME: (1 - w(tau)) dp + e(t) dv, w the quintic
+        smoothstep, e = (t - t0) (1 - tau)^3. Returns (point, path rate 1)."""
+        t0, dp, dv = self._rejoin
+        T = self.params["RJ_TIME"]
+        r = ref.sample(self.s_ref)
+        tau = (t - t0) / T if T > 0.0 else 1.0
+        if tau >= 1.0:
+            self._rejoin = None
+            self._note("rejoin: on the path")
+            return r, 1.0
+        w = tau ** 3 * (10.0 - 15.0 * tau + 6.0 * tau * tau)
+        w1 = 30.0 * tau * tau * (1.0 - tau) ** 2 / T
+        w2 = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (T * T)
+        e = (t - t0) * (1.0 - tau) ** 3
+        e1 = (1.0 - tau) ** 2 * (1.0 - 4.0 * tau)
+        e2 = (1.0 - tau) * (12.0 * tau - 6.0) / T
+        return replace(r, pos=r.pos + (1.0 - w) * dp + e * dv, vel=r.vel - w1 * dp + e1 * dv,
+                       acc=r.acc - w2 * dp + e2 * dv), 1.0
+
     def _auto(self, t: float, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
         ref_traj = self.reference
         assert ref_traj is not None
         p = self.params
-        r, rate, self.s_ref = self._advance(ref_traj, self.s_ref, s, dt)
+        if self._rejoin_pending:
+            self._rejoin_start(ref_traj, s, t)
+        if self._rejoin is not None:
+            r, rate = self._rejoin_point(ref_traj, t)
+            self.s_ref += dt
+        else:
+            r, rate, self.s_ref = self._advance(ref_traj, self.s_ref, s, dt)
         self.ref_point = r
         self.path_rate = rate
         wind = s.vel_ned - s.vel_air_ned
@@ -558,49 +643,151 @@ class Autopilot:
             thr = self._propulsion(cmd.thrust, s, dt)
         return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
 
+    # ------------------------------------------------------------------ RECOVER
+    def _recover_winch(self, s: SixDofState, gs: Any) -> WinchCommand:
+        """The winch in RECOVER: brake a paying-out drum in generator mode first, then reel in
+        the slack beyond REC_SLACK in motor mode; free spool on the final approach."""
+        p = self.params
+        d = norm3(s.hook_pos_ned)
+        slack = (gs.length - d) if gs is not None else 0.0
+        if self.rec_stage in ("final", "flare"):
+            # final approach and touchdown: free spool (open-circuit generator: only the drum's
+            # friction and inertia resist), the line pays out if the glider reaches its end
+            return self._pay_out(s, gs, 1.0e4, 2.0)
+        if gs is not None and (gs.reel_speed > p["REC_BRAKE_SPD"] or gs.tension > p["REC_TENSION"]):
+            # the drum pays out fast or the line pulls: the generator brakes it through the
+            # load (switching the machine to motor mode now would plug it: full supply voltage
+            # on a back-EMF of the same sign, the armature current limited by its resistance only)
+            return self._pay_out(s, gs, self.R_L, 0.0)
+        # keep REC_SLACK metres of slack: reel in the excess (the half-bridge drives the
+        # motor one way only; line goes out through the generator when pulled)
+        reel = -min(max(0.5 * (slack - p["REC_SLACK"]), 0.0), p["REC_REEL_SPD"])
+        return WinchCommand(mode="motor", reel_speed_ref=reel)
+
+    def _circle_field(self, q: np.ndarray) -> np.ndarray:
+        """Horizontal unit vector of the recovery circle's guidance field at horizontal
+        position ``q`` (m, north/east of the winch): tangent to the circle of REC_RADIUS in the
+        sense :attr:`_rec_sense` on it, turned towards it by ``atan((rho - R) / (R / 2))``
+        off it (straight at the winch far outside, straight out near the centre)."""
+        R = self.params["REC_RADIUS"]
+        rho = math.hypot(q[0], q[1])
+        er = q / rho if rho > 1e-6 else np.array([1.0, 0.0])
+        et = self._rec_sense * np.array([-er[1], er[0]])
+        beta = math.atan((rho - R) / (0.5 * R))
+        return math.cos(beta) * et - math.sin(beta) * er
+
+    def _ground_speed(self, u: np.ndarray, wind: np.ndarray, V: float) -> float:
+        """Ground speed [m/s] along horizontal unit vector ``u`` at airspeed ``V`` in the
+        horizontal ``wind`` (at least half the airspeed: no hovering against a stronger wind)."""
+        uw = float(u @ wind)
+        return uw + math.sqrt(max(V * V - float(wind @ wind) + uw * uw, 0.25 * V * V))
+
+    def _rec_enter(self, s: SixDofState) -> None:
+        q = s.pos_ned[:2]
+        v = s.vel_ned[:2]
+        self._rec_sense = 1.0 if float(q[0] * v[1] - q[1] * v[0]) >= 0.0 else -1.0
+        self._rec_h = -float(s.pos_ned[2])
+        self.rec_stage = "return"
+        self._rec_final = None
+        self._rec_park = self.params["REC_LAND"] < 0.5
+        self._rec_gust2 = 0.0
+        self.guidance.reset()
+        self._note(f"recovery: return to the {self.params['REC_RADIUS']:.0f} m circle "
+                   f"({'counter-clockwise' if self._rec_sense < 0 else 'clockwise'} seen from above)")
+
+    def _rec_reference(self, s: SixDofState, wind: np.ndarray, dt: float):
+        """Reference point of the RECOVER guidance this step (stages ``return``, ``hold`` and
+        ``final``; see the module doc), or None in the flare."""
+        p = self.params
+        V = p["REC_AIRSPEED"]
+        R = p["REC_RADIUS"]
+        h = -float(s.pos_ned[2])
+        w = np.array([wind[0], wind[1]])
+        wn = math.hypot(w[0], w[1])
+        q = np.array([s.pos_ned[0], s.pos_ned[1]])
+        # vertical gust intensity: the measured vertical wind's mean square over ~10 s
+        self._rec_gust2 += (float(wind[2]) ** 2 - self._rec_gust2) * min(dt / 10.0, 1.0)
+        if not self._rec_park and p["REC_LAND"] > 0.5 and math.sqrt(self._rec_gust2) > p["REC_GUST_MAX"] \
+                and self.rec_stage in ("return", "hold") and h < p["REC_HOLD_ALT"] + 10.0:
+            self._rec_park = True
+            self._note(f"recovery: vertical gusts {math.sqrt(self._rec_gust2):.1f} m/s RMS above REC_GUST_MAX: "
+                       f"no landing, parking in the hold at {p['REC_HOLD_ALT']:.0f} m")
+        land = p["REC_LAND"] > 0.5 and not self._rec_park
+        floor = p["REC_FINAL_ALT"] if land else p["REC_HOLD_ALT"]
+        sink = V / p["REC_SLOPE"]
+        if self.rec_stage in ("return", "hold"):
+            u = self._circle_field(q)
+            on_circle = abs(math.hypot(q[0], q[1]) - R) < 0.25 * R
+            if self.rec_stage == "return" and on_circle and h < floor + 3.0:
+                self.rec_stage = "hold"
+                self._note(f"recovery: on the circle at {h:.1f} m")
+            upwind = wn < 1.0 or float(u @ w) < -0.87 * wn  # the track within 30 deg of the wind's eye
+            if land and self.rec_stage == "hold" and upwind:
+                f = -w / wn if wn >= 1.0 else u
+                self._rec_final = (q.copy(), f)
+                self.rec_stage = "final"
+                self._note(f"recovery: final approach from {h:.1f} m, track {math.degrees(math.atan2(f[1], f[0])):.0f} deg")
+        if self.rec_stage == "final":
+            q0, f = self._rec_final
+            if h < p["REC_FLARE_ALT"]:
+                self.rec_stage = "flare"
+                self._note(f"recovery: flare at {h:.1f} m")
+                return None
+            along = float((q - q0) @ f)
+            pos_h = q0 + along * f
+            vg = self._ground_speed(f, w, V)
+            self._rec_h = min(max(self._rec_h - sink * dt, 0.0), h + 10.0)
+            vel = np.array([vg * f[0], vg * f[1], sink if self._rec_h > 0.0 else 0.0])
+            acc = np.zeros(3)
+        elif self.rec_stage == "flare":
+            return None
+        else:
+            vg = self._ground_speed(u, w, V)
+            # the field's turn along the track: a = vg^2 du/ds (finite difference over 1 m)
+            du = self._circle_field(q + u) - u
+            self._rec_h = min(max(self._rec_h - sink * dt, floor), h + 10.0)
+            descending = self._rec_h > floor
+            vel = np.array([vg * u[0], vg * u[1], sink if descending else 0.0])
+            acc = np.array([vg * vg * du[0], vg * vg * du[1], 0.0])
+            pos_h = q
+        pos = np.array([pos_h[0], pos_h[1], -self._rec_h])
+        return RefPoint(t_cycle=0.0, cycle=0, phase=RECOVERY, pos=pos, vel=vel, acc=acc, airspeed=V, alpha=0.0,
+                        phi=0.0, thrust=0.0, tension=0.0, length=0.0, reel_speed=0.0)
+
+    @property
+    def parked(self) -> bool:
+        """RECOVER holds (REC_LAND 0, or vertical gusts above REC_GUST_MAX): circling within 5 m of
+        REC_HOLD_ALT, within a quarter of REC_RADIUS of the circle (the line is reeled in to the
+        distance plus REC_SLACK)."""
+        if self.mode != "RECOVER" or self.rec_stage != "hold" or not self._rec_park:
+            return False
+        s = self.glider.state()
+        rho = math.hypot(float(s.pos_ned[0]), float(s.pos_ned[1]))
+        return (abs(-float(s.pos_ned[2]) - self.params["REC_HOLD_ALT"]) < 5.0
+                and abs(rho - self.params["REC_RADIUS"]) < 0.25 * self.params["REC_RADIUS"])
+
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
         p = self.params
         self.phase = "recovery"
+        if self.rec_stage is None:
+            self._rec_enter(s)
         h = -float(s.pos_ned[2])
-        # winch: take in slack line beyond a 10 m reserve, never pull the glider: under more
-        # than REC_TENSION the passive generator pays line out instead
-        d = norm3(s.hook_pos_ned)
-        slack = (gs.length - d) if gs is not None else 0.0
-        if h < 3.0 * p["REC_FLARE_ALT"]:
-            # final approach and touchdown: free spool (open-circuit generator: only the drum's
-            # friction and inertia resist), the line pays out if the glider reaches its end
-            wcmd = self._pay_out(s, gs, 1.0e4, 2.0)
-        elif gs is not None and gs.tension > p["REC_TENSION"]:
-            # pulling: the passive generator lets line out under load
-            wcmd = self._pay_out(s, gs, self.R_L, 0.0)
-        else:
-            # keep REC_SLACK metres of slack: reel in the excess (the half-bridge drives the
-            # motor one way only; line goes out through the generator when pulled)
-            reel = -min(max(0.5 * (slack - p["REC_SLACK"]), 0.0), p["REC_REEL_SPD"])
-            wcmd = WinchCommand(mode="motor", reel_speed_ref=reel)
-        if h < p["REC_FLARE_ALT"]:
+        wind = s.vel_ned - s.vel_air_ned
+        r = self._rec_reference(s, wind, dt)
+        wcmd = self._recover_winch(s, gs)
+        if r is None:
             # flare: wings level, angle of attack for level flight plus a sink-rate term
             # (hold ~0.5 m/s down) until the skids touch
             self.ref_point = None
             v_down = float(s.vel_ned[2])
-            sink_target = 0.3 + 0.7 * min(h / p["REC_FLARE_ALT"], 1.0)  # 1.0 m/s at the top, 0.3 at touchdown
+            sink_target = 0.3 + 0.7 * min(h / max(p["REC_FLARE_ALT"], 0.1), 1.0)  # 1.0 m/s at the top, 0.3 at touchdown
             alpha = self.glider.trim_alpha(max(s.airspeed, 5.0)) + 0.05 * (v_down - sink_target)
             a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
             # the motor only guards against stalling (below 80 % of the recovery airspeed)
             thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
             thr = self._propulsion(thrust, s, dt)
             return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
-        if self._rec_ref is None:
-            # a descending circle about the winch, entered straight from where the glider is
-            self._rec_ref = TrackingReference.descent_helix(
-                s.pos_ned, p["REC_RADIUS"], p["REC_SLOPE"], p["REC_AIRSPEED"], h_end=0.5 * p["REC_FLARE_ALT"],
-                wind=s.vel_ned - s.vel_air_ned)
-            self._rec_s = 0.0
-            self.guidance.reset()
-            self._note(f"recovery path: {len(self._rec_ref.t)} points, {self._rec_ref.period:.0f} s")
-        r, rate, self._rec_s = self._advance(self._rec_ref, min(self._rec_s, self._rec_ref.period - 1.0), s, dt)
         self.ref_point = r
-        wind = s.vel_ned - s.vel_air_ned
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt)
         self.last_guidance = cmd

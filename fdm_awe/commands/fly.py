@@ -27,7 +27,8 @@ an input such as ``--reference`` or ``--params``). Outputs are written atomicall
 writes NaN as ``null`` (e.g. the tracking error of a cycle without reference points) and
 records the turbulence level and seed (``"turbulence": {"level", "seed"}`` or ``null``).
 
-Exit codes: 0 the flight completed without an event (or landed in RECOVER mode); 1 it ended
+Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
+RTL or the link-loss failsafe) ended it landed or parked; 1 it ended
 otherwise (an event, or cycles left incomplete); 2 bad input; 130 Ctrl-C: the flight stops,
 the steps flown so far are written to every requested output (status ``interrupted``).
 """
@@ -100,7 +101,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s, 0.0001..0.05 (default 1/120)")
     p.add_argument("--turbulence", metavar="LEVEL[:SEED]",
                    help="JSBSim turbulence: light|moderate|severe, seeded (SEED 1..2147483647, default 1)")
-    p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: reel in and land)")
+    p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: brake the drum, reel in, circle down and land at the "
+                        "winch, or park in a hold with REC_LAND 0)")
     p.add_argument("--json", metavar="FILE", help="write the numbers as JSON (NaN written as null)")
     p.add_argument("--rrd", metavar="FILE", help="write a rerun recording of the flight")
     p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV, a markdown report (and an optimised "
@@ -291,6 +293,7 @@ def run(args: argparse.Namespace) -> int:
             def link(k, s, o) -> None:
                 build.integrate(s)
                 endpoint.update(s.t, lambda: build(s, o))
+                ap.gcs_link(endpoint.link_up, s.t)  # the link-loss failsafe (FS_GCS_ENABL)
 
             hooks.append(link)
         if args.realtime:
@@ -360,7 +363,7 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
         write_json(args.json, doc)
     if report.status == "interrupted" or cut:
         return EXIT_INTERRUPTED
-    ok = report.status == "ok" or (args.mode == "RECOVER" and report.status == "landed")
+    ok = report.status in ("ok", "landed", "parked")
     return 0 if ok else 1
 
 

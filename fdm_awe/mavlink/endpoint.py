@@ -50,7 +50,7 @@ COMMAND_ACK, unknown ones MAV_RESULT_UNSUPPORTED, bad parameters MAV_RESULT_DENI
 a vehicle refusal MAV_RESULT_FAILED):
 
 =================================  ==========================================================
-MAV_CMD_COMPONENT_ARM_DISARM       param1 1 = arm, 0 = disarm
+MAV_CMD_COMPONENT_ARM_DISARM       param1 1 = arm, 0 = disarm; param2 21196 forces (a disarm in flight is refused otherwise)
 MAV_CMD_DO_SET_MODE                param1 with MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, param2 mode
 MAV_CMD_MISSION_START              start the pumping cycles (``vehicle.start_cycling``)
 MAV_CMD_DO_PAUSE_CONTINUE          param1 0 = stop cycling, 1 = start cycling
@@ -92,8 +92,8 @@ from typing import Any, Callable
 from fdm_awe.errors import InputError
 from fdm_awe.mavlink.geo import GeoFrame, Home
 from fdm_awe.mavlink.params import from_wire, param_text
-from fdm_awe.mavlink.vehicle import (MODE_NAMES, MODE_NUMBERS, PHASE_CODES, Telemetry,
-                                     VehicleInterface, Waypoint)
+from fdm_awe.mavlink.vehicle import (ARM_DISARM_FORCE, MODE_NAMES, MODE_NUMBERS, PHASE_CODES, RTL_MODE,
+                                     Telemetry, VehicleInterface, Waypoint)
 
 # Imported at module level on purpose: importing this module is the opt-in to MAVLink.
 from pymavlink import mavutil  # noqa: E402
@@ -648,8 +648,10 @@ class MavlinkEndpoint:
             return mav.MAV_RESULT_DENIED, None
         if self.vehicle is None:
             return mav.MAV_RESULT_FAILED, None
-        ok = bool(self.vehicle.arm(p[0] == 1.0))
-        self._info(f"MAVLink: {'arm' if p[0] == 1.0 else 'disarm'} {'accepted' if ok else 'refused'}")
+        force = p[1] == ARM_DISARM_FORCE
+        ok = bool(self.vehicle.arm(p[0] == 1.0, force=True) if force else self.vehicle.arm(p[0] == 1.0))
+        self._info(f"MAVLink: {'arm' if p[0] == 1.0 else 'disarm'}{' (forced)' if force else ''} "
+                   f"{'accepted' if ok else 'refused'}")
         return (mav.MAV_RESULT_ACCEPTED if ok else mav.MAV_RESULT_FAILED), None
 
     def _set_mode_number(self, number: Any) -> int:
@@ -693,7 +695,7 @@ class MavlinkEndpoint:
         return (mav.MAV_RESULT_ACCEPTED if ok else mav.MAV_RESULT_FAILED), None
 
     def _cmd_rtl(self, p: tuple[float, ...]) -> tuple[int, Any]:
-        return self._set_mode_number(MODE_NUMBERS["RECOVER"]), None
+        return self._set_mode_number(MODE_NUMBERS[RTL_MODE]), None
 
     def _cmd_get_home(self, p: tuple[float, ...]) -> tuple[int, Any]:
         return mav.MAV_RESULT_ACCEPTED, lambda: self._send_home(self._telemetry(), self._t_now)

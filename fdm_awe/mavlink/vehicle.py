@@ -24,7 +24,7 @@ physics. They meet here, in three small pieces:
         mode: str                        # current mode name
         set_mode(name) -> bool           # False = refused (stays in the old mode)
         armed: bool
-        arm(on: bool) -> bool            # False = refused
+        arm(on: bool, force=False) -> bool  # False = refused (a disarm in flight unless forced)
         cycling: bool                    # pumping cycles running
         start_cycling() -> bool
         stop_cycling() -> bool
@@ -41,7 +41,9 @@ Mode numbers (``custom_mode`` in HEARTBEAT, ``DO_SET_MODE`` and ``SET_MODE``) co
 single table :data:`MODE_NUMBERS`. Where the meaning matches, the number is ArduPlane's,
 because MAVProxy and other ArduPilot-aware tools name a fixed-wing vehicle's
 ``custom_mode`` with ArduPlane's table: MANUAL shows as ``MANUAL``, AUTO as ``AUTO`` and
-RECOVER (fold, reel in, glide back to the start of the generation phase) as ``RTL``.
+RECOVER (the safe abort: brake the drum, reel in the slack, circle down and land at the winch or
+park in a hold) as ``RTL``; MAVLink RTL (MAV_CMD_NAV_RETURN_TO_LAUNCH) switches to it
+(:data:`RTL_MODE`). A disarm in flight is refused unless forced (:data:`ARM_DISARM_FORCE`).
 """
 
 from __future__ import annotations
@@ -60,10 +62,17 @@ MODE_NUMBERS: dict[str, int] = {
     "MANUAL": 0,     # surfaces/throttle straight from the pilot (or held neutral)
     "FBWA": 5,       # stabilised attitude, no path following
     "AUTO": 10,      # fly the mission (reference path) and run the pumping cycle
-    "RECOVER": 11,   # abort to recovery: fold, reel in, glide back (shown as RTL)
+    "RECOVER": 11,   # safe abort: reel in, circle down, land or park (shown as RTL)
     "LOITER": 12,    # circle on the tether at constant length
     "GUIDED": 15,    # hold the current point of the path
 }
+
+#: MAV_CMD_COMPONENT_ARM_DISARM param2 that forces an arm or disarm (ArduPilot's magic
+#: number): without it a disarm in flight is refused.
+ARM_DISARM_FORCE = 21196
+
+#: MAVLink RTL (MAV_CMD_NAV_RETURN_TO_LAUNCH, MAVProxy ``rtl``) maps to this mode.
+RTL_MODE = "RECOVER"
 
 #: ``custom_mode`` number -> mode name.
 MODE_NAMES: dict[int, str] = {v: k for k, v in MODE_NUMBERS.items()}
@@ -219,7 +228,7 @@ class VehicleInterface(Protocol):
     @property
     def armed(self) -> bool: ...
 
-    def arm(self, on: bool) -> bool: ...
+    def arm(self, on: bool, force: bool = False) -> bool: ...
 
     @property
     def cycling(self) -> bool: ...
