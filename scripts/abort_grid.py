@@ -29,7 +29,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = {
-    "nominal": ("tests/data/ref_physical_nominal_8mps_motor_off.json", "physical"),
+    "nominal": ("tests/data/ref_physical_nominal_8mps_sized.json", "physical"),
     "foldable": ("tests/data/ref_paper_foldable_3mps.json", "paper"),
 }
 AIR = {"calm": None, "moderate1": ("moderate", 1), "moderate2": ("moderate", 2)}

@@ -23,7 +23,7 @@ from fdm_awe.mavlink.vehicle import ARM_DISARM_FORCE
 
 from flight_helpers import DATA
 
-NOMINAL = DATA / "ref_physical_nominal_8mps_motor_off.json"
+NOMINAL = DATA / "ref_physical_nominal_8mps_sized.json"
 FOLDABLE = DATA / "ref_paper_foldable_3mps.json"
 
 
