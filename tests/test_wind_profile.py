@@ -193,3 +193,44 @@ def test_flight_wind_follows_the_glider_altitude():
         # the ground station's line drag: the wind at the line's height
         assert np.allclose(st, w_ref * LOG.factor(line_height(h_prev)), rtol=1e-12, atol=1e-12)
     assert np.linalg.norm(rows[-1][1]) > 1.3 * np.linalg.norm(w_ref)  # ~100 m up: far more than the 10 m wind
+
+
+# ---------------------------------------------------------------- command line and sweeps
+@pytest.mark.parametrize("argv, words", [
+    (["optimize", "--wind-profile", "log:0"], ("--wind-profile", "z0", "1e-05..2 m")),
+    (["optimize", "--wind-profile", "power:2"], ("--wind-profile", "exponent", "0..1")),
+    (["optimize", "--wind-profile", "cubic:1"], ("--wind-profile", "uniform, log:Z0")),
+    (["optimize", "--wind-profile", "log:0.1", "--wind-ref-height", "0"], ("--wind-ref-height", "1..1000")),
+    (["optimize", "--wind-ref-height", "50"], ("--wind-ref-height", "only with a log or power")),
+    (["compare", "--scenario", "paper", "--wind-profile", "log:0.1"], ("--wind-profile", "paper scenario")),
+    (["fly", "--reference", str(DATA / "ref_physical_nominal_8mps.json"), "--wind-profile", "log:0.1"],
+     ("--wind-profile", "fixes")),
+])
+def test_profile_options_are_checked_before_work(argv, words, tmp_path, capsys):
+    from fdm_awe.cli import main
+
+    if argv[0] == "sweep":
+        argv = argv + ["--out", str(tmp_path / "s")]
+    rc = main(argv)
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and "\n" not in err, err
+    for w in words:
+        assert w in err, (w, err)
+
+
+def test_uniform_sweep_points_keep_their_ids_and_a_profile_is_recorded():
+    from fdm_awe.sweep.runner import base_record, point_problem
+    from fdm_awe.sweep.spec import SweepSpec
+
+    uni = SweepSpec(winds=(6.0, 8.0), configs=("nominal",)).points()
+    log = SweepSpec(winds=(6.0, 8.0), configs=("nominal",), wind_profile=LOG.label()).points()
+    assert [p.wind_profile for p in uni] == ["uniform", "uniform"]
+    # the id document of a uniform point lacks the field, as before profiles existed
+    from dataclasses import replace
+
+    assert all(replace(p, wind_profile="uniform").id == p.id for p in uni)
+    assert not {p.id for p in uni} & {p.id for p in log}
+    assert point_problem(log[0]).wind_profile == LOG and point_problem(uni[0]).wind_profile == WindProfile()
+    assert base_record(log[0])["wind_profile"] == "log:0.1@10"
+    with pytest.raises(InputError):
+        SweepSpec(winds=(8.0,), wind_profile="log:0.1").validate()  # not canonical: the reference height is named
