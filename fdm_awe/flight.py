@@ -389,6 +389,20 @@ def fly(
     paper = plant == "paper"
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))
+    # the wind profile the reference was optimised in (absent: uniform): JSBSim's steady wind
+    # follows the glider's altitude step by step, the ground station's line drag the wind at
+    # the line's height (fdm_awe.wind.LINE_HEIGHT_FRACTION of the glider's), turbulence on top
+    from .wind import WindProfile, line_height
+
+    profile = WindProfile.from_dict(meta.get("wind_profile"), "reference metadata.wind_profile")
+    wind_ref = wind
+
+    def wind_at(h: float) -> tuple[float, float, float]:
+        f = float(profile.factor(h))
+        return (wind_ref[0] * f, wind_ref[1] * f, 0.0)
+
+    if not profile.uniform:
+        wind = wind_at(-float(reference.sample(0.0).pos[2]))
     # the line the reference was optimised with; a reference written before lines were named
     # was optimised with Table 1's line ("paper"). Read (and an unknown name refused) before JSBSim loads
     line = meta.get("line")
@@ -406,7 +420,8 @@ def fly(
 
         gs = IdealWinch(gsp, P_rw=Scenario.named("paper").P_rw, wind_ned=wind)
     else:
-        gs = GroundStation(gsp, wind_ned=wind, tether_drag_scale=tether_drag_scale)
+        gs = GroundStation(gsp, wind_ned=wind if profile.uniform else wind_at(line_height(-float(reference.sample(0.0).pos[2]))),
+                           tether_drag_scale=tether_drag_scale)
     r0 = reference.sample(0.0)
     va = r0.vel - np.asarray(wind)
     V = float(np.linalg.norm(va))
@@ -451,6 +466,10 @@ def fly(
     stop = _StopRequest()
 
     def _on_step(k: int, s: Any, o: Any) -> bool:
+        if not profile.uniform:  # the next step's wind at the glider's (and the line's) height
+            h = -float(s.pos_ned[2])
+            glider.set_wind(wind_at(h))
+            gs.set_wind(wind_at(line_height(h)))
         gl.step(dt)
         rp = ap.ref_point
         if rp is not None and ap.mode == "AUTO" and ap.cycling:
@@ -527,7 +546,7 @@ def fly(
         status, msg = "parked", (f"parked in the hold at t = {res.sim_time_s:.1f} s, {d:.0f} m from the winch, "
                                  f"line {float(res.data[-1, COLUMNS.index('length')]):.0f} m")
     return FlightReport(
-        scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind[0], wind[1]))),
+        scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind_ref[0], wind_ref[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
         autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale),

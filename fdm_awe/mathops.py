@@ -39,6 +39,11 @@ def sqrt(x: Any) -> Any:
     return _ca().sqrt(x) if _is_casadi(x) else np.sqrt(x)
 
 
+def log(x: Any) -> Any:
+    """Natural logarithm."""
+    return _ca().log(x) if _is_casadi(x) else np.log(x)
+
+
 def atan2(y: Any, x: Any) -> Any:
     return _ca().atan2(y, x) if _is_casadi(y, x) else np.arctan2(y, x)
 

@@ -221,7 +221,8 @@ class TrackingReference:
         """From an optimiser :class:`~fdm_awe.ocp.result.ReferenceTrajectory` (checked again by
         :func:`~fdm_awe.ocp.result.check_reference`, so one built in memory gets the same checks).
 
-        Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata; ``motor_on``
+        Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata, at each
+        row's height when the metadata's ``wind_profile`` has shear; ``motor_on``
         from the optional column of that name (absent: 1, the motor runs throughout); the
         acceleration is the time derivative of the velocity samples (second-order differences
         within each phase, so the jump of the controls at the phase switch is not smeared).
@@ -238,6 +239,11 @@ class TrackingReference:
         # the switch row appears twice (once per phase): keep strictly increasing times
         keep = np.r_[True, np.diff(t) > 1e-9]
         wind = np.asarray(meta["wind_ned_mps"], float)
+        from ..wind import WindProfile
+
+        profile = WindProfile.from_dict(meta.get("wind_profile"), "reference metadata.wind_profile")
+        if not profile.uniform:  # the wind at each row's height
+            wind = np.asarray(profile.factor(-np.asarray(c["z"], float)), float)[:, None] * wind
         V, gam, psi = c["V"], c["gamma"], c["psi"]
         vel = np.c_[V * np.cos(gam) * np.cos(psi), V * np.cos(gam) * np.sin(psi), -V * np.sin(gam)] + wind
         acc = np.zeros_like(vel)

@@ -41,9 +41,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-zero-wind", action="store_true", help="skip the zero-wind check")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
-    from .optimize import add_plant_model_args
+    from .optimize import add_plant_model_args, add_wind_profile_args
 
     add_plant_model_args(p)
+    add_wind_profile_args(p)
     p.add_argument("--time-budget", type=float, default=120.0, metavar="S",
                    help="solver seconds per optimisation before it is reported as failed, > 0 (default 120)")
     p.add_argument("--report", metavar="FILE", help="write a markdown report")
@@ -137,10 +138,11 @@ def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, d
 
 def run(args: argparse.Namespace) -> int:
     from . import _checks as chk
-    from .optimize import check_plant_args, check_solver_args, parse_mesh
+    from .optimize import check_plant_args, check_solver_args, parse_mesh, wind_profile_from_args
 
     check_solver_args(args)
     check_plant_args(args)
+    profile = wind_profile_from_args(args)
     mesh = parse_mesh(args.mesh)
     chk.outputs(files=[("--report", args.report), ("--json", args.json)])
     from ..fileio import atomic_write_text, write_json
@@ -153,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
                                        propeller=getattr(args, "propeller", None),
                                        line_weight=getattr(args, "line_weight", None),
                                        line=getattr(args, "line", None),
-                                       generator=getattr(args, "generator", None)).validate()
+                                       generator=getattr(args, "generator", None), wind_profile=profile).validate()
                 for cfg in ("nominal", "foldable") for w in winds}
     out: dict[tuple[str, float], dict] = {}
     for (cfg, w), pr in problems.items():
@@ -164,6 +166,8 @@ def run(args: argparse.Namespace) -> int:
     pr = problems[("nominal", args.wind)]
     text = markdown(args.scenario, args.wind, res, zero, args.tether_drag_scale, pr.propeller, pr.line_weight, pr.line,
                     pr.generator)
+    if not profile.uniform:
+        text += f"\n\nWind: {profile.describe()}; the wind speeds above are the speeds at {profile.ref_height:g} m."
     print(text)
     if args.report:
         atomic_write_text(args.report, text + "\n")
@@ -172,6 +176,7 @@ def run(args: argparse.Namespace) -> int:
                           and any(z["status"] == "ok" and z["E_net_J"] > 0 for z in zero.values()))
     if args.json:
         doc = {"scenario": args.scenario, "wind_mps": args.wind, "wind_from_deg": args.wind_from,
+               "wind_profile": profile.as_dict(),
                "plant": {"line": pr.line, "propeller": pr.propeller, "line_weight": pr.line_weight,
                          "generator": pr.generator},
                "paper_table3_as_printed": PAPER_TABLE3, "sign_note": "ours: gains > 0; paper Table 3: gains < 0",

@@ -41,7 +41,7 @@ import sys
 import time
 from pathlib import Path
 
-from .optimize import NOMINAL_DEFAULT_WHY, add_plant_model_args
+from .optimize import NOMINAL_DEFAULT_WHY, add_plant_model_args, add_wind_profile_args
 
 HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + autopilot)"
 
@@ -55,7 +55,8 @@ DEFAULT_SCENARIO = "physical"
 #: the options a reference fixes (only used when optimising): attribute -> option
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
                    "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight",
-                   "generator": "--generator"}
+                   "generator": "--generator", "wind_profile": "--wind-profile",
+                   "wind_ref_height": "--wind-ref-height"}
 
 
 def _flyable_bounds(gamma_max: float | None = None):
@@ -94,6 +95,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ",
                          generators=FLYABLE_GENERATORS)
+    add_wind_profile_args(p, prefix="when it optimises the reference (not with --reference; a reference flies its own "
+                                    "profile, JSBSim's wind set every step from the glider's altitude): ")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
@@ -150,9 +153,10 @@ def _check(args: argparse.Namespace) -> None:
     elif args.allow_mismatch:
         raise InputError("--allow-mismatch: only with --reference (nothing to mismatch when fly optimises the reference)")
     else:
-        from .optimize import check_plant_args
+        from .optimize import check_plant_args, wind_profile_from_args
 
         check_plant_args(args, args.scenario or DEFAULT_SCENARIO)
+        wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
 
 
 def check_reference_options(args: argparse.Namespace, meta: dict, ref_path: str) -> None:
@@ -175,6 +179,7 @@ def reference_problem(args: argparse.Namespace):
     """The validated :class:`~fdm_awe.ocp.problem.CycleProblem` of the reference to optimise
     (flyable bounds; the effective defaults for options not given)."""
     from ..ocp.problem import CycleProblem
+    from .optimize import wind_profile_from_args
 
     return CycleProblem(scenario=args.scenario, config=args.config,
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
@@ -182,7 +187,8 @@ def reference_problem(args: argparse.Namespace):
                         bounds=_flyable_bounds(args.gamma_max),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
-                        generator=args.generator).validate()
+                        generator=args.generator,
+                        wind_profile=wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)).validate()
 
 
 def optimise_reference(problem):

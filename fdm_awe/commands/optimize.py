@@ -36,6 +36,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
     add_plant_model_args(p)
+    add_wind_profile_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help=f"successful starts to compare, 1..{MAX_STARTS} (default 1), on meshes solved "
@@ -99,6 +100,40 @@ def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis
                    help=prefix + "physical scenario: the glider carries its share of the line's weight, as the 6-DOF "
                                  "plant's ground station applies it (default on in the physical scenario; "
                                  "--no-line-weight: a massless line, as the earlier published numbers)")
+
+
+def add_wind_profile_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
+    """``--wind-profile`` and ``--wind-ref-height``: how the wind varies with height
+    (:mod:`fdm_awe.wind`); ``prefix`` opens the help texts."""
+    p.add_argument("--wind-profile", default=None, metavar="KIND",
+                   help=prefix + "wind speed over height: uniform (the default, the paper's: the same speed at every "
+                                 "height), log:Z0 (logarithmic, roughness length Z0 in m, 0.00001..2, e.g. log:0.1 "
+                                 "open country) or power:ALPHA (power law, exponent 0..1, e.g. power:0.143); --wind "
+                                 "is then the speed at --wind-ref-height")
+    p.add_argument("--wind-ref-height", type=float, default=None, metavar="M",
+                   help=prefix + "height [m] at which --wind holds for a log or power profile, 1..1000 (default 10, "
+                                 "the meteorological standard height of anemometers and wind statistics)")
+
+
+def wind_profile_from_args(args: argparse.Namespace, scenario: str | None = None):
+    """The :class:`~fdm_awe.wind.WindProfile` of ``--wind-profile`` / ``--wind-ref-height``
+    (uniform when neither is given); one-line errors naming the option."""
+    from ..errors import InputError
+    from ..wind import REF_HEIGHT_RANGE_M, WindProfile
+    from . import _checks as chk
+
+    text = getattr(args, "wind_profile", None)
+    h = getattr(args, "wind_ref_height", None)
+    chk.number(h, "--wind-ref-height", *REF_HEIGHT_RANGE_M, unit="m", what="reference height")
+    prof = WindProfile.parse("uniform" if text is None else text, h)
+    if prof.uniform and h is not None:
+        raise InputError(f"--wind-ref-height {h:g}: only with a log or power --wind-profile (a uniform wind has the "
+                         f"same speed at every height)")
+    scn = scenario or getattr(args, "scenario", None)
+    if scn == "paper" and not prof.uniform:
+        raise InputError(f"--wind-profile {text}: the paper scenario's wind is uniform (allowed uniform; shear is a "
+                         f"physical-scenario option)")
+    return prof
 
 
 def check_plant_args(args: argparse.Namespace, scenario: str | None = None) -> None:
@@ -178,12 +213,15 @@ def problem_from_args(args: argparse.Namespace):
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
-                        line=getattr(args, "line", None), generator=getattr(args, "generator", None)).validate()
+                        line=getattr(args, "line", None), generator=getattr(args, "generator", None),
+                        wind_profile=wind_profile_from_args(args)).validate()
 
 
 def print_summary(res, file=sys.stdout) -> None:
     s = res.summary()
     head = f"{res.scenario} / {res.config} / wind {res.wind_mps:g} m/s from {res.wind_from_deg:g} deg"
+    if res.problem is not None and not res.problem.wind_profile.uniform:
+        head += f" at {res.problem.wind_profile.ref_height:g} m ({res.problem.wind_profile.label()})"
     if res.problem is not None:
         head += f" / {plant_text(res.problem)}"
     if not res.ok:

@@ -61,9 +61,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "sized again from its material, so mass per length, breaking load and EA scale with d^2 "
                         "(a diameter whose breaking load falls below the 50 N rated tension is refused; default: as "
                         "defined, 'fdm-awe info' shows it)")
-    from .optimize import add_plant_model_args
+    from .optimize import add_plant_model_args, add_wind_profile_args
 
     add_plant_model_args(p, line_axis=True, generators=())
+    add_wind_profile_args(p, prefix="every point: ")
     p.add_argument("--workers", type=int, default=None,
                    help=f"local Dask worker processes, 1..{MAX_WORKERS} (default: number of cores; not with --scheduler)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
@@ -126,9 +127,10 @@ def build_spec(args: argparse.Namespace):
     def opt(text: str | None, what: str, unit: str) -> tuple:
         return (None,) if text is None else parse_floats(text, what, unit)
 
-    from .optimize import check_plant_args
+    from .optimize import check_plant_args, wind_profile_from_args
 
     check_plant_args(args)
+    profile = wind_profile_from_args(args)
     diameters: tuple = (None,)
     if getattr(args, "line_diameter", None) is not None:
         from ..sweep.design import line_station
@@ -154,6 +156,7 @@ def build_spec(args: argparse.Namespace):
         line_diameters=diameters,
         # --cold has no warm starts to check: its points keep the ids of points without the check
         cold_check=not (getattr(args, "no_cold_check", False) or getattr(args, "cold", False)),
+        wind_profile=profile.label(),
     ).validate()
     return canonical_spec(spec)
 

@@ -47,14 +47,19 @@ def default_starts(problem: CycleProblem) -> list[LoopStart]:
     Generation: reel-out at about a third of the wind speed (Loyd's optimum, clipped to
     1.5..4 m/s), crosswind airspeed about 2.5 times the wind (clipped to 12 m/s .. 0.8 V_max),
     as many loops of about 40 m radius as fit. Recovery: one loop, wider for the folded glider
-    (its stall speed is about 21 m/s).
+    (its stall speed is about 21 m/s). The wind is the one at the start's height (the problem's
+    wind profile; the given speed for a uniform wind).
     """
     b = problem.bounds
     folded = problem.config == "foldable"
     span = problem.d_tf - problem.d0
-    v_r = min(max(problem.wind_speed / 3.0, 1.5), 4.0)
+    vw = problem.wind_speed
+    profile = getattr(problem, "wind_profile", None)
+    if profile is not None and not profile.uniform:
+        vw = vw * float(profile.factor(-problem.start_position[2]))
+    v_r = min(max(vw / 3.0, 1.5), 4.0)
     T1 = span / v_r
-    V = min(max(2.5 * problem.wind_speed, 12.0), 0.8 * b.V_max)
+    V = min(max(2.5 * vw, 12.0), 0.8 * b.V_max)
     n1 = max(1, int(round(V * T1 / (2 * math.pi * 40.0))))
     r1 = V * T1 / (2 * math.pi * n1)
     r2 = 60.0 if folded else 30.0
@@ -106,7 +111,11 @@ def loop_guess(problem: CycleProblem, model: CycleModel, start: LoopStart, wind_
     for ip, (P, T, af) in enumerate(((P_gen, start.T1, model.gen_airframe), (P_rec, start.T2, model.rec_airframe))):
         t = s * T
         vg = np.gradient(P, t, axis=0)
-        va = vg - wind
+        if model.wind_profile.uniform:
+            va = vg - wind
+        else:  # the wind at each point's height (the profile's)
+            f = np.asarray(model.wind_profile.factor(-P[:, 2]), float)
+            va = vg - f[:, None] * wind
         V = np.linalg.norm(va, axis=1)
         gamma = np.arcsin(np.clip(-va[:, 2] / V, -1, 1))
         psi = np.unwrap(np.arctan2(va[:, 1], va[:, 0]))

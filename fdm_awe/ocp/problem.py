@@ -15,6 +15,7 @@ from dataclasses import dataclass, field, replace
 from ..errors import InputError
 from ..groundstation.line import check_line
 from ..groundstation.tether import check_tether_drag_scale
+from ..wind import WindProfile
 
 SCENARIOS = ("physical", "paper")
 CONFIGS = ("nominal", "foldable")
@@ -167,7 +168,9 @@ class CycleProblem:
 
     The cycle starts and ends at distance ``d0`` [m] from the winch at ``elevation0_deg`` /
     ``azimuth0_deg`` (azimuth from north, towards east); generation ends at distance ``d_tf``.
-    Wind ``wind_speed`` [m/s] blows FROM ``wind_from_deg`` (180 = from the south, the paper's case).
+    Wind ``wind_speed`` [m/s] blows FROM ``wind_from_deg`` (180 = from the south, the paper's case);
+    ``wind_speed`` is the speed at the reference height of ``wind_profile``
+    (:class:`fdm_awe.wind.WindProfile`; uniform by default, the same speed at every height).
 
     The plant model (``line``, ``propeller``, ``line_weight``): None takes the scenario's
     default (:data:`PLANT_DEFAULTS`), resolved when the problem is made, so every problem holds
@@ -212,6 +215,10 @@ class CycleProblem:
     #: rectifier, the T2 duty as a control (``boost``) or the ``ideal`` bound. None: the scenario's
     #: default ("passive" in ``physical``; always None in ``paper``, whose tension is free)
     generator: str | None = None
+    #: wind speed over height (:class:`fdm_awe.wind.WindProfile`): uniform (the default, the
+    #: paper's), ``log`` (roughness length) or ``power`` (exponent), each with the reference
+    #: height at which ``wind_speed`` holds. The ``paper`` scenario's wind is uniform
+    wind_profile: WindProfile = field(default_factory=WindProfile)
 
     def __post_init__(self) -> None:
         # None = the scenario's default; an unknown scenario is left for validate() to name
@@ -255,6 +262,12 @@ class CycleProblem:
                              f"(the paper scenario's tension is a free control)")
         if self.line_weight and self.scenario != "physical":
             raise InputError("line_weight: only the physical scenario has a line model (the paper's line is massless)")
+        if not isinstance(self.wind_profile, WindProfile):
+            raise InputError(f"wind_profile {self.wind_profile!r} invalid (allowed a WindProfile: uniform, log or power)")
+        self.wind_profile.validate()
+        if self.scenario == "paper" and not self.wind_profile.uniform:
+            raise InputError(f"wind_profile {self.wind_profile.label()!r}: the paper scenario's wind is uniform (allowed uniform; "
+                             f"shear is a physical-scenario option)")
         self.bounds.validate()
         self.mesh.validate()
         if self.fold_time is not None:

@@ -43,7 +43,10 @@ instantaneous fold every file written before fold transitions was optimised with
 absent means false, and then ``motor_on`` (if present) must be 1 throughout. ``generator``
 (physical scenario: :data:`fdm_awe.ocp.problem.GENERATORS`) is the generator load of the
 generation phase; absent means ``passive``, and then ``boost_duty`` (if present) must be 0
-throughout.
+throughout. ``wind_profile`` (:meth:`fdm_awe.wind.WindProfile.as_dict`: ``kind`` uniform | log |
+power, with ``ref_height_m`` and ``z0_m`` or ``exponent``) says how the wind varies with height;
+``wind_mps`` / ``wind_ned_mps`` are then the wind at ``ref_height_m``; absent means uniform, the
+wind of every file written before profiles existed.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,
@@ -172,6 +175,7 @@ class CycleResult:
                        "propeller": {"physical": "momentum"}.get(pr.scenario_spec.propeller, pr.scenario_spec.propeller),
                        "line_weight": pr.line_weight, "line": pr.line,
                        **({"generator": pr.generator} if pr.generator is not None else {}),
+                       "wind_profile": pr.wind_profile.as_dict(),
                        "mesh": {"n_gen": pr.mesh.n_gen, "n_rec": pr.mesh.n_rec, "degree": pr.mesh.degree},
                        "bounds": {k: v for k, v in pr.bounds.__dict__.items()}})
         return md
@@ -502,6 +506,12 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
     if mo is not None and not isinstance(mo, bool):
         raise InputError(f"{src}: metadata.motor_off: {_show(mo)} not allowed (allowed true or false; absent = false)")
     md["motor_off"] = bool(mo)
+    from ..wind import WindProfile
+
+    prof = WindProfile.from_dict(md.get("wind_profile"), f"{src}: metadata.wind_profile")  # absent: uniform
+    if scenario == "paper" and not prof.uniform:
+        raise InputError(f"{src}: metadata.wind_profile: {prof.label()!r}, but the paper scenario's wind is uniform (allowed uniform)")
+    md["wind_profile"] = prof.as_dict()
     gen = md.get("generator")
     if gen is not None and (not isinstance(gen, str) or gen not in GENERATORS or scenario != "physical"):
         raise InputError(f"{src}: metadata.generator: {_show(gen)} not allowed (allowed {', '.join(GENERATORS)}, "

@@ -87,7 +87,8 @@ def _phase_rhs(model: CycleModel, ip: int, u: np.ndarray, wind: tuple[float, flo
         s = y[:n]
         out = block(list(s), list(u), wind) if fold is None else block(list(s), list(u), wind, 1.0, 1.0, fold(t))
         V, gam, psi = s[3], s[4], s[5]
-        gs = math.sqrt((V * math.cos(gam) * math.cos(psi) + wind[0]) ** 2 + (V * math.cos(gam) * math.sin(psi) + wind[1]) ** 2
+        w = model.wind_at(wind, s[2])  # the wind at the glider's height (the reference height's for a uniform wind)
+        gs = math.sqrt((V * math.cos(gam) * math.cos(psi) + w[0]) ** 2 + (V * math.cos(gam) * math.sin(psi) + w[1]) ** 2
                        + (V * math.sin(gam)) ** 2)
         return np.r_[np.asarray(out["f"], float), float(out["P_gen"]), float(out["P_thr"]), float(out["P_rw"]), gs]
 

@@ -7,7 +7,7 @@ cycle-average power at every point, or the difference should have a reason in th
 
 Points are matched by their *physical identity* (:data:`PHYSICAL_FIELDS`: scenario,
 configuration, wind, reel-out range, glider design, fold time, mesh, propeller, line weight,
-tether line and its diameter), not by their id: the id also holds solver settings (iteration
+tether line and its diameter, wind profile), not by their id: the id also holds solver settings (iteration
 limits, warm fallback, cold check) that may differ between the two runs. For every matched
 pair the comparison gives both powers ``P_avg_W`` [W] and ``P_b - P_a``; a pair is *flagged*
 when the difference exceeds the tolerance (:data:`TOLERANCE_W`, 0.5 W) or only one of the two
@@ -38,11 +38,12 @@ TOLERANCE_W = 0.5
 
 #: record fields that make a point's physical identity (the problem solved, not how)
 PHYSICAL_FIELDS = ("scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2",
-                   "wing_area_m2", "fold_time_s", "mesh", "propeller", "line_weight", "line", "line_diameter_m")
+                   "wing_area_m2", "fold_time_s", "mesh", "propeller", "line_weight", "line", "line_diameter_m",
+                   "wind_profile")
 #: record fields that say how a point was solved (a difference is an explanation)
 SOLVER_FIELDS = ("max_iter", "max_iter_total", "warm_fallback", "cold_check")
 #: what a record lacks when it was written before the field existed
-_LEGACY = {"line": "paper", "line_weight": False, "fold_time_s": 0.0, "cold_check": False}
+_LEGACY = {"line": "paper", "line_weight": False, "fold_time_s": 0.0, "cold_check": False, "wind_profile": "uniform"}
 
 
 def _field(r: dict[str, Any], k: str) -> Any:

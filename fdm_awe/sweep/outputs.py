@@ -128,9 +128,10 @@ def folding_cells(records: Sequence[dict[str, Any]]) -> list[FoldingCell]:
 
 
 def power_curve_plot(records: Sequence[dict[str, Any]], refs: ReferenceCurves | None, path: str | Path,
-                     title: str = "") -> Path:
+                     title: str = "", wind_label: str = "wind speed [m/s]") -> Path:
     """Average net power vs wind per line; failed points marked; Loyd and quasi-steady
-    reel-out references in the right panel (their scale dwarfs the net cycle power)."""
+    reel-out references in the right panel (their scale dwarfs the net cycle power).
+    ``wind_label`` the wind axis (a sheared wind's names its reference height)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -155,7 +156,7 @@ def power_curve_plot(records: Sequence[dict[str, Any]], refs: ReferenceCurves | 
             if bad:
                 ax.plot([r["wind_mps"] for r in bad], [0.0] * len(bad), "x", color=style["color"], ms=8, mew=2)
         ax.axhline(0.0, color="0.6", lw=0.8)
-        ax.set_xlabel("wind speed [m/s]")
+        ax.set_xlabel(wind_label)
         ax.grid(True, alpha=0.3)
     if refs is not None:
         axes[1].plot(refs.winds, refs.loyd_W, "--", color="tab:red", label=f"Loyd limit (C_L {refs.CL:.2f}, C_D {refs.CD:.3f} incl. tether)")

@@ -63,6 +63,18 @@ def plant_note(spec: SweepSpec) -> str:
             f"{'on' if plant['line_weight'] else 'off'}.")
 
 
+def wind_note(spec: SweepSpec) -> str:
+    """How the sweep's wind varies with height, and at which height its wind speeds hold."""
+    from ..wind import WindProfile
+
+    prof = WindProfile.parse(spec.wind_profile, option="wind profile")
+    if prof.uniform:
+        return "Wind: uniform (the same speed at every height)."
+    return (f"Wind: {prof.describe()}; every wind speed of this sweep (table, plot, references) is the speed at "
+            f"{prof.ref_height:g} m, the glider meets the profile's speed at its own height (the Loyd and "
+            f"quasi-steady references use the {prof.ref_height:g} m speed).")
+
+
 def output_files(out_dir: str | Path) -> dict[str, Path]:
     """The files :func:`write_outputs` writes into ``out_dir`` (``folding_map`` only when the
     sweep has foldable points)."""
@@ -78,14 +90,21 @@ def write_outputs(spec: SweepSpec, records: Sequence[dict[str, Any]], out_dir: s
     refs = spec_references(spec)
     files = {"table": str(write_csv(records, paths["table"]))}
     title = f"{spec.scenario} scenario, mesh {spec.mesh.n_gen}/{spec.mesh.n_rec}, degree {spec.mesh.degree}"
-    files["power_curve"] = str(power_curve_plot(records, refs, paths["power_curve"], title))
+    wind_label = "wind speed [m/s]"
+    if spec.wind_profile != "uniform":
+        from ..wind import WindProfile
+
+        prof = WindProfile.parse(spec.wind_profile, option="wind profile")
+        wind_label = f"wind speed at {prof.ref_height:g} m [m/s]"
+        title += f", {prof.describe()}"
+    files["power_curve"] = str(power_curve_plot(records, refs, paths["power_curve"], title, wind_label))
     cells = folding_cells(records)
     mp = folding_map_plot(cells, paths["folding_map"])
     if mp is not None:
         files["folding_map"] = str(mp)
     ans = answer(cells)
     files["summary"] = str(paths["summary"])
-    md = summary_markdown(records, ans, spec.scenario, refs, files, (plant_note(spec),) + NOTES,
+    md = summary_markdown(records, ans, spec.scenario, refs, files, (plant_note(spec), wind_note(spec)) + NOTES,
                           n_expected=len(spec.points()))
     atomic_write_text(files["summary"], md)
     return SweepReport(files, ans, answer_sentence(ans, spec.scenario), refs, md, cold_check_differences(records))

@@ -99,7 +99,8 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 #: they differ from these values (each field's meaning before it existed), so finished points
 #: of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
-                "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False}
+                "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False,
+                "wind_profile": "uniform"}
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -131,6 +132,9 @@ class Point:
     #: a warm-started point is also solved cold (the optimiser's global strategy) and keeps the
     #: better solution (False: the warm start alone, as before the cold check existed)
     cold_check: bool = False
+    #: wind speed over height (:meth:`fdm_awe.wind.WindProfile.label`: ``uniform``, ``log:Z0@H``
+    #: or ``power:ALPHA@H``); ``wind`` is the speed at the reference height H
+    wind_profile: str = "uniform"
 
     @property
     def id(self) -> str:
@@ -159,6 +163,8 @@ class Point:
             parts.append(f"S={self.wing_area:g}")
         parts.append(f"d={self.d0:g}-{self.d_tf:g}")
         parts.append(f"line={self.line}" + ("" if self.line_diameter is None else f"@{self.line_diameter * 1e3:.3g}mm"))
+        if self.wind_profile != "uniform":
+            parts.append(f"wind={self.wind_profile}")
         return " ".join(parts)
 
 
@@ -186,6 +192,9 @@ class SweepSpec:
     #: warm-started points also solved cold, the better kept (``fdm-awe sweep`` turns it on unless
     #: ``--no-cold-check`` or ``--cold``; off here so that library callers keep their point ids)
     cold_check: bool = False
+    #: wind profile of every point (:meth:`fdm_awe.wind.WindProfile.label`; ``winds`` are the
+    #: speeds at its reference height)
+    wind_profile: str = "uniform"
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -252,6 +261,13 @@ class SweepSpec:
         if any(d is not None for d in self.line_diameters) and "sized" not in self.line_names():
             raise InputError("line diameter: only the sized line is resized (from its material); the sweep's lines are "
                              f"{', '.join(self.line_names())} (add sized to the lines)")
+        from ..wind import WindProfile
+
+        prof = WindProfile.parse(self.wind_profile, option="wind profile")
+        if prof.label() != self.wind_profile:
+            raise InputError(f"wind profile {self.wind_profile!r} not canonical (allowed e.g. uniform, log:0.1@10, power:0.143@10)")
+        if self.scenario == "paper" and not prof.uniform:
+            raise InputError(f"wind profile {self.wind_profile!r}: the paper scenario's wind is uniform (allowed uniform)")
         lo, hi = ANCHOR_EVERY_RANGE
         if not (isinstance(self.anchor_every, int) and lo <= self.anchor_every <= hi):
             raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer {lo}..{hi}; 0 = one anchor per line)")
@@ -281,7 +297,7 @@ class SweepSpec:
                                           self.max_iter, self.max_iter_total, self.warm_fallback, propeller=prop,
                                           line_weight=bool(plant["line_weight"]), line=line,
                                           line_diameter=None if dl is None else float(dl),
-                                          cold_check=bool(self.cold_check))
+                                          cold_check=bool(self.cold_check), wind_profile=self.wind_profile)
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)
