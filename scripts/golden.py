@@ -173,6 +173,28 @@ def _diff(a, b) -> tuple[bool, float, float]:
     return False, d, d / max(abs(fa), abs(fb))
 
 
+class _Tally:
+    """Counts compared values and keeps the largest difference with its label."""
+
+    def __init__(self) -> None:
+        self.n = self.bad = 0
+        self.mabs = self.mrel = 0.0
+        self.worst = ""
+
+    def add(self, u, v, label) -> None:
+        """Compare ``u`` with ``v``; ``label()`` names the place when it is the worst so far."""
+        self.n += 1
+        same, da, dr = _diff(u, v)
+        if not same:
+            self.bad += 1
+            if da >= self.mabs:
+                self.worst = label()
+            self.mabs, self.mrel = max(self.mabs, da), max(self.mrel, dr)
+
+    def result(self) -> tuple[int, int, float, float, str]:
+        return self.n, self.bad, self.mabs, self.mrel, self.worst
+
+
 def _number(s: str):
     try:
         return float(s)
@@ -187,49 +209,34 @@ def _compare_json(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int,
                 for k, v in _leaves(json.loads(p.read_text()))}
 
     la, lb = load(a, roots[0]), load(b, roots[1])
-    n = bad = 0
-    mabs = mrel = 0.0
-    worst = ""
+    t = _Tally()
     for k in sorted(set(la) | set(lb)):
-        n += 1
         if k not in la or k not in lb:
-            bad += 1
-            worst = worst or f"{k} only in one file"
-            mabs = mrel = math.inf
+            t.n += 1
+            t.bad += 1
+            t.worst = t.worst or f"{k} only in one file"
+            t.mabs = t.mrel = math.inf
             continue
-        same, da, dr = _diff(la[k], lb[k])
-        if not same:
-            bad += 1
-            if da >= mabs:
-                worst = f"{k}: {la[k]!r} vs {lb[k]!r}"
-            mabs, mrel = max(mabs, da), max(mrel, dr)
-    return n, bad, mabs, mrel, worst
+        t.add(la[k], lb[k], lambda k=k: f"{k}: {la[k]!r} vs {lb[k]!r}")
+    return t.result()
 
 
 def _compare_csv(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int, float, float, str]:
     ra = list(csv.reader(a.open()))
     rb = list(csv.reader(b.open()))
-    n = bad = 0
-    mabs = mrel = 0.0
-    worst = ""
     if len(ra) != len(rb):
         return 0, 1, math.inf, math.inf, f"rows {len(ra)} vs {len(rb)}"
     header = ra[0] if ra else []
     skip = {j for j, h in enumerate(header) if h in TIMING_KEYS}
+    t = _Tally()
     for i, (x, y) in enumerate(zip(ra, rb)):
         if len(x) != len(y):
-            return n, bad + 1, math.inf, math.inf, f"row {i}: {len(x)} vs {len(y)} cells"
+            return t.n, t.bad + 1, math.inf, math.inf, f"row {i}: {len(x)} vs {len(y)} cells"
         for j, (u, v) in enumerate(zip(x, y)):
             if j in skip and i > 0:
                 continue
-            n += 1
-            same, da, dr = _diff(_number(u), _number(v))
-            if not same:
-                bad += 1
-                if da >= mabs:
-                    worst = f"row {i} {header[j] if j < len(header) else j}: {u} vs {v}"
-                mabs, mrel = max(mabs, da), max(mrel, dr)
-    return n, bad, mabs, mrel, worst
+            t.add(_number(u), _number(v), lambda i=i, j=j, u=u, v=v: f"row {i} {header[j] if j < len(header) else j}: {u} vs {v}")
+    return t.result()
 
 
 def _compare_npz(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int, float, float, str]:
@@ -238,22 +245,14 @@ def _compare_npz(a: Path, b: Path, roots: tuple[Path, Path]) -> tuple[int, int, 
     with np.load(a) as za, np.load(b) as zb:
         if sorted(za.files) != sorted(zb.files):
             return 0, 1, math.inf, math.inf, f"arrays {sorted(za.files)} vs {sorted(zb.files)}"
-        n = bad = 0
-        mabs = mrel = 0.0
-        worst = ""
+        t = _Tally()
         for k in za.files:
             x, y = np.ravel(za[k]), np.ravel(zb[k])
             if x.shape != y.shape:
-                return n, bad + 1, math.inf, math.inf, f"{k}: shape {x.shape} vs {y.shape}"
+                return t.n, t.bad + 1, math.inf, math.inf, f"{k}: shape {x.shape} vs {y.shape}"
             for j, (u, v) in enumerate(zip(x.tolist(), y.tolist())):
-                n += 1
-                same, da, dr = _diff(u, v)
-                if not same:
-                    bad += 1
-                    if da >= mabs:
-                        worst = f"{k}[{j}]: {u!r} vs {v!r}"
-                    mabs, mrel = max(mabs, da), max(mrel, dr)
-    return n, bad, mabs, mrel, worst
+                t.add(u, v, lambda k=k, j=j, u=u, v=v: f"{k}[{j}]: {u!r} vs {v!r}")
+    return t.result()
 
 
 def compare(golden: Path, fresh: Path, only: list[str] | None) -> bool:
