@@ -152,6 +152,14 @@ def test_cross_flow_shape_is_the_normal_drag_catenary() -> None:
     # every node on the reference curve x = (cosh(a (y - chord/2)) - cosh(a chord/2)) / a (mirrored: downwind)
     xs = -(np.cosh(a * (nd[:, 1] - chord / 2.0)) - math.cosh(a * chord / 2.0)) / a
     assert np.max(np.abs(nd[:, 0] - xs)) < 0.01 * sag_ref
+    # the glider end takes half of the drag of the line standing in the wind (the straight line's
+    # share, taken from the glider's air velocity, puts a quarter there)
+    # (exactly: T sin(phi_end), tan(phi_end) = a arc / 2)
+    f = _run(s, c, n, 1.0 / 120.0, lambda t: (0.0, chord, 0.0), lambda t: L0)  # line, half drag, half weight
+    half_arc = 0.5 * L0 * (1.0 + T_ref / EA)
+    fx_ref = T_ref * a * half_arc / math.sqrt(1.0 + (a * half_arc) ** 2)
+    assert abs(f[0] - fx_ref) < 0.01 * fx_ref
+    assert fx_ref > 0.45 * q * 2.0 * half_arc  # about half of the line's drag, not the straight line's quarter
 
 
 # ---------------------------------------------------------------- energy
@@ -266,3 +274,25 @@ def test_station_step_python_and_compiled_agree_and_the_ledgers_close() -> None:
     assert a.tension > 0.0 and np.linalg.norm(a.force_on_glider_ned) > 0.0
     assert abs(ra) < 1e-9 and la["relative_residual"] < 1e-3
     assert abs(la["coupling"]) < 0.05 * abs(la["payout_work"]) + 1e-6
+
+
+def test_flight_with_the_lumped_line_records_its_shape(tmp_path) -> None:
+    from pathlib import Path
+
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import LINE_SHAPE_HZ, fly
+    from fdm_awe.recording import record_flight
+
+    ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps_sized.json")
+    rep = fly(ref, config="nominal", cycles=1, t_end=5.0, tether="lumped:6")
+    assert rep.tether == "lumped:6" and rep.as_json()["tether"] == "lumped:6"
+    sh = rep.line_shape
+    m = len(sh["t"])
+    assert m >= int(5.0 * LINE_SHAPE_HZ) - 1
+    assert sh["nodes"].shape == (m, 7, 3) and sh["tension"].shape == (m, 6)
+    assert np.allclose(sh["nodes"][:, 0], 0.0)  # the winch node at the origin
+    assert np.all(sh["tension"] >= 0.0)
+    led = rep.ledger
+    assert abs(led["line_residual_J"]) < 1e-3 * max(abs(led["line_hook_work_J"]), abs(led["line_drag_J"]), 1e-9)
+    out = record_flight(rep, ref, tmp_path / "lumped.rrd")
+    assert out.stat().st_size > 0

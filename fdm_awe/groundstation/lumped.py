@@ -20,8 +20,8 @@ Integration
     sub-stepped inside each drivetrain sub-step. The fastest mode of the chain is the axial
     one, ``omega_max = 2 sqrt(k / m) = 2 sqrt(EA / mu) / l_s`` (e.g. EA 6.76 kN, mu 0.123 g/m,
     l 200 m, N 30: 2.2e3 rad/s); leapfrog is stable for ``h omega_max < 2``, the inner step is
-    ``h <= cfl 2 / omega_max`` with ``cfl = 0.5``: about 20 inner steps per 1/120 s step at
-    N = 30, 200 m. An implicit step would need a block-tridiagonal solve per step for a similar
+    ``h <= cfl 2 / omega_max`` with ``cfl = 0.8`` (the damper's factor included): 20 inner
+    steps per 1/120 s step at N = 30, 150 m. An implicit step would need a block-tridiagonal solve per step for a similar
     cost and would damp the line's waves.
 
 Coupling with the drum

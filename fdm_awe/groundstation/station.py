@@ -243,6 +243,9 @@ class GroundStation:
     ``tether_drag_scale`` (-, 0 .. 10, default 1 = the defined line) multiplies the line drag
     share on the glider: a sensitivity knob, the ground-station twin of
     :attr:`fdm_awe.ocp.problem.CycleProblem.tether_drag_scale` (e.g. 0.5 ~ half the diameter).
+    ``tether``: ``"straight"`` (default, :mod:`.tether`) or ``"lumped:N"`` (N = 2..200 segments,
+    :mod:`.lumped`: the line's mass, weight and drag on its nodes; its shape, tensions and own
+    ledger via :meth:`line_nodes`, :meth:`line_tensions` and :attr:`line_ledger`).
     """
 
     def __init__(self, params: GroundStationParams | None = None,
@@ -297,16 +300,6 @@ class GroundStation:
     def line_tensions(self) -> np.ndarray | None:
         """The lumped line's segment tensions (N,) N, winch first; None for the straight line."""
         return lumped.tensions(self._s_all, self.tether_segments) if self.tether_segments else None
-
-    def line_summary_values(self) -> tuple[float, float, float, float, float, float] | None:
-        """Of the last step with the lumped line: mean glider-end tension N, largest segment
-        tension N, and the force on the glider from the line's half drag (x, y, z) and half node
-        weight (down) N; None for the straight line."""
-        if not self.tether_segments:
-            return None
-        s = self._s_all
-        return (float(s[lumped.R_TG]), float(s[lumped.R_TMAX]), float(s[lumped.R_DX]), float(s[lumped.R_DY]),
-                float(s[lumped.R_DZ]), float(s[lumped.R_WZ]))
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
