@@ -296,3 +296,23 @@ def test_flight_with_the_lumped_line_records_its_shape(tmp_path) -> None:
     assert abs(led["line_residual_J"]) < 1e-3 * max(abs(led["line_hook_work_J"]), abs(led["line_drag_J"]), 1e-9)
     out = record_flight(rep, ref, tmp_path / "lumped.rrd")
     assert out.stat().st_size > 0
+
+
+def test_compiled_and_python_loops_fly_the_lumped_line_alike() -> None:
+    from pathlib import Path
+
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.flight import fly
+
+    ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps_sized.json")
+    loops, data = [], []
+    for compiled in (None, False):
+        def setup(ap, sim, compiled=compiled):
+            sim.compiled = compiled
+            loops.append(sim)
+
+        rep = fly(ref, config="nominal", cycles=1, t_end=2.0, tether="lumped:5", setup=setup)
+        data.append((rep.result.data, rep.line_shape["nodes"]))
+    assert [s.loop for s in loops] == ["compiled", "python"]
+    assert np.array_equal(data[0][0], data[1][0], equal_nan=True)
+    assert np.array_equal(data[0][1], data[1][1])
