@@ -40,6 +40,7 @@ import warnings
 from typing import Any, Callable
 
 from .cosim_events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
+from .groundstation.substeps import STATION_CONSTANTS as _STATION_CONSTANTS
 from .sixdof.row import hook_kinematics
 
 # parameter offsets in ``p``
@@ -67,14 +68,17 @@ def _globals() -> tuple:
 
     station = compiled_station()
     if station is None:
-        return None, None, None, None
+        return None, None, None, None, None
+    from .groundstation.lumped import compiled_lumped
     from .sixdof.native import native_calls
 
-    return (station,) + native_calls()
+    return (station, compiled_lumped()) + native_calls()
 
 
 # module globals of the kernel: frozen into it when it is compiled
-station, native_run, native_get, native_set = _globals()
+station, lumped_station, native_run, native_get, native_set = _globals()
+#: constants of the straight line's step: a longer constants array selects the lumped line
+N_STATION = len(_STATION_CONSTANTS)
 
 
 def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
@@ -96,8 +100,12 @@ def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
         if not (math.isfinite(x + y + z) and math.isfinite(vx + vy + vz)):
             code = E_HOOK
             break
-        (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station(
-            s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
+        if c_gs.shape[0] > N_STATION:  # the lumped-mass line (fdm_awe.groundstation.lumped)
+            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = lumped_station(
+                s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
+        else:
+            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station(
+                s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
         p[P_FX], p[P_FY], p[P_FZ] = fx, fy, fz
         if not math.isfinite(fx + fy + fz):
             code = E_FORCE
@@ -133,7 +141,7 @@ def _cache_follows_sources(kern: Any) -> None:
     (numba's cache checks only the file that defines the kernel): an edit of the event check,
     the row's relations or the ground station's step compiles the kernel anew. Where numba's
     cache looks otherwise, nothing changes."""
-    from .groundstation import substeps
+    from .groundstation import lumped, substeps
     from .sixdof import native
 
     cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
@@ -141,7 +149,7 @@ def _cache_follows_sources(kern: Any) -> None:
     if stamp is None:
         return
     deps = []
-    for mod in (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps, native):
+    for mod in (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps, lumped, native):
         st = os.stat(mod.__file__)
         deps.append((st.st_mtime, st.st_size))
     cache_file._source_stamp = (stamp, tuple(deps))
@@ -151,7 +159,7 @@ def _cache_follows_sources(kern: Any) -> None:
 def compiled_kernel() -> Callable | None:
     """:func:`cosim_steps` compiled by numba, or None (numba or the compiled ground station
     missing, ``FDM_AWE_JIT=0``)."""
-    if station is None:
+    if station is None or lumped_station is None:
         return None
     try:
         import numba

@@ -61,6 +61,8 @@ import numpy as np
 
 from .units import FT, LBF, SLUG
 
+#: samples per second of the lumped line's shape in a flight report
+LINE_SHAPE_HZ = 10.0
 #: what each plant is (written into the flight's JSON)
 PLANT_NOTES = {
     "physical": "JSBSim 9x5 propeller and motor; ground station with DC machine, converter and PI speed loop",
@@ -315,6 +317,10 @@ class FlightReport:
     #: the generator load the winch flew in generation (reference metadata ``generator``;
     #: None on the paper plant, whose kinematic winch has none)
     generator: str | None = None
+    tether: str = "straight"  #: the line model: "straight" or "lumped:N"
+    #: the lumped line's shape sampled at :data:`LINE_SHAPE_HZ`: ``t`` (m,) s, ``nodes`` (m, N+1, 3)
+    #: m NED winch first, ``tension`` (m, N) N per segment; None for the straight line
+    line_shape: dict[str, np.ndarray] | None = field(repr=False, default=None)
 
     @property
     def realtime_factor(self) -> float:
@@ -331,7 +337,7 @@ class FlightReport:
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
             "config": self.config, "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
-            "line": self.line, "generator": self.generator,
+            "line": self.line, "generator": self.generator, "tether": self.tether,
             "status": self.status,
             "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),
             "realtime_factor": _json_float(self.realtime_factor, 1),
@@ -353,6 +359,7 @@ def fly(
     t_end: float | None = None,
     plant: str = "physical",
     tether_drag_scale: float = 1.0,
+    tether: str = "straight",
 ) -> FlightReport:
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
@@ -362,6 +369,9 @@ def fly(
     kinematic winch, :mod:`fdm_awe.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
     the defined line) scales the ground station's line drag on the glider, as
     ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
+    ``tether``: the ground station's line model, ``"straight"`` (default) or ``"lumped:N"``
+    (:mod:`fdm_awe.groundstation.lumped`; its shape is sampled into the report's ``line_shape``
+    and its own ledger into ``ledger``).
     The line is the one named by the reference metadata's ``line``
     (:data:`fdm_awe.groundstation.line.LINES`); a reference without it flies Table 1's line
     (``paper``), the line every reference written before lines were named was optimised with.
@@ -386,6 +396,9 @@ def fly(
     from .groundstation.tether import check_tether_drag_scale
 
     tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
+    from .groundstation.lumped import parse_tether
+
+    nseg = parse_tether(tether)
     paper = plant == "paper"
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))
@@ -413,6 +426,10 @@ def fly(
         raise InputError("reference metadata.generator: 'ideal' is the optimiser's upper bound (a loss-free converter "
                          "holding any tension), which no ground station realises; allowed passive, boost")
     gsp = load_ground_station(line="paper" if line is None else check_line(line, "reference metadata.line"))
+    if paper and nseg:
+        from .errors import InputError
+
+        raise InputError("--tether lumped:N needs the physical plant (the paper plant's winch is kinematic)")
     glider = JSBSimGlider("glider_foldable", dt=dt, wind_ned=wind, turbulence=turbulence)
     airframes = load_glider()
     if paper:
@@ -421,7 +438,7 @@ def fly(
         gs = IdealWinch(gsp, P_rw=Scenario.named("paper").P_rw, wind_ned=wind)
     else:
         gs = GroundStation(gsp, wind_ned=wind if profile.uniform else wind_at(line_height(-float(reference.sample(0.0).pos[2]))),
-                           tether_drag_scale=tether_drag_scale)
+                           tether_drag_scale=tether_drag_scale, tether=tether)
     r0 = reference.sample(0.0)
     va = r0.vel - np.asarray(wind)
     V = float(np.linalg.norm(va))
@@ -463,6 +480,10 @@ def fly(
     phs = np.full(n + 1, OTHER_PHASE, dtype=np.int64)  # per step: the autopilot's phase
     s_end = cycles * P
     done = [0, False]  # the last step whose bookkeeping is complete; whether the cycles are flown
+    every = max(1, int(round(1.0 / (LINE_SHAPE_HZ * dt))))  # lumped line: shape samples
+    shape_t: list[float] = []
+    shape_nodes: list[np.ndarray] = []
+    shape_tension: list[np.ndarray] = []
     stop = _StopRequest()
 
     def _on_step(k: int, s: Any, o: Any) -> bool:
@@ -484,6 +505,10 @@ def fly(
             e_ideal[k] = e_acc[0]
             t_ideal[k] = thruster.thrust
         done[0] = k
+        if nseg and k % every == 0:
+            shape_t.append(k * dt)
+            shape_nodes.append(gs.line_nodes())
+            shape_tension.append(gs.line_tensions())
         if on_step is not None:
             on_step(k, s, o)
         if t_end is None and ap.mode == "AUTO" and ap.s_ref >= s_end:
@@ -524,6 +549,12 @@ def fly(
     ledger = {**{f"glider_{k}_J": v for k, v in gl.terms().items()}, "glider_residual_J": g_res,
               **{f"station_{k}_J": v for k, v in led.as_dict().items()},
               "station_residual_J": gs_res, "thrust_electrical_J": float(e_thrust[k_end])}
+    line_shape = None
+    if nseg:  # the lumped line's own ledger (hook to drum); its residual is the integrator's error
+        ll = gs.line_ledger
+        ledger.update({f"line_{k}_J": v for k, v in ll.as_dict().items() if k != "relative_residual"})
+        rel = max(rel, ll.relative_residual())
+        line_shape = {"t": np.array(shape_t), "nodes": np.array(shape_nodes), "tension": np.array(shape_tension)}
     status = res.status
     msg = res.event.message if res.event is not None else "completed"
     n_done = sum(1 for c in mets if c.complete)
@@ -549,6 +580,7 @@ def fly(
         scenario=str(meta.get("scenario", "custom")), config=config, wind_mps=float(meta.get("wind_mps", math.hypot(wind_ref[0], wind_ref[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
-        autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale),
+        autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
         line="paper" if line is None else str(line), generator=None if paper else str(gen or "passive"),
+        line_shape=line_shape,
     )

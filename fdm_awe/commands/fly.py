@@ -91,6 +91,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
                         "reference), 0..10; default: the --reference file's tether_drag_scale, else 1 = the defined line")
+    p.add_argument("--tether", default="straight", metavar="MODEL",
+                   help="line model of the ground station: straight (default: the straight elastic line with the "
+                        "glider carrying 1/4 of its drag and 1/2 of its weight) or lumped:N (N = 2..200 elastic "
+                        "segments with mass, weight and drag; the recording shows its nodes and tensions)")
     from ..ocp.problem import FLYABLE_GENERATORS
 
     add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ",
@@ -136,6 +140,9 @@ def _check(args: argparse.Namespace) -> None:
     chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
     chk.number(args.gamma_max, "--gamma-max", 0.1, 1.5, unit="rad", what="flight-path angle bound")
     args.turbulence = chk.turbulence(args.turbulence)
+    from ..groundstation.lumped import parse_tether
+
+    parse_tether(args.tether)
     chk.mavlink_url(args.mavlink)
     if args.mavlink_key is not None:
         if not args.mavlink:
@@ -323,7 +330,8 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     try:
         report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                     on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale)
+                     on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale,
+                     tether=args.tether)
         if endpoint is not None:
             endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
     finally:
@@ -383,7 +391,7 @@ def _fmt(v: float, spec: str) -> str:
 
 def _print_summary(report, ref_label: str) -> None:
     print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_label}  plant {report.plant}"
-          f"  line drag x {report.tether_drag_scale:g}")
+          f"  line drag x {report.tether_drag_scale:g}  tether {report.tether}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
           f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
     print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")

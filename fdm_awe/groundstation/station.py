@@ -23,10 +23,12 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
+from . import lumped
 from .converter import GENERATOR, MODES, MOTOR
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
+from .lumped import parse_tether
 from .machine import machine_mode
 from .substeps import EVENTS, MACHINE_MODES as _MACHINE_MODES, compiled_station, station_step
 from .tether import check_tether_drag_scale, line_drag_coefficient
@@ -241,11 +243,18 @@ class GroundStation:
     ``tether_drag_scale`` (-, 0 .. 10, default 1 = the defined line) multiplies the line drag
     share on the glider: a sensitivity knob, the ground-station twin of
     :attr:`fdm_awe.ocp.problem.CycleProblem.tether_drag_scale` (e.g. 0.5 ~ half the diameter).
+    ``tether``: ``"straight"`` (default, :mod:`.tether`) or ``"lumped:N"`` (N = 2..200 segments,
+    :mod:`.lumped`: the line's mass, weight and drag on its nodes; its shape, tensions and own
+    ledger via :meth:`line_nodes`, :meth:`line_tensions` and :attr:`line_ledger`).
     """
 
     def __init__(self, params: GroundStationParams | None = None,
-                 wind_ned: Sequence[float] = (0.0, 0.0, 0.0), tether_drag_scale: float = 1.0) -> None:
+                 wind_ned: Sequence[float] = (0.0, 0.0, 0.0), tether_drag_scale: float = 1.0,
+                 tether: str = "straight") -> None:
         self.tether_drag_scale = check_tether_drag_scale(tether_drag_scale)
+        #: segments of the lumped-mass line (:mod:`.lumped`), 0 for the straight line
+        self.tether_segments = parse_tether(tether)
+        self.tether = tether
         self.params = params if params is not None else load_ground_station()
         self.drivetrain = Drivetrain(self.params)
         self.set_wind(wind_ned)
@@ -263,7 +272,34 @@ class GroundStation:
         self._scl = self.drivetrain._cl + list(self.wind) + [
             line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
             tp.weight_share * tp.mass_per_length, tp.gravity]
+        self._s_all = self.drivetrain._s  # the step's state array (with the lumped line: drivetrain + line)
+        self._step_py = station_step
+        nseg = self.tether_segments
+        if nseg:
+            s_all = np.zeros(lumped.state_size(nseg))
+            s_all[:lumped.OFF] = dtr_s = self.drivetrain._s
+            self.drivetrain._s = s_all[:lumped.OFF]
+            self.drivetrain.ledger.buffer = s_all[len(dtr_s) - len(self.drivetrain.ledger.buffer):lumped.OFF]
+            self._s_all = s_all
+            s_all[lumped.R_NSEG] = nseg
+            self._scl += lumped.line_constants(nseg, tp.air_density, tp.cd_perpendicular, tp.diameter,
+                                               self.tether_drag_scale if tp.drag_share > 0.0 else 0.0)
+            self._step_kernel = lumped.compiled_lumped() if self._step_kernel is not None else None
+            self._step_py = lumped.lumped_station_step
         self._sc = np.array(self._scl, dtype=float)
+
+    @property
+    def line_ledger(self) -> "lumped.LineLedger | None":
+        """The lumped line's own energy ledger (J), None for the straight line."""
+        return lumped.LineLedger(self._s_all) if self.tether_segments else None
+
+    def line_nodes(self) -> np.ndarray | None:
+        """The lumped line's node positions (N+1, 3) m NED, winch first; None for the straight line."""
+        return lumped.nodes(self._s_all, self.tether_segments) if self.tether_segments else None
+
+    def line_tensions(self) -> np.ndarray | None:
+        """The lumped line's segment tensions (N,) N, winch first; None for the straight line."""
+        return lumped.tensions(self._s_all, self.tether_segments) if self.tether_segments else None
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -298,6 +334,8 @@ class GroundStation:
         if load_resistance is not None:
             _finite("load_resistance", load_resistance, lo=0.0, lo_open=True)
         self.drivetrain.reset(tether_length, reel_speed / self.params.winch.radius, mode, load_resistance)
+        if self.tether_segments:  # the line takes its static shape to the hook on the first step
+            self._s_all[lumped.R_READY] = 0.0
 
     def unstretched_length(self, distance: float, tension: float = 0.0) -> float:
         """Unstretched length (m) that carries ``tension`` (N) at winch-glider ``distance`` (m)."""
@@ -359,7 +397,7 @@ class GroundStation:
         dtr = self.drivetrain
         if self._step_kernel is None or dtr._kernel is None:
             return None
-        return dtr._s, self._sc, self._substeps(dt)
+        return self._s_all, self._sc, self._substeps(dt)
 
     def command_terms(self, cmd: WinchCommand) -> tuple[str, bool, float, float, float, float]:
         """The terms of :func:`.substeps.station_step` for ``cmd``: converter mode, motor flag,
@@ -403,10 +441,10 @@ class GroundStation:
         kern = self._step_kernel
         if kern is not None and dtr._kernel is not None:  # compiled
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
-                dtr._s, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
+                self._s_all, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
         else:  # the same function in Python
-            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station_step(
-                dtr._s, self._scl, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
+            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = self._step_py(
+                self._s_all, self._scl, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
         r = self._r
         return _output(fx, fy, fz, tmean, length, r * w, w, i, duty, mode, u_link, p_el, ev, mm,
                        tmean * r * w, d, slack, broken)

@@ -23,7 +23,7 @@ from .rrd import RrdFile
 from .scene import REFERENCE_COLOR, scene_extent
 from .series import Series, cycle_series, flight_series, load_reference
 from .world import (
-    GLIDER_SCALE, log_error_line, log_glider, log_path, log_phase, log_point, log_static_scene, log_tether,
+    GLIDER_SCALE, log_error_line, log_glider, log_path, log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
 )
 
 #: (entity, series name, display name) of a flight's plots
@@ -138,7 +138,11 @@ def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight
         i = _decimate(s.t, scene_hz)
         if len(i):
             log_glider(rf, s.t[i], s.pos[i], np.asarray(res.quat, float)[i], s["fold"][i], scale=glider_scale)
-            log_tether(rf, s.t[i], s.pos[i], s["tension"][i])
+            shape = getattr(flight, "line_shape", None)
+            if shape is not None and len(shape["t"]):  # the lumped line: its nodes and tensions
+                log_tether_nodes(rf, s.t[0] + shape["t"], shape["nodes"], shape["tension"])
+            else:
+                log_tether(rf, s.t[i], s.pos[i], s["tension"][i])
             refp = np.c_[s["ref_x"], s["ref_y"], s["ref_z"]][i]
             log_point(rf, "world/reference_point", s.t[i], refp, REFERENCE_COLOR)
             log_error_line(rf, "world/tracking_error", s.t[i], s.pos[i], refp)

@@ -9,7 +9,8 @@ the viewer shows altitude upwards):
 - ``world/glider`` pose over time (translation + attitude quaternion), with
   ``world/glider/airframe`` the wireframe drawn ``scale`` times enlarged (a 1.1 m glider is a
   dot next to a 250 m line), its ``wing`` span following the fold state over time;
-- ``world/tether`` the straight line winch -> glider over time.
+- ``world/tether`` the straight line winch -> glider over time (the lumped line: its segments,
+  coloured by tension, and ``world/tether_tension`` the tension along it).
 """
 
 from __future__ import annotations
@@ -102,6 +103,28 @@ def log_tether(rf: RrdFile, t: np.ndarray, pos: np.ndarray, tension: np.ndarray 
     rf.columns("world/tether", t, rr.LineStrips3D.columns(strips=strips, colors=colors, radii=radii))
 
 
+def log_tether_nodes(rf: RrdFile, t: np.ndarray, nodes: np.ndarray, tension: np.ndarray) -> None:
+    """The lumped line over time: ``nodes`` (m, N+1, 3) m NED winch first, ``tension`` (m, N) N per
+    segment. Each segment is drawn grey when slack and from orange to red with its share of the
+    largest tension of the flight; ``world/tether_tension`` holds the tension along the line
+    (winch first) as a bar chart at each sample."""
+    rr = rf.rr
+    top = max(float(np.nanmax(tension)) if tension.size else 0.0, 1e-9)
+    for k in range(len(t)):
+        p = nodes[k]
+        if not np.all(np.isfinite(p)):
+            continue
+        strips = np.stack([p[:-1], p[1:]], axis=1)
+        f = np.clip(np.nan_to_num(tension[k]) / top, 0.0, 1.0)
+        taut = f > 0.0
+        col = np.array(TETHER_COLOR, float)
+        warm = np.array((255.0, 160.0, 60.0))
+        colors = np.where(taut[:, None], warm + f[:, None] * (col - warm), 150.0).astype(np.uint8)
+        radii = np.where(taut, 0.35, 0.15).astype(np.float32)
+        rf.at("world/tether", float(t[k]), rr.LineStrips3D(strips, colors=colors, radii=radii))
+        rf.at("world/tether_tension", float(t[k]), rr.BarChart(np.nan_to_num(tension[k])))
+
+
 def log_point(rf: RrdFile, entity: str, t: np.ndarray, pos: np.ndarray, color: Sequence[int], radius: float = 1.5) -> None:
     """A moving marker (e.g. the current reference point); rows with NaN are skipped."""
     rr = rf.rr
@@ -134,4 +157,4 @@ def log_phase(rf: RrdFile, t: np.ndarray, labels: Sequence[str]) -> None:
     rf.columns("phase", np.asarray(t)[idx], rr.StateChange.columns(state=[labels[i] for i in idx]))
 
 
-__all__ = ["GLIDER_SCALE", "log_error_line", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether"]
+__all__ = ["GLIDER_SCALE", "log_error_line", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]

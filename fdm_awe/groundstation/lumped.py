@@ -1,0 +1,592 @@
+"""Lumped-mass tether: N elastic segments between the winch and the glider hook.
+
+Selected with ``GroundStation(tether="lumped:N")`` (``fdm-awe fly --tether lumped:N``); the
+straight line (:mod:`.tether`) stays the default.
+
+Model (docs/design.md section 10)
+    Node 0 sits at the winch (the NED origin), node N at the glider's hook (prescribed, moving
+    linearly over the step as the straight line's end does); nodes 1 .. N-1 are point masses
+    ``m = mu l_s``. Each segment has the rest length ``l_s = l / N`` of the drum's unstretched
+    paid-out length ``l`` (reel-out/in changes every rest length alike, as KiteModels does; the
+    node masses follow), is tension-only ``T = (EA / l_s) (|dx| - l_s)`` when taut, else 0,
+    with an optional axial damper ``c = 2 zeta sqrt(k m)`` while taut. Every segment carries
+    the drag ``-0.5 rho C_D_perp d_t |dx| |v_perp| v_perp`` of its mid-point air velocity
+    normal to it (wind from :func:`wind_at`, the one place the wind enters), half to each end
+    node; every node its weight. The glider takes the last segment's force, its half drag and
+    the half node mass's weight (the straight line's drag and weight shares are not added).
+
+Integration
+    Leapfrog (kick-drift-kick, symplectic: no drift of the energy with drag and damping off)
+    sub-stepped inside each drivetrain sub-step. The fastest mode of the chain is the axial
+    one, ``omega_max = 2 sqrt(k / m) = 2 sqrt(EA / mu) / l_s`` (e.g. EA 6.76 kN, mu 0.123 g/m,
+    l 200 m, N 30: 2.2e3 rad/s); leapfrog is stable for ``h omega_max < 2``, the inner step is
+    ``h <= cfl 2 / omega_max`` with ``cfl = 0.8`` (the damper's factor included): 20 inner
+    steps per 1/120 s step at N = 30, 150 m. An implicit step would need a block-tridiagonal solve per step for a similar
+    cost and would damp the line's waves.
+
+Coupling with the drum
+    Each drivetrain sub-step first runs the drum (:func:`.substeps.advance`, prescribed tension)
+    under the line's generalised force on the paid-out length ``-dE_el/dl = (1/N) sum (T_i +
+    T_i^2 / (2 EA))`` (the rest length is the drum's coordinate), then the line over the same
+    sub-step with the rest lengths moving from the old to the new drum length.
+
+Energy ledger of the line (J; :data:`FIELDS`)::
+
+    hook_work + mass_inflow = payout_work + drag + damping + break_release
+                              + delta(kinetic + elastic + potential) + residual
+
+``hook_work`` work of the glider on the line end; ``mass_inflow`` the kinetic and potential
+energy of the line mass the node masses gain when paying out (the drum hands it over at the
+nodes); ``payout_work`` the elastic energy the line gives to the drum through its rest lengths
+(the drum's ledger books ``drum_handover``, the generalised force times the length change, as its
+``glider_work``; ``coupling`` is their difference: the one-sub-step lag); ``residual`` the
+integrator's error, not a booked term. Axial line inertia moving with the drum stays in the
+drum's inertia ``mu l r_w^2`` as for the straight line.
+
+The line's state and ledger live in the ground station's state array after the drivetrain's
+(``OFF``); its constants after :data:`.substeps.STATION_CONSTANTS`. Every function here is
+plain Python over floats and arrays; numba compiles :func:`lumped_station_step` (cache tied to
+this file and :mod:`.substeps`), Python runs the same source when ``FDM_AWE_JIT=0``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+import warnings
+from typing import Callable
+
+import numpy as np
+
+from ..errors import InputError
+from .ledger import FIELDS as _DT_LEDGER
+from .substeps import _DRAG_W, _WEIGHT_W, STATE as _DT_STATE, STATION_CONSTANTS, advance, machine_mode_code
+
+#: tether models a ground station takes: ``straight`` or ``lumped:N``
+TETHER_MODELS = ("straight", "lumped:N")
+#: allowed segment counts
+N_MIN, N_MAX = 2, 200
+#: inner-step fraction of the leapfrog stability limit 2 / omega_max
+CFL = 0.8
+#: axial damping ratio of a segment in flight (of its own k-m mode)
+ZETA = 0.05
+
+#: offset of the line's block in the ground station's state array
+OFF = len(_DT_STATE) + len(_DT_LEDGER)
+#: head of the line's block: initialised flag, segments, mean glider-end tension of the last
+#: step N, largest segment tension of the last step N, inner steps per drivetrain sub-step,
+#: force-on-glider terms of the last step (drag part, weight part, N NED)
+HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z")
+INPUTS = ("hook_work", "mass_inflow")
+LOSSES = ("payout_work", "drag", "damping", "break_release")
+STORES = ("kinetic", "elastic", "potential")
+INTERFACE = ("drum_handover",)
+FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
+(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ) = range(OFF, OFF + len(HEAD))
+LED = OFF + len(HEAD)
+(L_HOOK, L_MASS, L_PAYOUT, L_DRAG, L_DAMP, L_BREAK, L_HAND, L_S0K, L_S0E, L_S0P, L_SK, L_SE, L_SP) = range(
+    LED, LED + len(FIELDS))
+#: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
+NODES = LED + len(FIELDS)
+#: constants after STATION_CONSTANTS
+CONSTANTS = ("nseg", "drag_k", "zeta", "cfl")
+(C_NSEG, C_DRAGK, C_ZETA, C_CFL) = range(len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
+# station constants used here (STATION_CONSTANTS order)
+_C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
+
+
+def parse_tether(spec: object) -> int:
+    """0 for ``"straight"``, N for ``"lumped:N"`` (N segments, 2 .. 200); else a one-line
+    :class:`~fdm_awe.errors.InputError` naming ``--tether`` and the allowed values."""
+    if spec == "straight":
+        return 0
+    if isinstance(spec, str) and spec.startswith("lumped:"):
+        tail = spec[len("lumped:"):]
+        if tail.isdigit() and N_MIN <= int(tail) <= N_MAX:
+            return int(tail)
+    raise InputError(f"--tether {spec!r} not allowed (allowed: straight, lumped:N with N {N_MIN} .. {N_MAX})")
+
+
+def state_size(n: int) -> int:
+    """Length of the ground station's state array with an ``n``-segment line."""
+    return NODES + 9 * (n + 1) + n
+
+
+def wind_at(c, z: float) -> tuple[float, float, float]:
+    """Wind at the height ``-z`` m (NED ``z``), m/s NED: the station's uniform wind ``c[19:22]``.
+    The one place the line reads the wind (a profile of height goes here)."""
+    return c[_C_WN], c[_C_WE], c[_C_WD]
+
+
+def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
+                ls_old: float) -> tuple[float, float, float, float, float, float, float, float]:
+    """Forces on every node (written into the force slots) from the positions and velocities
+    in ``s`` with rest length ``ls`` m and interior node mass ``m`` kg; the hook node moves with
+    ``(vhx, vhy, vhz)`` m/s. Slot N gets the force of the last segment on the hook (elastic +
+    damper), the tensions their elastic part. Returns ``(elastic energy J, elastic energy at
+    the rest length ``ls_old`` J, damper power W,
+    drag power on the interior nodes W, half-drag on the hook x, y, z N, largest tension N)``;
+    the second energy is that at the rest length ``ls_old`` m (the one before a rest-length
+    change; 0 when ``ls_old == ls``)."""
+    P = NODES
+    V = P + 3 * (n + 1)
+    F = V + 3 * (n + 1)
+    TT = F + 3 * (n + 1)
+    EA, g = c[_C_EA], c[_C_G]
+    k = EA / ls
+    cd = 2.0 * c[C_ZETA] * math.sqrt(k * m)
+    dk = c[C_DRAGK] * c[_C_DRAGON]
+    for i in range(n + 1):
+        s[F + 3 * i] = 0.0
+        s[F + 3 * i + 1] = 0.0
+        s[F + 3 * i + 2] = m * g
+    e_el = e_old = p_damp = p_drag = 0.0
+    hdx = hdy = hdz = 0.0
+    tmax = 0.0
+    for i in range(n):
+        a = P + 3 * i
+        ax, ay, az = s[a], s[a + 1], s[a + 2]
+        bx, by, bz = s[a + 3], s[a + 4], s[a + 5]
+        va = V + 3 * i
+        vax, vay, vaz = s[va], s[va + 1], s[va + 2]
+        if i == n - 1:
+            vbx, vby, vbz = vhx, vhy, vhz
+        else:
+            vbx, vby, vbz = s[va + 3], s[va + 4], s[va + 5]
+        dx, dy, dz = bx - ax, by - ay, bz - az
+        d = math.sqrt(dx * dx + dy * dy + dz * dz)
+        inv = 1.0 / d if d > 0.0 else 0.0
+        ux, uy, uz = dx * inv, dy * inv, dz * inv
+        st = d - ls
+        f = 0.0
+        T = 0.0
+        if st > 0.0:
+            T = k * st
+            e_el += 0.5 * k * st * st
+            f = T
+            if cd != 0.0:
+                rate = ux * (vbx - vax) + uy * (vby - vay) + uz * (vbz - vaz)
+                f += cd * rate
+                p_damp += cd * rate * rate
+        if ls_old != ls:
+            so = d - ls_old
+            if so > 0.0:
+                e_old += 0.5 * (EA / ls_old) * so * so
+        s[TT + i] = T
+        if T > tmax:
+            tmax = T
+        fx, fy, fz = f * ux, f * uy, f * uz
+        qx = qy = qz = 0.0
+        if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it
+            wx, wy, wz = wind_at(c, az + 0.5 * dz)
+            rx = 0.5 * (vax + vbx) - wx
+            ry = 0.5 * (vay + vby) - wy
+            rz = 0.5 * (vaz + vbz) - wz
+            rr = rx * ux + ry * uy + rz * uz
+            px, py, pz = rx - rr * ux, ry - rr * uy, rz - rr * uz
+            q = 0.5 * dk * d * math.sqrt(px * px + py * py + pz * pz)  # half to each end node
+            qx, qy, qz = q * px, q * py, q * pz
+        fa = F + 3 * i
+        s[fa] += fx + qx
+        s[fa + 1] += fy + qy
+        s[fa + 2] += fz + qz
+        if i > 0:
+            p_drag += qx * vax + qy * vay + qz * vaz
+        s[fa + 3] -= fx
+        s[fa + 4] -= fy
+        s[fa + 5] -= fz
+        if i < n - 1:
+            s[fa + 3] += qx
+            s[fa + 4] += qy
+            s[fa + 5] += qz
+            p_drag += qx * vbx + qy * vby + qz * vbz
+        else:
+            hdx, hdy, hdz = qx, qy, qz
+    # the hook slot: the line's force on the hook only (its half mass and half drag are the glider's)
+    fh = F + 3 * n
+    s[fh + 2] -= m * g
+    return e_el, e_old, p_damp, p_drag, hdx, hdy, hdz, tmax
+
+
+def line_energies(s, n: int, m: float, g: float) -> tuple[float, float]:
+    """Kinetic and potential energy of the interior nodes, J (NED: height ``-z``)."""
+    P = NODES
+    V = P + 3 * (n + 1)
+    ek = ep = 0.0
+    for i in range(1, n):
+        v = V + 3 * i
+        ek += 0.5 * m * (s[v] * s[v] + s[v + 1] * s[v + 1] + s[v + 2] * s[v + 2])
+        ep -= m * g * s[P + 3 * i + 2]
+    return ek, ep
+
+
+def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0: float, hy0: float, hz0: float,
+                hx1: float, hy1: float, hz1: float, relax: float) -> tuple[float, float, float, float, float]:
+    """``msteps`` leapfrog steps of ``h`` s of the interior nodes: rest length from ``ls0`` to
+    ``ls1`` m, hook from ``(hx0, ..)`` to ``(hx1, ..)`` m; ``relax`` (1/s, 0 in flight) an extra
+    damping of the node velocities (for finding a static shape). The force slots hold the forces
+    at the start (:func:`line_forces`). Books the line ledger; returns the sums over the steps
+    of the force on the glider ``(fx, fy, fz)`` N, of its half-drag part ``(dx, dy, dz)`` N and
+    half-weight part ``wz`` N, of the glider-end tension N, and the largest segment tension N."""
+    P = NODES
+    V = P + 3 * (n + 1)
+    F = V + 3 * (n + 1)
+    TT = F + 3 * (n + 1)
+    mu, g, EA = c[_C_MU], c[_C_G], c[_C_EA]
+    vhx, vhy, vhz = (hx1 - hx0) / (msteps * h), (hy1 - hy0) / (msteps * h), (hz1 - hz0) / (msteps * h)
+    sfx = sfy = sfz = sdx = sdy = sdz = swz = stg = tmax = 0.0
+    kdamp = 1.0 - relax * h if relax * h < 1.0 else 0.0
+    for j in range(msteps):
+        lsa = ls0 + (ls1 - ls0) * j / msteps
+        lsb = ls0 + (ls1 - ls0) * (j + 1) / msteps
+        ma, mb = mu * lsa, mu * lsb
+        fh = F + 3 * n
+        fgx, fgy, fgz = s[fh], s[fh + 1], s[fh + 2]
+        # kick (half), drift
+        e_mass = 0.0
+        ka = 0.5 * h / ma
+        for i in range(1, n):
+            f = F + 3 * i
+            v = V + 3 * i
+            p = P + 3 * i
+            for a in range(3):
+                s[v + a] = (s[v + a] + ka * s[f + a]) * kdamp
+                s[p + a] += h * s[v + a]
+            if mb != ma:
+                vv = s[v] * s[v] + s[v + 1] * s[v + 1] + s[v + 2] * s[v + 2]
+                e_mass += (mb - ma) * (0.5 * vv - g * s[p + 2])
+        ph = P + 3 * n
+        t1 = (j + 1.0) / msteps
+        dhx = hx0 + (hx1 - hx0) * t1 - s[ph]
+        dhy = hy0 + (hy1 - hy0) * t1 - s[ph + 1]
+        dhz = hz0 + (hz1 - hz0) * t1 - s[ph + 2]
+        s[ph], s[ph + 1], s[ph + 2] = s[ph] + dhx, s[ph + 1] + dhy, s[ph + 2] + dhz
+        # the rest-length change's elastic energy at the start positions (segment lengths from
+        # the tensions; exact for taut segments), then at the end positions (line_forces)
+        pay0 = 0.0
+        if lsb != lsa:
+            ka, kb = EA / lsa, EA / lsb
+            for i in range(n):
+                T = s[TT + i]
+                if T > 0.0:
+                    sb = T / ka + lsa - lsb
+                    pay0 += 0.5 * T * T / ka - (0.5 * kb * sb * sb if sb > 0.0 else 0.0)
+        e_el, e_old, p_damp, p_drag, hdx, hdy, hdz, tm = line_forces(s, c, n, lsb, mb, vhx, vhy, vhz, lsa)
+        fgx1, fgy1, fgz1 = s[fh], s[fh + 1], s[fh + 2]
+        kb = 0.5 * h / mb
+        for i in range(1, n):  # kick (half)
+            f = F + 3 * i
+            v = V + 3 * i
+            for a in range(3):
+                s[v + a] += kb * s[f + a]
+        # ledger: the glider works against the line's force on the hook (trapezoid)
+        s[L_HOOK] -= 0.5 * ((fgx + fgx1) * dhx + (fgy + fgy1) * dhy + (fgz + fgz1) * dhz)
+        s[L_MASS] += e_mass
+        if lsb != lsa:  # the mean of both: second order like the leapfrog's work
+            s[L_PAYOUT] += 0.5 * (pay0 + e_old - e_el)
+        s[L_DRAG] -= h * p_drag
+        s[L_DAMP] += h * p_damp
+        # the force on the glider: the line's, the half drag and the half node mass's weight
+        sfx += fgx1 + hdx
+        sfy += fgy1 + hdy
+        sfz += fgz1 + hdz + 0.5 * mb * g
+        sdx += hdx
+        sdy += hdy
+        sdz += hdz
+        swz += 0.5 * mb * g
+        stg += s[TT + n - 1]
+        if tm > tmax:
+            tmax = tm
+    return sfx, sfy, sfz, sdx, sdy, sdz, swz, stg, tmax
+
+
+def inner_count(c, h: float, ls: float) -> int:
+    """Leapfrog steps per ``h`` s for rest length ``ls`` m: ``h / (cfl 2 / omega_max)`` rounded
+    up, ``omega_max = 2 sqrt(EA / mu) / ls`` (with the damper: times ``sqrt(1 + zeta^2) + zeta``)."""
+    z = c[C_ZETA]
+    w = 2.0 * math.sqrt(c[_C_EA] / c[_C_MU]) / ls * (math.sqrt(1.0 + z * z) + z)
+    return max(1, int(math.ceil(h * w / (2.0 * c[C_CFL]) - 1e-9)))
+
+
+def store_energies(s, c, n: int, which: int) -> None:
+    """Write the line's kinetic, elastic and potential energy into the ledger's ``stored_``
+    (``which`` 1) or both ``stored0_`` and ``stored_`` (``which`` 0) slots (after
+    :func:`line_forces`, whose tensions give the elastic energy)."""
+    ls = s[0] / n
+    m = c[_C_MU] * ls
+    ek, ep = line_energies(s, n, m, c[_C_G])
+    TT = NODES + 9 * (n + 1)
+    k = c[_C_EA] / ls
+    ee = 0.0
+    for i in range(n):
+        T = s[TT + i]
+        ee += 0.5 * T * T / k
+    s[L_SK], s[L_SE], s[L_SP] = ek, ee, ep
+    if which == 0:
+        s[L_S0K], s[L_S0E], s[L_S0P] = ek, ee, ep
+
+
+def place_line(s, c, n: int, x: float, y: float, z: float) -> None:
+    """Nodes on the straight chord from the winch to the hook ``(x, y, z)`` m, at rest; forces
+    computed (:func:`line_forces`)."""
+    P = NODES
+    V = P + 3 * (n + 1)
+    for i in range(n + 1):
+        f = i / n
+        s[P + 3 * i], s[P + 3 * i + 1], s[P + 3 * i + 2] = f * x, f * y, f * z
+        s[V + 3 * i] = s[V + 3 * i + 1] = s[V + 3 * i + 2] = 0.0
+    ls = s[0] / n
+    line_forces(s, c, n, ls, c[_C_MU] * ls, 0.0, 0.0, 0.0, ls)
+
+
+def relax_line(s, c, n: int, seconds: float) -> None:
+    """Let the line settle for ``seconds`` s with its ends held and its velocities damped at the
+    rate of its slowest transverse mode (a static shape; the ledger is not kept)."""
+    ls = s[0] / n
+    h = 0.5 * 2.0 * c[C_CFL] / (2.0 * math.sqrt(c[_C_EA] / c[_C_MU]) / ls)
+    P = NODES + 3 * n
+    x, y, z = s[P], s[P + 1], s[P + 2]
+    T = 0.0
+    TT = NODES + 9 * (n + 1)
+    for i in range(n):
+        T = max(T, s[TT + i])
+    rate = math.pi * math.sqrt(max(T, 1e-3 * c[_C_EA]) / c[_C_MU]) / s[0]
+    msteps = max(1, int(seconds / h))
+    inner_steps(s, c, n, msteps, h, ls, ls, x, y, z, x, y, z, 2.0 * rate)
+    V = NODES + 3 * (n + 1)
+    for i in range(3 * (n + 1)):
+        s[V + i] = 0.0
+    line_forces(s, c, n, ls, c[_C_MU] * ls, 0.0, 0.0, 0.0, ls)
+
+
+def generalised_tension(s, c, n: int) -> float:
+    """The line's force on the drum through its rest lengths, ``(1/N) sum (T_i + T_i^2 / (2 EA))``, N."""
+    TT = NODES + 9 * (n + 1)
+    EA = c[_C_EA]
+    t = 0.0
+    for i in range(n):
+        T = s[TT + i]
+        t += T + T * T / (2.0 * EA)
+    return t / n
+
+
+def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
+    """:func:`.substeps.station_step` with the lumped line (same arguments and returns; ``s``
+    and ``c`` hold the line's block after the drivetrain's, see the module docstring)."""
+    N = int(c[C_NSEG])
+    P = NODES
+    ph = P + 3 * N
+    broken = s[6] != 0.0
+    if s[R_READY] == 0.0:  # first step: the line's static shape to the hook
+        place_line(s, c, N, x, y, z)
+        relax_line(s, c, N, 3.0)
+        for i in range(LED, L_S0K):  # the settling is not part of the flight's ledger
+            s[i] = 0.0
+        store_energies(s, c, N, 0)
+        s[R_READY] = 1.0
+    elif not broken:  # the hook's real position differs from the last prediction: work at the line end
+        dhx, dhy, dhz = x - s[ph], y - s[ph + 1], z - s[ph + 2]
+        F = P + 6 * (N + 1) + 3 * N
+        fx0, fy0, fz0 = s[F], s[F + 1], s[F + 2]
+        s[ph], s[ph + 1], s[ph + 2] = x, y, z
+        ls = s[0] / N
+        line_forces(s, c, N, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+        s[L_HOOK] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
+    h = dt / n
+    tsum = pl_sum = ps_sum = 0.0
+    ev = 0
+    sfx = sfy = sfz = stg = 0.0
+    tmax = 0.0
+    nin = 0
+    sdx = sdy = sdz = swz = 0.0
+    for j in range(n):
+        l0 = s[0]
+        tg = 0.0 if broken else generalised_tension(s, c, N)
+        tm, pl, ps, e = advance(s, c, 1, h, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL,
+                                True, tg)
+        l1 = s[0]
+        s[L_HAND] += tg * (l1 - l0)
+        tsum += tm
+        pl_sum += pl
+        ps_sum += ps
+        if ev == 0:
+            ev = e
+        if broken:
+            continue
+        m = inner_count(c, h, min(l0, l1) / N)
+        a, b = j * h, (j + 1) * h
+        fx_, fy_, fz_, dx_, dy_, dz_, wz_, tg_, tm_ = inner_steps(s, c, N, m, h / m, l0 / N, l1 / N, x + a * vx, y + a * vy,
+                                              z + a * vz, x + b * vx, y + b * vy, z + b * vz, 0.0)
+        sfx += fx_ / m
+        sfy += fy_ / m
+        sfz += fz_ / m
+        stg += tg_ / m
+        nin += m
+        sdx += dx_ / m
+        sdy += dy_ / m
+        sdz += dz_ / m
+        swz += wz_ / m
+        if tm_ > tmax:
+            tmax = tm_
+        if tm_ > c[_C_TBREAK]:  # the line breaks: its strain energy is lost, the glider is free
+            broken = True
+            s[6] = 1.0
+            ev = 3
+            ls = s[0] / N
+            line_forces(s, c, N, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+            store_energies(s, c, N, 1)
+            s[L_BREAK] += s[L_SE]
+            TT = P + 9 * (N + 1)
+            for i in range(N):
+                s[TT + i] = 0.0
+    if broken and ev != 3:
+        fx = fy = fz = 0.0
+    else:
+        fx, fy, fz = sfx / n, sfy / n, sfz / n
+    s[R_TG] = stg / n
+    s[R_TMAX] = tmax
+    s[R_INNER] = nin / n
+    s[R_DX], s[R_DY], s[R_DZ], s[R_WZ] = sdx / n, sdy / n, sdz / n, swz / n
+    store_energies(s, c, N, 1)
+    # the straight line's share terms: the work on the glider of the half drag and half weight it takes
+    s[_DRAG_W] += (s[R_DX] * vx + s[R_DY] * vy + s[R_DZ] * vz) * dt
+    s[_WEIGHT_W] += s[R_WZ] * vz * dt
+    d = math.sqrt(x * x + y * y + z * z)
+    w, i = float(s[1]), float(s[2])
+    tmean = tsum / n
+    return (fx, fy, fz, tmean, float(s[0]), w, i, float(s[5]), float(s[3]), (pl_sum - ps_sum) / n, ev,
+            machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
+
+
+_CALLED = (wind_at, line_forces, line_energies, inner_steps, inner_count, store_energies, place_line, relax_line,
+           generalised_tension)
+
+
+def _cache_follows(kern) -> None:
+    """Tie the on-disk cache of ``kern`` also to :mod:`.substeps` (the drum step compiled into it)."""
+    from . import substeps
+
+    cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
+    stamp = getattr(cache_file, "_source_stamp", None)
+    if stamp is None:
+        return
+    st = os.stat(substeps.__file__)
+    cache_file._source_stamp = (stamp, (st.st_mtime, st.st_size))
+
+
+@functools.lru_cache(maxsize=None)
+def compiled_lumped() -> Callable | None:
+    """:func:`lumped_station_step` compiled by numba (cached on disk), or None (numba missing,
+    ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead)."""
+    from .substeps import _register, compiled_station
+
+    if compiled_station() is None:
+        return None
+    try:
+        import numba
+        from numba.extending import register_jitable
+
+        _register()
+        for g in _CALLED:
+            register_jitable(g)
+        f8, b1, a = numba.float64, numba.boolean, numba.float64[::1]
+        sig = (a, a, numba.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
+        kern = numba.njit(cache=True)(lumped_station_step)
+        _cache_follows(kern)
+        kern.compile(sig)
+        kern.disable_compile()
+        return kern
+    except Exception as exc:  # a broken numba install must not stop a simulation
+        warnings.warn(f"fdm_awe.groundstation.lumped: numba failed ({exc}); the Python step runs instead",
+                      RuntimeWarning, stacklevel=2)
+        return None
+
+
+@functools.lru_cache(maxsize=None)
+def compiled_function(name: str) -> Callable:
+    """The function ``name`` of this module (e.g. ``"relax_line"``, ``"inner_steps"``) compiled
+    by numba for the types of its first call, or the Python function itself when numba is
+    missing or ``FDM_AWE_JIT=0`` (for studies and tests of the line alone)."""
+    f = globals()[name]
+    if os.environ.get("FDM_AWE_JIT", "1") == "0":
+        return f
+    try:
+        import numba
+        from numba.extending import register_jitable
+
+        from .substeps import _register
+
+        _register()
+        for g in _CALLED:
+            register_jitable(g)
+        return numba.njit(cache=True)(f)
+    except ImportError:
+        return f
+
+
+def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
+                   cfl: float = CFL) -> list[float]:
+    """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
+    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
+    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)]
+
+
+def nodes(s: np.ndarray, n: int) -> np.ndarray:
+    """Node positions (n+1, 3) m NED (a copy)."""
+    return s[NODES:NODES + 3 * (n + 1)].reshape(n + 1, 3).copy()
+
+
+def velocities(s: np.ndarray, n: int) -> np.ndarray:
+    """Node velocities (n+1, 3) m/s NED (a copy; the hook's is not kept)."""
+    a = NODES + 3 * (n + 1)
+    return s[a:a + 3 * (n + 1)].reshape(n + 1, 3).copy()
+
+
+def tensions(s: np.ndarray, n: int) -> np.ndarray:
+    """Segment tensions (n,) N, winch end first (a copy)."""
+    a = NODES + 9 * (n + 1)
+    return s[a:a + n].copy()
+
+
+class LineLedger:
+    """The line's energy ledger (J) as a view of the ground station's state array."""
+
+    def __init__(self, s: np.ndarray) -> None:
+        self._s = s
+
+    def __getattr__(self, name: str) -> float:
+        if name in FIELDS:
+            return float(self._s[LED + FIELDS.index(name)])
+        raise AttributeError(name)
+
+    def clear(self) -> None:
+        for i, f in enumerate(FIELDS):
+            if not f.startswith("stored"):
+                self._s[LED + i] = 0.0
+        self._s[L_S0K], self._s[L_S0E], self._s[L_S0P] = self._s[L_SK], self._s[L_SE], self._s[L_SP]
+
+    def delta_stored(self) -> float:
+        return sum(getattr(self, "stored_" + k) - getattr(self, "stored0_" + k) for k in STORES)
+
+    def residual(self) -> float:
+        """Inputs - losses - change of stored energy, J: the integrator's error."""
+        return sum(getattr(self, k) for k in INPUTS) - sum(getattr(self, k) for k in LOSSES) - self.delta_stored()
+
+    def largest_term(self) -> float:
+        t = [abs(getattr(self, k)) for k in INPUTS + LOSSES]
+        t += [abs(getattr(self, "stored_" + k) - getattr(self, "stored0_" + k)) for k in STORES]
+        return max(t)
+
+    def relative_residual(self) -> float:
+        big = self.largest_term()
+        return abs(self.residual()) / big if big > 0.0 else 0.0
+
+    def as_dict(self) -> dict[str, float]:
+        d = {k: getattr(self, k) for k in INPUTS + LOSSES + INTERFACE}
+        for k in STORES:
+            d["delta_" + k] = getattr(self, "stored_" + k) - getattr(self, "stored0_" + k)
+        d["coupling"] = self.payout_work - self.drum_handover
+        d["residual"] = self.residual()
+        d["relative_residual"] = self.relative_residual()
+        return d
