@@ -439,6 +439,7 @@ def fly(
     else:
         gs = GroundStation(gsp, wind_ned=wind if profile.uniform else wind_at(line_height(-float(reference.sample(0.0).pos[2]))),
                            tether_drag_scale=tether_drag_scale, tether=tether)
+        gs.set_line_wind(profile, wind_ref[:2])  # the lumped line's nodes: the profile at their own heights
     r0 = reference.sample(0.0)
     va = r0.vel - np.asarray(wind)
     V = float(np.linalg.norm(va))
@@ -485,12 +486,15 @@ def fly(
     shape_nodes: list[np.ndarray] = []
     shape_tension: list[np.ndarray] = []
     stop = _StopRequest()
+    gust_on_line = turbulence is not None and not paper and bool(gs.tether_segments)
 
     def _on_step(k: int, s: Any, o: Any) -> bool:
+        h = -float(s.pos_ned[2])
         if not profile.uniform:  # the next step's wind at the glider's (and the line's) height
-            h = -float(s.pos_ned[2])
             glider.set_wind(wind_at(h))
             gs.set_wind(wind_at(line_height(h)))
+        if gust_on_line:  # the lumped line: the gust the glider meets now, uniform along the line
+            gs.set_line_wind(profile, wind_ref[:2], np.subtract(np.subtract(s.vel_ned, s.vel_air_ned), wind_at(h)))
         gl.step(dt)
         rp = ap.ref_point
         if rp is not None and ap.mode == "AUTO" and ap.cycling:

@@ -52,6 +52,21 @@ FLOOR_M = 1.0
 #: ``s``: the glider's share is weighted with ``s^3`` along the line, whose centroid is at
 #: ``s = 4/5``. The line drag takes the wind at this fraction of the glider's height.
 LINE_HEIGHT_FRACTION = 0.8
+#: numeric codes of the profile kinds for compiled code (:func:`shear_factor`)
+KIND_CODES = {"uniform": 0.0, "log": 1.0, "power": 2.0}
+
+
+def shear_factor(code: float, param: float, ref_height: float, floor: float, h: float) -> float:
+    """:meth:`WindProfile.factor` on floats, with the profile as numbers (``code`` from
+    :data:`KIND_CODES`, ``param`` z0 [m] or the exponent, ``ref_height`` and ``floor`` [m]):
+    plain arithmetic that numba compiles (the lumped line's nodes evaluate it in the ground
+    station's compiled step) and Python runs as it is."""
+    if code == 0.0:
+        return 1.0
+    hc = h if h > floor else floor
+    if code == 1.0:
+        return math.log(hc / param) / math.log(ref_height / param)
+    return (hc / ref_height) ** param
 
 
 def _num(v: Any) -> str:
@@ -124,12 +139,21 @@ class WindProfile:
         or CasADi); exactly 1.0 for the uniform profile."""
         if self.uniform:
             return 1.0
+        if isinstance(h, (int, float)):  # plain numbers: the compiled line's own function
+            return shear_factor(*self.numbers(), float(h))
         hc = mo.fmax(h, self.floor())
         href = float(self.ref_height)  # type: ignore[arg-type]
         if self.kind == "log":
             z0 = float(self.z0)  # type: ignore[arg-type]
             return mo.log(hc / z0) / math.log(href / z0)
         return (hc / href) ** float(self.exponent)  # type: ignore[arg-type]
+
+    def numbers(self) -> tuple[float, float, float, float]:
+        """``(code, param, ref_height, floor)`` of :func:`shear_factor` (zeros for uniform)."""
+        if self.uniform:
+            return (0.0, 0.0, 0.0, 0.0)
+        param = float(self.z0 if self.kind == "log" else self.exponent)  # type: ignore[arg-type]
+        return (KIND_CODES[self.kind], param, float(self.ref_height), float(self.floor()))  # type: ignore[arg-type]
 
     def wind_at(self, wind: Sequence[Any], h: Any) -> tuple[Any, ...]:
         """The horizontal wind components ``wind`` (at the reference height) scaled to height

@@ -316,3 +316,35 @@ def test_compiled_and_python_loops_fly_the_lumped_line_alike() -> None:
     assert [s.loop for s in loops] == ["compiled", "python"]
     assert np.array_equal(data[0][0], data[1][0], equal_nan=True)
     assert np.array_equal(data[0][1], data[1][1])
+
+
+def test_nodes_see_the_wind_profile_at_their_own_height_plus_the_gust() -> None:
+    """With a log profile every node's wind is the reference wind scaled to the node's height
+    (the optimiser's profile factor), plus the gust of the moment; uniform keeps the station's
+    wind; the compiled step and the Python step fly a sheared, gusty line alike."""
+    from fdm_awe.wind import WindProfile
+
+    prof = WindProfile("log", z0=0.1, ref_height=10.0).validate()
+    s, c, gs = _line(6, 120.0, drag=True)
+    gs.set_line_wind(prof, (-8.0, 1.0), (0.3, -0.2, 0.1))
+    c = np.array(gs._sc)
+    for h in (2.0, 10.0, 55.0, 140.0):
+        f = float(prof.factor(h))
+        assert L.wind_at(c, -h) == pytest.approx((-8.0 * f + 0.3, 1.0 * f - 0.2, 0.1), rel=1e-12)
+    assert float(prof.factor(10.0)) == pytest.approx(1.0) and float(prof.factor(140.0)) > 1.4
+    gs.set_line_wind(None, (0.0, 0.0))  # uniform: the station's own wind
+    c = np.array(gs._sc)
+    assert L.wind_at(c, -50.0) == (c[19], c[20], c[21])
+    outs = []
+    for jit in (True, False):
+        st = GroundStation(load_ground_station(line="sized"), wind_ned=(-8.0, 0.0, 0.0), tether="lumped:4")
+        st.set_line_wind(prof, (-8.0, 0.0), (0.5, 0.0, 0.0))
+        if not jit:
+            st._step_kernel = None
+        st.reset(tether_length=100.0, reel_speed=1.0, mode="generator")
+        pos, vel = np.array([60.0, 0.0, -81.0]), np.array([0.0, 20.0, -1.0])
+        for k in range(30):
+            o = st.step(1.0 / 120.0, tuple(pos.tolist()), tuple(vel.tolist()), WinchCommand(mode="generator"))
+            pos = pos + vel / 120.0
+        outs.append((o, st.line_nodes()))
+    assert outs[0][0] == outs[1][0] and np.array_equal(outs[0][1], outs[1][1])

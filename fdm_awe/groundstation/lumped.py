@@ -61,6 +61,7 @@ import numpy as np
 
 from ..errors import InputError
 from .ledger import FIELDS as _DT_LEDGER
+from ..wind import shear_factor
 from .substeps import _DRAG_W, _WEIGHT_W, STATE as _DT_STATE, STATION_CONSTANTS, advance, machine_mode_code
 
 #: tether models a ground station takes: ``straight`` or ``lumped:N``
@@ -90,8 +91,13 @@ LED = OFF + len(HEAD)
 #: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
 NODES = LED + len(FIELDS)
 #: constants after STATION_CONSTANTS
-CONSTANTS = ("nseg", "drag_k", "zeta", "cfl")
-(C_NSEG, C_DRAGK, C_ZETA, C_CFL) = range(len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
+CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
+             # the wind field along the line (:func:`wind_at`): profile numbers of
+             # fdm_awe.wind.shear_factor (code 0: the station's uniform wind), the wind at the
+             # profile's reference height, and the gust of the moment (turbulence, NED)
+             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
+(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
+    len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
 # station constants used here (STATION_CONSTANTS order)
 _C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
 
@@ -114,9 +120,15 @@ def state_size(n: int) -> int:
 
 
 def wind_at(c, z: float) -> tuple[float, float, float]:
-    """Wind at the height ``-z`` m (NED ``z``), m/s NED: the station's uniform wind ``c[19:22]``.
-    The one place the line reads the wind (a profile of height goes here)."""
-    return c[_C_WN], c[_C_WE], c[_C_WD]
+    """Wind at the height ``-z`` m (NED ``z``), m/s NED, the one place the line reads the wind:
+    the station's uniform wind ``c[19:22]``, or with a wind profile the wind at the reference
+    height scaled to this height (:func:`fdm_awe.wind.shear_factor`); plus the gust of the
+    moment (the turbulence the glider meets, taken as uniform along the line)."""
+    code = c[C_SCODE]
+    if code == 0.0:
+        return c[_C_WN] + c[C_GN], c[_C_WE] + c[C_GE], c[_C_WD] + c[C_GD]
+    f = shear_factor(code, c[C_SPARAM], c[C_SHREF], c[C_SFLOOR], -z)
+    return c[C_WRN] * f + c[C_GN], c[C_WRE] * f + c[C_GE], c[C_GD]
 
 
 def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
@@ -459,20 +471,22 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
 
 
-_CALLED = (wind_at, line_forces, line_energies, inner_steps, inner_count, store_energies, place_line, relax_line,
+_CALLED = (shear_factor, wind_at, line_forces, line_energies, inner_steps, inner_count, store_energies, place_line, relax_line,
            generalised_tension)
 
 
 def _cache_follows(kern) -> None:
-    """Tie the on-disk cache of ``kern`` also to :mod:`.substeps` (the drum step compiled into it)."""
+    """Tie the on-disk cache of ``kern`` also to :mod:`.substeps` (the drum step compiled into it)
+    and :mod:`fdm_awe.wind` (the profile the nodes evaluate)."""
+    from .. import wind
     from . import substeps
 
     cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
     stamp = getattr(cache_file, "_source_stamp", None)
     if stamp is None:
         return
-    st = os.stat(substeps.__file__)
-    cache_file._source_stamp = (stamp, (st.st_mtime, st.st_size))
+    stamps = tuple((st.st_mtime, st.st_size) for st in (os.stat(substeps.__file__), os.stat(wind.__file__)))
+    cache_file._source_stamp = (stamp, *stamps)
 
 
 @functools.lru_cache(maxsize=None)
@@ -529,7 +543,7 @@ def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: flo
                    cfl: float = CFL) -> list[float]:
     """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
     d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
-    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)]
+    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
 
 
 def nodes(s: np.ndarray, n: int) -> np.ndarray:

@@ -288,6 +288,24 @@ class GroundStation:
             self._step_py = lumped.lumped_station_step
         self._sc = np.array(self._scl, dtype=float)
 
+    def set_line_wind(self, profile: Any = None, wind_ref: Sequence[float] = (0.0, 0.0),
+                      gust: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
+        """The wind field the lumped line's nodes see (no effect on the straight line, whose
+        drag takes :meth:`set_wind`): ``profile`` a :class:`fdm_awe.wind.WindProfile` (None or
+        uniform: the station's wind at every height) with the horizontal wind ``wind_ref``
+        (N, E) m/s at its reference height, plus ``gust`` (N, E, D) m/s, the turbulence of the
+        moment, taken as uniform along the line."""
+        if not self.tether_segments:
+            return
+        code, param, href, floor = (0.0, 0.0, 0.0, 0.0) if profile is None else profile.numbers()
+        vals = [code, param, href, floor, *(_finite(f"wind_ref[{k}]", v) for k, v in enumerate(wind_ref)),
+                *(_finite(f"gust[{k}]", v) for k, v in enumerate(gust))]
+        if len(vals) != 9:
+            raise InputError("set_line_wind: wind_ref needs 2 components (N, E), gust 3 (N, E, D)")
+        i = lumped.C_SCODE
+        self._scl[i:i + 9] = vals
+        self._sc[i:i + 9] = vals
+
     @property
     def line_ledger(self) -> "lumped.LineLedger | None":
         """The lumped line's own energy ledger (J), None for the straight line."""
