@@ -255,15 +255,14 @@ def run(args: argparse.Namespace) -> int:
 
     if ref is None:
         from ..autopilot.tracking import TrackingReference
-        from ..recording.series import load_reference
+        from ..trajectory import reference_from_result, write_reference
 
         res = optimise_reference(problem)
-        ref = TrackingReference.from_ocp(load_reference(res))  # in memory: no file unless --out
-        ref_path: Path | None = None
         ref_label = f"the optimised {args.scenario} {args.config} reference"
+        # in memory: the content of the file written with --out, no file otherwise
+        ref = TrackingReference.from_ocp(reference_from_result(res, ref_label))
+        ref_path: Path | None = None
         if out_dir is not None:
-            from ..ocp.result import write_reference
-
             ref_path = write_reference(res, out_dir / reference_file_name(args))
             ref_label = str(ref_path)
             print(f"reference trajectory: {ref_path}", file=sys.stderr)
