@@ -240,7 +240,7 @@ def run(args: argparse.Namespace) -> int:
         args.config = args.config or DEFAULT_CONFIG
         problem = reference_problem(args)
     from ..autopilot.config import autopilot_params
-    from ..mavlink.params import ParamStore
+    from ..autopilot.params import ParamStore
 
     params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
     out_dir = Path(args.out) if args.out else None
