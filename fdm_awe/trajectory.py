@@ -224,16 +224,26 @@ class CycleSampler:
         """The value of held column ``name`` on each of the ``n - 1`` segments."""
         return self._held[name]
 
-    def sample(self, t: float) -> CycleSample:
-        """Every column at time ``t`` [s] (the cycle repeated periodically)."""
+    def where(self, name: str) -> int | slice:
+        """Position of linear column ``name`` in the row :meth:`evaluate` returns."""
+        return self._where[name]
+
+    def evaluate(self, t: float) -> tuple[int, float, int, int, float, np.ndarray]:
+        """``(cycle, t_cycle, phase, segment, weight, row)`` at time ``t`` [s]: ``row`` holds every
+        linear column (at :meth:`where`), ``segments(name)[segment]`` a held one. The fast form of
+        :meth:`sample`, for a caller sampling every step."""
         k, tc = self.cycle_time(t)
         ts = self.t
         i = int(np.searchsorted(ts, tc, side="right")) - 1
         i = min(max(i, 0), len(ts) - 2)
         w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
         tab = self._table
-        row = tab[i] * (1.0 - w) + tab[i + 1] * w
-        return CycleSample(self, k, tc, GENERATION if tc < self.T1 else RECOVERY, i, w, row)
+        return k, tc, GENERATION if tc < self.T1 else RECOVERY, i, w, tab[i] * (1.0 - w) + tab[i + 1] * w
+
+    def sample(self, t: float) -> CycleSample:
+        """Every column at time ``t`` [s] (the cycle repeated periodically)."""
+        k, tc, phase, i, w, row = self.evaluate(t)
+        return CycleSample(self, k, tc, phase, i, w, row)
 
 
 # ------------------------------------------------------------------------------ the trajectory

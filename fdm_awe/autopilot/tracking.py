@@ -145,12 +145,15 @@ class TrackingReference:
 
     def sample(self, t: float) -> RefPoint:
         """Reference at flight time ``t`` [s] (cycle repeated periodically), by :data:`TRACKING_RULES`."""
-        s = self.sampler().sample(t)
+        smp = self.sampler()
+        k, tc, phase, i, _, row = smp.evaluate(t)
+        at = smp.where
         return RefPoint(
-            t_cycle=s.t_cycle, cycle=s.cycle, phase=s.phase, pos=s["pos"], vel=s["vel"], acc=s["acc"],
-            airspeed=float(s["airspeed"]), alpha=float(s["alpha"]), phi=float(s["phi"]), thrust=float(s["thrust"]),
-            tension=float(s["tension"]), length=float(s["length"]), reel_speed=float(s["reel_speed"]),
-            motor_on=s["motor_on"], boost_duty=s["boost_duty"],
+            t_cycle=tc, cycle=k, phase=phase, pos=row[at("pos")], vel=row[at("vel")], acc=row[at("acc")],
+            airspeed=float(row[at("airspeed")]), alpha=float(row[at("alpha")]), phi=float(row[at("phi")]),
+            thrust=float(row[at("thrust")]), tension=float(row[at("tension")]), length=float(row[at("length")]),
+            reel_speed=float(row[at("reel_speed")]), motor_on=float(smp.segments("motor_on")[i]),
+            boost_duty=float(smp.segments("boost_duty")[i]),
         )
 
     def waypoints(self, n: int = 60) -> list[tuple[float, float, float, float, int]]:
