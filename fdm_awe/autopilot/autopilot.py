@@ -5,7 +5,7 @@ guidance (:mod:`.guidance`, path tracking by point-mass force inversion)
   -> thrust loop (throttle)                         -> surfaces, throttle, fold command
 phase logic (generation / recovery)                 -> winch command (machine mode, reel speed)
 
-Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`):
+Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NUMBERS`):
 
 - ``MANUAL``: surfaces and throttle held at :attr:`Autopilot.manual` (neutral by default);
   the winch holds in generator mode.
@@ -29,7 +29,7 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mavlink.vehicle.MODE_NU
   the reference in AUTO (mission cleared) switches to RECOVER.
 
 Gains and limits come from the definition file ``aircraft/glider_foldable/autopilot.xml`` via a
-:class:`~fdm_awe.mavlink.params.ParamStore`; changes (e.g. MAVLink ``PARAM_SET``) take effect
+:class:`~fdm_awe.autopilot.params.ParamStore`; changes (e.g. MAVLink ``PARAM_SET``) take effect
 at the next step.
 """
 
@@ -44,14 +44,15 @@ import numpy as np
 from ..definitions.aircraft import Glider
 from ..errors import InputError
 from ..groundstation import WinchCommand
-from ..mavlink.params import ParamStore
-from ..mavlink.vehicle import MODE_NUMBERS, Waypoint
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
 from .guidance import Guidance, GuidanceGains, norm3
-from .tracking import GENERATION, RECOVERY, RefPoint, TrackingReference
+from .modes import MODE_NUMBERS
+from .params import ParamStore
+from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
+from .vehicle import Waypoint
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
 CONFIGS = ("foldable", "nominal")
@@ -358,8 +359,7 @@ class Autopilot:
     def mission(self) -> list[Waypoint]:
         if self.reference is None:
             return []
-        names = ("generation", "recovery")
-        return [Waypoint(n, e, d, t, names[p]) for n, e, d, t, p in self.reference.waypoints()]
+        return [Waypoint(n, e, d, t, PHASE_NAMES[p]) for n, e, d, t, p in self.reference.waypoints()]
 
     def set_mission(self, wps: list[Waypoint]) -> tuple[bool, str]:
         if len(wps) < 3:

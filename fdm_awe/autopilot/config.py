@@ -13,7 +13,7 @@ from pathlib import Path
 from .. import ROOT
 from ..definitions.xmlutil import XmlDoc, _to_float
 from ..errors import DefinitionError
-from ..mavlink.params import ParamStore
+from .params import ParamStore
 
 DEFAULT_FILE = ROOT / "aircraft" / "glider_foldable" / "autopilot.xml"
 

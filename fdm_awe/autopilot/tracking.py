@@ -5,6 +5,9 @@ at any flight time, the reference position, ground velocity and acceleration (NE
 origin), the feed-forward controls (alpha, bank, thrust), the tension, the tether length and
 the reel speed, the phase and the motor's on-fraction. The acceleration is evaluated from the point-mass dynamics at
 the reference state and controls, not by differentiating noisy samples.
+
+Sampling is :class:`fdm_awe.trajectory.CycleSampler` with :data:`TRACKING_RULES`; the phase
+names and codes are the trajectory's (:data:`fdm_awe.trajectory.PHASE_NAMES`).
 """
 
 from __future__ import annotations
@@ -16,8 +19,21 @@ from typing import Sequence
 
 import numpy as np
 
-GENERATION, RECOVERY = 0, 1
-PHASE_NAMES = ("generation", "recovery")
+from ..trajectory import GENERATION, HELD, LINEAR, PHASE_NAMES, RECOVERY, CycleSampler
+
+__all__ = ["GENERATION", "PHASE_NAMES", "RECOVERY", "TRACKING_RULES", "RefPoint", "TrackingReference"]
+
+#: How the autopilot samples its reference: the path, the ground velocity and acceleration, the
+#: airspeed, the feed-forward controls (alpha, bank, thrust: a smooth feed-forward, although the
+#: optimiser holds them per interval), the tension, the tether length and the reel speed linear in
+#: time; the motor's on-fraction and the generator's T2 duty held per optimiser interval (they
+#: switch the motor and the converter). The switch row is stored once (times strictly increasing),
+#: so the first recovery segment runs from the generation's last row.
+TRACKING_RULES: dict[str, str] = {
+    "pos": LINEAR, "vel": LINEAR, "acc": LINEAR, "airspeed": LINEAR, "alpha": LINEAR, "phi": LINEAR,
+    "thrust": LINEAR, "tension": LINEAR, "length": LINEAR, "reel_speed": LINEAR,
+    "motor_on": HELD, "boost_duty": HELD,
+}
 
 
 @dataclass(frozen=True)
@@ -97,61 +113,47 @@ class TrackingReference:
     def period(self) -> float:
         return self.T1 + self.T2
 
-    def _table(self) -> np.ndarray:
-        tab = self.__dict__.get("_tab")
-        if tab is None:
-            tab = np.column_stack([self.pos, self.vel, self.acc, self.airspeed, self.alpha, self.phi, self.thrust,
-                                   self.tension, self.length, self.reel_speed])
-            self.__dict__["_tab"] = tab
-        return tab
+    def sampler(self) -> CycleSampler:
+        """The :class:`~fdm_awe.trajectory.CycleSampler` of the samples (:data:`TRACKING_RULES`),
+        built at the first use."""
+        smp = self.__dict__.get("_sampler")
+        if smp is None:
+            smp = CycleSampler(self.t, self.phase, {name: getattr(self, name) for name in TRACKING_RULES},
+                               TRACKING_RULES, self.T1, self.period)
+            self.__dict__["_sampler"] = smp
+        return smp
 
     def motor_segments(self) -> np.ndarray:
         """The motor's on-fraction on each segment ``[t_i, t_i+1)`` between samples (``n - 1``
         values; the last runs to the period): the optimiser holds it per interval, so it is the
         value of the sample opening the segment, except for the segment after the last
         generation sample (``t = T1``), which is the recovery's."""
-        return self._segments("motor_on")
+        return self.sampler().segments("motor_on")
 
     def duty_segments(self) -> np.ndarray:
         """The generator's T2 duty on each segment between samples (held per optimiser
         interval, as :meth:`motor_segments`)."""
-        return self._segments("boost_duty")
-
-    def _segments(self, name: str) -> np.ndarray:
-        """Per-segment values of the interval-held control column ``name``."""
-        seg = self.__dict__.get("_seg_" + name)
-        if seg is None:
-            on = np.asarray(getattr(self, name), float)
-            # a segment belongs to the phase of the sample closing it
-            seg = np.where(self.phase[:-1] == self.phase[1:], on[:-1], on[1:])
-            self.__dict__["_seg_" + name] = seg
-        return seg
+        return self.sampler().segments("boost_duty")
 
     def segment_index(self, t_cycle: float) -> int:
         """Index of the segment ``[t_i, t_i+1)`` holding cycle time ``t_cycle`` [s] (the last
         one beyond the last sample)."""
-        i = int(np.searchsorted(self.t, t_cycle, side="right")) - 1
-        return min(max(i, 0), len(self.t) - 2)
+        return self.sampler().segment_index(t_cycle)
 
     def cycle_time(self, t: float) -> tuple[int, float]:
-        k = int(t // self.period)
-        return k, t - k * self.period
+        return self.sampler().cycle_time(t)
 
     def sample(self, t: float) -> RefPoint:
-        """Reference at flight time ``t`` [s] (cycle repeated periodically), linear in time."""
-        k, tc = self.cycle_time(t)
-        tab = self._table()
-        ts = self.t
-        i = int(np.searchsorted(ts, tc, side="right")) - 1
-        i = min(max(i, 0), len(ts) - 2)
-        w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
-        row = tab[i] * (1.0 - w) + tab[i + 1] * w
+        """Reference at flight time ``t`` [s] (cycle repeated periodically), by :data:`TRACKING_RULES`."""
+        smp = self.sampler()
+        k, tc, phase, i, _, row = smp.evaluate(t)
+        at = smp.where
         return RefPoint(
-            t_cycle=tc, cycle=k, phase=GENERATION if tc < self.T1 else RECOVERY,
-            pos=row[0:3], vel=row[3:6], acc=row[6:9], airspeed=float(row[9]), alpha=float(row[10]),
-            phi=float(row[11]), thrust=float(row[12]), tension=float(row[13]), length=float(row[14]),
-            reel_speed=float(row[15]), motor_on=float(self.motor_segments()[i]),
-            boost_duty=float(self.duty_segments()[i]),
+            t_cycle=tc, cycle=k, phase=phase, pos=row[at("pos")], vel=row[at("vel")], acc=row[at("acc")],
+            airspeed=float(row[at("airspeed")]), alpha=float(row[at("alpha")]), phi=float(row[at("phi")]),
+            thrust=float(row[at("thrust")]), tension=float(row[at("tension")]), length=float(row[at("length")]),
+            reel_speed=float(row[at("reel_speed")]), motor_on=float(smp.segments("motor_on")[i]),
+            boost_duty=float(smp.segments("boost_duty")[i]),
         )
 
     def waypoints(self, n: int = 60) -> list[tuple[float, float, float, float, int]]:
@@ -212,7 +214,7 @@ class TrackingReference:
         (``scenario``, ``config``, ``T1_s``, ``T2_s``, ``wind_ned_mps``, ``tether_drag_scale``,
         ``fold_time_s``, ``motor_off``, ...).
         """
-        from ..ocp.result import read_reference
+        from ..trajectory import read_reference
 
         return cls.from_ocp(read_reference(path))
 
@@ -227,7 +229,7 @@ class TrackingReference:
         acceleration is the time derivative of the velocity samples (second-order differences
         within each phase, so the jump of the controls at the phase switch is not smeared).
         """
-        from ..ocp.result import ReferenceTrajectory, check_reference
+        from ..trajectory import ReferenceTrajectory, check_reference
 
         if not isinstance(ref, ReferenceTrajectory):
             ref = ReferenceTrajectory(ref.metadata, ref.columns, getattr(ref, "units", {}),  # type: ignore[attr-defined]

@@ -253,7 +253,7 @@ def run(args: argparse.Namespace) -> int:
         args.config = args.config or DEFAULT_CONFIG
         problem = reference_problem(args)
     from ..autopilot.config import autopilot_params
-    from ..mavlink.params import ParamStore
+    from ..autopilot.params import ParamStore
 
     params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
     out_dir = Path(args.out) if args.out else None
@@ -268,15 +268,14 @@ def run(args: argparse.Namespace) -> int:
 
     if ref is None:
         from ..autopilot.tracking import TrackingReference
-        from ..recording.series import load_reference
+        from ..trajectory import reference_from_result, write_reference
 
         res = optimise_reference(problem)
-        ref = TrackingReference.from_ocp(load_reference(res))  # in memory: no file unless --out
-        ref_path: Path | None = None
         ref_label = f"the optimised {args.scenario} {args.config} reference"
+        # in memory: the content of the file written with --out, no file otherwise
+        ref = TrackingReference.from_ocp(reference_from_result(res, ref_label))
+        ref_path: Path | None = None
         if out_dir is not None:
-            from ..ocp.result import write_reference
-
             ref_path = write_reference(res, out_dir / reference_file_name(args))
             ref_label = str(ref_path)
             print(f"reference trajectory: {ref_path}", file=sys.stderr)

@@ -1,71 +1,47 @@
 """What the MAVLink endpoint needs from the vehicle: telemetry in, commands out.
 
 The endpoint (:mod:`fdm_awe.mavlink.endpoint`) speaks MAVLink; the autopilot speaks
-physics. They meet here, in three small pieces:
+physics. The autopilot defines what it offers (:mod:`fdm_awe.autopilot.vehicle`: ``Waypoint``,
+``VehicleInterface`` and the vehicle ``PHASES``; :mod:`fdm_awe.autopilot.modes`: the mode table
+:data:`MODE_NUMBERS`; :mod:`fdm_awe.autopilot.params`: ``ParamStore``); this module re-exports
+those names and adds the link's side:
 
 ``Telemetry``
     One snapshot of the simulated system, in SI units, ground frame NED with its
     origin at the winch. The flight loop builds it (or a callable that builds it
     lazily) and passes it to ``MavlinkEndpoint.update(t, telemetry)`` every step.
 
-``Waypoint``
-    One point of the reference path: ``north, east, down`` in metres relative to the
-    winch, optionally the reference time within the cycle ``time_s`` and the cycle
-    ``phase``. On the wire a waypoint is a ``MISSION_ITEM_INT`` (``MAV_CMD_NAV_WAYPOINT``,
-    ``MAV_FRAME_GLOBAL_RELATIVE_ALT_INT``); ``time_s`` and ``phase`` have no place in a
-    MAVLink mission item, so a path uploaded from a ground station arrives with
-    ``time_s = phase = None`` and the autopilot decides how to time it (or rejects it
-    through ``set_mission``).
+``Waypoint`` on the wire
+    A ``MISSION_ITEM_INT`` (``MAV_CMD_NAV_WAYPOINT``, ``MAV_FRAME_GLOBAL_RELATIVE_ALT_INT``);
+    ``time_s`` and ``phase`` have no place in a MAVLink mission item, so a path uploaded from a
+    ground station arrives with ``time_s = phase = None``.
 
-``VehicleInterface``
-    The protocol the autopilot implements so a ground station can command it::
-
-        modes: list[str]                 # names from MODE_NUMBERS, incl. MANUAL, AUTO, RECOVER
-        mode: str                        # current mode name
-        set_mode(name) -> bool           # False = refused (stays in the old mode)
-        armed: bool
-        arm(on: bool, force=False) -> bool  # False = refused (a disarm in flight unless forced)
-        cycling: bool                    # pumping cycles running
-        start_cycling() -> bool
-        stop_cycling() -> bool
-        mission() -> list[Waypoint]      # the loaded reference path
-        set_mission(wps) -> (ok, reason) # validate + load; reason says why not
-        clear_mission() -> None
-        params: ParamStore               # gains etc.; PARAM_SET calls their callbacks
-
-    Every method is called from inside ``MavlinkEndpoint.update`` (the simulation
-    thread), so no locking is needed; a method that raises is answered to the ground
-    station as a failure and logged, it never stops the simulation.
+``VehicleInterface`` over the link
+    Every method is called from inside ``MavlinkEndpoint.update`` (the simulation thread), so
+    no locking is needed; a method that raises is answered to the ground station as a failure
+    and logged, it never stops the simulation. ``PARAM_SET`` changes ``params`` (their
+    callbacks run).
 
 Mode numbers (``custom_mode`` in HEARTBEAT, ``DO_SET_MODE`` and ``SET_MODE``) come from the
-single table :data:`MODE_NUMBERS`. Where the meaning matches, the number is ArduPlane's,
-because MAVProxy and other ArduPilot-aware tools name a fixed-wing vehicle's
-``custom_mode`` with ArduPlane's table: MANUAL shows as ``MANUAL``, AUTO as ``AUTO`` and
-RECOVER (the safe abort: brake the drum, reel in the slack, circle down and land at the winch or
-park in a hold) as ``RTL``; MAVLink RTL (MAV_CMD_NAV_RETURN_TO_LAUNCH) switches to it
+autopilot's single table :data:`MODE_NUMBERS` (ArduPlane's numbers where the meaning matches:
+RECOVER shows as ``RTL``); MAVLink RTL (MAV_CMD_NAV_RETURN_TO_LAUNCH) switches to RECOVER
 (:data:`RTL_MODE`). A disarm in flight is refused unless forced (:data:`ARM_DISARM_FORCE`).
+The vehicle phase goes out as a number (:data:`PHASE_CODES`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from fdm_awe.errors import InputError
-from fdm_awe.mavlink.params import ParamStore
+from fdm_awe.autopilot.modes import MODE_NAMES, MODE_NUMBERS, mode_number
+from fdm_awe.autopilot.params import ParamStore
+from fdm_awe.autopilot.vehicle import PHASES, VehicleInterface, Waypoint
 
-#: Mode name -> MAVLink ``custom_mode`` number (ArduPlane numbering where meanings match).
-MODE_NUMBERS: dict[str, int] = {
-    "MANUAL": 0,     # surfaces/throttle straight from the pilot (or held neutral)
-    "FBWA": 5,       # stabilised attitude, no path following
-    "AUTO": 10,      # fly the mission (reference path) and run the pumping cycle
-    "RECOVER": 11,   # safe abort: reel in, circle down, land or park (shown as RTL)
-    "LOITER": 12,    # circle on the tether at constant length
-    "GUIDED": 15,    # hold the current point of the path
-}
+__all__ = ["ARM_DISARM_FORCE", "MODE_NAMES", "MODE_NUMBERS", "PHASES", "PHASE_CODES", "RTL_MODE", "NavTarget",
+           "ParamStore", "Telemetry", "VehicleInterface", "Waypoint", "mode_number"]
 
 #: MAV_CMD_COMPONENT_ARM_DISARM param2 that forces an arm or disarm (ArduPilot's magic
 #: number): without it a disarm in flight is refused.
@@ -74,27 +50,14 @@ ARM_DISARM_FORCE = 21196
 #: MAVLink RTL (MAV_CMD_NAV_RETURN_TO_LAUNCH, MAVProxy ``rtl``) maps to this mode.
 RTL_MODE = "RECOVER"
 
-#: ``custom_mode`` number -> mode name.
-MODE_NAMES: dict[int, str] = {v: k for k, v in MODE_NUMBERS.items()}
-
-#: Cycle phase name -> number sent as NAMED_VALUE_FLOAT ``phase``.
+#: Vehicle phase name (:data:`fdm_awe.autopilot.vehicle.PHASES`) -> number sent as NAMED_VALUE_FLOAT ``phase``.
 PHASE_CODES: dict[str, float] = {
     "ground": 0.0,
     "generation": 1.0,
     "transition": 2.0,
     "recovery": 3.0,
 }
-
-PHASES = tuple(PHASE_CODES)
-
-
-def mode_number(name: str) -> int:
-    """``custom_mode`` number of a mode name; InputError for a name not in MODE_NUMBERS."""
-    try:
-        return MODE_NUMBERS[name]
-    except KeyError:
-        raise InputError(
-            f"mode {name!r}: unknown; allowed: {', '.join(MODE_NUMBERS)}") from None
+assert tuple(PHASE_CODES) == PHASES, "a wire code for every vehicle phase, in order"
 
 
 @dataclass
@@ -185,63 +148,3 @@ class NavTarget:
     alt_error_m: float
     airspeed_error_mps: float
     xtrack_m: float
-
-
-@dataclass(frozen=True)
-class Waypoint:
-    """A point of the reference path, m relative to the winch (NED).
-
-    ``time_s`` is the reference time within the cycle (s) and ``phase`` the cycle phase
-    (one of PHASES); both are optional and are not carried by MAVLink missions.
-    """
-
-    north: float
-    east: float
-    down: float
-    time_s: float | None = None
-    phase: str | None = None
-
-    def __post_init__(self) -> None:
-        for name in ("north", "east", "down"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise InputError(f"waypoint {name}: {v!r} is not a finite number (m)")
-        if self.time_s is not None and not math.isfinite(self.time_s):
-            raise InputError(f"waypoint time_s: {self.time_s!r} is not finite (s)")
-        if self.phase is not None and self.phase not in PHASE_CODES:
-            raise InputError(
-                f"waypoint phase: {self.phase!r}; allowed: {', '.join(PHASES)}")
-
-
-@runtime_checkable
-class VehicleInterface(Protocol):
-    """What a ground station may command; implemented by the autopilot (see module doc)."""
-
-    @property
-    def modes(self) -> list[str]: ...
-
-    @property
-    def mode(self) -> str: ...
-
-    def set_mode(self, name: str) -> bool: ...
-
-    @property
-    def armed(self) -> bool: ...
-
-    def arm(self, on: bool, force: bool = False) -> bool: ...
-
-    @property
-    def cycling(self) -> bool: ...
-
-    def start_cycling(self) -> bool: ...
-
-    def stop_cycling(self) -> bool: ...
-
-    def mission(self) -> list[Waypoint]: ...
-
-    def set_mission(self, waypoints: list[Waypoint]) -> tuple[bool, str]: ...
-
-    def clear_mission(self) -> None: ...
-
-    @property
-    def params(self) -> ParamStore: ...

@@ -105,7 +105,7 @@ def _reference_points(reference: Any) -> tuple[np.ndarray, list[str], Any] | Non
     if reference is None:
         return None
     if hasattr(reference, "pos") and hasattr(reference, "T1") and hasattr(reference, "sample"):
-        from ..autopilot.tracking import PHASE_NAMES
+        from ..trajectory import PHASE_NAMES
 
         pts = np.asarray(reference.pos, float)
         labels = [PHASE_NAMES[int(p)] if 0 <= int(p) < len(PHASE_NAMES) else str(p) for p in reference.phase]

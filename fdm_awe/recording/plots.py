@@ -66,7 +66,7 @@ def _reference_series(reference: Any) -> Series | None:
     if reference is None:
         return None
     if hasattr(reference, "T1") and hasattr(reference, "sample") and hasattr(reference, "pos"):
-        from ..autopilot.tracking import PHASE_NAMES
+        from ..trajectory import PHASE_NAMES
 
         pos = np.asarray(reference.pos, float)
         labels = [PHASE_NAMES[int(p)] if 0 <= int(p) < len(PHASE_NAMES) else str(p) for p in reference.phase]

@@ -7,7 +7,7 @@ duck-typed so a partial run works too:
   :class:`fdm_awe.cosim.FlightResult`, plus ``track_error`` / ``reference_pos``) or a bare
   ``FlightResult``; any number of rows >= 1, NaN where a value does not exist yet (the
   ground-station columns of the initial row);
-- an optimised cycle: a :class:`fdm_awe.ocp.result.ReferenceTrajectory`, a
+- an optimised cycle: a :class:`fdm_awe.trajectory.ReferenceTrajectory`, a
   :class:`fdm_awe.ocp.result.CycleResult` or the path of a reference-trajectory file.
 
 Cumulative energies (J, all >= 0 except net) follow the project's electrical accounting
@@ -21,10 +21,11 @@ and negative parts of ``p_elec`` integrate to the load and supply energies exact
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from ..trajectory import PHASE_NAMES
 
 
 @dataclass
@@ -156,20 +157,11 @@ def _fit(a: Any, n: int, width: int | None = None) -> np.ndarray:
 
 
 def load_reference(ref: Any) -> Any:
-    """A :class:`~fdm_awe.ocp.result.ReferenceTrajectory` from a trajectory, a file path or an
-    ``ok`` :class:`~fdm_awe.ocp.result.CycleResult`."""
-    from ..ocp.result import ReferenceTrajectory, read_reference
+    """A :class:`~fdm_awe.trajectory.ReferenceTrajectory` from a trajectory, a file path or a
+    :class:`~fdm_awe.ocp.result.CycleResult` (:func:`fdm_awe.trajectory.as_reference`)."""
+    from ..trajectory import as_reference
 
-    if isinstance(ref, ReferenceTrajectory):
-        return ref
-    if isinstance(ref, (str, Path)):
-        return read_reference(ref)
-    if hasattr(ref, "columns") and hasattr(ref, "metadata") and callable(getattr(ref, "metadata")):
-        from ..ocp.result import COLUMN_UNITS
-
-        cols = {k: np.asarray(v, float) for k, v in ref.columns.items()}
-        return ReferenceTrajectory(ref.metadata(), cols, {k: COLUMN_UNITS.get(k, "") for k in cols})
-    raise TypeError(f"not a reference trajectory, file or cycle result: {type(ref).__name__}")
+    return as_reference(ref)
 
 
 def cycle_series(ref: Any) -> Series:
@@ -177,7 +169,7 @@ def cycle_series(ref: Any) -> Series:
     tr = load_reference(ref)
     cols = tr.columns
     md = tr.metadata
-    names = list(md.get("phase_names", ["generation", "recovery"]))
+    names = list(md.get("phase_names", PHASE_NAMES))
     t = np.asarray(cols["t"], float)
     phase = [names[int(p)] if 0 <= int(p) < len(names) else str(int(p)) for p in cols["phase"]]
     units = {"x": "m", "y": "m", "z": "m", "V": "m/s", "gamma": "rad", "psi": "rad", "alpha": "rad", "phi": "rad",

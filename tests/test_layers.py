@@ -1,0 +1,124 @@
+"""Dependencies follow the architecture: the autopilot defines its vehicle interface, parameters
+and modes, and the MAVLink package adapts to them (never the other way round); the recordings
+take the phase names from the trajectory module, not from the autopilot; the trajectory module
+(the reference file, its phases and its sampler) depends on neither.
+
+Two views: every import statement of a package's files (also those inside functions, read from
+the source), and the modules a fresh interpreter has loaded after importing each module of a
+package (what the imports pull in transitively).
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import fdm_awe
+
+PKG = Path(fdm_awe.__file__).resolve().parent
+REPO = PKG.parent
+
+#: package (module name prefix) -> the packages it must never import
+RULES = {
+    "fdm_awe.autopilot": ("fdm_awe.mavlink", "fdm_awe.recording", "fdm_awe.commands"),
+    "fdm_awe.recording": ("fdm_awe.autopilot", "fdm_awe.mavlink", "fdm_awe.commands"),
+    "fdm_awe.trajectory": ("fdm_awe.autopilot", "fdm_awe.mavlink", "fdm_awe.recording", "fdm_awe.commands",
+                           "fdm_awe.flight", "fdm_awe.sweep"),
+}
+
+
+def _modules(prefix: str) -> list[str]:
+    """Module names of the package (or module) ``prefix``."""
+    rel = Path(*prefix.split(".")[1:])
+    if (PKG / rel).is_dir():
+        return sorted(".".join(("fdm_awe", *p.relative_to(PKG).with_suffix("").parts)).removesuffix(".__init__")
+                      for p in (PKG / rel).rglob("*.py"))
+    return [prefix]
+
+
+def _source(module: str) -> Path:
+    rel = Path(*module.split(".")[1:])
+    return PKG / rel / "__init__.py" if (PKG / rel).is_dir() else (PKG / rel).with_suffix(".py")
+
+
+def _imports(module: str) -> set[str]:
+    """Every module named by an import statement of ``module``'s source (relative imports resolved)."""
+    path = _source(module)
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    out: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1]
+                name = ".".join(base + ([node.module] if node.module else []))
+            else:
+                name = node.module or ""
+            out.add(name)
+            out.update(f"{name}.{a.name}" for a in node.names)  # ``from pkg import module``
+    return out
+
+
+def _hits(names: set[str], forbidden: tuple[str, ...]) -> list[str]:
+    return sorted(n for n in names if any(n == f or n.startswith(f + ".") for f in forbidden))
+
+
+@pytest.mark.parametrize("layer", sorted(RULES))
+def test_import_statements_follow_the_layers(layer: str) -> None:
+    modules = _modules(layer)
+    assert modules, layer
+    bad = {m: _hits(_imports(m), RULES[layer]) for m in modules}
+    assert not {m: h for m, h in bad.items() if h}, bad
+
+
+def test_loaded_modules_follow_the_layers() -> None:
+    """Import each module of a layer in a fresh interpreter: nothing forbidden gets loaded."""
+    probe = (
+        "import importlib, json, sys\n"
+        "mods = json.loads(sys.argv[1])\n"
+        "before = set(sys.modules)\n"
+        "for m in mods:\n"
+        "    importlib.import_module(m)\n"
+        "print(json.dumps(sorted(set(sys.modules) - before)))\n"
+    )
+    env = dict(os.environ, JSBSIM_DEBUG="0", MPLBACKEND="Agg")
+    env["PYTHONPATH"] = str(REPO) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    for layer, forbidden in RULES.items():
+        mods = _modules(layer)
+        res = subprocess.run([sys.executable, "-c", probe, json.dumps(mods)], cwd=REPO, env=env,
+                             capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr[-2000:]
+        loaded = set(json.loads(res.stdout.strip().splitlines()[-1]))
+        assert set(mods) <= loaded, (layer, set(mods) - loaded)
+        assert not _hits(loaded, forbidden), (layer, _hits(loaded, forbidden))
+
+
+def test_the_mavlink_package_adapts_to_the_autopilot() -> None:
+    """The names the link uses are the autopilot's own objects, re-exported."""
+    from fdm_awe.autopilot import modes, params, vehicle
+    from fdm_awe.mavlink import params as link_params
+    from fdm_awe.mavlink import vehicle as link_vehicle
+
+    assert link_params.ParamStore is params.ParamStore and link_params.Param is params.Param
+    assert link_vehicle.MODE_NUMBERS is modes.MODE_NUMBERS and link_vehicle.MODE_NAMES is modes.MODE_NAMES
+    assert link_vehicle.Waypoint is vehicle.Waypoint and link_vehicle.VehicleInterface is vehicle.VehicleInterface
+    assert tuple(link_vehicle.PHASE_CODES) == vehicle.PHASES  # a wire number for every vehicle phase
+
+
+def test_one_phase_table() -> None:
+    """The autopilot, the optimiser's result and the recordings use the trajectory's phase names."""
+    from fdm_awe import trajectory
+    from fdm_awe.autopilot import tracking
+    from fdm_awe.recording import series
+
+    assert tracking.PHASE_NAMES is trajectory.PHASE_NAMES == ("generation", "recovery")
+    assert (tracking.GENERATION, tracking.RECOVERY) == (trajectory.GENERATION, trajectory.RECOVERY) == (0, 1)
+    assert series.PHASE_NAMES is trajectory.PHASE_NAMES
