@@ -34,9 +34,7 @@ from __future__ import annotations
 
 import functools
 import math
-import os
 import sys
-import warnings
 from typing import Any, Callable
 
 from .cosim_events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
@@ -136,48 +134,27 @@ def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
     return k - k0, code
 
 
-def _cache_follows_sources(kern: Any) -> None:
-    """Tie the on-disk cache of ``kern`` to the source files of the functions compiled into it
-    (numba's cache checks only the file that defines the kernel): an edit of the event check,
-    the row's relations or the ground station's step compiles the kernel anew. Where numba's
-    cache looks otherwise, nothing changes."""
-    from .groundstation import lumped, substeps
-    from .sixdof import native
-
-    cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
-    stamp = getattr(cache_file, "_source_stamp", None)
-    if stamp is None:
-        return
-    deps = []
-    for mod in (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps, lumped, native):
-        st = os.stat(mod.__file__)
-        deps.append((st.st_mtime, st.st_size))
-    cache_file._source_stamp = (stamp, tuple(deps))
-
-
 @functools.lru_cache(maxsize=None)
 def compiled_kernel() -> Callable | None:
     """:func:`cosim_steps` compiled by numba, or None (numba or the compiled ground station
     missing, ``FDM_AWE_JIT=0``)."""
     if station is None or lumped_station is None:
         return None
-    try:
-        import numba
-        from numba.extending import register_jitable
+    from . import wind
+    from .groundstation import lumped, substeps
+    from .jitcache import compile_cached
+    from .sixdof import native
 
-        register_jitable(hook_kinematics)
-        register_jitable(step_event)
-        f8, i8 = numba.float64, numba.int64
-        sig = numba.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
-        kern = numba.njit(cache=True)(cosim_steps)
-        _cache_follows_sources(kern)
-        kern.compile(sig)  # its one signature, compiled or loaded from the cache here
-        kern.disable_compile()
-        return kern
-    except Exception as exc:  # a broken numba install must not stop a simulation
-        warnings.warn(f"fdm_awe.cosim_kernel: numba failed ({exc}); the Python loop runs instead",
-                      RuntimeWarning, stacklevel=2)
-        return None
+    def signature(nb: Any) -> Any:
+        f8, i8 = nb.float64, nb.int64
+        return nb.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
+
+    # tied to the source files of the functions compiled into it (numba's cache checks only
+    # this file): an edit of the event check, the row's relations, the ground station's step,
+    # the lumped line or the wind profile compiles the kernel anew
+    return compile_cached(cosim_steps, signature, (hook_kinematics, step_event),
+                          (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps,
+                           lumped, native, wind), "fdm_awe.cosim_kernel")
 
 
 __all__ = ["EVENT_CODES", "GS_COLUMNS", "N_LIMITS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]

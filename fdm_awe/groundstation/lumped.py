@@ -54,7 +54,6 @@ from __future__ import annotations
 import functools
 import math
 import os
-import warnings
 from typing import Callable
 
 import numpy as np
@@ -475,20 +474,6 @@ _CALLED = (shear_factor, wind_at, line_forces, line_energies, inner_steps, inner
            generalised_tension)
 
 
-def _cache_follows(kern) -> None:
-    """Tie the on-disk cache of ``kern`` also to :mod:`.substeps` (the drum step compiled into it)
-    and :mod:`fdm_awe.wind` (the profile the nodes evaluate)."""
-    from .. import wind
-    from . import substeps
-
-    cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
-    stamp = getattr(cache_file, "_source_stamp", None)
-    if stamp is None:
-        return
-    stamps = tuple((st.st_mtime, st.st_size) for st in (os.stat(substeps.__file__), os.stat(wind.__file__)))
-    cache_file._source_stamp = (stamp, *stamps)
-
-
 @functools.lru_cache(maxsize=None)
 def compiled_lumped() -> Callable | None:
     """:func:`lumped_station_step` compiled by numba (cached on disk), or None (numba missing,
@@ -497,24 +482,17 @@ def compiled_lumped() -> Callable | None:
 
     if compiled_station() is None:
         return None
-    try:
-        import numba
-        from numba.extending import register_jitable
+    from .. import wind
+    from ..jitcache import compile_cached
+    from . import substeps
 
-        _register()
-        for g in _CALLED:
-            register_jitable(g)
-        f8, b1, a = numba.float64, numba.boolean, numba.float64[::1]
-        sig = (a, a, numba.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
-        kern = numba.njit(cache=True)(lumped_station_step)
-        _cache_follows(kern)
-        kern.compile(sig)
-        kern.disable_compile()
-        return kern
-    except Exception as exc:  # a broken numba install must not stop a simulation
-        warnings.warn(f"fdm_awe.groundstation.lumped: numba failed ({exc}); the Python step runs instead",
-                      RuntimeWarning, stacklevel=2)
-        return None
+    def signature(nb):
+        f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
+        return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
+
+    _register()
+    # tied also to the drum step and the wind profile compiled into it
+    return compile_cached(lumped_station_step, signature, _CALLED, (substeps, wind), "fdm_awe.groundstation.lumped")
 
 
 @functools.lru_cache(maxsize=None)
