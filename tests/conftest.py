@@ -6,6 +6,16 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # switch it on in a temporary folder)
 os.environ.setdefault("FDM_AWE_NLP_CACHE", "off")
 
+import signal  # noqa: E402
+
+# The tests exercise Ctrl-C as a user at a terminal sends it. A suite started in the background
+# by a non-interactive shell (or under nohup) inherits SIGINT ignored, and then neither this
+# process nor the commands it starts would see Ctrl-C: restore Python's own handler here, which
+# also gives every child process the default disposition (an ignored signal is inherited across
+# exec, a handler is not).
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+
 import pytest  # noqa: E402
 
 
