@@ -124,8 +124,8 @@ def wind_at(c, z: float) -> tuple[float, float, float]:
     height scaled to this height (:func:`fdm_awe.wind.shear_factor`); plus the gust of the
     moment (the turbulence the glider meets, taken as uniform along the line)."""
     code = c[C_SCODE]
-    if code == 0.0:
-        return c[_C_WN] + c[C_GN], c[_C_WE] + c[C_GE], c[_C_WD] + c[C_GD]
+    if code == 0.0:  # uniform: the gust is already in the station's wind (GroundStation.set_line_wind)
+        return c[_C_WN], c[_C_WE], c[_C_WD]
     f = shear_factor(code, c[C_SPARAM], c[C_SHREF], c[C_SFLOOR], -z)
     return c[C_WRN] * f + c[C_GN], c[C_WRE] * f + c[C_GE], c[C_GD]
 
@@ -148,6 +148,8 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
     k = EA / ls
     cd = 2.0 * c[C_ZETA] * math.sqrt(k * m)
     dk = c[C_DRAGK] * c[_C_DRAGON]
+    sheared = c[C_SCODE] != 0.0  # a wind profile: each segment's wind at its own height
+    wu = (c[_C_WN], c[_C_WE], c[_C_WD])
     for i in range(n + 1):
         s[F + 3 * i] = 0.0
         s[F + 3 * i + 1] = 0.0
@@ -190,7 +192,10 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
         fx, fy, fz = f * ux, f * uy, f * uz
         qx = qy = qz = 0.0
         if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it
-            wx, wy, wz = wind_at(c, az + 0.5 * dz)
+            if sheared:
+                wx, wy, wz = wind_at(c, az + 0.5 * dz)
+            else:  # the uniform wind, read once (keeps the loop as fast as without a profile)
+                wx, wy, wz = wu
             rx = 0.5 * (vax + vbx) - wx
             ry = 0.5 * (vay + vby) - wy
             rz = 0.5 * (vaz + vbz) - wz

@@ -305,6 +305,10 @@ class GroundStation:
         i = lumped.C_SCODE
         self._scl[i:i + 9] = vals
         self._sc[i:i + 9] = vals
+        if code == 0.0:  # uniform: the station's wind plus the gust, read as it is at every node
+            w = [self.wind[k] + vals[6 + k] for k in range(3)]
+            self._scl[19:22] = w
+            self._sc[19:22] = w
 
     @property
     def line_ledger(self) -> "lumped.LineLedger | None":
