@@ -57,7 +57,49 @@ def _term(i: int) -> property:
     return property(get, set_, doc=f"{FIELDS[i]}, J")
 
 
-class EnergyLedger:
+class Balance:
+    """The balance of a ledger whose terms are attributes: ``inputs - losses - delta(stored)``
+    over the term names of the class (``_INPUTS``, ``_LOSSES``, ``_STORES``, ``_INTERFACE``;
+    ``stored0_<s>`` / ``stored_<s>`` the stored energies at the start and now), J. Shared by the
+    ground station's ledger and the lumped line's."""
+
+    __slots__ = ()
+    _INPUTS: tuple[str, ...] = ()
+    _LOSSES: tuple[str, ...] = ()
+    _STORES: tuple[str, ...] = ()
+    _INTERFACE: tuple[str, ...] = ()
+
+    def delta_stored(self) -> float:
+        """Change of the stored energy since the start, J."""
+        return sum(getattr(self, "stored_" + s) - getattr(self, "stored0_" + s) for s in self._STORES)
+
+    def residual(self) -> float:
+        """Inputs - losses - change of stored energy, J (0 when every joule is accounted for)."""
+        return (sum(getattr(self, k) for k in self._INPUTS) - sum(getattr(self, k) for k in self._LOSSES)
+                - self.delta_stored())
+
+    def largest_term(self) -> float:
+        """Largest magnitude among the balance terms (flows and stored-energy changes), J."""
+        terms = [abs(getattr(self, k)) for k in self._INPUTS + self._LOSSES]
+        terms += [abs(getattr(self, "stored_" + s) - getattr(self, "stored0_" + s)) for s in self._STORES]
+        return max(terms) if terms else 0.0
+
+    def relative_residual(self) -> float:
+        """|residual| / largest term (0 when nothing happened)."""
+        big = self.largest_term()
+        return abs(self.residual()) / big if big > 0.0 else 0.0
+
+    def as_dict(self) -> dict[str, float]:
+        """All terms (J) plus ``delta_<store>``, ``residual`` and ``relative_residual``."""
+        d = {k: getattr(self, k) for k in self._INPUTS + self._LOSSES + self._INTERFACE}
+        for s in self._STORES:
+            d["delta_" + s] = getattr(self, "stored_" + s) - getattr(self, "stored0_" + s)
+        d["residual"] = self.residual()
+        d["relative_residual"] = self.relative_residual()
+        return d
+
+
+class EnergyLedger(Balance):
     """Accumulated energy terms (J) since the last :meth:`clear`.
 
     The terms live in one float64 array ``buffer`` (order :data:`FIELDS`); each is also an
@@ -65,6 +107,7 @@ class EnergyLedger:
     ground station keeps its states and its ledger in one array for the compiled step)."""
 
     __slots__ = ("buffer",)
+    _INPUTS, _LOSSES, _STORES, _INTERFACE = INPUTS, LOSSES, STORES, INTERFACE
 
     def __init__(self, buffer: np.ndarray | None = None) -> None:
         if buffer is None:
@@ -88,35 +131,6 @@ class EnergyLedger:
         self.stored_inductor = inductor
         self.stored_capacitor = capacitor
         self.stored_elastic = elastic
-
-    def delta_stored(self) -> float:
-        """Change of the stored energy since :meth:`clear`, J."""
-        return sum(getattr(self, "stored_" + s) - getattr(self, "stored0_" + s) for s in STORES)
-
-    def residual(self) -> float:
-        """Inputs - losses - change of stored energy, J (0 when every joule is accounted for)."""
-        return (sum(getattr(self, k) for k in INPUTS) - sum(getattr(self, k) for k in LOSSES)
-                - self.delta_stored())
-
-    def largest_term(self) -> float:
-        """Largest magnitude among the balance terms (flows and stored-energy changes), J."""
-        terms = [abs(getattr(self, k)) for k in INPUTS + LOSSES]
-        terms += [abs(getattr(self, "stored_" + s) - getattr(self, "stored0_" + s)) for s in STORES]
-        return max(terms) if terms else 0.0
-
-    def relative_residual(self) -> float:
-        """|residual| / largest term (0 when nothing happened)."""
-        big = self.largest_term()
-        return abs(self.residual()) / big if big > 0.0 else 0.0
-
-    def as_dict(self) -> dict[str, float]:
-        """All terms (J) plus ``delta_<store>``, ``residual`` and ``relative_residual``."""
-        d = {k: getattr(self, k) for k in INPUTS + LOSSES + INTERFACE}
-        for s in STORES:
-            d["delta_" + s] = getattr(self, "stored_" + s) - getattr(self, "stored0_" + s)
-        d["residual"] = self.residual()
-        d["relative_residual"] = self.relative_residual()
-        return d
 
 
 for _i, _name in enumerate(FIELDS):

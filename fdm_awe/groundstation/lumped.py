@@ -59,7 +59,7 @@ from typing import Callable
 import numpy as np
 
 from ..errors import InputError
-from .ledger import FIELDS as _DT_LEDGER
+from .ledger import FIELDS as _DT_LEDGER, Balance
 from ..wind import shear_factor
 from .substeps import _DRAG_W, _WEIGHT_W, STATE as _DT_STATE, STATION_CONSTANTS, advance, machine_mode_code
 
@@ -546,8 +546,10 @@ def tensions(s: np.ndarray, n: int) -> np.ndarray:
     return s[a:a + n].copy()
 
 
-class LineLedger:
+class LineLedger(Balance):
     """The line's energy ledger (J) as a view of the ground station's state array."""
+
+    _INPUTS, _LOSSES, _STORES, _INTERFACE = INPUTS, LOSSES, STORES, INTERFACE
 
     def __init__(self, s: np.ndarray) -> None:
         self._s = s
@@ -563,27 +565,9 @@ class LineLedger:
                 self._s[LED + i] = 0.0
         self._s[L_S0K], self._s[L_S0E], self._s[L_S0P] = self._s[L_SK], self._s[L_SE], self._s[L_SP]
 
-    def delta_stored(self) -> float:
-        return sum(getattr(self, "stored_" + k) - getattr(self, "stored0_" + k) for k in STORES)
-
-    def residual(self) -> float:
-        """Inputs - losses - change of stored energy, J: the integrator's error."""
-        return sum(getattr(self, k) for k in INPUTS) - sum(getattr(self, k) for k in LOSSES) - self.delta_stored()
-
-    def largest_term(self) -> float:
-        t = [abs(getattr(self, k)) for k in INPUTS + LOSSES]
-        t += [abs(getattr(self, "stored_" + k) - getattr(self, "stored0_" + k)) for k in STORES]
-        return max(t)
-
-    def relative_residual(self) -> float:
-        big = self.largest_term()
-        return abs(self.residual()) / big if big > 0.0 else 0.0
-
     def as_dict(self) -> dict[str, float]:
-        d = {k: getattr(self, k) for k in INPUTS + LOSSES + INTERFACE}
-        for k in STORES:
-            d["delta_" + k] = getattr(self, "stored_" + k) - getattr(self, "stored0_" + k)
+        """The balance's terms (:meth:`Balance.as_dict`) and ``coupling``, the drum's one-sub-step
+        lag: the elastic energy the line handed over minus what the drum booked, J."""
+        d = super().as_dict()
         d["coupling"] = self.payout_work - self.drum_handover
-        d["residual"] = self.residual()
-        d["relative_residual"] = self.relative_residual()
         return d

@@ -100,7 +100,7 @@ from pymavlink import mavutil  # noqa: E402
 from pymavlink.dialects.v20 import common as mav  # noqa: E402
 
 from fdm_awe.mavlink import signing as _signing  # noqa: E402
-from fdm_awe.mavlink.messages import RATES as _EXTRA_RATES, SENDERS as _EXTRA_SENDERS  # noqa: E402
+from fdm_awe.mavlink.messages import RATES as _EXTRA_RATES, SENDERS as _EXTRA_SENDERS, _f  # noqa: E402
 from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
 from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
@@ -163,14 +163,6 @@ def _clamp_int(x: Any, lo: int, hi: int, default: int) -> int:
     if not math.isfinite(xf):
         return default
     return int(min(hi, max(lo, round(xf))))
-
-
-def _f(x: Any, default: float = 0.0) -> float:
-    try:
-        xf = float(x)
-    except (TypeError, ValueError):
-        return default
-    return xf if math.isfinite(xf) else default
 
 
 def _vec3(v: Any) -> tuple[float, float, float]:

@@ -51,6 +51,7 @@ _SATELLITES = 12
 
 
 def _f(x: Any, default: float = 0.0) -> float:
+    """``x`` as a finite float, else ``default`` (telemetry fields may be missing or NaN)."""
     try:
         v = float(x)
     except (TypeError, ValueError):
