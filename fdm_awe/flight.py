@@ -353,7 +353,7 @@ def fly(
     cycles: int = 3,
     dt: float = 1.0 / 120.0,
     turbulence: tuple[str, int] | None = None,
-    on_step: Callable[[int, Any, Any], None] | None = None,
+    on_step: Callable[[int, Any, Any], bool | None] | None = None,
     params: Any = None,
     setup: Callable[[Any, Any], None] | None = None,
     t_end: float | None = None,
@@ -364,7 +364,8 @@ def fly(
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
     ``setup(autopilot, cosim)`` is called before the run (e.g. to attach a MAVLink endpoint);
-    ``on_step(k, state, gs_output)`` after every step. ``t_end`` overrides the flight length.
+    ``on_step(k, state, gs_output)`` after every step; a true return ends the flight there
+    (status ``ok``, as the end of the reference would). ``t_end`` overrides the flight length.
     ``plant``: ``"physical"`` (JSBSim propeller + ground station) or ``"paper"`` (ideal thruster +
     kinematic winch, :mod:`fdm_awe.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
     the defined line) scales the ground station's line drag on the glider, as
@@ -513,8 +514,8 @@ def fly(
             shape_t.append(k * dt)
             shape_nodes.append(gs.line_nodes())
             shape_tension.append(gs.line_tensions())
-        if on_step is not None:
-            on_step(k, s, o)
+        if on_step is not None and on_step(k, s, o):
+            return True  # the caller ends the flight here
         if t_end is None and ap.mode == "AUTO" and ap.s_ref >= s_end:
             done[1] = True
             return True

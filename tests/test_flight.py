@@ -86,11 +86,14 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
     from fdm_awe.mavlink.vehicle import MODE_NUMBERS
     from fdm_awe.pacing import RealtimePacer
 
-    sock = __import__("socket").socket(2, 2)
+    import socket
+
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     sock.bind(("127.0.0.1", 0))
     port = sock.getsockname()[1]
     sock.close()
     gcs = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}", source_system=255, source_component=190)
+    gcs.port.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)  # room for seconds of telemetry
     out: dict = {}
     holder: dict = {}
 
@@ -124,10 +127,17 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
                 break
             it = items[m.seq]
             gcs.mav.mission_item_int_send(1, 1, m.seq, it.frame, it.command, 0, 1, 0, 0, 0, 0, it.x, it.y, it.z)
-        time.sleep(3.0)
+        # the uploaded path is flown a while: the ground station keeps the link up and keeps
+        # reading (a reader that pauses lets the socket's buffer fill with telemetry, and the
+        # kernel then drops the next datagram, which may be the COMMAND_ACK awaited below)
+        t_hold = time.monotonic() + 3.0
+        while time.monotonic() < t_hold:
+            gcs.mav.heartbeat_send(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+            wait("NO_SUCH_MESSAGE", timeout=0.5)
         gcs.mav.command_long_send(1, 1, mav.MAV_CMD_DO_SET_MODE, 0, mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED,
                                   MODE_NUMBERS["RECOVER"], 0, 0, 0, 0, 0)
         out["mode_ack"] = wait("COMMAND_ACK", lambda m: m.command == mav.MAV_CMD_DO_SET_MODE)
+        out["t_done"] = holder["t"]
         out["done"] = True
 
     params = autopilot_params(store=ParamStore(tmp_path / "params.json"))
@@ -139,6 +149,7 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
         holder["pacer"] = RealtimePacer(2.0)
 
     def on_step(k, s, o):
+        holder["t"] = s.t
         holder["build"].integrate(s)
         holder["ep"].update(s.t, lambda: holder["build"](s, o))
         holder["pacer"].wait(s.t)
@@ -148,9 +159,12 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
         if out.get("upload_ack") is not None and "mission_at_upload" not in holder:
             holder["mission_at_upload"] = holder["ap"].reference.meta.get("source")
             holder["k_upload"] = k
+        # the flight ends 2 s (simulated) after the ground station's last command, however slow
+        # the machine; t_end only bounds a ground station that never finishes
+        return out.get("done") and s.t >= out["t_done"] + 2.0
 
     try:
-        rep = fly(reference, config="nominal", cycles=1, t_end=40.0, params=params, setup=setup, on_step=on_step)
+        rep = fly(reference, config="nominal", cycles=1, t_end=150.0, params=params, setup=setup, on_step=on_step)
     finally:
         holder["thread"].join(timeout=10.0)
         holder["ep"].close()
