@@ -515,7 +515,7 @@ def _meta_choice(src: str, md: dict[str, Any], key: str, allowed: tuple[str, ...
 
 def _check_wind(src: str, md: dict[str, Any]) -> None:
     """Wind speed, direction and NED vector: in range and consistent; the missing ones filled in."""
-    from .pointmass import wind_vector
+    from .pointmass.model import wind_vector
 
     speed = _meta_number(src, md, "wind_mps", 0.0, WIND_MAX, unit="m/s")
     from_deg = _meta_number(src, md, "wind_from_deg", -360.0, 360.0, unit="deg")
@@ -750,7 +750,7 @@ def read_reference(path: str | Path) -> ReferenceTrajectory:
     file, the field and the allowed range or form; the returned metadata carries checked
     ``scenario``, ``config``, ``T1_s``, ``T2_s``, ``period_s``, ``wind_mps``, ``wind_from_deg``,
     ``wind_ned_mps`` and ``tether_drag_scale`` (1 when the file predates it); ``line`` is checked
-    when present (absent: Table 1's ``paper`` line, as :func:`fdm_awe.flight.fly` reads it).
+    when present (absent: Table 1's ``paper`` line, as :func:`fdm_awe.sim.flight.fly` reads it).
     """
     p = Path(path)
     return check_reference_document(_load_json(p), str(p))

@@ -16,7 +16,7 @@ holds its value at the floor: the logarithm changes sign at ``z0`` and the power
 infinite slope at the ground, and neither describes the air among the roughness elements. The
 glider keeps at least the ground clearance ``h_min`` (10 m by default), far above the floor.
 
-:meth:`WindProfile.factor` is written with :mod:`fdm_awe.mathops`, so the same expression
+:meth:`WindProfile.factor` is written with :mod:`fdm_awe.pointmass.mathops`, so the same expression
 evaluates on floats, NumPy arrays and CasADi symbols (the optimiser's).
 
 The text form (command line ``--wind-profile`` and sweep points) is ``uniform``,
@@ -30,7 +30,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Sequence
 
-from . import mathops as mo
+from .pointmass import mathops as mo
 from .errors import InputError
 
 #: profile kinds

@@ -9,7 +9,7 @@
   the last two also with the Python loop (``CoSim(compiled=False)``), its reference;
 - real-time factor of a 30 s flight at 120 Hz (a kite hovering on 50 m of line in 14 m/s wind,
   winch held by the PI speed loop at zero reel speed);
-- for scale, one pumping cycle flown by the autopilot (``fdm_awe.flight.fly`` on the stored
+- for scale, one pumping cycle flown by the autopilot (``fdm_awe.sim.flight.fly`` on the stored
   physical nominal 8 m/s reference of the tests, no recording), compiled and Python loop: the
   share of a step that is the autopilot's (docs/design.md section 9 counts it in the step).
 
@@ -34,7 +34,7 @@ import time
 
 os.environ.setdefault("JSBSIM_DEBUG", "0")
 
-from fdm_awe.cosim import CoSim, Limits  # noqa: E402
+from fdm_awe.sim.loop import CoSim, Limits  # noqa: E402
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station  # noqa: E402
 from fdm_awe.groundstation.substeps import compiled_station  # noqa: E402
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer  # noqa: E402
@@ -122,7 +122,7 @@ def bench_autopilot_cycle(compiled: bool | None = None) -> tuple[float, float, i
     """One pumping cycle of the stored reference flown by the autopilot: wall s per step,
     real-time factor, steps and status (``compiled`` False: the Python loop)."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(REFERENCE)
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from fdm_awe.mavlink.endpoint import MavlinkEndpoint
 from fdm_awe.mavlink.vehicle import Telemetry
-from fdm_awe.pacing import RealtimePacer
+from fdm_awe.sim.pacing import RealtimePacer
 
 
 _LISTENER = r"""

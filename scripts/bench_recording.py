@@ -47,7 +47,7 @@ def main(argv: list[str] | None = None) -> int:
     import rerun  # noqa: F401  (import cost is paid once per process, not per flight)
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
     from fdm_awe.recording import record_flight
 
     ref = TrackingReference.from_ocp_file(args.reference) if args.reference else circle_reference()

@@ -28,7 +28,7 @@ import time
 
 os.environ.setdefault("JSBSIM_DEBUG", "0")
 
-from fdm_awe.cosim import CoSim, Limits  # noqa: E402
+from fdm_awe.sim.loop import CoSim, Limits  # noqa: E402
 from fdm_awe.fileio import write_json  # noqa: E402
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station  # noqa: E402
 from fdm_awe.groundstation import lumped  # noqa: E402

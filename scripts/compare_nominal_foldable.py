@@ -47,7 +47,7 @@ def optimise_pair(scenario: str, wind: float, out: Path, quiet: bool | None) -> 
 def fly_pair(results: dict[str, Any], out: Path, quiet: bool | None) -> list[Any]:
     """One cycle of each ``ok`` reference; recordings, plots, CSV, report in out/<config>/."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
     from fdm_awe.progress import FlightProgress
     from fdm_awe.recording import flight_outputs
 

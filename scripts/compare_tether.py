@@ -71,7 +71,7 @@ def carried_shares(rep) -> tuple[float, float, float, float, float]:
 
 def fly_one(ref_file: str, model: str, cycles: int) -> dict:
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(os.path.join(ROOT, "tests", "data", ref_file))
     rep = fly(ref, config=ref.meta["config"], cycles=cycles, tether=model)

@@ -38,7 +38,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
     from fdm_awe.progress import FlightProgress, activity
     from fdm_awe.recording import cycle_outputs, flight_outputs
 

@@ -35,7 +35,7 @@ os.environ.setdefault("JSBSIM_DEBUG", "0")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import bench_cosim as bc  # noqa: E402
-from fdm_awe.cosim import CoSim, Limits  # noqa: E402
+from fdm_awe.sim.loop import CoSim, Limits  # noqa: E402
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station  # noqa: E402
 from fdm_awe.sixdof import Stabilizer  # noqa: E402
 

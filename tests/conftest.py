@@ -27,9 +27,9 @@ class WorkStarted(AssertionError):
 def no_work(monkeypatch):
     """Every command's work raises :class:`WorkStarted` (fly: the flight, optimize/compare and
     fly without a reference: the optimisation, sweep: the sweep, info: the glide computations)."""
-    import fdm_awe.flight as flight
+    import fdm_awe.sim.flight as flight
     import fdm_awe.ocp.solve as solve
-    import fdm_awe.performance as performance
+    import fdm_awe.pointmass.performance as performance
     import fdm_awe.sweep.execute as execute
 
     def spy(name):

@@ -15,10 +15,10 @@ from flight_helpers import DATA
 from fdm_awe.autopilot.autopilot import Autopilot, MotorGate, _flip_short, reference_fold_time
 from fdm_awe.autopilot.config import autopilot_params
 from fdm_awe.autopilot.tracking import TrackingReference
-from fdm_awe.cosim import COLUMNS
+from fdm_awe.sim.loop import COLUMNS
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.errors import InputError
-from fdm_awe.flight import fly
+from fdm_awe.sim.flight import fly
 from fdm_awe.ocp.model import fold_fraction
 from fdm_awe.ocp.result import COLUMN_UNITS, CycleResult, check_reference_document, read_reference, write_reference
 from fdm_awe.sixdof import JSBSimGlider

@@ -69,7 +69,7 @@ def nominal_flight():
     written by the optimiser and kept as test data."""
     from flight_helpers import DATA
 
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(DATA / "ref_physical_nominal_8mps_sized.json"))
     assert ref.meta["config"] == "nominal" and ref.meta["line"] == "sized" and ref.meta["motor_off"]
@@ -82,7 +82,7 @@ def test_the_drum_stays_held_where_the_reference_holds_it(nominal_flight):
     reference. Inverting the propeller's thrust on the airspeed axis left its T sin(alpha)
     (~0.3 N) in the pull, and the drum paid out ~2 m there (the glider climbing that much
     further, on thrust); with the thrust on the body axis less than 1 m goes out."""
-    from fdm_awe.cosim import COLUMNS
+    from fdm_awe.sim.loop import COLUMNS
 
     ref, rep = nominal_flight
     gen = ref.phase == 0
@@ -117,7 +117,7 @@ def test_foldable_cycle_within_ten_percent_of_the_optimised_net():
     folding for the recovery."""
     from flight_helpers import DATA, assert_cycle_accepted
 
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(DATA / "ref_physical_foldable_8mps_sized.json"))
     assert ref.meta["config"] == "foldable" and ref.meta["line"] == "sized" and ref.meta["fold_time_s"] == 2.0

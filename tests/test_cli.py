@@ -101,7 +101,7 @@ def test_fly_flies_the_line_drag_scale_of_the_reference(tmp_path, monkeypatch, c
     import json
     from pathlib import Path
 
-    import fdm_awe.flight as flight
+    import fdm_awe.sim.flight as flight
 
     doc = json.loads((Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json").read_text())
     doc["metadata"]["tether_drag_scale"] = 0.5

@@ -172,7 +172,7 @@ def test_options_a_reference_fixes_are_refused(tmp_path, no_work, capsys):
 def test_config_or_scenario_other_than_the_reference_is_refused_unless_allowed(tmp_path, monkeypatch, capsys):
     """A nominal reference flown as foldable (and the reverse, and physical as paper) is
     refused; --allow-mismatch flies it with a warning line."""
-    import fdm_awe.flight as flight
+    import fdm_awe.sim.flight as flight
 
     calls = []
     real = flight.fly

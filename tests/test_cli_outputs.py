@@ -112,9 +112,9 @@ def test_output_equal_to_an_input_is_refused(tmp_path, no_work, capsys):
 
 
 def _short_flights(monkeypatch, t_end: float = 3.0, mode: str | None = None) -> list[dict]:
-    """``fdm_awe.flight.fly`` flies ``t_end`` seconds (optionally starting in ``mode``); returns
+    """``fdm_awe.sim.flight.fly`` flies ``t_end`` seconds (optionally starting in ``mode``); returns
     the list the keyword arguments of each call are appended to."""
-    import fdm_awe.flight as flight
+    import fdm_awe.sim.flight as flight
 
     calls: list[dict] = []
     real = flight.fly
@@ -141,7 +141,7 @@ def test_fly_json_of_a_flight_ended_by_an_event_has_null_for_nan(tmp_path, monke
     within seconds (exit 1). Numbers the report cannot compute are NaN in
     Python (injected here into the real report: the ledger residual and one ledger term); the
     JSON is strict JSON with null for them."""
-    import fdm_awe.flight as flight
+    import fdm_awe.sim.flight as flight
     from fdm_awe.sixdof.state import Surfaces
 
     real = flight.fly
@@ -228,7 +228,7 @@ def test_writers_leave_no_partial_file_when_they_raise(tmp_path, monkeypatch):
         raise KeyboardInterrupt
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     rep = fly(TrackingReference.from_ocp_file(str(REF)), config="nominal", cycles=1, t_end=1.0)
     monkeypatch.setattr(recflight, "_log_events", boom)

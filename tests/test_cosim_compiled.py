@@ -1,4 +1,4 @@
-"""The compiled co-simulation loop (fdm_awe.cosim_kernel + fdm_awe.sixdof.native) against the
+"""The compiled co-simulation loop (fdm_awe.sim.kernel + fdm_awe.sixdof.native) against the
 Python loop it replaces: the same flights, bit for bit, the same events and messages, the same
 ground-station state and energy ledger; and the fall-backs where it cannot run."""
 
@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from fdm_awe import cosim_events as ce
-from fdm_awe.cosim import STATUSES, CoSim, Limits
+from fdm_awe.sim.loop import STATUSES, CoSim, Limits
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
@@ -272,7 +272,7 @@ def test_step_event_compiled_equals_python_and_reaches_every_code():
 def test_kernel_row_layout_matches_the_logged_columns():
     """The compiled step's ground-station columns start with CoSim's logged ones, in order."""
     from fdm_awe import cosim_kernel as ck
-    from fdm_awe.cosim import COLUMNS
+    from fdm_awe.sim.loop import COLUMNS
 
     logged = COLUMNS[COLUMNS.index("tension"):COLUMNS.index("fz") + 1]
     assert tuple(c.replace("p_electrical", "p_elec") for c in ck.GS_COLUMNS[:len(logged)]) == logged

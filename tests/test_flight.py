@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.tracking import TrackingReference
-from fdm_awe.flight import LAND_SINK_MAX, fly
+from fdm_awe.sim.flight import LAND_SINK_MAX, fly
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +84,7 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
     from fdm_awe.mavlink.endpoint import MavlinkEndpoint
     from fdm_awe.mavlink.params import ParamStore
     from fdm_awe.mavlink.vehicle import MODE_NUMBERS
-    from fdm_awe.pacing import RealtimePacer
+    from fdm_awe.sim.pacing import RealtimePacer
 
     import socket
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.tracking import TrackingReference
-from fdm_awe.flight import (NO_CYCLE, OTHER_PHASE, CycleMetrics, CycleSpan, FlightReport, cycle_metrics, fly,
+from fdm_awe.sim.flight import (NO_CYCLE, OTHER_PHASE, CycleMetrics, CycleSpan, FlightReport, cycle_metrics, fly,
                             segment_cycles)
 
 pytestmark = pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")

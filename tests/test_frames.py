@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from fdm_awe.frames import c_cn, c_to_n, n_to_c, tether_direction_ned
+from fdm_awe.pointmass.frames import c_cn, c_to_n, n_to_c, tether_direction_ned
 
 
 def C1(a):

@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 from fdm_awe.autopilot.guidance import Guidance, GuidanceGains
 from fdm_awe.autopilot.tracking import TrackingReference
 from fdm_awe.definitions.aircraft import load_glider
-from fdm_awe.pointmass import Environment, PointMassModel
+from fdm_awe.pointmass.model import Environment, PointMassModel
 
 GAINS = GuidanceGains(kp=0.6, kd=1.4, ki=0.02, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35, phi_max=1.2, thrust_max=8.0)
 
@@ -352,7 +352,7 @@ def test_scalar_guidance_is_the_vector_formulas_bit_for_bit(variant):
 def test_guidance_polar_is_the_6dof_models_fold_blend():
     """The guidance inverts the polar the 6-DOF model flies: aero.fold_blend (C S linear in the
     fold state on the unfolded area), the unfolded and folded forms at its ends."""
-    from fdm_awe.aero import fold_blend
+    from fdm_awe.pointmass.aero import fold_blend
     from fdm_awe.autopilot.guidance import blended_polar
 
     g = load_glider()

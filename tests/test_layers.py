@@ -29,7 +29,7 @@ RULES = {
     "fdm_awe.autopilot": ("fdm_awe.mavlink", "fdm_awe.recording", "fdm_awe.commands"),
     "fdm_awe.recording": ("fdm_awe.autopilot", "fdm_awe.mavlink", "fdm_awe.commands"),
     "fdm_awe.trajectory": ("fdm_awe.autopilot", "fdm_awe.mavlink", "fdm_awe.recording", "fdm_awe.commands",
-                           "fdm_awe.flight", "fdm_awe.sweep"),
+                           "fdm_awe.sim.flight", "fdm_awe.sweep"),
 }
 
 

@@ -211,7 +211,7 @@ def test_a_file_without_the_selected_line(tmp_path):
 
 
 def test_the_paper_plant_uses_table_1s_line():
-    from fdm_awe.paper_plant import IdealWinch
+    from fdm_awe.sim.paper_plant import IdealWinch
 
     assert IdealWinch().params.tether == load_ground_station(line="paper").tether
 
@@ -222,7 +222,7 @@ class _Built(Exception):
 
 def _flown_line(ref) -> str:
     """Name of the line ``fly`` builds its ground station with for ``ref`` (nothing flown)."""
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     seen = {}
 
@@ -240,7 +240,7 @@ def test_a_flight_uses_the_line_of_its_reference():
     Table 1's line and flies it; a reference that names a line flies that line; an unknown name
     is refused in one line before JSBSim loads."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"))
     assert "line" not in ref.meta

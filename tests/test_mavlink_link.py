@@ -24,7 +24,7 @@ from fdm_awe.errors import InputError
 from fdm_awe.mavlink.endpoint import DEFAULT_RATES, MavlinkEndpoint
 from fdm_awe.mavlink.geo import GeoFrame, Home
 from fdm_awe.mavlink.params import ParamStore
-from fdm_awe.pacing import RealtimePacer
+from fdm_awe.sim.pacing import RealtimePacer
 
 TEST_RATES = {"HEARTBEAT": 1.0, "ATTITUDE": 20.0, "GLOBAL_POSITION_INT": 10.0, "VFR_HUD": 4.0,
               "SYS_STATUS": 2.0, "BATTERY_STATUS": 1.0, "HOME_POSITION": 0.5,

@@ -11,7 +11,7 @@ from fdm_awe.errors import DefinitionError, InputError
 from fdm_awe.mavlink.geo import GeoFrame, Home
 from fdm_awe.mavlink.params import ParamStore
 from fdm_awe.mavlink.vehicle import MODE_NAMES, MODE_NUMBERS, Waypoint, mode_number
-from fdm_awe.pacing import RealtimePacer
+from fdm_awe.sim.pacing import RealtimePacer
 
 
 # ---------------------------------------------------------------- ParamStore

@@ -210,7 +210,7 @@ def test_physical_foldable_cycle_exists_only_with_static_thrust():
     some starts; measured: the first one, a 10 s recovery loop of 40 m)."""
     from fdm_awe.ocp.guess import default_starts, loop_guess
     from fdm_awe.ocp.solve import ELASTIC_PENALTY, _accept
-    from fdm_awe.pointmass import wind_vector
+    from fdm_awe.pointmass.model import wind_vector
 
     pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE, **FAILING_FOLD_PLANT)
     nlp, _ = get_nlp(pr)
@@ -377,7 +377,7 @@ def test_ipopt_instances_share_derivatives_bit_identically():
     first one generated: a warm solve with such an instance is bit-identical to one with an
     instance that generated its own."""
     from fdm_awe.ocp.solve import WARM_OPTIONS
-    from fdm_awe.pointmass import wind_vector
+    from fdm_awe.pointmass.model import wind_vector
 
     pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, mesh=Mesh(6, 4, 3))
     first = solve_cycle(pr, coarse=None, cache=False)

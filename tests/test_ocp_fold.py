@@ -15,7 +15,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from fdm_awe.aero import POLAR_FIELDS, fold_blend
+from fdm_awe.pointmass.aero import POLAR_FIELDS, fold_blend
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.errors import InputError
 from fdm_awe.ocp.collocation import STATE_SCALE, CycleNLP, fold_intervals

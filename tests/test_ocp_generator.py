@@ -148,7 +148,7 @@ def test_boost_reference_carries_the_duty_to_the_winch_command(three_generators,
 
 def test_ideal_reference_is_refused_by_a_flight(three_generators, tmp_path):
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     path = write_reference(three_generators["ideal"], tmp_path / "ideal.json")
     with pytest.raises(InputError, match="generator: 'ideal'"):
@@ -160,7 +160,7 @@ def test_flight_json_names_the_line_and_the_generator_it_flew():
     from flight_helpers import DATA
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     rep = fly(TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps_sized.json"), config="nominal",
               cycles=1, t_end=2.0)

@@ -152,7 +152,7 @@ def test_reference_without_a_line_is_table1s_and_a_bad_line_is_refused(tmp_path)
 
 def test_a_flight_takes_the_line_of_its_reference():
     """What `fly` flies: the reference metadata's line, checked before JSBSim loads."""
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
     from fdm_awe.autopilot.tracking import TrackingReference
 
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps.json")

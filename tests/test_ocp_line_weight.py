@@ -15,7 +15,7 @@ from fdm_awe.ocp.energy import WinchElectrics
 from fdm_awe.ocp.model import CycleModel
 from fdm_awe.ocp.problem import CycleProblem, Mesh
 from fdm_awe.ocp.solve import solve_cycle, structure_key
-from fdm_awe.pointmass import Environment, PointMassModel
+from fdm_awe.pointmass.model import Environment, PointMassModel
 
 
 def test_a_downward_force_enters_like_gravity():

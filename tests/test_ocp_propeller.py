@@ -1,5 +1,5 @@
 """The optimiser with the 6-DOF glider's own drive (propeller model "engine"): the phase models
-book exactly fdm_awe.propeller.power_engine, the choice is validated, and a cycle solves and
+book exactly fdm_awe.pointmass.propeller.power_engine, the choice is validated, and a cycle solves and
 carries the model in its metadata."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from fdm_awe.ocp.energy import WinchElectrics
 from fdm_awe.ocp.model import CycleModel
 from fdm_awe.ocp.problem import CycleProblem, Mesh
 from fdm_awe.ocp.solve import solve_cycle, structure_key
-from fdm_awe.propeller import power_engine, power_physical
+from fdm_awe.pointmass.propeller import power_engine, power_physical
 
 
 def test_engine_propeller_is_booked_by_both_phases():

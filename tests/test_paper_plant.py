@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.groundstation import WinchCommand, load_ground_station
-from fdm_awe.paper_plant import IdealThruster, IdealWinch
+from fdm_awe.sim.paper_plant import IdealThruster, IdealWinch
 from fdm_awe.units import LBF
 
 DT = 1.0 / 120.0
@@ -120,7 +120,7 @@ def test_ideal_thruster_force_along_body_x_and_paper_power():
 @pytest.fixture(scope="module")
 def paper_flight():
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_foldable_3mps.json"))
     return ref, fly(ref, config="foldable", cycles=1, plant="paper")
@@ -149,7 +149,7 @@ def test_paper_plant_flies_a_paper_cycle(paper_flight):
 
 def test_paper_plant_flight_is_deterministic():
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_foldable_3mps.json"))
     docs = [fly(ref, config="foldable", cycles=1, plant="paper", t_end=6.0).as_json() for _ in range(2)]
@@ -167,7 +167,7 @@ def test_paper_plant_flies_three_cycles_in_moderate_turbulence(seed):
     flight (LIM_BANK_VERT), seed 7 ended at the recovery -> generation dive (t = 37 s) and
     seed 1 in the third cycle (t = 81 s), both on the 40 m/s airspeed limit."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(Path(__file__).parent / "data" / "ref_paper_foldable_3mps.json"))
     rep = fly(ref, config="foldable", cycles=3, plant="paper", turbulence=("moderate", seed))
@@ -185,7 +185,7 @@ def test_paper_nominal_cycle_with_a_flight_path_bound_is_flown():
     from flight_helpers import DATA, assert_cycle_accepted
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(DATA / "ref_paper_nominal_3mps_gamma07.json"))
     assert ref.meta["bounds"]["gamma_max"] == 0.7 and ref.meta["config"] == "nominal"

@@ -7,8 +7,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from fdm_awe.definitions.aircraft import load_glider
-from fdm_awe.performance import steady_glide
-from fdm_awe.pointmass import Environment, PointMassModel, wind_vector
+from fdm_awe.pointmass.performance import steady_glide
+from fdm_awe.pointmass.model import Environment, PointMassModel, wind_vector
 
 
 @pytest.fixture(scope="module")

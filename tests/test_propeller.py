@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.definitions.aircraft import load_airframe
-from fdm_awe.propeller import induced_velocity, power, power_paper, power_physical
+from fdm_awe.pointmass.propeller import induced_velocity, power, power_paper, power_physical
 
 
 @pytest.fixture(scope="module")
@@ -78,7 +78,7 @@ def test_engine_model_is_the_jsbsim_drive(prop):
     the whole chain agrees within 3 %: the glider still changes speed and the rotor follows
     (engine and propeller powers differ by the rotor's acceleration)."""
     from fdm_awe.definitions.engine import load_electric_drive
-    from fdm_awe.propeller import engine_operating_point, power_engine
+    from fdm_awe.pointmass.propeller import engine_operating_point, power_engine
     from fdm_awe.sixdof import JSBSimGlider
     from fdm_awe.sixdof.state import Surfaces
     from fdm_awe.units import FT, LBF

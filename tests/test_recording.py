@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from fdm_awe.cosim import COLUMNS, Event, FlightResult
+from fdm_awe.sim.loop import COLUMNS, Event, FlightResult
 from fdm_awe.recording import (
     export_csv, export_cycle_csv, flight_markdown, plot_compare, plot_cycle, plot_flight, record_cycle,
     record_flight, rrd_entities, rrd_verify, table3_markdown,
@@ -38,7 +38,7 @@ def circle():
 
 @pytest.fixture(scope="module")
 def flight(circle):
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     return fly(circle, config="foldable", cycles=1, t_end=3.0)
 
@@ -46,7 +46,7 @@ def flight(circle):
 @pytest.fixture(scope="module")
 def interrupted(circle):
     """A flight stopped by Ctrl-C after 2 s (KeyboardInterrupt raised from the step callback)."""
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     def ctrl_c(k, state, gs_out):
         if k == 240:
@@ -313,7 +313,7 @@ def test_flight_outputs_writes_everything(interrupted, tmp_path):
 def test_flight_recording_survives_an_exception_in_the_loop(circle, tmp_path):
     """An exception escaping the co-simulation (here raised by a step callback after 1 s)
     leaves no result, but the buffered steps are recorded and the file verifies."""
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
     from fdm_awe.recording import FlightRecording
 
     def boom(k, state, gs_out):
@@ -385,7 +385,7 @@ def test_series_energies_agree_with_the_ground_station_ledger(tmp_path):
     follows the small reference file (12 N reference tension, wind 6 m/s) for 3 s, so the
     generator delivers energy (reel-in stays 0: no recovery within 3 s)."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(str(_reference_file(tmp_path / "ref.json")))
     flight = fly(ref, config="foldable", cycles=1, t_end=3.0)

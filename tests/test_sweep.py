@@ -22,7 +22,7 @@ import pytest
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.errors import InputError
 from fdm_awe.ocp.problem import Mesh
-from fdm_awe.performance import loyd_power, quasi_steady_reel_out
+from fdm_awe.pointmass.performance import loyd_power, quasi_steady_reel_out
 from fdm_awe.sweep.design import Design, design_glider, helmbold_lift_slope, polar_constants
 from fdm_awe.sweep.references import reference_curves
 from fdm_awe.sweep.spec import Point, SweepSpec, anchors, chains, parse_floats

@@ -280,7 +280,7 @@ def test_flight_with_the_lumped_line_records_its_shape(tmp_path) -> None:
     from pathlib import Path
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import LINE_SHAPE_HZ, fly
+    from fdm_awe.sim.flight import LINE_SHAPE_HZ, fly
     from fdm_awe.recording import record_flight
 
     ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps_sized.json")
@@ -302,7 +302,7 @@ def test_compiled_and_python_loops_fly_the_lumped_line_alike() -> None:
     from pathlib import Path
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
 
     ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps_sized.json")
     loops, data = [], []

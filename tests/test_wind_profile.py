@@ -165,7 +165,7 @@ def test_reference_file_records_and_checks_the_profile(log_cycle, tmp_path):
 # ---------------------------------------------------------------- the 6-DOF flight
 def test_flight_wind_follows_the_glider_altitude():
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.flight import fly
+    from fdm_awe.sim.flight import fly
     from fdm_awe.ocp.result import check_reference_document
     from fdm_awe.wind import line_height
 

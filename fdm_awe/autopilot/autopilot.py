@@ -174,7 +174,7 @@ def reference_fold_time(meta: dict, aircraft_fold_time_s: float) -> float:
 
 
 class Autopilot:
-    """Controller for :class:`fdm_awe.cosim.CoSim` and :class:`VehicleInterface` for MAVLink.
+    """Controller for :class:`fdm_awe.sim.loop.CoSim` and :class:`VehicleInterface` for MAVLink.
 
     ``config``: ``"foldable"`` folds for recovery, ``"nominal"`` never folds.
     ``load_resistance``: the generator's R_L [ohm] (definition default of the ground station).
@@ -207,7 +207,7 @@ class Autopilot:
             raise ValueError(f"winch {winch!r} unknown (allowed: physical, ideal)")
         if reference is not None and config == "foldable":
             reference_fold_time(reference.meta, glider.fold_time_s)
-        #: paper plant: an ideal thruster (:class:`fdm_awe.paper_plant.IdealThruster`) takes the
+        #: paper plant: an ideal thruster (:class:`fdm_awe.sim.paper_plant.IdealThruster`) takes the
         #: thrust command instead of the propeller's throttle (held at zero)
         self.thruster = thruster
         #: "ideal": a kinematic winch (paper plant) reels at the commanded speed in generation

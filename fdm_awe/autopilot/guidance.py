@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..aero import fold_blend
+from ..pointmass.aero import fold_blend
 from ..definitions.aircraft import AeroParams
 from .tracking import RefPoint
 
@@ -65,7 +65,7 @@ def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> tuple[
     """Polar of the morphing wing at fold state ``fold`` (0 unfolded .. 1 folded) as
     ``S*coefficient`` values on its reference area, (S_CL0, S_CLa, S_CLmax, S_CD0, S_CDa1,
     S_CDa2) [m^2, m^2/rad, m^2, m^2, m^2/rad, m^2/rad^2]: the blend of the 6-DOF model
-    (:func:`fdm_awe.aero.fold_blend`, the one source of it)."""
+    (:func:`fdm_awe.pointmass.aero.fold_blend`, the one source of it)."""
     a = fold_blend(aero_u, aero_f, fold)
     S = a.S
     return (S * a.CL0, S * a.CLalpha, S * a.CLmax, S * a.CD0, S * a.CDalpha1, S * a.CDalpha2)

@@ -122,7 +122,8 @@ def outputs(files: Sequence[tuple[str, str | os.PathLike | None]] = (),
 def definition_files() -> list[Path]:
     """Every file of the definition folders (``aircraft/``, ``engine/``, ``tether/`` under
     :data:`fdm_awe.ROOT`): inputs of every run, never to be overwritten by an output."""
-    from .. import DEFINITION_FOLDERS, ROOT
+    from .. import DEFINITION_FOLDERS
+    from .. import ROOT
 
     return [p for folder in DEFINITION_FOLDERS for p in sorted((ROOT / folder).rglob("*")) if p.is_file()]
 

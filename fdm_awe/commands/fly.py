@@ -13,7 +13,7 @@ memory.
 
 The plant follows the scenario (``--scenario``; with ``--reference`` and no ``--scenario``, the
 reference file's scenario): ``physical`` flies the JSBSim propeller and the ground station,
-``paper`` the ideal thruster and kinematic winch of :mod:`fdm_awe.paper_plant` (the paper
+``paper`` the ideal thruster and kinematic winch of :mod:`fdm_awe.sim.paper_plant` (the paper
 scenario's simplifications). The JSON says which plant flew (``plant``, ``plant_note``).
 
 A reference fixes what it was optimised for: with ``--reference``, the options that only shape
@@ -284,7 +284,7 @@ def run(args: argparse.Namespace) -> int:
         ref_label = str(ref_path)
     plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
     scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
-    from ..flight import fly
+    from ..sim.flight import fly
 
     endpoint = pacer = None
     hooks = []
@@ -309,7 +309,7 @@ def run(args: argparse.Namespace) -> int:
 
             hooks.append(link)
         if args.realtime:
-            from ..pacing import RealtimePacer
+            from ..sim.pacing import RealtimePacer
 
             pacer = RealtimePacer(args.realtime)
             hooks.append(lambda k, s, o: pacer.wait(s.t))

@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
 
     chk.outputs(files=[("--json", args.json)])
     from ..definitions.aircraft import load_glider
-    from ..performance import steady_glide
+    from ..pointmass.performance import steady_glide
 
     glider = load_glider()
     out: dict[str, object] = {}

@@ -20,7 +20,7 @@ The ground-station definition (``tether/ground_station.xml``) names its lines (:
 
 :func:`line_summary` gives what ``fdm-awe info`` shows of a line: sizing, section and the
 equivalent line drag coefficient ``C_D,t = C_D_perp d l / (4 S)``
-(:func:`fdm_awe.aero.tether_drag_coefficient`) at the shortest and longest working line length.
+(:func:`fdm_awe.pointmass.aero.tether_drag_coefficient`) at the shortest and longest working line length.
 
 SI throughout (kg/m, m, N, N m/kg for the specific strengths: 1 N/tex = 1e6 N m/kg).
 """
@@ -159,7 +159,7 @@ def line_summary(params: "GroundStationParams | TetherParams", lengths: Sequence
     ``lengths`` m (default :func:`working_lengths`: the optimiser's d0 and d_tf);
     ``wing_area`` m^2 (default: S of the unfolded glider's aircraft definition).
     """
-    from ..aero import tether_drag_coefficient
+    from ..pointmass.aero import tether_drag_coefficient
 
     t = getattr(params, "tether", params)
     ls = tuple(float(v) for v in (working_lengths() if lengths is None else lengths))

@@ -11,7 +11,7 @@ one call per simulation step::
     ep.close()
 
 ``update`` never blocks and never raises. Streams are scheduled by SIMULATION time (run
-with the real-time pacer, :class:`fdm_awe.pacing.RealtimePacer`, for a person watching;
+with the real-time pacer, :class:`fdm_awe.sim.pacing.RealtimePacer`, for a person watching;
 without it the streams come out as fast as the simulation runs). When nothing is due,
 ``update`` costs one or two float comparisons; a callable ``telemetry`` is only called
 when a message needs it. Incoming messages are drained at ``rx_rate_hz`` (simulation

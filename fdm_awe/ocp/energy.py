@@ -1,6 +1,6 @@
 """Power terms of the pumping cycle [W] for both scenario families.
 
-Every function evaluates on floats, NumPy arrays and CasADi symbols (via :mod:`fdm_awe.mathops`),
+Every function evaluates on floats, NumPy arrays and CasADi symbols (via :mod:`fdm_awe.pointmass.mathops`),
 so the optimiser's quadrature and the independent re-integration use the same definitions.
 
 Quasi-static winch + DC machine + converter (paper eqs. 14-19 with ``di/dt = 0``,
@@ -29,9 +29,9 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .. import mathops as mo
+from ..pointmass import mathops as mo
 from ..definitions.aircraft import PropulsionParams
-from ..propeller import power as propeller_power
+from ..pointmass.propeller import power as propeller_power
 
 #: smoothing voltage of the rectifier's conduction threshold [V]
 DIODE_EPS_V = 0.02
@@ -163,7 +163,7 @@ def motor_voltage(v_reel: Any, w: WinchElectrics) -> Any:
 
 
 def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: str, drive: Any = None) -> Any:
-    """Electrical power of the glider's propeller drive [W] (:func:`fdm_awe.propeller.power`;
+    """Electrical power of the glider's propeller drive [W] (:func:`fdm_awe.pointmass.propeller.power`;
     model ``engine`` needs ``drive``, an :class:`fdm_awe.definitions.engine.ElectricDrive`)."""
     return propeller_power(T, V, prop, rho, scenario, drive)
 

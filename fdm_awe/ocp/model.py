@@ -17,7 +17,7 @@ folded when recovery starts and open again ``fold_time`` before it ends, as the 
 commands it (``FOLD_LEAD`` 0, ``UNFOLD_LEAD`` = the fold time): the fold fraction
 (:meth:`CycleModel.fold_fraction`) ramps 0 -> 1 over the first ``fold_time`` of recovery and
 1 -> 0 over its last, and the aerodynamics blend with it as the 6-DOF model blends them
-(:func:`fdm_awe.aero.fold_blend`). ``fold_time`` 0 is an instantaneous switch at the phase
+(:func:`fdm_awe.pointmass.aero.fold_blend`). ``fold_time`` 0 is an instantaneous switch at the phase
 boundaries (generation unfolded, recovery folded).
 
 Motor-off mode (propeller model ``engine``, whose running drive draws more than the idle
@@ -34,7 +34,7 @@ own height ``h = -z`` (:meth:`CycleModel.wind_at`), and the line drag uses the w
 uniform profile passes the wind through unchanged, so its expressions are those of a model
 without profiles.
 
-The glider dynamics are :class:`fdm_awe.pointmass.PointMassModel`; this module only wires the
+The glider dynamics are :class:`fdm_awe.pointmass.model.PointMassModel`; this module only wires the
 tether, winch and energy terms around it. Evaluates on floats/NumPy and CasADi symbols.
 """
 
@@ -44,11 +44,11 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Sequence
 
-from .. import mathops as mo
-from ..aero import fold_blend, tether_drag_coefficient
+from ..pointmass import mathops as mo
+from ..pointmass.aero import fold_blend, tether_drag_coefficient
 from ..definitions.aircraft import FOLD_TIME_MAX_S, AeroParams, Airframe, Glider, aircraft_path
 from ..definitions.xmlutil import XmlDoc
-from ..pointmass import Environment, PointMassModel
+from ..pointmass.model import Environment, PointMassModel
 from .energy import (WinchElectrics, duty_cycled_power, generator_load_power, generator_tension, ideal_generator_power,
                      mechanical_tether_power, motor_supply_power, thrust_power)
 from ..definitions.engine import ElectricDrive, load_electric_drive
@@ -199,7 +199,7 @@ class CycleModel:
         ``v_n`` the glider's air velocity normal to the line (the straight-line model the ground
         station uses): ``-k |v_n| v_n = -k |v_n| V c1 + k |v_n| v_r e_r`` with
         ``k = q S C_D,t / V^2``, ``C_D,t = C_D_perp d_t l / (4 S)``
-        (:func:`fdm_awe.aero.tether_drag_coefficient`) and ``v_r`` the air velocity along
+        (:func:`fdm_awe.pointmass.aero.tether_drag_coefficient`) and ``v_r`` the air velocity along
         ``e_r = P/|P|``. Motion along the line (reeling, flying straight at the winch) causes no
         line drag.
 
@@ -277,7 +277,7 @@ class CycleModel:
     def fold_aero(self, fold: Any = None, morph: Any = 1.0) -> AeroParams:
         """Recovery aerodynamics at fold state ``fold`` (None or 1: the recovery form,
         :meth:`rec_aero`; below 1 the 6-DOF model's blend of the unfolded wing with it,
-        :func:`fdm_awe.aero.fold_blend`)."""
+        :func:`fdm_awe.pointmass.aero.fold_blend`)."""
         rec = self.rec_aero(morph)
         if fold is None or (isinstance(fold, (int, float)) and fold == 1.0) or self.rec_airframe is self.gen_airframe:
             return rec

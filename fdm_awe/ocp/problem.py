@@ -20,7 +20,7 @@ from ..wind import WindProfile
 SCENARIOS = ("physical", "paper")
 CONFIGS = ("nominal", "foldable")
 #: propeller models of the physical scenario: the 6-DOF glider's own drive from the engine files
-#: (fdm_awe.propeller.power_engine, its default) or momentum theory + efficiencies
+#: (fdm_awe.pointmass.propeller.power_engine, its default) or momentum theory + efficiencies
 PROPELLERS = ("momentum", "engine")
 #: generator loads of the physical scenario's generation phase (docs/design.md section 6):
 #: ``passive``, the passive rectifier into the load resistor (T2 off, the paper's choice; the
@@ -63,7 +63,7 @@ class Scenario:
     """
 
     name: str
-    propeller: str  #: "paper", "physical" (momentum) or "engine" (fdm_awe.propeller.power model)
+    propeller: str  #: "paper", "physical" (momentum) or "engine" (fdm_awe.pointmass.propeller.power model)
     tether_drag: bool  #: add the tether's equivalent drag coefficient
     stall_limit: bool  #: enforce C_L <= C_Lmax
     electrical: bool  #: electrical (True) or mechanical (False) energy accounting

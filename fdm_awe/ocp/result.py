@@ -89,7 +89,7 @@ class CycleResult:
 
     def metadata(self) -> dict[str, Any]:
         pr = self.problem
-        from ..pointmass import wind_vector
+        from ..pointmass.model import wind_vector
 
         md: dict[str, Any] = {
             "scenario": self.scenario, "config": self.config, "wind_mps": self.wind_mps, "wind_from_deg": self.wind_from_deg,

@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from ..definitions.aircraft import Glider, load_glider
-from ..pointmass import wind_vector
+from ..pointmass.model import wind_vector
 from .collocation import DEFAULT_MAX_CPU_S, DEFAULT_MAX_ITER, CycleNLP, RawSolution
 from .energy import WinchElectrics
 from .guess import LoopStart, default_starts, guess_from_result, loop_guess

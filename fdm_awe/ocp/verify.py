@@ -103,7 +103,7 @@ def verify(result: CycleResult, nlp: Any = None, model: CycleModel | None = None
     pr = result.problem
     if model is None:
         model = nlp.model if nlp is not None else CycleModel.build(pr, load_glider(), WinchElectrics.from_ground_station(line=pr.line))
-    from ..pointmass import wind_vector
+    from ..pointmass.model import wind_vector
 
     wind = wind_vector(result.wind_mps, result.wind_from_deg)[:2]
     d = pr.mesh.degree

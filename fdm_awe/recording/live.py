@@ -62,8 +62,8 @@ class FlightRecording:
             self.chain(k, s, o)
 
     def partial_result(self, status: str = "aborted", message: str = "") -> Any:
-        """The buffered steps as a :class:`~fdm_awe.cosim.FlightResult` (controls unknown: NaN)."""
-        from ..cosim import COLUMNS, Event, FlightResult
+        """The buffered steps as a :class:`~fdm_awe.sim.loop.FlightResult` (controls unknown: NaN)."""
+        from ..sim.loop import COLUMNS, Event, FlightResult
 
         n = len(self.rows)
         data = np.full((n, len(COLUMNS)), np.nan)

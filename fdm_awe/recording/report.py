@@ -37,7 +37,7 @@ def _table(header: Sequence[str], rows: Iterable[Sequence[str]]) -> str:
 
 
 def flight_markdown(report: Any, title: str | None = None) -> str:
-    """Report of a flight (:class:`fdm_awe.flight.FlightReport`): run facts, per-cycle table, ledger.
+    """Report of a flight (:class:`fdm_awe.sim.flight.FlightReport`): run facts, per-cycle table, ledger.
     A bare FlightResult (no cycles, no ledger) gets the run facts only."""
     r = report
     if not hasattr(r, "cycles"):
@@ -50,7 +50,7 @@ def flight_markdown(report: Any, title: str | None = None) -> str:
            f"- simulated {r.sim_time_s:.2f} s in {r.wall_s:.2f} s wall time ({r.realtime_factor:.0f}x real time)",
            f"- energy ledger residual (relative to the largest term): {r.ledger_residual_rel:.2e}"]
     if getattr(r, "plant", None):
-        from ..flight import PLANT_NOTES
+        from ..sim.flight import PLANT_NOTES
 
         out.append(f"- plant: {r.plant} ({PLANT_NOTES.get(r.plant, '')})")
     out.append("")

@@ -3,15 +3,15 @@
 One place derives what recordings, plots and CSV files show, so the three agree. Inputs are
 duck-typed so a partial run works too:
 
-- a flight: :class:`fdm_awe.flight.FlightReport` (``.result`` a
-  :class:`fdm_awe.cosim.FlightResult`, plus ``track_error`` / ``reference_pos``) or a bare
+- a flight: :class:`fdm_awe.sim.flight.FlightReport` (``.result`` a
+  :class:`fdm_awe.sim.loop.FlightResult`, plus ``track_error`` / ``reference_pos``) or a bare
   ``FlightResult``; any number of rows >= 1, NaN where a value does not exist yet (the
   ground-station columns of the initial row);
 - an optimised cycle: a :class:`fdm_awe.trajectory.ReferenceTrajectory`, a
   :class:`fdm_awe.ocp.result.CycleResult` or the path of a reference-trajectory file.
 
 Cumulative energies (J, all >= 0 except net) follow the project's electrical accounting
-(``fdm_awe.flight``): generated = energy into the load resistor, reel-in = energy drawn from
+(``fdm_awe.sim.flight``): generated = energy into the load resistor, reel-in = energy drawn from
 the supply, thrust = electrical energy of the glider's motor, net = generated - thrust - reel-in.
 Per step the ground station reports ``p_elec = load - supply`` (mean over the step); the
 machine is either a generator (supply 0) or a motor (load 0) within one step, so the positive

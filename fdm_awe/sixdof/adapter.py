@@ -161,7 +161,7 @@ class JSBSimGlider:
         self._native: tuple[np.ndarray | None, str] | None = None
 
     def native_handles(self) -> tuple[np.ndarray | None, str]:
-        """Handles for the compiled co-simulation step (:mod:`fdm_awe.cosim_kernel` layout:
+        """Handles for the compiled co-simulation step (:mod:`fdm_awe.sim.kernel` layout:
         Run, getDoubleValue, setDoubleValue, FGFDMExec*, tether x/y/z nodes, then the nodes of
         :meth:`raw` in order) and ``""``, or ``(None, reason)`` where JSBSim cannot be called
         directly (see :mod:`.native`). Checked once per glider."""

@@ -3,7 +3,7 @@
 The co-simulation's hot path (set the tether force, ``FGFDMExec::Run()``, read the state's
 properties) costs about as much in Python call overhead as JSBSim's own step. This module finds
 the C++ objects behind the bindings' Python objects so that a numba-compiled loop
-(:mod:`fdm_awe.cosim_kernel`) can make the same calls without Python in between:
+(:mod:`fdm_awe.sim.kernel`) can make the same calls without Python in between:
 
 - ``JSBSim::FGFDMExec::Run()``, ``SGPropertyNode::getDoubleValue() const`` and
   ``SGPropertyNode::setDoubleValue(double)``: their addresses from the bindings' shared

@@ -3,7 +3,7 @@
 A row holds the JSBSim property values of one step in JSBSim's own units (ft, ft/s, lbf,
 slug, ...; angles rad), in the order of :data:`PROPERTIES`. The integer constants below name its
 positions; they are plain module-level ints, so that code compiled by numba
-(:mod:`fdm_awe.cosim_kernel`) and Python code index the row with the same names.
+(:mod:`fdm_awe.sim.kernel`) and Python code index the row with the same names.
 
 :func:`hook_kinematics` is the one place where the tether attachment point's position and
 velocity are computed from a row: a plain function that the adapter runs in Python and the

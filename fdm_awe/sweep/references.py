@@ -1,8 +1,8 @@
 """Reference power curves for the same airframe and tether: Loyd's limit and quasi-steady reel-out.
 
 Both are closed-form *reel-out* powers (mechanical, no cycle, no losses), upper references for
-the optimised cycle-average net power, evaluated with :func:`fdm_awe.performance.loyd_power`
-and :func:`fdm_awe.performance.quasi_steady_reel_out`:
+the optimised cycle-average net power, evaluated with :func:`fdm_awe.pointmass.performance.loyd_power`
+and :func:`fdm_awe.pointmass.performance.quasi_steady_reel_out`:
 
 - Loyd: ``P = (2/27) rho S v_w^3 C_R^3 / C_D^2``;
 - quasi-steady (Schmehl et al.): ``F = q S C_R (1 + (L/D)^2) (cos(beta) cos(phi) - f)^2``,
@@ -10,7 +10,7 @@ and :func:`fdm_awe.performance.quasi_steady_reel_out`:
   elevation ``beta`` and azimuth ``phi`` of the cycle's start point.
 
 ``C_D`` includes the tether's equivalent drag ``C_D,t = C_D_perp d_t l / (4 S)``
-(:func:`fdm_awe.aero.tether_drag_coefficient`) at the mean reel-out length
+(:func:`fdm_awe.pointmass.aero.tether_drag_coefficient`) at the mean reel-out length
 ``l = (d0 + d_tf) / 2``; the angle of attack maximises ``C_R^3 / C_D^2`` below stall
 (``C_L <= C_Lmax``). Units: SI, angles in radians unless named ``_deg``.
 """
@@ -24,9 +24,9 @@ from typing import Sequence
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from ..aero import drag_coefficient, lift_coefficient, tether_drag_coefficient
+from ..pointmass.aero import drag_coefficient, lift_coefficient, tether_drag_coefficient
 from ..definitions.aircraft import AeroParams
-from ..performance import loyd_power, quasi_steady_reel_out
+from ..pointmass.performance import loyd_power, quasi_steady_reel_out
 
 #: sea-level air density [kg/m^3], the optimiser's value
 RHO = 1.225

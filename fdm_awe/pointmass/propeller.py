@@ -22,8 +22,8 @@ import math
 from typing import Any
 
 from . import mathops as mo
-from .definitions.aircraft import PropulsionParams
-from .definitions.engine import ElectricDrive
+from ..definitions.aircraft import PropulsionParams
+from ..definitions.engine import ElectricDrive
 
 SCENARIOS = ("physical", "paper")
 MODELS = ("physical", "paper", "engine")

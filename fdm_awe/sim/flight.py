@@ -3,7 +3,7 @@ pumping cycle for N cycles, with per-cycle energies, tracking errors and an ener
 
 Plants (``plant``): ``physical`` = the JSBSim propeller and the ground station of
 :mod:`fdm_awe.groundstation`; ``paper`` = the ideal thruster and the kinematic winch of
-:mod:`fdm_awe.paper_plant`, faithful to the ``paper`` scenario's simplifications.
+:mod:`fdm_awe.sim.paper_plant`, faithful to the ``paper`` scenario's simplifications.
 
 Energy terms per cycle (J, all >= 0 except ``E_net_J``), counted as the plant's scenario
 counts them. Physical plant, electrically: ``E_generated_J`` into the load resistor,
@@ -28,7 +28,7 @@ Status (``FlightReport.status``, :data:`FLIGHT_STATUSES`):
 - ``parked``: the flight reached ``t_end`` in RECOVER holding on a short line (the
   autopilot's :attr:`~fdm_awe.autopilot.autopilot.Autopilot.parked`: REC_LAND 0, circling at
   REC_HOLD_ALT about the winch);
-- an event of the co-simulation (:data:`fdm_awe.cosim.STATUSES`: ``ground_contact``,
+- an event of the co-simulation (:data:`fdm_awe.sim.loop.STATUSES`: ``ground_contact``,
   ``tether_break``, ``nonfinite``, ``airspeed_limit``, ``load_limit``) or another
   ground-station event by name (e.g. ``tether_fully_reeled_in``).
 
@@ -59,7 +59,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .units import FT, LBF, SLUG
+from ..units import FT, LBF, SLUG
 
 #: samples per second of the lumped line's shape in a flight report
 LINE_SHAPE_HZ = 10.0
@@ -307,7 +307,7 @@ class FlightReport:
     cycles: list[CycleMetrics]
     ledger: dict[str, Any]
     ledger_residual_rel: float
-    result: Any = field(repr=False, default=None)  #: fdm_awe.cosim.FlightResult
+    result: Any = field(repr=False, default=None)  #: fdm_awe.sim.loop.FlightResult
     track_error: np.ndarray | None = field(repr=False, default=None)
     reference_pos: np.ndarray | None = field(repr=False, default=None)
     autopilot_log: list[tuple[float, str]] = field(default_factory=list)
@@ -367,7 +367,7 @@ def fly(
     ``on_step(k, state, gs_output)`` after every step; a true return ends the flight there
     (status ``ok``, as the end of the reference would). ``t_end`` overrides the flight length.
     ``plant``: ``"physical"`` (JSBSim propeller + ground station) or ``"paper"`` (ideal thruster +
-    kinematic winch, :mod:`fdm_awe.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
+    kinematic winch, :mod:`fdm_awe.sim.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
     the defined line) scales the ground station's line drag on the glider, as
     ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
     ``tether``: the ground station's line model, ``"straight"`` (default) or ``"lumped:N"``
@@ -381,23 +381,23 @@ def fly(
     a normal report with status ``interrupted`` holding everything flown so far (see
     :class:`_StopRequest`); a KeyboardInterrupt in ``setup`` propagates (nothing was flown).
     """
-    from .autopilot.autopilot import Autopilot
-    from .autopilot.guidance import norm3
-    from .autopilot.config import autopilot_params
-    from .cosim import COLUMNS, CoSim, Limits
-    from .definitions.aircraft import load_glider
-    from .groundstation import GroundStation, load_ground_station
-    from .groundstation.line import check_line
-    from .sixdof import JSBSimGlider
+    from ..autopilot.autopilot import Autopilot
+    from ..autopilot.guidance import norm3
+    from ..autopilot.config import autopilot_params
+    from .loop import COLUMNS, CoSim, Limits
+    from ..definitions.aircraft import load_glider
+    from ..groundstation import GroundStation, load_ground_station
+    from ..groundstation.line import check_line
+    from ..sixdof import JSBSimGlider
 
     from .paper_plant import PLANTS, IdealThruster, IdealWinch
 
     if plant not in PLANTS:
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
-    from .groundstation.tether import check_tether_drag_scale
+    from ..groundstation.tether import check_tether_drag_scale
 
     tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
-    from .groundstation.lumped import parse_tether
+    from ..groundstation.lumped import parse_tether
 
     nseg = parse_tether(tether)
     paper = plant == "paper"
@@ -406,7 +406,7 @@ def fly(
     # the wind profile the reference was optimised in (absent: uniform): JSBSim's steady wind
     # follows the glider's altitude step by step, the ground station's line drag the wind at
     # the line's height (fdm_awe.wind.LINE_HEIGHT_FRACTION of the glider's), turbulence on top
-    from .wind import WindProfile, line_height
+    from ..wind import WindProfile, line_height
 
     profile = WindProfile.from_dict(meta.get("wind_profile"), "reference metadata.wind_profile")
     wind_ref = wind
@@ -422,19 +422,19 @@ def fly(
     line = meta.get("line")
     gen = meta.get("generator")
     if not paper and gen == "ideal":
-        from .errors import InputError
+        from ..errors import InputError
 
         raise InputError("reference metadata.generator: 'ideal' is the optimiser's upper bound (a loss-free converter "
                          "holding any tension), which no ground station realises; allowed passive, boost")
     gsp = load_ground_station(line="paper" if line is None else check_line(line, "reference metadata.line"))
     if paper and nseg:
-        from .errors import InputError
+        from ..errors import InputError
 
         raise InputError("--tether lumped:N needs the physical plant (the paper plant's winch is kinematic)")
     glider = JSBSimGlider("glider_foldable", dt=dt, wind_ned=wind, turbulence=turbulence)
     airframes = load_glider()
     if paper:
-        from .ocp.problem import Scenario
+        from ..ocp.problem import Scenario
 
         gs = IdealWinch(gsp, P_rw=Scenario.named("paper").P_rw, wind_ned=wind)
     else:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import fields
 from typing import Any
 
-from .definitions.aircraft import AeroParams
+from ..definitions.aircraft import AeroParams
 
 #: Polar coefficients that scale with the wing area when the morphing wing blends its two forms
 #: (every :class:`AeroParams` field except the geometry S, b, c).

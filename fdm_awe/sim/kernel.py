@@ -1,11 +1,11 @@
 """The co-simulation step compiled: ground station, tether hook, JSBSim step, state read, events.
 
-:func:`cosim_steps` runs ``n`` steps of :class:`fdm_awe.cosim.CoSim`'s loop body without Python
+:func:`cosim_steps` runs ``n`` steps of :class:`fdm_awe.sim.loop.CoSim`'s loop body without Python
 in between: the ground station's compiled step (:func:`fdm_awe.groundstation.substeps.station_step`)
 on the hook kinematics of the current state, the force written to the JSBSim tether hook, one
 ``FGFDMExec::Run()``, the state's properties read into the next log row, the next hook
 kinematics (:func:`fdm_awe.sixdof.row.hook_kinematics`), and the event checks
-(:func:`fdm_awe.cosim_events.step_event`): the same functions the Python loop runs. JSBSim is called through its
+(:func:`fdm_awe.sim.events.step_event`): the same functions the Python loop runs. JSBSim is called through its
 library (:mod:`fdm_awe.sixdof.native`); the operations are those of the Python path
 (``JSBSimGlider.advance``/``_read``, ``GroundStation.step``, ``CoSim.run``) in the same order, so
 both give identical results (tested).
@@ -19,7 +19,7 @@ Arguments are packed to keep a one-step call cheap:
   winch command's terms, the current hook kinematics (updated) and the last line force
   (updated);
 - ``lim`` float64 thresholds of the event checks and the airborne flag (updated), as
-  :func:`fdm_awe.cosim_events.limit_vector` builds them;
+  :func:`fdm_awe.sim.events.limit_vector` builds them;
 - ``log`` one row per step (row ``k0``: the current state), each row the JSBSim values (one
   per read node), then the ground-station outputs (:data:`GS_COLUMNS`), then the hook
   kinematics after the step and the line force applied during it (:data:`TAIL_COLUMNS`), so
@@ -37,9 +37,9 @@ import math
 import sys
 from typing import Any, Callable
 
-from .cosim_events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
-from .groundstation.substeps import STATION_CONSTANTS as _STATION_CONSTANTS
-from .sixdof.row import hook_kinematics
+from .events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
+from ..groundstation.substeps import STATION_CONSTANTS as _STATION_CONSTANTS
+from ..sixdof.row import hook_kinematics
 
 # parameter offsets in ``p``
 (P_DT, P_NSUB, P_LAT0, P_M0, P_N0COS, P_OX, P_OY, P_OZ, P_FT, P_LBF, P_MOTOR, P_WREF, P_DUTY, P_D2, P_RL,
@@ -62,13 +62,13 @@ TAIL_COLUMNS = ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "
 
 def _globals() -> tuple:
     """The compiled ground-station step and the native calls (None without numba)."""
-    from .groundstation.substeps import compiled_station
+    from ..groundstation.substeps import compiled_station
 
     station = compiled_station()
     if station is None:
         return None, None, None, None, None
-    from .groundstation.lumped import compiled_lumped
-    from .sixdof.native import native_calls
+    from ..groundstation.lumped import compiled_lumped
+    from ..sixdof.native import native_calls
 
     return (station, compiled_lumped()) + native_calls()
 
@@ -140,10 +140,10 @@ def compiled_kernel() -> Callable | None:
     missing, ``FDM_AWE_JIT=0``)."""
     if station is None or lumped_station is None:
         return None
-    from . import wind
-    from .groundstation import lumped, substeps
-    from .jitcache import compile_cached
-    from .sixdof import native
+    from .. import wind
+    from ..groundstation import lumped, substeps
+    from ..jitcache import compile_cached
+    from ..sixdof import native
 
     def signature(nb: Any) -> Any:
         f8, i8 = nb.float64, nb.int64
@@ -154,9 +154,9 @@ def compiled_kernel() -> Callable | None:
     # the lumped line or the wind profile compiles the kernel anew
     return compile_cached(cosim_steps, signature, (hook_kinematics, step_event),
                           (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps,
-                           lumped, native, wind), "fdm_awe.cosim_kernel")
+                           lumped, native, wind), "fdm_awe.sim.kernel")
 
 
 __all__ = ["EVENT_CODES", "GS_COLUMNS", "N_LIMITS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
 if len(GS_COLUMNS) != N_GS or len(TAIL_COLUMNS) != K_FZ + 1:  # pragma: no cover - a definition error here
-    raise RuntimeError("fdm_awe.cosim_kernel: column names and offsets disagree")
+    raise RuntimeError("fdm_awe.sim.kernel: column names and offsets disagree")

@@ -6,8 +6,8 @@ and its one-line message (a ``str.format`` template; :func:`event_message` fills
 :func:`step_event` checks a step just run, in this order: a non-finite glider state, a
 ground-station event, ground contact after the glider was airborne, the airspeed limits (after
 the grace time), the line tension, the load factor. It is a plain function: the compiled
-co-simulation step (:mod:`fdm_awe.cosim_kernel`) compiles it with numba and the Python loop
-(:meth:`fdm_awe.cosim.CoSim.run`) runs the same source, so both end a run on the same step with
+co-simulation step (:mod:`fdm_awe.sim.kernel`) compiles it with numba and the Python loop
+(:meth:`fdm_awe.sim.loop.CoSim.run`) runs the same source, so both end a run on the same step with
 the same code. Its thresholds come in a vector (``L_*`` positions) built by
 :func:`limit_vector`, a float64 array in the compiled step and a list in Python.
 """
@@ -18,7 +18,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from .sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
+from ..sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,7 @@ G0 = 9.80665  # m/s^2, the load factor's unit
 
 
 def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float, k_m: float) -> list[float]:
-    """:func:`step_event`'s vector from ``limits`` (:class:`fdm_awe.cosim.Limits`): airspeeds
+    """:func:`step_event`'s vector from ``limits`` (:class:`fdm_awe.sim.loop.Limits`): airspeeds
     m/s (disabled: -inf/inf), tension N (inf), load factor g (NaN), grace time s, start time
     ``t0`` s, the airspeed-check and ground-contact flags, the ``airborne`` flag (updated by the
     check) and the row's SI factors of airspeed (``k_v``), body z force (``k_fz``) and mass
@@ -116,7 +116,7 @@ def step_event(r, tension, gs_event, lim):
 def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
                   force: tuple[float, float, float] | None = None, error: str = "") -> tuple[str, str]:
     """(status, message) of event ``code`` from the table: ``limits`` the run's
-    :class:`fdm_awe.cosim.Limits`, ``state`` the glider state (:class:`SixDofState`) at the
+    :class:`fdm_awe.sim.loop.Limits`, ``state`` the glider state (:class:`SixDofState`) at the
     event, ``gs_out`` the ground station's last output, ``force`` the line force N, ``error``
     the text of a rejected step."""
     kind = EVENTS[code]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from scipy.optimize import brentq
 
 from .aero import drag_coefficient, lift_coefficient
-from .definitions.aircraft import AeroParams
+from ..definitions.aircraft import AeroParams
 
 
 @dataclass(frozen=True)

@@ -32,11 +32,11 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .errors import InputError
-from .groundstation.converter import GENERATOR, MODES
-from .groundstation.definitions import GroundStationParams, load_ground_station
-from .groundstation.station import GroundStationOutput, WinchCommand
-from .units import LBF
+from ..errors import InputError
+from ..groundstation.converter import GENERATOR, MODES
+from ..groundstation.definitions import GroundStationParams, load_ground_station
+from ..groundstation.station import GroundStationOutput, WinchCommand
+from ..units import LBF
 
 PLANTS = ("physical", "paper")
 

@@ -7,7 +7,7 @@ airspeed [m/s], air-path flight-path angle and heading [rad]. Control
 
 Kinematics add the (constant, horizontal) wind: ``xdot = V cg cpsi + vwx`` etc. Dynamics are
 eq. 13 with the corrected frame (``C_CN`` entry (1,3) = ``-sin gamma``) and ``-g sin gamma`` in
-``Vdot``. Written once with :mod:`fdm_awe.mathops`, so it evaluates on floats, NumPy arrays
+``Vdot``. Written once with :mod:`fdm_awe.pointmass.mathops`, so it evaluates on floats, NumPy arrays
 and CasADi symbols alike.
 """
 
@@ -20,8 +20,8 @@ from typing import Any, Sequence
 
 from . import mathops as mo
 from .aero import lift_drag
-from .definitions.aircraft import AeroParams
-from .errors import InputError
+from ..definitions.aircraft import AeroParams
+from ..errors import InputError
 from .frames import n_to_c, tether_direction_ned
 
 STATE_NAMES = ("x", "y", "z", "V", "gamma", "psi")

@@ -6,7 +6,7 @@ by the 3-2-1 rotation (heading psi, flight-path angle gamma, bank phi) of the ai
 The paper's eq. 1 prints entry (1,3) as ``-sin(gamma) cos(psi)``; the product of the three
 rotations gives ``-sin(gamma)`` (as eq. 7 has it), which is what this module uses.
 
-All functions work on floats, NumPy arrays and CasADi symbols (see :mod:`fdm_awe.mathops`).
+All functions work on floats, NumPy arrays and CasADi symbols (see :mod:`fdm_awe.pointmass.mathops`).
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ force not finite), ``airspeed_limit``, ``load_limit`` (line tension or load fact
 ``tether_fully_reeled_in``) end the run with that name as the status. The result always holds
 the data up to and including the step that raised the event.
 
-Two loops run this step: the loop body compiled (:mod:`.cosim_kernel`: ground station, force,
+Two loops run this step: the loop body compiled (:mod:`.kernel`: ground station, force,
 JSBSim step, state read and event checks in one numba call that reaches JSBSim through the
 bindings' library, :mod:`.sixdof.native`), chosen whenever the glider, the ground station and
 the machine allow it, and the Python loop, its reference, which gives bit-identical results
@@ -39,11 +39,11 @@ from typing import Any, Callable, Protocol, Sequence
 
 import numpy as np
 
-from .cosim_events import E_FORCE, E_HOOK, E_INTERRUPT, E_JSBSIM, E_NONE, event_message, limit_vector, step_event
-from .errors import InputError
-from .sixdof.adapter import JSBSimGlider
-from .sixdof.row import FBZ, MASS, T, VT
-from .sixdof.state import SixDofState, Surfaces
+from .events import E_FORCE, E_HOOK, E_INTERRUPT, E_JSBSIM, E_NONE, event_message, limit_vector, step_event
+from ..errors import InputError
+from ..sixdof.adapter import JSBSimGlider
+from ..sixdof.row import FBZ, MASS, T, VT
+from ..sixdof.state import SixDofState, Surfaces
 
 STATUSES = ("ok", "ground_contact", "tether_break", "nonfinite", "airspeed_limit", "load_limit", "interrupted")
 
@@ -203,7 +203,7 @@ class CoSim:
         h, why = self.glider.native_handles()
         if h is None:
             return why
-        from .cosim_kernel import compiled_kernel
+        from .kernel import compiled_kernel
 
         kern = compiled_kernel()
         if kern is None:
@@ -328,12 +328,12 @@ class CoSim:
 
     def _run_compiled(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None,
                       kern: Any, h: Any, gsa: tuple) -> FlightResult:
-        """:meth:`run` with the loop body compiled (:mod:`.cosim_kernel`): the same steps, the
+        """:meth:`run` with the loop body compiled (:mod:`.kernel`): the same steps, the
         same order, identical results. The controller is called every step from Python, unless
         it declares ``constant_commands = True`` (fixed commands, no ``phase`` changes) and no
         ``on_step`` is given: then blocks of up to one simulated second run in one call."""
-        from . import cosim_kernel as ck
-        from .units import FT, LBF
+        from . import kernel as ck
+        from ..units import FT, LBF
 
         g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
         n = int(round(t_end / dt))
@@ -437,7 +437,7 @@ class CoSim:
 
     def _compiled_event(self, code: int, s: SixDofState, gs_out: Any, p: np.ndarray) -> Event:
         """The :class:`Event` of a compiled loop's event code, as the Python loop gives it."""
-        from . import cosim_kernel as ck
+        from . import kernel as ck
 
         if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
             hp, hv = s._hook
@@ -449,7 +449,7 @@ class CoSim:
 
     def _event(self, code: int, s: SixDofState, gs_out: Any, force: tuple[float, float, float] | None = None,
                error: str = "") -> Event:
-        """The :class:`Event` of event ``code`` (:data:`fdm_awe.cosim_events.EVENTS`) at state ``s``."""
+        """The :class:`Event` of event ``code`` (:data:`fdm_awe.sim.events.EVENTS`) at state ``s``."""
         kind, message = event_message(code, self.limits, s, gs_out, force, error)
         return Event(kind, s.t, message)
 
