@@ -12,7 +12,6 @@ names and codes are the trajectory's (:data:`fdm_awe.trajectory.PHASE_NAMES`).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
@@ -129,11 +128,6 @@ class TrackingReference:
         value of the sample opening the segment, except for the segment after the last
         generation sample (``t = T1``), which is the recovery's."""
         return self.sampler().segments("motor_on")
-
-    def duty_segments(self) -> np.ndarray:
-        """The generator's T2 duty on each segment between samples (held per optimiser
-        interval, as :meth:`motor_segments`)."""
-        return self.sampler().segments("boost_duty")
 
     def segment_index(self, t_cycle: float) -> int:
         """Index of the segment ``[t_i, t_i+1)`` holding cycle time ``t_cycle`` [s] (the last
@@ -302,43 +296,3 @@ class TrackingReference:
             meta={"source": "uploaded mission"},
         )
 
-    @classmethod
-    def descent_helix(cls, start: np.ndarray, radius: float, slope: float, speed: float, h_end: float = 1.0,
-                      spacing: float = 5.0, wind: np.ndarray | None = None) -> "TrackingReference":
-        """A landing path: from ``start`` (NED) straight towards the winch down to a circle of
-        ``radius`` [m] about it, then round the circle clockwise (seen from above) descending
-        1 m per ``slope`` m flown, down to ``h_end`` [m] above the ground; flown at AIRspeed
-        ``speed`` [m/s] in the steady ``wind`` (NED), so the ground speed is faster downwind and
-        slower upwind. Waypoints every ``spacing`` metres of path."""
-        p0 = np.asarray(start, float)
-        h0 = -p0[2]
-        rho0 = math.hypot(p0[0], p0[1])
-        theta = math.atan2(p0[1], p0[0]) if rho0 > 1e-6 else 0.0
-        pts = [p0.copy()]
-        h = h0
-        # straight leg to the circle (or outwards onto it when starting inside)
-        leg = rho0 - radius
-        n_leg = max(int(abs(leg) / spacing), 1)
-        for i in range(1, n_leg + 1):
-            r = rho0 - leg * i / n_leg
-            h = max(h0 - abs(leg) * i / n_leg / slope, h_end)
-            pts.append(np.array([r * math.cos(theta), r * math.sin(theta), -h]))
-        while h > h_end:
-            theta += spacing / radius
-            h = max(h - spacing / slope, h_end)
-            pts.append(np.array([radius * math.cos(theta), radius * math.sin(theta), -h]))
-        # a short level run-out so the path does not end at the ground
-        for _ in range(10):
-            theta += spacing / radius
-            pts.append(np.array([radius * math.cos(theta), radius * math.sin(theta), -h_end]))
-        P = np.array(pts)
-        w = np.zeros(3) if wind is None else np.asarray(wind, float)
-        seg = np.diff(P, axis=0)
-        ls = np.linalg.norm(seg, axis=1)
-        u = seg / ls[:, None]
-        uw = u @ w
-        vg = uw + np.sqrt(np.maximum(speed * speed - float(w @ w) + uw * uw, 0.25 * speed * speed))
-        times = np.r_[0.0, np.cumsum(ls / vg)]
-        ref = cls.from_waypoints(P, times, None, speed)
-        ref.meta = {"source": "descent helix"}
-        return ref

@@ -158,11 +158,6 @@ class IdealWinch:
             raise InputError(f"tension: {tension!r} out of range (allowed >= 0 N)")
         return distance / (1.0 + tension / self._EA)
 
-    def tension_at(self, distance: float, length: float | None = None) -> float:
-        """Static line tension (N) at winch-glider ``distance`` (m) for the unstretched ``length``."""
-        l = self.length if length is None else length
-        return max(self._EA / l * (distance - l), 0.0)
-
     def _energy(self, stretch: float, length: float) -> float:
         return 0.5 * self._EA / length * stretch * stretch if stretch > 0.0 else 0.0
 
