@@ -5,7 +5,7 @@ period in simulation seconds (``inf`` = off) and the simulation time it is next 
 that falls behind (a long step, the first call) is not sent in a burst: its phase restarts at
 the current time. A simulation that restarts (time going back) restarts every stream.
 
-Rates are set with the endpoint's ``rates=``, :meth:`StreamSchedule.set_rate` or
+Rates are set with the endpoint's ``rates=``, :meth:`~fdm_awe.mavlink.endpoint.MavlinkEndpoint.set_rate` or
 MAV_CMD_SET_MESSAGE_INTERVAL (:mod:`fdm_awe.mavlink.commands`): 0 Hz is off, at most
 :data:`MAX_RATE_HZ`.
 """
