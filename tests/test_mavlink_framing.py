@@ -14,7 +14,8 @@ from mavlink_helpers import GCS_COMPID, GCS_SYSID, Link, StandInVehicle, free_ud
 from pymavlink import mavutil
 from pymavlink.dialects.v20 import common as mav
 
-from fdm_awe.mavlink.endpoint import MavlinkEndpoint, parse_datagram
+from fdm_awe.mavlink.endpoint import MavlinkEndpoint
+from fdm_awe.mavlink.framing import parse_datagram
 
 
 def _encoder(sysid: int = 250) -> mav.MAVLink:

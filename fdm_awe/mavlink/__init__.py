@@ -3,9 +3,14 @@
 - :mod:`fdm_awe.mavlink.vehicle`: Telemetry, Waypoint, VehicleInterface, mode table.
 - :mod:`fdm_awe.mavlink.params`: ParamStore (named parameters, ranges, callbacks, file).
 - :mod:`fdm_awe.mavlink.geo`: local NED <-> lat/lon/alt about a home.
-- :mod:`fdm_awe.mavlink.endpoint`: MavlinkEndpoint (imports pymavlink; import it only
-  when a link is wanted), with :mod:`~fdm_awe.mavlink.winch` (the winch component),
-  :mod:`~fdm_awe.mavlink.messages` (standard streams), :mod:`~fdm_awe.mavlink.statustext`
+- :mod:`fdm_awe.mavlink.endpoint`: MavlinkEndpoint, the link and its update loop (imports
+  pymavlink; import it only when a link is wanted), with one module per protocol:
+  :mod:`~fdm_awe.mavlink.streams` (stream rates and schedule), :mod:`~fdm_awe.mavlink.messages`
+  (what each stream says), :mod:`~fdm_awe.mavlink.commands` (COMMAND_LONG/INT, SET_MODE),
+  :mod:`~fdm_awe.mavlink.mission` (mission download/upload),
+  :mod:`~fdm_awe.mavlink.param_protocol` (parameters on the link), :mod:`~fdm_awe.mavlink.ftp`
+  (MAVFTP NAK), :mod:`~fdm_awe.mavlink.framing` (datagram parsing),
+  :mod:`~fdm_awe.mavlink.winch` (the winch component), :mod:`~fdm_awe.mavlink.statustext`
   and :mod:`~fdm_awe.mavlink.signing` (MAVLink 2 signing, key files).
 """
 

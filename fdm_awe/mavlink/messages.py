@@ -1,7 +1,28 @@
-"""Standard telemetry messages ground stations expect beyond the basic set.
+"""What each streamed message says: one sender per stream, and AUTOPILOT_VERSION.
 
 Each sender takes ``(endpoint, telemetry, t)`` and is scheduled as a stream by
-:class:`fdm_awe.mavlink.endpoint.MavlinkEndpoint` (rates in :data:`RATES`, Hz of simulation time):
+:class:`fdm_awe.mavlink.streams.StreamSchedule` (default rates in :data:`RATES`, Hz of
+simulation time; a ground station may also ask for any of them once, MAV_CMD_REQUEST_MESSAGE).
+Telemetry fields that are missing or not finite go out as the message's "unknown" value or 0.
+
+``HEARTBEAT``
+    MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_GENERIC, custom mode from
+    :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`, armed flag; MAV_STATE_CRITICAL when the
+    simulation's health is lost. The winch's HEARTBEAT (:mod:`fdm_awe.mavlink.winch`) goes with it.
+``ATTITUDE``, ``GLOBAL_POSITION_INT``, ``VFR_HUD``
+    Euler angles and body rates; position about home (altitude AMSL and above home) and NED
+    velocity; airspeed, ground speed, heading, throttle, altitude and climb rate.
+``SYS_STATUS``
+    All simulated sensors/controllers are present, enabled and healthy, including the
+    geofence bit (the tether is the fence; without the health bit MAVProxy announces a fence
+    breach). ``drop_rate_comm`` is 10000 (100 %) while the ground-station link is lost,
+    ``errors_comm`` counts undecodable packets, ``errors_count1`` link losses,
+    ``errors_count2`` messages whose handling failed and ``errors_count3`` messages refused
+    by signing.
+``BATTERY_STATUS``, ``HOME_POSITION``
+    The glider's battery; the winch's position (the NED origin).
+``NAMED_VALUE_FLOAT``
+    The values of :data:`NAMED_VALUES`.
 
 ``GPS_RAW_INT``
     A simulated perfect receiver: 3D fix, the glider's position (lat/lon about home, altitude
@@ -23,6 +44,9 @@ Each sender takes ``(endpoint, telemetry, t)`` and is scheduled as a stream by
     :class:`fdm_awe.sixdof.state.Surfaces`.
 ``WINCH_STATUS``
     Sent by the winch component (:mod:`fdm_awe.mavlink.winch`).
+
+``AUTOPILOT_VERSION`` (on request only): the package version and the protocol capabilities
+(mission and parameter protocols in float and int form, COMMAND_INT, MAVLink 2).
 """
 
 from __future__ import annotations
@@ -32,13 +56,21 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pymavlink.dialects.v20 import common as mav
 
-from .vehicle import Telemetry
+from .vehicle import MODE_NUMBERS, PHASE_CODES, Telemetry
 
 if TYPE_CHECKING:  # pragma: no cover
     from .endpoint import MavlinkEndpoint
 
-#: default rates of these streams, Hz of simulation time
+#: default rates of the streams, Hz of simulation time (also the order they go out in)
 RATES: dict[str, float] = {
+    "HEARTBEAT": 1.0,
+    "ATTITUDE": 10.0,
+    "GLOBAL_POSITION_INT": 10.0,
+    "VFR_HUD": 4.0,
+    "SYS_STATUS": 1.0,
+    "BATTERY_STATUS": 1.0,
+    "HOME_POSITION": 0.2,
+    "NAMED_VALUE_FLOAT": 2.0,
     "GPS_RAW_INT": 5.0,
     "MISSION_CURRENT": 1.0,
     "NAV_CONTROLLER_OUTPUT": 4.0,
@@ -46,8 +78,34 @@ RATES: dict[str, float] = {
     "WINCH_STATUS": 2.0,
 }
 
+#: Names and units of the NAMED_VALUE_FLOAT values (names <= 10 characters).
+NAMED_VALUES: dict[str, str] = {
+    "tension": "tether tension at the winch, N",
+    "reel_spd": "reel speed, m/s (+ = reel-out)",
+    "winch_pwr": "winch electrical power, W (+ = generated)",
+    "net_energy": "net electrical energy, J (+ = gain)",
+    "phase": "cycle phase code (0 ground, 1 generation, 2 transition, 3 recovery)",
+    "fold": "wing fold state, 0 unfolded .. 1 folded",
+}
+
 _HDOP_X100 = 80
 _SATELLITES = 12
+
+_SENSORS = (mav.MAV_SYS_STATUS_SENSOR_3D_GYRO | mav.MAV_SYS_STATUS_SENSOR_3D_ACCEL
+            | mav.MAV_SYS_STATUS_SENSOR_3D_MAG | mav.MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE
+            | mav.MAV_SYS_STATUS_SENSOR_DIFFERENTIAL_PRESSURE | mav.MAV_SYS_STATUS_SENSOR_GPS
+            | mav.MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL
+            | mav.MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION
+            | mav.MAV_SYS_STATUS_SENSOR_YAW_POSITION | mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL
+            | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
+            | mav.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS | mav.MAV_SYS_STATUS_AHRS
+            | mav.MAV_SYS_STATUS_GEOFENCE | mav.MAV_SYS_STATUS_SENSOR_BATTERY)
+
+_CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
+                 | mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT | mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
+                 | mav.MAV_PROTOCOL_CAPABILITY_MAVLINK2)
+
+_I32 = (-2**31, 2**31 - 1)
 
 
 def _f(x: Any, default: float = 0.0) -> float:
@@ -60,6 +118,7 @@ def _f(x: Any, default: float = 0.0) -> float:
 
 
 def _i(x: float, lo: int, hi: int, default: int = 0) -> int:
+    """``x`` rounded to an int inside [lo, hi]; non-finite or non-numeric -> ``default``."""
     v = _f(x, math.nan)
     if math.isnan(v):
         return default
@@ -67,7 +126,21 @@ def _i(x: float, lo: int, hi: int, default: int = 0) -> int:
 
 
 def _us(t: float) -> int:
+    """Simulation time ``t`` (s) as uint64 microseconds."""
     return _i(t * 1e6, 0, 2**63 - 1)
+
+
+def _ms(t: float) -> int:
+    """Simulation time ``t`` (s) as uint32 milliseconds (time_boot_ms)."""
+    return _i(t * 1000.0, 0, 0xFFFFFFFF, 0)
+
+
+def _vec3(v: Any) -> tuple[float, float, float]:
+    """The first three components of ``v`` as finite floats (zeros if it has fewer)."""
+    try:
+        return _f(v[0]), _f(v[1]), _f(v[2])
+    except (TypeError, IndexError, KeyError):
+        return 0.0, 0.0, 0.0
 
 
 def pwm_surface(u: float) -> int:
@@ -80,16 +153,131 @@ def pwm_unit(u: float) -> int:
     return _i(1000.0 + 1000.0 * min(max(_f(u), 0.0), 1.0), 1000, 2000, 1000)
 
 
+def _vehicle_state(ep: "MavlinkEndpoint", tel: Telemetry) -> tuple[str, bool]:
+    """Mode and armed flag: the vehicle's own, else (no vehicle, or it fails) the telemetry's."""
+    v = ep.vehicle
+    if v is not None:
+        try:
+            return str(v.mode), bool(v.armed)
+        except Exception:  # noqa: BLE001
+            pass
+    return str(tel.mode), bool(tel.armed)
+
+
+def send_heartbeat(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    mode, armed = _vehicle_state(ep, tel)
+    custom = MODE_NUMBERS.get(mode, 0)
+    base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
+    if armed:
+        base |= mav.MAV_MODE_FLAG_SAFETY_ARMED
+    if mode == "MANUAL":
+        base |= mav.MAV_MODE_FLAG_MANUAL_INPUT_ENABLED
+    else:
+        base |= mav.MAV_MODE_FLAG_STABILIZE_ENABLED
+        if mode in ("AUTO", "RECOVER", "GUIDED", "LOITER"):
+            base |= mav.MAV_MODE_FLAG_GUIDED_ENABLED | mav.MAV_MODE_FLAG_AUTO_ENABLED
+    if not tel.health_ok:
+        status = mav.MAV_STATE_CRITICAL
+    else:
+        status = mav.MAV_STATE_ACTIVE if armed else mav.MAV_STATE_STANDBY
+    ep._send("HEARTBEAT", ep._mav.heartbeat_send, mav.MAV_TYPE_FIXED_WING,
+             mav.MAV_AUTOPILOT_GENERIC, base, custom, status)
+    ep.winch.send_heartbeat(ep, tel)
+
+
+def send_attitude(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    phi, theta, psi = _vec3(tel.euler)
+    p, q, r = _vec3(tel.omega_body)
+    ep._send("ATTITUDE", ep._mav.attitude_send, _ms(t), phi, theta, psi, p, q, r)
+
+
+def send_global_position(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    n, e, d = _vec3(tel.pos_ned)
+    vn, ve, vd = _vec3(tel.vel_ned)
+    lat, lon, alt = ep.geo.to_geodetic(n, e, d)
+    hdg = math.degrees(_f(_vec3(tel.euler)[2])) % 360.0
+    ep._send("GLOBAL_POSITION_INT", ep._mav.global_position_int_send, _ms(t),
+             _i(lat * 1e7, -900000000, 900000000, 0), _i(lon * 1e7, -1800000000, 1800000000, 0),
+             _i(alt * 1000.0, *_I32, 0), _i(-d * 1000.0, *_I32, 0),
+             _i(vn * 100.0, -32768, 32767, 0), _i(ve * 100.0, -32768, 32767, 0),
+             _i(vd * 100.0, -32768, 32767, 0), _i(hdg * 100.0, 0, 35999, 65535))
+
+
+def send_vfr_hud(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    n, e, d = _vec3(tel.pos_ned)
+    vn, ve, vd = _vec3(tel.vel_ned)
+    hdg = _i(math.degrees(_vec3(tel.euler)[2]) % 360.0, 0, 359, 0)
+    ep._send("VFR_HUD", ep._mav.vfr_hud_send, _f(tel.airspeed), math.hypot(vn, ve), hdg,
+             _i(_f(tel.throttle) * 100.0, 0, 100, 0), ep.geo.home.alt_m - d, -vd)
+
+
+def _millivolts(tel: Telemetry) -> int:
+    """Battery voltage in mV (65535 = unknown)."""
+    return _i(_f(tel.battery_voltage_V, -1) * 1000.0, 0, 65534, 65535)
+
+
+def _centiamps(tel: Telemetry) -> int:
+    """Battery current in cA (-1 = unknown)."""
+    return _i(_f(tel.battery_current_A, -0.01) * 100.0, -1, 32767, -1)
+
+
+def _remaining_pct(tel: Telemetry) -> int:
+    """Battery remaining in % (-1 = unknown)."""
+    r = _f(tel.battery_remaining, -1.0)
+    return -1 if r < 0 else _i(r * 100.0, 0, 100, -1)
+
+
+def send_sys_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    health = _SENSORS if tel.health_ok else _SENSORS & ~mav.MAV_SYS_STATUS_AHRS
+    st = ep.stats
+    sg = st["signing"]
+    refused = sg["unsigned_rejected"] + sg["bad_signature_rejected"]
+    ep._send("SYS_STATUS", ep._mav.sys_status_send, _SENSORS, _SENSORS, health, 0,
+             _millivolts(tel), _centiamps(tel), _remaining_pct(tel), 10000 if ep.link_lost else 0,
+             min(st["bad_packets"], 65535), min(st["link_losses"], 65535),
+             min(st["handler_errors"], 65535), min(refused, 65535), 0)
+
+
+def send_battery(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    volts = [65535] * 10
+    volts[0] = _millivolts(tel)
+    ep._send("BATTERY_STATUS", ep._mav.battery_status_send, 0, mav.MAV_BATTERY_FUNCTION_ALL,
+             mav.MAV_BATTERY_TYPE_LIPO, 32767, volts, _centiamps(tel), -1, -1, _remaining_pct(tel))
+
+
+def send_home(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    h = ep.geo.home
+    ep._send("HOME_POSITION", ep._mav.home_position_send, int(round(h.lat_deg * 1e7)),
+             int(round(h.lon_deg * 1e7)), int(round(h.alt_m * 1000.0)), 0.0, 0.0, 0.0,
+             [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0, _us(t))
+
+
+def send_named_values(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    ms = _ms(t)
+    for name, value in ((b"tension", tel.tension_N), (b"reel_spd", tel.reel_speed_mps),
+                        (b"winch_pwr", tel.winch_power_W), (b"net_energy", tel.net_energy_J),
+                        (b"phase", PHASE_CODES.get(tel.phase, -1.0)), (b"fold", tel.fold)):
+        ep._send("NAMED_VALUE_FLOAT", ep._mav.named_value_float_send, ms, name, _f(value, math.nan))
+
+
+def send_autopilot_version(ep: "MavlinkEndpoint") -> None:
+    """AUTOPILOT_VERSION: the package version (major.minor.patch, official) and capabilities."""
+    from fdm_awe import __version__
+    parts = [int(x) if x.isdigit() else 0 for x in __version__.split(".")[:3]] + [0, 0, 0]
+    sw = (parts[0] << 24) | (parts[1] << 16) | (parts[2] << 8) | 255   # 255 = FIRMWARE_VERSION_TYPE_OFFICIAL
+    ep._send("AUTOPILOT_VERSION", ep._mav.autopilot_version_send, _CAPABILITIES, sw, 0, 0, 0,
+             [0] * 8, [0] * 8, [0] * 8, 0, 0, 0)
+
+
 def send_gps_raw(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     n, e, d = (_f(v) for v in tel.pos_ned[:3])
     vn, ve = _f(tel.vel_ned[0]), _f(tel.vel_ned[1])
     lat, lon, alt = ep.geo.to_geodetic(n, e, d)
     gs = math.hypot(vn, ve)
     cog = math.degrees(math.atan2(ve, vn)) % 360.0 if gs > 0.1 else 0.0
-    i32 = (-2**31, 2**31 - 1)
     ep._send("GPS_RAW_INT", ep._mav.gps_raw_int_send, _us(t), mav.GPS_FIX_TYPE_3D_FIX,
              _i(lat * 1e7, -900000000, 900000000), _i(lon * 1e7, -1800000000, 1800000000),
-             _i(alt * 1000.0, *i32), _HDOP_X100, _HDOP_X100, _i(gs * 100.0, 0, 65534),
+             _i(alt * 1000.0, *_I32), _HDOP_X100, _HDOP_X100, _i(gs * 100.0, 0, 65534),
              _i(cog * 100.0, 0, 35999), _SATELLITES)
 
 
@@ -142,8 +330,16 @@ def send_winch_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     ep.winch.send_status(ep, tel, t)
 
 
-#: stream name -> sender
+#: stream name -> sender (the streams of :data:`RATES`)
 SENDERS: dict[str, Callable[["MavlinkEndpoint", Telemetry, float], None]] = {
+    "HEARTBEAT": send_heartbeat,
+    "ATTITUDE": send_attitude,
+    "GLOBAL_POSITION_INT": send_global_position,
+    "VFR_HUD": send_vfr_hud,
+    "SYS_STATUS": send_sys_status,
+    "BATTERY_STATUS": send_battery,
+    "HOME_POSITION": send_home,
+    "NAMED_VALUE_FLOAT": send_named_values,
     "GPS_RAW_INT": send_gps_raw,
     "MISSION_CURRENT": send_mission_current,
     "NAV_CONTROLLER_OUTPUT": send_nav_controller,

@@ -1,0 +1,267 @@
+"""The mission protocol: the vehicle's path as a MAVLink mission, both ways.
+
+MAV_MISSION_TYPE_MISSION only; fence and rally lists are empty (a download counts 0 items, an
+upload of 0 items and MISSION_CLEAR_ALL are accepted). Download sends the vehicle's path as
+MISSION_ITEM_INT (MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, MAV_CMD_NAV_WAYPOINT, altitude relative
+to home = the winch), or MISSION_ITEM to a MISSION_REQUEST; the list is fixed at
+MISSION_REQUEST_LIST until the ground station's MISSION_ACK. Upload accepts MISSION_ITEM_INT
+and MISSION_ITEM in the GLOBAL(_RELATIVE_ALT)(_INT) frames, re-requests an item after
+``mission_timeout_s`` (wall clock) up to ``mission_retries`` times, and rejects with
+MAV_MISSION_NO_SPACE (over ``max_mission_items``), UNSUPPORTED_FRAME, UNSUPPORTED (not a
+waypoint), INVALID_PARAM5_X/6_Y/7 (bad latitude/longitude/altitude or farther than
+``max_range_m`` from home), OPERATION_CANCELLED (timeout) or INVALID (the vehicle's
+``set_mission`` refused; the reason goes out as STATUSTEXT). An upload of zero items and
+MISSION_CLEAR_ALL clear the mission. The limits are the endpoint's attributes.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+from pymavlink.dialects.v20 import common as mav
+
+from .vehicle import Waypoint
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .endpoint import MavlinkEndpoint
+
+_MISSION = mav.MAV_MISSION_TYPE_MISSION
+_EMPTY_TYPES = (mav.MAV_MISSION_TYPE_FENCE, mav.MAV_MISSION_TYPE_RALLY)
+_GLOBAL_FRAMES_REL = (mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
+_GLOBAL_FRAMES_AMSL = (mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT)
+
+
+class _Upload:
+    """State of a mission upload from a ground station (times: wall clock, s)."""
+
+    __slots__ = ("gcs", "count", "items", "expected", "last_req", "retries")
+
+    def __init__(self, gcs: tuple[int, int], count: int, now: float) -> None:
+        self.gcs = gcs
+        self.count = count
+        self.items: list[Waypoint] = []
+        self.expected = 0
+        self.last_req = now
+        self.retries = 0
+
+
+def _source(m: Any) -> tuple[int, int]:
+    return m.get_srcSystem(), m.get_srcComponent()
+
+
+class MissionProtocol:
+    """Mission download and upload for ``ep``'s vehicle (see module doc).
+
+    Attributes:
+        upload: the upload under way, or None.
+    """
+
+    def __init__(self, ep: "MavlinkEndpoint") -> None:
+        self._ep = ep
+        self.upload: _Upload | None = None
+        self._download: list[tuple[int, int, float]] | None = None
+
+    def _ack(self, dest: tuple[int, int], result: int, mission_type: int) -> None:
+        self._ep._send("MISSION_ACK", self._ep._mav.mission_ack_send, dest[0], dest[1], result, mission_type)
+
+    def _request_item(self, dest: tuple[int, int], seq: int) -> None:
+        self._ep._send("MISSION_REQUEST_INT", self._ep._mav.mission_request_int_send, dest[0], dest[1],
+                       seq, _MISSION)
+
+    # ------------------------------------------------------------------ download
+    def _snapshot(self) -> list[tuple[int, int, float]]:
+        """The vehicle's path as (lat 1e-7 deg, lon 1e-7 deg, altitude above home m) items."""
+        ep = self._ep
+        if ep.vehicle is None:
+            return []
+        out = []
+        for wp in ep.vehicle.mission():
+            lat, lon, _alt = ep.geo.to_geodetic(wp.north, wp.east, wp.down)
+            out.append((int(round(lat * 1e7)), int(round(lon * 1e7)), float(-wp.down)))
+        return out
+
+    def on_request_list(self, m: Any) -> None:
+        """MISSION_REQUEST_LIST: the number of items (fixes the list being downloaded)."""
+        ep = self._ep
+        if not ep._for_me(m):
+            return
+        mt = getattr(m, "mission_type", 0)
+        src = _source(m)
+        if mt == _MISSION:
+            self._download = self._snapshot()
+            n = len(self._download)
+        elif mt in _EMPTY_TYPES:
+            n = 0
+        else:
+            self._ack(src, mav.MAV_MISSION_UNSUPPORTED, mt)
+            return
+        ep._send("MISSION_COUNT", ep._mav.mission_count_send, src[0], src[1], n, mt)
+
+    def on_request(self, m: Any) -> None:
+        """MISSION_REQUEST_INT / MISSION_REQUEST: one item, in the form asked for."""
+        ep = self._ep
+        if not ep._for_me(m):
+            return
+        mt = getattr(m, "mission_type", 0)
+        src = _source(m)
+        if mt != _MISSION:
+            self._ack(src, mav.MAV_MISSION_INVALID_SEQUENCE, mt)
+            return
+        if self._download is None:
+            self._download = self._snapshot()
+        items = self._download
+        if not 0 <= m.seq < len(items):
+            self._ack(src, mav.MAV_MISSION_INVALID_SEQUENCE, mt)
+            return
+        x, y, z = items[m.seq]
+        if m.get_type() == "MISSION_REQUEST_INT":
+            ep._send("MISSION_ITEM_INT", ep._mav.mission_item_int_send, src[0], src[1], m.seq,
+                     mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
+                     0.0, 0.0, 0.0, 0.0, x, y, z, mt)
+        else:
+            ep._send("MISSION_ITEM", ep._mav.mission_item_send, src[0], src[1], m.seq,
+                     mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
+                     0.0, 0.0, 0.0, 0.0, x * 1e-7, y * 1e-7, z, mt)
+
+    def on_ack(self, m: Any) -> None:
+        """MISSION_ACK: a download ends; an upload from the same station is cancelled."""
+        if not self._ep._for_me(m):
+            return
+        if getattr(m, "mission_type", 0) != _MISSION:
+            return
+        self._download = None   # download finished (or cancelled by the ground station)
+        up = self.upload
+        if up is not None and up.gcs == _source(m):
+            self.upload = None
+            self._ep._warn("MAVLink: mission upload cancelled by the ground station")
+
+    def on_clear_all(self, m: Any) -> None:
+        """MISSION_CLEAR_ALL: clear the vehicle's mission (fence and rally: nothing to clear)."""
+        ep = self._ep
+        if not ep._for_me(m):
+            return
+        mt = getattr(m, "mission_type", 0)
+        src = _source(m)
+        if mt in (_MISSION, mav.MAV_MISSION_TYPE_ALL):
+            if ep.vehicle is None:
+                self._ack(src, mav.MAV_MISSION_ERROR, mt)
+                return
+            ep.vehicle.clear_mission()
+            self._download = None
+            ep._info("MAVLink: mission cleared")
+        elif mt not in _EMPTY_TYPES:
+            self._ack(src, mav.MAV_MISSION_UNSUPPORTED, mt)
+            return
+        self._ack(src, mav.MAV_MISSION_ACCEPTED, mt)
+
+    # ------------------------------------------------------------------ upload
+    def on_count(self, m: Any) -> None:
+        """MISSION_COUNT: start an upload (or clear the mission for 0 items)."""
+        ep = self._ep
+        if not ep._for_me(m):
+            return
+        mt = getattr(m, "mission_type", 0)
+        src = _source(m)
+        if mt != _MISSION:
+            ok = m.count == 0 and mt in _EMPTY_TYPES
+            self._ack(src, mav.MAV_MISSION_ACCEPTED if ok else mav.MAV_MISSION_UNSUPPORTED, mt)
+            return
+        if ep.vehicle is None:
+            self._ack(src, mav.MAV_MISSION_ERROR, mt)
+            return
+        if m.count > ep.max_mission_items:
+            self.upload = None
+            ep._warn(f"MAVLink: mission of {m.count} items refused (max {ep.max_mission_items})")
+            self._ack(src, mav.MAV_MISSION_NO_SPACE, mt)
+            return
+        if m.count == 0:
+            self.upload = None
+            ep.vehicle.clear_mission()
+            ep._info("MAVLink: empty mission uploaded; mission cleared")
+            self._ack(src, mav.MAV_MISSION_ACCEPTED, mt)
+            return
+        self.upload = _Upload(src, m.count, ep._clock())
+        self._request_item(src, 0)
+
+    def check_timeout(self, now: float) -> None:
+        """Re-request the awaited item after ``mission_timeout_s`` (``now``: wall clock, s);
+        cancel the upload after ``mission_retries`` re-requests."""
+        ep = self._ep
+        up = self.upload
+        if up is None or now - up.last_req < ep.mission_timeout_s:
+            return
+        if up.retries >= ep.mission_retries:
+            self.upload = None
+            ep._warn(f"MAVLink: mission upload timed out waiting for item {up.expected}")
+            self._ack(up.gcs, mav.MAV_MISSION_OPERATION_CANCELLED, _MISSION)
+            return
+        up.retries += 1
+        up.last_req = now
+        self._request_item(up.gcs, up.expected)
+
+    def _item_to_waypoint(self, m: Any) -> tuple[int, Waypoint | None]:
+        """Validate one uploaded item -> (MAV_MISSION_RESULT, waypoint or None)."""
+        if m.command != mav.MAV_CMD_NAV_WAYPOINT:
+            return mav.MAV_MISSION_UNSUPPORTED, None
+        if m.frame in _GLOBAL_FRAMES_REL:
+            relative = True
+        elif m.frame in _GLOBAL_FRAMES_AMSL:
+            relative = False
+        else:
+            return mav.MAV_MISSION_UNSUPPORTED_FRAME, None
+        scale = 1e-7 if m.get_type() == "MISSION_ITEM_INT" else 1.0
+        lat, lon, z = float(m.x) * scale, float(m.y) * scale, float(m.z)
+        if not (math.isfinite(lat) and -90.0 <= lat <= 90.0):
+            return mav.MAV_MISSION_INVALID_PARAM5_X, None
+        if not (math.isfinite(lon) and -180.0 <= lon <= 180.0):
+            return mav.MAV_MISSION_INVALID_PARAM6_Y, None
+        if not (math.isfinite(z) and -1000.0 <= z <= 20000.0):
+            return mav.MAV_MISSION_INVALID_PARAM7, None
+        geo = self._ep.geo
+        alt = geo.home.alt_m + z if relative else z
+        n, e, d = geo.to_ned(lat, lon, alt)
+        if abs(n) > self._ep.max_range_m:
+            return mav.MAV_MISSION_INVALID_PARAM5_X, None
+        if abs(e) > self._ep.max_range_m:
+            return mav.MAV_MISSION_INVALID_PARAM6_Y, None
+        return mav.MAV_MISSION_ACCEPTED, Waypoint(n, e, d)
+
+    def on_item(self, m: Any) -> None:
+        """MISSION_ITEM_INT / MISSION_ITEM of the upload under way: validate and store it,
+        ask for the next one; after the last, hand the path to the vehicle."""
+        ep = self._ep
+        if not ep._for_me(m):
+            return
+        up = self.upload
+        src = _source(m)
+        if up is None or src != up.gcs or getattr(m, "mission_type", 0) != _MISSION:
+            return  # not part of an upload we run: ignore
+        if m.seq != up.expected:
+            if m.seq > up.expected:  # we missed one: ask again for the one we need
+                up.last_req = ep._clock()
+                self._request_item(src, up.expected)
+            return
+        result, wp = self._item_to_waypoint(m)
+        if wp is None:
+            self.upload = None
+            ep._warn(f"MAVLink: mission item {m.seq} rejected (MAV_MISSION_RESULT {result})")
+            self._ack(src, result, _MISSION)
+            return
+        up.items.append(wp)
+        up.expected += 1
+        up.retries = 0
+        up.last_req = ep._clock()
+        if up.expected < up.count:
+            self._request_item(src, up.expected)
+            return
+        self.upload = None
+        ok, why = ep.vehicle.set_mission(list(up.items))
+        if ok:
+            self._download = None
+            ep._info(f"MAVLink: mission of {len(up.items)} waypoints accepted")
+            self._ack(src, mav.MAV_MISSION_ACCEPTED, _MISSION)
+        else:
+            ep._warn(f"MAVLink: mission refused by the vehicle: {why}")
+            ep.statustext(f"mission refused: {why}", mav.MAV_SEVERITY_WARNING)
+            self._ack(src, mav.MAV_MISSION_INVALID, _MISSION)

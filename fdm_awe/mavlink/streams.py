@@ -1,0 +1,133 @@
+"""Telemetry streams: their rates and their schedule in simulation time.
+
+Every stream of :data:`DEFAULT_RATES` (what each says: :mod:`fdm_awe.mavlink.messages`) has a
+period in simulation seconds (``inf`` = off) and the simulation time it is next due. A stream
+that falls behind (a long step, the first call) is not sent in a burst: its phase restarts at
+the current time. A simulation that restarts (time going back) restarts every stream.
+
+Rates are set with the endpoint's ``rates=``, :meth:`~fdm_awe.mavlink.endpoint.MavlinkEndpoint.set_rate` or
+MAV_CMD_SET_MESSAGE_INTERVAL (:mod:`fdm_awe.mavlink.commands`): 0 Hz is off, at most
+:data:`MAX_RATE_HZ`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
+
+from pymavlink.dialects.v20 import common as mav
+
+from fdm_awe.errors import InputError
+
+from .messages import RATES, SENDERS
+from .vehicle import Telemetry
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .endpoint import MavlinkEndpoint
+
+#: Default stream rates, Hz of simulation time, in the order the streams go out.
+DEFAULT_RATES: dict[str, float] = dict(RATES)
+
+#: highest stream rate accepted, Hz
+MAX_RATE_HZ = 200.0
+
+_STREAM_IDS: dict[str, int] = {name: getattr(mav, f"MAVLINK_MSG_ID_{name}") for name in DEFAULT_RATES}
+_STREAM_BY_ID: dict[int, str] = {v: k for k, v in _STREAM_IDS.items()}
+
+Sender = Callable[["MavlinkEndpoint", Telemetry, float], None]
+
+
+def check_rate(stream: str, hz: object) -> float:
+    """``hz`` as the float rate of ``stream``; InputError (one line) for an unknown stream or a
+    rate that is not a number in [0, :data:`MAX_RATE_HZ`]."""
+    if stream not in DEFAULT_RATES:
+        raise InputError(f"MAVLink rate {stream!r}: unknown stream; allowed: {', '.join(DEFAULT_RATES)}")
+    if not isinstance(hz, (int, float)) or not math.isfinite(hz) or not 0 <= hz <= MAX_RATE_HZ:
+        raise InputError(f"MAVLink rate {stream}: {hz!r} Hz outside [0, {MAX_RATE_HZ:g}]")
+    return float(hz)
+
+
+def stream_of_message(msg_id: float) -> str | None:
+    """The stream sending message id ``msg_id`` (a command parameter, float), or None."""
+    return _STREAM_BY_ID.get(int(msg_id)) if msg_id == int(msg_id) else None
+
+
+@dataclass
+class _Stream:
+    name: str
+    period: float      # s (simulation), inf = off
+    next_t: float      # s (simulation)
+    default_rate: float  # Hz
+    send: Sender
+
+
+class StreamSchedule:
+    """The streams, their periods and when each is next due (simulation time).
+
+    Args:
+        rates: stream name -> Hz, merged over :data:`DEFAULT_RATES`; 0 = off.
+
+    Raises:
+        InputError: unknown stream or bad rate (:func:`check_rate`).
+    """
+
+    def __init__(self, rates: dict[str, float] | None = None) -> None:
+        merged = dict(DEFAULT_RATES)
+        for k, v in (rates or {}).items():
+            merged[k] = check_rate(k, v)
+        self._streams = [_Stream(k, 1.0 / r if r > 0 else math.inf, 0.0, DEFAULT_RATES[k], SENDERS[k])
+                         for k, r in merged.items()]
+        self._by_name = {s.name: s for s in self._streams}
+
+    def restart(self, t: float) -> None:
+        """Make every stream due at simulation time ``t`` (s): the simulation restarted."""
+        for s in self._streams:
+            s.next_t = t
+
+    def send_due(self, ep: "MavlinkEndpoint", t: float, next_rx: float) -> float:
+        """Send every stream due at simulation time ``t`` (s) through ``ep``; return the
+        earliest time (s) anything is due next: a stream or ``next_rx``, the next input poll.
+
+        A failing sender is counted (``stats["send_errors"]``) and warned about; the other
+        streams still go out."""
+        for s in self._streams:
+            if t >= s.next_t:
+                s.next_t += s.period
+                if s.next_t <= t:        # fell behind (or first call): no burst, restart phase
+                    s.next_t = t + s.period
+                tel = ep._telemetry()
+                try:
+                    s.send(ep, tel, t)
+                except Exception as e:  # noqa: BLE001 - bad telemetry must not stop the stream loop
+                    ep.stats["send_errors"] += 1
+                    ep._warn(f"MAVLink {s.name} not sent: {type(e).__name__}: {e}")
+        nd = next_rx
+        for s in self._streams:
+            if s.next_t < nd:
+                nd = s.next_t
+        return nd
+
+    def send_now(self, ep: "MavlinkEndpoint", stream: str) -> None:
+        """Send one message of ``stream`` now (a ground station's request), off the schedule."""
+        self._by_name[stream].send(ep, ep._telemetry(), ep._t_now)
+
+    def set_rate(self, stream: str, hz: float, t: float) -> None:
+        """Set a stream's rate (Hz, 0 = off; :func:`check_rate`), due first at ``t`` (s)."""
+        hz = check_rate(stream, hz)
+        s = self._by_name[stream]
+        s.period = 1.0 / hz if hz > 0 else math.inf
+        s.next_t = t
+
+    def default_rate(self, stream: str) -> float:
+        """The rate ``stream`` had by default, Hz."""
+        return self._by_name[stream].default_rate
+
+    def interval_us(self, stream: str) -> int:
+        """The period of ``stream`` in microseconds, -1 when it is off."""
+        period = self._by_name[stream].period
+        return -1 if math.isinf(period) else int(round(period * 1e6))
+
+    def rates(self) -> dict[str, float]:
+        """Current stream rates, Hz."""
+        return {s.name: (0.0 if math.isinf(s.period) else 1.0 / s.period) for s in self._streams}
