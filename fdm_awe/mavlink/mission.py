@@ -16,8 +16,9 @@ MISSION_CLEAR_ALL clear the mission. The limits are the endpoint's attributes.
 
 from __future__ import annotations
 
+import functools
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable
 
 from pymavlink.dialects.v20 import common as mav
 
@@ -30,6 +31,18 @@ _MISSION = mav.MAV_MISSION_TYPE_MISSION
 _EMPTY_TYPES = (mav.MAV_MISSION_TYPE_FENCE, mav.MAV_MISSION_TYPE_RALLY)
 _GLOBAL_FRAMES_REL = (mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
 _GLOBAL_FRAMES_AMSL = (mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT)
+
+
+def _addressed(fn: Callable[[Any, Any, int, tuple[int, int]], None]) -> Callable[[Any, Any], None]:
+    """A handler of messages addressed to this vehicle: called as ``fn(self, m, mission_type,
+    source)``; a message for another system or component is ignored."""
+
+    @functools.wraps(fn)
+    def handler(self: Any, m: Any) -> None:
+        if self._ep._for_me(m):
+            fn(self, m, getattr(m, "mission_type", 0), _source(m))
+
+    return handler
 
 
 class _Upload:
@@ -81,13 +94,10 @@ class MissionProtocol:
             out.append((int(round(lat * 1e7)), int(round(lon * 1e7)), float(-wp.down)))
         return out
 
-    def on_request_list(self, m: Any) -> None:
+    @_addressed
+    def on_request_list(self, m: Any, mt: int, src: tuple[int, int]) -> None:
         """MISSION_REQUEST_LIST: the number of items (fixes the list being downloaded)."""
         ep = self._ep
-        if not ep._for_me(m):
-            return
-        mt = getattr(m, "mission_type", 0)
-        src = _source(m)
         if mt == _MISSION:
             self._download = self._snapshot()
             n = len(self._download)
@@ -98,13 +108,10 @@ class MissionProtocol:
             return
         ep._send("MISSION_COUNT", ep._mav.mission_count_send, src[0], src[1], n, mt)
 
-    def on_request(self, m: Any) -> None:
+    @_addressed
+    def on_request(self, m: Any, mt: int, src: tuple[int, int]) -> None:
         """MISSION_REQUEST_INT / MISSION_REQUEST: one item, in the form asked for."""
         ep = self._ep
-        if not ep._for_me(m):
-            return
-        mt = getattr(m, "mission_type", 0)
-        src = _source(m)
         if mt != _MISSION:
             self._ack(src, mav.MAV_MISSION_INVALID_SEQUENCE, mt)
             return
@@ -124,25 +131,21 @@ class MissionProtocol:
                      mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
                      0.0, 0.0, 0.0, 0.0, x * 1e-7, y * 1e-7, z, mt)
 
-    def on_ack(self, m: Any) -> None:
+    @_addressed
+    def on_ack(self, m: Any, mt: int, src: tuple[int, int]) -> None:
         """MISSION_ACK: a download ends; an upload from the same station is cancelled."""
-        if not self._ep._for_me(m):
-            return
-        if getattr(m, "mission_type", 0) != _MISSION:
+        if mt != _MISSION:
             return
         self._download = None   # download finished (or cancelled by the ground station)
         up = self.upload
-        if up is not None and up.gcs == _source(m):
+        if up is not None and up.gcs == src:
             self.upload = None
             self._ep._warn("MAVLink: mission upload cancelled by the ground station")
 
-    def on_clear_all(self, m: Any) -> None:
+    @_addressed
+    def on_clear_all(self, m: Any, mt: int, src: tuple[int, int]) -> None:
         """MISSION_CLEAR_ALL: clear the vehicle's mission (fence and rally: nothing to clear)."""
         ep = self._ep
-        if not ep._for_me(m):
-            return
-        mt = getattr(m, "mission_type", 0)
-        src = _source(m)
         if mt in (_MISSION, mav.MAV_MISSION_TYPE_ALL):
             if ep.vehicle is None:
                 self._ack(src, mav.MAV_MISSION_ERROR, mt)
@@ -156,13 +159,10 @@ class MissionProtocol:
         self._ack(src, mav.MAV_MISSION_ACCEPTED, mt)
 
     # ------------------------------------------------------------------ upload
-    def on_count(self, m: Any) -> None:
+    @_addressed
+    def on_count(self, m: Any, mt: int, src: tuple[int, int]) -> None:
         """MISSION_COUNT: start an upload (or clear the mission for 0 items)."""
         ep = self._ep
-        if not ep._for_me(m):
-            return
-        mt = getattr(m, "mission_type", 0)
-        src = _source(m)
         if mt != _MISSION:
             ok = m.count == 0 and mt in _EMPTY_TYPES
             self._ack(src, mav.MAV_MISSION_ACCEPTED if ok else mav.MAV_MISSION_UNSUPPORTED, mt)
@@ -227,15 +227,13 @@ class MissionProtocol:
             return mav.MAV_MISSION_INVALID_PARAM6_Y, None
         return mav.MAV_MISSION_ACCEPTED, Waypoint(n, e, d)
 
-    def on_item(self, m: Any) -> None:
+    @_addressed
+    def on_item(self, m: Any, mt: int, src: tuple[int, int]) -> None:
         """MISSION_ITEM_INT / MISSION_ITEM of the upload under way: validate and store it,
         ask for the next one; after the last, hand the path to the vehicle."""
         ep = self._ep
-        if not ep._for_me(m):
-            return
         up = self.upload
-        src = _source(m)
-        if up is None or src != up.gcs or getattr(m, "mission_type", 0) != _MISSION:
+        if up is None or src != up.gcs or mt != _MISSION:
             return  # not part of an upload we run: ignore
         if m.seq != up.expected:
             if m.seq > up.expected:  # we missed one: ask again for the one we need
