@@ -62,9 +62,13 @@ def rrd_stats(path: str | Path, timeout: float = 60.0) -> str:
 
 def _chunks(path: str | Path):  # noqa: ANN202 - an iterator of rerun chunks
     """The chunks of the first recording store in ``path`` (a file without footer is read whole)."""
+    import warnings
+
     from rerun.chunk import RrdReader
 
-    reader = RrdReader(str(path))
+    with warnings.catch_warnings():  # a file without footer is read below as rerun advises
+        warnings.filterwarnings("ignore", message="RRD file has no footer")
+        reader = RrdReader(str(path))
     try:
         store = reader.store()
     except RuntimeError:  # no footer: a stream saved by `rerun --save`
