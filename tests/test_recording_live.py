@@ -32,8 +32,9 @@ def _free_port() -> int:
 
 @pytest.fixture
 def viewer(tmp_path):
-    """A local gRPC server saving what it receives: ``(port, stop)``; ``stop()`` ends it (Ctrl-C,
-    so it finishes the file) and returns the file's path."""
+    """A local gRPC server saving what it receives: ``(port, stop)``; ``stop(last)`` waits until
+    the entity ``last`` (the last one sent) is in the file (the server writes what it received
+    some time after the sender is done), ends the server (Ctrl-C) and returns the file's path."""
     port = _free_port()
     out = tmp_path / "received.rrd"
     proc = subprocess.Popen([rerun_cli(), "--port", str(port), "--save", str(out)], stdout=subprocess.DEVNULL,
@@ -48,7 +49,15 @@ def viewer(tmp_path):
                 assert proc.poll() is None and time.monotonic() < deadline, "the rerun server did not start"
                 time.sleep(0.1)
 
-        def stop():
+        def stop(last: str):
+            until = time.monotonic() + 60.0
+            while time.monotonic() < until:
+                try:
+                    if last in rrd_entities(out):
+                        break
+                except Exception:  # noqa: BLE001 - not written yet, or half a message
+                    pass
+                time.sleep(0.2)
             os.killpg(proc.pid, signal.SIGINT)  # the CLI wrapper and the server it runs
             proc.wait(timeout=60)
             return out
@@ -72,7 +81,7 @@ def test_live_flight_streams_what_the_file_holds(circle, viewer):  # noqa: F811
     live.flush = lambda final=False: (flushes.append(final), real_flush(final))[1]
     rep = fly(circle, config="foldable", cycles=1, t_end=2.0, on_step=live, setup=live.setup)
     live.finish(rep)
-    saved = stop()
+    saved = stop("/report")  # the report goes last
     assert len(flushes) > 3 and flushes[-1] is True  # sent while flying, the rest at the end
 
     ent = rrd_entities(saved)
@@ -108,7 +117,7 @@ def test_fly_connect_streams_to_a_running_viewer(viewer, monkeypatch, tmp_path):
     _short_flight(monkeypatch)
     out = tmp_path / "run.json"
     assert main(["fly", "--reference", str(REF), "--quiet", "--connect", str(port), "--json", str(out)]) == 0
-    saved = stop()
+    saved = stop("/report")
     ent = rrd_entities(saved)
     assert {"/world/glider/airframe/body", "/world/forces/tether", "/plots/tension", "/events"} <= set(ent)
     assert ent["/world/glider"].t_max == pytest.approx(2.0, abs=1e-6)
@@ -136,3 +145,27 @@ def test_live_options_are_refused_before_any_work(no_work, capsys, monkeypatch, 
         monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
         _refused(["fly", "--reference", ref, "--spawn"], capsys, "--spawn", "no display")
     assert os.listdir(tmp_path) == []
+
+
+def test_spawn_runs_rerun_viewer_program_and_streams_to_it(viewer, monkeypatch):
+    """--spawn starts rerun's viewer program on rerun's default port and streams to it; the
+    start is replaced here by a connection to the test's server (no display to open a window)."""
+    import rerun as rr
+
+    from fdm_awe.recording.blueprint import flight_blueprint
+    from fdm_awe.recording.stream import DEFAULT_PORT, ViewerSink
+
+    port, stop = viewer
+    calls = []
+
+    def spawn(**kw):
+        calls.append(kw)
+        kw["recording"].connect_grpc(f"rerun+http://127.0.0.1:{port}/proxy", default_blueprint=kw["default_blueprint"])
+
+    monkeypatch.setattr(rr, "spawn", spawn)
+    sink = ViewerSink(spawn=True, blueprint=flight_blueprint("spawned"), name="spawned")
+    sink.static("world/winch", rr.Points3D([[0.0, 0.0, 0.0]]))
+    assert sink.close()
+    (kw,) = calls
+    assert kw["executable_path"] == rerun_cli() and kw["port"] == DEFAULT_PORT and kw["connect"] is True
+    assert "/world/winch" in rrd_entities(stop("/world/winch"))
