@@ -124,6 +124,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="pace against the wall clock, > 0 and <= 1000 (default 1x)")
     p.add_argument("--params", metavar="FILE", help="autopilot parameter file (PARAM_SET changes are saved there)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    from ..recording.stream import add_live_arguments
+
+    add_live_arguments(p)  # --spawn / --connect [ADDR]: a live view in rerun
 
 
 def _check(args: argparse.Namespace) -> None:
@@ -144,6 +147,9 @@ def _check(args: argparse.Namespace) -> None:
 
     parse_tether(args.tether)
     chk.mavlink_url(args.mavlink)
+    from ..recording.stream import check_live_args
+
+    check_live_args(args)
     if args.mavlink_key is not None:
         if not args.mavlink:
             raise InputError("--mavlink-key: only with --mavlink (there is no link to sign)")
@@ -284,8 +290,10 @@ def run(args: argparse.Namespace) -> int:
         ref_label = str(ref_path)
     plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
     scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
+    from ..recording.stream import open_live
     from ..sim.flight import fly
 
+    live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
     endpoint = pacer = None
     hooks = []
     holder: dict = {}
@@ -313,6 +321,9 @@ def run(args: argparse.Namespace) -> int:
 
             pacer = RealtimePacer(args.realtime)
             hooks.append(lambda k, s, o: pacer.wait(s.t))
+        if live is not None:
+            live.setup(ap, sim)
+            hooks.append(live)
 
     n_total = int(round(args.cycles * ref.period / args.dt))
     bar = None
@@ -333,11 +344,15 @@ def run(args: argparse.Namespace) -> int:
                      tether=args.tether)
         if endpoint is not None:
             endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
+        if live is not None:
+            live.finish(report)  # the last rows, the flown path, the events and the report
     finally:
         if bar is not None:
             bar.close()
         if endpoint is not None:
             endpoint.close()
+        if live is not None:
+            live.close()
     report.wall_s = time.perf_counter() - t0
     _print_summary(report, ref_label)
     return _finish(args, report, ref, ref_path, out_dir)

@@ -29,6 +29,7 @@ _EXPORTS = {
     "FlightRecording": ".live",
     "flight_outputs": ".outputs", "cycle_outputs": ".outputs",
     "rrd_verify": ".inspect", "rrd_stats": ".inspect", "rrd_entities": ".inspect", "rrd_views": ".inspect",
+    "rrd_values": ".inspect", "flight_forces": ".forces", "LiveFlight": ".stream",
 }
 
 

@@ -1,17 +1,32 @@
-"""Viewer layouts (rerun blueprints): the 3D scene on the left, the plots on the right."""
+"""Viewer layouts (rerun blueprints): the 3D scene on the left, the plots on the right.
+
+A flight's layout also shows the phase lane and the event log (autopilot messages, how the
+run ended) below the plots. A panel may get a fixed initial y-range (``y_ranges``): the flight's
+power panel is given a robust one (:func:`fdm_awe.recording.series.robust_range`), so the
+motor's start-up spike does not squash it; its title then says so.
+"""
 
 from __future__ import annotations
 
 from typing import Any
+
+from .series import robust_note
+
+#: title of the power panel (both layouts)
+POWER_PANEL = "power [W]"
 
 #: plot panels of a flight recording: (title, entity paths)
 FLIGHT_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("airspeed [m/s]", ("plots/airspeed",)),
     ("altitude [m]", ("plots/altitude",)),
     ("tether tension [N]", ("plots/tension",)),
+    ("attitude [rad]", ("plots/attitude/**",)),
+    ("alpha, beta [rad]", ("plots/flow/**",)),
+    ("surfaces, throttle [-]", ("plots/surfaces/**",)),
+    ("forces on the glider [N]", ("plots/forces/**",)),
     ("reel speed [m/s] (+ out)", ("plots/reel_speed",)),
     ("duty [-], fold [-]", ("plots/duty", "plots/fold")),
-    ("power [W]", ("plots/power/**",)),
+    (POWER_PANEL, ("plots/power/**",)),
     ("cumulative energy [J]", ("plots/energy/**",)),
     ("tracking error [m]", ("plots/tracking_error",)),
 )
@@ -24,33 +39,45 @@ CYCLE_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("reel speed [m/s] (+ out)", ("plots/reel_speed",)),
     ("alpha, bank [rad]", ("plots/alpha", "plots/bank")),
     ("thrust [N]", ("plots/thrust",)),
-    ("power [W]", ("plots/power/**",)),
+    (POWER_PANEL, ("plots/power/**",)),
     ("cumulative energy [J]", ("plots/energy/**",)),
 )
 
 
-def layout(panels: tuple[tuple[str, tuple[str, ...]], ...], title: str) -> Any:
+def layout(panels: tuple[tuple[str, tuple[str, ...]], ...], title: str, *, events: bool = False,
+           y_ranges: dict[str, tuple[float, float]] | None = None, grid_columns: int = 2) -> Any:
     """3D view of ``world`` (2/5 of the width) beside a grid of time-series panels (a second tab
-    holds the run's markdown report) and a phase lane."""
+    holds the run's markdown report), a phase lane and, with ``events``, the event log.
+    ``y_ranges``: panel title -> initial robust y-range; such a panel's title says so."""
     import rerun.blueprint as rrb
 
-    plots = [rrb.TimeSeriesView(name=name, origin="/", contents=list(paths)) for name, paths in panels]
+    y_ranges = y_ranges or {}
+    plots = []
+    for name, paths in panels:
+        rng = y_ranges.get(name)
+        axis = {} if rng is None else {"axis_y": rrb.ScalarAxis(range=rng, zoom_lock=False)}
+        plots.append(rrb.TimeSeriesView(name=name if rng is None else f"{name} ({robust_note()})", origin="/",
+                                        contents=list(paths), **axis))
+    lane = rrb.StateTimelineView(name="phase", origin="/", contents=["phase"])
+    bottom = rrb.Horizontal(lane, rrb.TextLogView(name="events", origin="events"), column_shares=[1, 1]) if events else lane
     right = rrb.Vertical(
-        rrb.Tabs(rrb.Grid(*plots, grid_columns=2, name="time series"),
+        rrb.Tabs(rrb.Grid(*plots, grid_columns=grid_columns, name="time series"),
                  rrb.TextDocumentView(name="report", origin="/", contents=["report"]), active_tab=0),
-        rrb.StateTimelineView(name="phase", origin="/", contents=["phase"]),
-        row_shares=[8, 1],
+        bottom,
+        row_shares=[7, 2] if events else [8, 1],
     )
     scene = rrb.Spatial3DView(name=title, origin="world", contents=["world/**"])
     return rrb.Blueprint(rrb.Horizontal(scene, right, column_shares=[2, 3]), collapse_panels=False)
 
 
-def flight_blueprint(title: str = "flight") -> Any:
-    return layout(FLIGHT_PANELS, title)
+def flight_blueprint(title: str = "flight", power_range: tuple[float, float] | None = None) -> Any:
+    """Layout of a flight (``power_range``: robust y-range of the power panel [W])."""
+    return layout(FLIGHT_PANELS, title, events=True, grid_columns=3,
+                  y_ranges=None if power_range is None else {POWER_PANEL: power_range})
 
 
 def cycle_blueprint(title: str = "optimised cycle") -> Any:
     return layout(CYCLE_PANELS, title)
 
 
-__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "cycle_blueprint", "flight_blueprint", "layout"]
+__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "POWER_PANEL", "cycle_blueprint", "flight_blueprint", "layout"]

@@ -6,24 +6,33 @@ an event (or Ctrl-C, which the co-simulation turns into the ``interrupted`` even
 up to its last step. ``record_cycle(reference, path)`` records an optimised cycle from a
 reference-trajectory file (or trajectory / CycleResult) the same way.
 
-Cost: the scalar series go out at full rate as columns; the 3D scene (pose, tether, reference
-marker) is decimated to ``scene_hz`` (30 Hz by default; the viewer interpolates nothing, it
-shows the latest pose).
+A flight is recorded in three parts, which :class:`~fdm_awe.recording.stream.LiveFlight` also
+uses to stream a flight to a viewer while it is flown: :func:`log_flight_start` (the static
+scene: ground, winch, wind, reference path, airframe), :func:`log_flight_rows` (everything
+over time: pose, wing, tether, forces, plots, phase; callable for consecutive slices of rows)
+and :func:`log_flight_end` (the flown path, the event log and the report).
+
+Cost: the scalar series go out at full rate as columns; the 3D scene (pose, tether, force
+arrows, reference marker) is decimated to ``scene_hz`` (30 Hz by default; the viewer
+interpolates nothing, it shows the latest pose).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .blueprint import cycle_blueprint, flight_blueprint
-from .rrd import RrdFile
+from .forces import GliderForces, flight_forces
+from .rrd import RecordingSink, RrdFile
 from .scene import REFERENCE_COLOR, scene_extent
-from .series import Series, cycle_series, flight_series, load_reference
+from .series import Series, cycle_series, flight_series, load_reference, robust_range
 from .world import (
-    GLIDER_SCALE, log_error_line, log_glider, log_path, log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
+    FORCE_SCALE, GLIDER_SCALE, log_airframe, log_error_line, log_forces, log_forces_description, log_glider, log_path,
+    log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
 )
 
 #: (entity, series name, display name) of a flight's plots
@@ -32,6 +41,15 @@ FLIGHT_PLOTS: tuple[tuple[str, str, str], ...] = (
     ("plots/altitude", "altitude", "altitude"),
     ("plots/tension", "tension", "tension"),
     ("plots/reel_speed", "reel_speed", "reel speed"),
+    ("plots/attitude/roll", "roll", "roll phi"),
+    ("plots/attitude/pitch", "pitch", "pitch theta"),
+    ("plots/attitude/yaw", "yaw", "yaw psi"),
+    ("plots/flow/alpha", "alpha", "alpha"),
+    ("plots/flow/beta", "beta", "beta"),
+    ("plots/surfaces/aileron", "aileron", "aileron"),
+    ("plots/surfaces/elevator", "elevator", "elevator"),
+    ("plots/surfaces/rudder", "rudder", "rudder"),
+    ("plots/surfaces/throttle", "throttle", "throttle"),
     ("plots/duty", "duty", "converter duty"),
     ("plots/fold", "fold", "fold state"),
     ("plots/power/winch_electrical", "p_electrical", "winch electrical (+ out)"),
@@ -61,8 +79,19 @@ CYCLE_PLOTS: tuple[tuple[str, str, str], ...] = (
     ("plots/energy/net", "E_net", "net"),
 )
 
+#: (entity, GliderForces scalar, display name) of the force plots: lift and drag signed in wind
+#: axes (drag > 0 against the air velocity), the tether force's magnitude, the logged thrust
+FORCE_PLOTS: tuple[tuple[str, str, str], ...] = (
+    ("plots/forces/lift", "L", "lift"),
+    ("plots/forces/drag", "D", "drag"),
+    ("plots/forces/side", "C", "side force"),
+    ("plots/forces/tether", "tether_N", "tether force"),
+    ("plots/forces/thrust", "thrust_N", "thrust"),
+)
+
 _COLORS = {"generated": (44, 160, 44), "thrust": (214, 39, 40), "reel_in": (255, 127, 14), "net": (31, 119, 180),
-           "winch_electrical": (31, 119, 180), "propeller": (214, 39, 40)}
+           "winch_electrical": (31, 119, 180), "propeller": (214, 39, 40), "lift": (31, 119, 180),
+           "drag": (255, 127, 14), "tether": (148, 103, 189)}
 
 
 def describe(meta: dict[str, Any], what: str) -> str:
@@ -93,7 +122,7 @@ def _decimate(t: np.ndarray, hz: float) -> np.ndarray:
     return idx
 
 
-def _send_plots(rf: RrdFile, s: Series, plots: tuple[tuple[str, str, str], ...]) -> None:
+def _send_plots(rf: RecordingSink, s: Series, plots: tuple[tuple[str, str, str], ...]) -> None:
     for entity, key, label in plots:
         if key in s:
             color = _COLORS.get(entity.rsplit("/", 1)[-1])
@@ -116,6 +145,80 @@ def _reference_points(reference: Any) -> tuple[np.ndarray, list[str], Any] | Non
     return s.pos, s.phase, load_reference(reference).metadata.get("wind_ned_mps")
 
 
+def power_range(s: Series) -> tuple[float, float] | None:
+    """Robust y-range [W] of a flight's power panel (:func:`~fdm_awe.recording.series.robust_range`)."""
+    return robust_range(s.t, [s[key] for entity, key, _ in FLIGHT_PLOTS if entity.startswith("plots/power/")])
+
+
+@dataclass
+class RowsSent:
+    """What :func:`log_flight_rows` sent up to now, for the next slice of the same flight."""
+
+    fold: float | None = None  #: fold state of the last wing mesh sent
+    phase: str | None = None  #: phase label of the last row sent
+    phases: set[str] = field(default_factory=set)  #: every phase label sent
+
+
+def log_flight_start(rf: RecordingSink, reference: Any, pos: np.ndarray | None = None, *,
+                     glider_scale: float = GLIDER_SCALE, force_scale: float = FORCE_SCALE) -> None:
+    """Static scene of a flight: ground covering ``pos`` (n, 3) and the reference, winch, wind,
+    the reference path, the glider's body and the description of the force arrows."""
+    ref = _reference_points(reference)
+    log_static_scene(rf, scene_extent(pos, ref[0] if ref else None), ref[2] if ref is not None else None)
+    if ref is not None:
+        log_path(rf, "world/reference", ref[0], ref[1], radius=0.4, reference=True)
+    log_airframe(rf, glider_scale)
+    log_forces_description(rf, force_scale)
+
+
+def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderForces, sent: RowsSent | None = None, *,
+                    rows: slice = slice(None), scene_hz: float = 30.0, force_scale: float = FORCE_SCALE) -> RowsSent:
+    """Everything over time of the ``rows`` of a flight (or of a slice of one): pose and wing,
+    tether, force arrows, reference marker and tracking error (3D scene at about ``scene_hz``),
+    every plot at full rate, and the phase lane. ``s`` and ``forces`` are the flight's
+    :func:`~fdm_awe.recording.series.flight_series` and
+    :func:`~fdm_awe.recording.forces.flight_forces` on the recording's time axis; ``sent``
+    carries the state between consecutive slices. Returns it, updated."""
+    sent = RowsSent() if sent is None else sent
+    res = getattr(flight, "result", None) or flight
+    idx = np.arange(len(s.t))[rows]
+    t = s.t[idx]
+    i = idx[_decimate(t, scene_hz)]
+    if len(i):
+        pos = s.pos
+        sent.fold = log_glider(rf, s.t[i], pos[i], np.asarray(res.quat, float)[i], s["fold"][i], last_fold=sent.fold)
+        shape = getattr(flight, "line_shape", None)
+        if shape is not None and len(shape["t"]):  # the lumped line: its nodes and tensions
+            log_tether_nodes(rf, s.t[0] + shape["t"], shape["nodes"], shape["tension"])
+        else:
+            log_tether(rf, s.t[i], pos[i], s["tension"][i])
+        log_forces(rf, s.t[i], pos[i], {name: forces[name][i] for name in ("lift", "drag", "tether", "thrust")},
+                   force_scale)
+        refp = np.c_[s["ref_x"], s["ref_y"], s["ref_z"]][i]
+        log_point(rf, "world/reference_point", s.t[i], refp, REFERENCE_COLOR)
+        log_error_line(rf, "world/tracking_error", s.t[i], pos[i], refp)
+    part = Series(t=t, columns={k: (u, v[idx]) for k, (u, v) in s.columns.items()}, phase=[s.phase[j] for j in idx])
+    _send_plots(rf, part, FLIGHT_PLOTS)
+    scalars = {"L": forces.L, "D": forces.D, "C": forces.C, "tether_N": forces.magnitude("tether"),
+               "thrust_N": s["thrust"]}
+    _send_plots(rf, Series(t=t, columns={k: ("N", v[idx]) for k, v in scalars.items()}, phase=part.phase), FORCE_PLOTS)
+    sent.phases |= set(part.phase)
+    log_phase(rf, t, part.phase, previous=sent.phase, states=sent.phases)
+    if len(part.phase):
+        sent.phase = part.phase[-1]
+    return sent
+
+
+def log_flight_end(rf: RecordingSink, flight: Any, s: Series) -> None:
+    """The flown path (coloured by phase), the event log and, for a report, its markdown."""
+    log_path(rf, "world/flown", s.pos, s.phase, radius=0.7)
+    _log_events(rf, flight, s)
+    if hasattr(flight, "cycles") and hasattr(flight, "ledger"):
+        from .report import flight_markdown
+
+        rf.static("report", rf.rr.TextDocument(flight_markdown(flight), media_type=rf.rr.MediaType.MARKDOWN))
+
+
 def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight.rrd", *, scene_hz: float = 30.0,
                   glider_scale: float = GLIDER_SCALE, name: str | None = None) -> Path:
     """Record a flight (FlightReport or FlightResult, complete or cut short) into ``path``.
@@ -127,36 +230,15 @@ def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight
     """
     s = flight_series(flight)
     title = describe(s.meta, "flight")
-    ref = _reference_points(reference)
-    wind = ref[2] if ref is not None else None
-    with RrdFile(path, name=name or title, blueprint=flight_blueprint(title), keep_on_error=False) as rf:
-        log_static_scene(rf, scene_extent(s.pos, ref[0] if ref else None), wind)
-        if ref is not None:
-            log_path(rf, "world/reference", ref[0], ref[1], radius=0.4, reference=True)
-        log_path(rf, "world/flown", s.pos, s.phase, radius=0.7)
-        res = getattr(flight, "result", None) or flight
-        i = _decimate(s.t, scene_hz)
-        if len(i):
-            log_glider(rf, s.t[i], s.pos[i], np.asarray(res.quat, float)[i], s["fold"][i], scale=glider_scale)
-            shape = getattr(flight, "line_shape", None)
-            if shape is not None and len(shape["t"]):  # the lumped line: its nodes and tensions
-                log_tether_nodes(rf, s.t[0] + shape["t"], shape["nodes"], shape["tension"])
-            else:
-                log_tether(rf, s.t[i], s.pos[i], s["tension"][i])
-            refp = np.c_[s["ref_x"], s["ref_y"], s["ref_z"]][i]
-            log_point(rf, "world/reference_point", s.t[i], refp, REFERENCE_COLOR)
-            log_error_line(rf, "world/tracking_error", s.t[i], s.pos[i], refp)
-        _send_plots(rf, s, FLIGHT_PLOTS)
-        log_phase(rf, s.t, s.phase)
-        _log_events(rf, flight, s)
-        if hasattr(flight, "cycles") and hasattr(flight, "ledger"):
-            from .report import flight_markdown
-
-            rf.static("report", rf.rr.TextDocument(flight_markdown(flight), media_type=rf.rr.MediaType.MARKDOWN))
+    blueprint = flight_blueprint(title, power_range(s))
+    with RrdFile(path, name=name or title, blueprint=blueprint, keep_on_error=False) as rf:
+        log_flight_start(rf, reference, s.pos, glider_scale=glider_scale)
+        log_flight_rows(rf, flight, s, flight_forces(flight), scene_hz=scene_hz)
+        log_flight_end(rf, flight, s)
     return Path(path)
 
 
-def _log_events(rf: RrdFile, flight: Any, s: Series) -> None:
+def _log_events(rf: RecordingSink, flight: Any, s: Series) -> None:
     rr = rf.rr
     t0 = float(getattr(getattr(flight, "result", None) or flight, "t")[0]) if len(s.t) else 0.0
     for t, msg in getattr(flight, "autopilot_log", []) or []:
@@ -191,7 +273,8 @@ def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale
             quat = np.array([_air_path_quat(d["gamma"], d["psi"], d["phi"], d["alpha"]) for d in smp])
             fold = np.array([d.get("fold", 0.0) for d in smp])
             tens = np.array([d.get("tension", 0.0) for d in smp])
-            log_glider(rf, tt, pos, quat, fold, scale=glider_scale)
+            log_airframe(rf, glider_scale)
+            log_glider(rf, tt, pos, quat, fold)
             log_tether(rf, tt, pos, tens)
         _send_plots(rf, s, CYCLE_PLOTS)
         log_phase(rf, s.t, s.phase)
@@ -208,4 +291,5 @@ def _air_path_quat(gamma: float, psi: float, phi: float, alpha: float) -> tuple[
     return euler_to_quat(phi, gamma + alpha, psi)
 
 
-__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "describe", "record_cycle", "record_flight"]
+__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "FORCE_PLOTS", "RowsSent", "describe", "log_flight_end", "log_flight_rows",
+           "log_flight_start", "power_range", "record_cycle", "record_flight"]

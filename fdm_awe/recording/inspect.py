@@ -1,6 +1,7 @@
-"""Read a recording back: verify it with the rerun CLI and list its entities and time ranges.
+"""Read a recording back: verify it with the rerun CLI, list its entities and time ranges, read values.
 
-:func:`rrd_entities` uses rerun's own reader (``rerun.chunk.RrdReader``); :func:`rrd_verify`
+:func:`rrd_entities` and :func:`rrd_values` use rerun's own reader (``rerun.chunk.RrdReader``),
+also for a file without footer (what ``rerun --save`` writes from a live stream); :func:`rrd_verify`
 and :func:`rrd_stats` run ``rerun rrd verify`` / ``rerun rrd stats`` (the CLI installed next to
 the Python interpreter, else on ``PATH``) with a time limit.
 """
@@ -59,17 +60,36 @@ def rrd_stats(path: str | Path, timeout: float = 60.0) -> str:
     return p.stdout
 
 
+def _chunks(path: str | Path):  # noqa: ANN202 - an iterator of rerun chunks
+    """The chunks of the first recording store in ``path`` (a file without footer is read whole)."""
+    import warnings
+
+    from rerun.chunk import RrdReader
+
+    with warnings.catch_warnings():  # a file without footer is read below as rerun advises
+        warnings.filterwarnings("ignore", message="RRD file has no footer")
+        reader = RrdReader(str(path))
+    try:
+        store = reader.store()
+    except RuntimeError:  # no footer: a stream saved by `rerun --save`
+        return reader.stream().collect().stream()
+    return store.stream()
+
+
+def _data_columns(rb) -> tuple[str, ...]:  # noqa: ANN001 - a pyarrow RecordBatch
+    """Names of the component columns of a chunk's record batch (no row ids, no time indexes)."""
+    return tuple(f.name for f in rb.schema if (f.metadata or {}).get(b"rerun:kind") == b"data")
+
+
 def rrd_entities(path: str | Path, timeline: str = TIMELINE) -> dict[str, EntityInfo]:
     """Entity path -> :class:`EntityInfo` of the recording store in ``path`` (blueprint excluded)."""
     import numpy as np
-    from rerun.chunk import RrdReader
 
     out: dict[str, EntityInfo] = {}
-    for chunk in RrdReader(str(path)).store().stream():
+    for chunk in _chunks(path):
         info = out.setdefault(str(chunk.entity_path), EntityInfo())
         rb = chunk.to_record_batch()
-        comps = tuple(n for n in rb.schema.names if ":" in n)
-        info.components = tuple(sorted(set(info.components) | set(comps)))
+        info.components = tuple(sorted(set(info.components) | set(_data_columns(rb))))
         if chunk.is_static:
             info.static = True
             continue
@@ -81,6 +101,30 @@ def rrd_entities(path: str | Path, timeline: str = TIMELINE) -> dict[str, Entity
                 info.t_min = float(v.min()) if info.t_min is None else min(info.t_min, float(v.min()))
                 info.t_max = float(v.max()) if info.t_max is None else max(info.t_max, float(v.max()))
     return out
+
+
+def rrd_values(path: str | Path, entity: str, component: str,
+               timeline: str = TIMELINE) -> tuple[list, list[float], list]:
+    """The values of one component of one entity: ``(static rows, times [s], rows at those
+    times)``, the temporal rows sorted by time; a row is the list of its values (one arrow,
+    one scalar: a list of one). ``entity`` as listed by :func:`rrd_entities`
+    (``/world/glider``), ``component`` e.g. ``Arrows3D:vectors`` or an ``AnyValues`` name."""
+    static: list = []
+    rows: list[tuple[float, object]] = []
+    for chunk in _chunks(path):
+        if str(chunk.entity_path) != entity:
+            continue
+        rb = chunk.to_record_batch()
+        if component not in rb.schema.names:
+            continue
+        vals = rb.column(component).to_pylist()
+        if chunk.is_static:
+            static.extend(v for v in vals if v is not None)
+            continue
+        times = rb.column(timeline).cast("int64").to_pylist()
+        rows += [(ns * 1e-9, v) for ns, v in zip(times, vals) if v is not None]
+    rows.sort(key=lambda r: r[0])
+    return static, [t for t, _ in rows], [v for _, v in rows]
 
 
 def rrd_views(path: str | Path) -> dict[str, list[str]]:
@@ -102,4 +146,4 @@ def rrd_views(path: str | Path) -> dict[str, list[str]]:
     return {name: queries.get(ent, []) for ent, name in names.items()}
 
 
-__all__ = ["EntityInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_verify", "rrd_views"]
+__all__ = ["EntityInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_values", "rrd_verify", "rrd_views"]

@@ -11,7 +11,10 @@ step callback) so that the recording is written from the steps flown in every ca
         rec.finish(report)          # full recording from the report
     # on an exception: the steps flown so far are recorded (status "aborted"), then it re-raises
 
-Cost: one tuple per step (a few microseconds against a step of several hundred).
+Cost: one tuple per step (a few microseconds against a step of several hundred). The
+propulsion columns are booked as :func:`fdm_awe.sim.flight.fly` books them in its report: the
+paper plant's ideal thruster (its thrust and P(T) power), else the propeller's thrust and its
+motor's electrical input plus the constant draw P0.
 """
 
 from __future__ import annotations
@@ -26,66 +29,89 @@ _FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta
            "load_factor", "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec")
 
 
-class FlightRecording:
-    """Step callback ``(k, state, gs_output)`` plus ``setup(autopilot, cosim)`` hook (the latter
-    only to read the autopilot's phase label each step); writes ``path`` on :meth:`finish` or,
-    failing that, from the buffered steps when the ``with`` block ends."""
+class StepBuffer:
+    """Step callback ``(k, state, gs_output)`` plus ``setup(autopilot, cosim)`` hook that keeps
+    a light copy of every step (:attr:`rows`, one label per row in :attr:`phases`)."""
 
-    def __init__(self, path: str | Path, reference: Any = None, *, chain: Any = None) -> None:
-        self.path = Path(path)
-        self.reference = reference
+    #: the buffered values of a row, in order (names of :data:`fdm_awe.sim.loop.COLUMNS`)
+    fields: tuple[str, ...] = _FIELDS
+
+    def __init__(self, *, chain: Any = None) -> None:
         self.chain = chain  #: another on_step callback to call after this one
         self.rows: list[tuple] = []
         self.phases: list[str] = []
         self._ap: Any = None
-        self.finished: Path | None = None
+        self._thruster: Any = None
+        self._p0 = 0.0
 
     def setup(self, autopilot: Any, cosim: Any = None) -> None:
-        """Keep the autopilot (for its phase) and the initial state (the first row, as the
-        co-simulation logs it)."""
+        """Keep the autopilot (for its phase and the propulsion booking) and the initial state
+        (the first row, as the co-simulation logs it: no ground-station values yet)."""
         self._ap = autopilot
+        self._thruster = getattr(autopilot, "thruster", None)
+        airframes = getattr(autopilot, "airframes", None)
+        self._p0 = float(airframes.unfolded.propulsion.P0) if airframes is not None else 0.0
         glider = getattr(cosim, "glider", None)
         if glider is not None and not self.rows:
-            s = glider.state()
-            nan = math.nan
-            self.rows.append((s.t, s.x, s.y, s.z, s.phi, s.theta, s.psi, s.airspeed, s.alpha, s.beta, s.fold,
-                              s.thrust_N, s.prop_power_W, s.load_factor, nan, nan, nan, nan, nan, nan, nan))
+            self.rows.append(self._row(glider.state(), None))
             self.phases.append(getattr(autopilot, "phase", "") or "")
 
+    def _row(self, s: Any, o: Any) -> tuple:
+        """The values of :attr:`fields` after a step (``o`` the ground station's output, None
+        before the first step)."""
+        thr = self._thruster
+        thrust, p_prop = (thr.thrust, thr.power()) if thr is not None else (s.thrust_N, s.prop_power_W + self._p0)
+        gs = (math.nan,) * 7 if o is None else (o.tension, o.length, o.reel_speed, o.omega, o.current, o.duty,
+                                                o.p_electrical)
+        return (s.t, s.x, s.y, s.z, s.phi, s.theta, s.psi, s.airspeed, s.alpha, s.beta, s.fold, thrust, p_prop,
+                s.load_factor) + gs
+
     def __call__(self, k: int, s: Any, o: Any) -> None:
-        self.rows.append((s.t, s.x, s.y, s.z, s.phi, s.theta, s.psi, s.airspeed, s.alpha, s.beta, s.fold, s.thrust_N,
-                          s.prop_power_W, s.load_factor, o.tension, o.length, o.reel_speed, o.omega, o.current, o.duty,
-                          o.p_electrical))
+        self.rows.append(self._row(s, o))
         ap = self._ap
         self.phases.append(getattr(ap, "phase", "") if ap is not None else "")
         if self.chain is not None:
             self.chain(k, s, o)
 
-    def partial_result(self, status: str = "aborted", message: str = "") -> Any:
-        """The buffered steps as a :class:`~fdm_awe.sim.loop.FlightResult` (controls unknown: NaN)."""
+    def partial_result(self, status: str = "aborted", message: str = "", rows: slice = slice(None)) -> Any:
+        """The buffered steps (``rows`` of them) as a :class:`~fdm_awe.sim.loop.FlightResult`;
+        what :attr:`fields` lacks is NaN (controls), the ground velocity, when not buffered, by
+        differences of the positions."""
         from ..sim.loop import COLUMNS, Event, FlightResult
 
-        n = len(self.rows)
+        buffered, phases = self.rows[rows], self.phases[rows]
+        n = len(buffered)
         data = np.full((n, len(COLUMNS)), np.nan)
         labels: list[str] = []
         if n:
-            a = np.asarray(self.rows, dtype=float)
+            a = np.asarray(buffered, dtype=float)
             col = {name: i for i, name in enumerate(COLUMNS)}
-            f = {name: a[:, i] for i, name in enumerate(_FIELDS)}
-            for name in ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust",
-                         "p_prop", "load_factor", "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec"):
-                data[:, col[name]] = f[name]
+            f = {name: a[:, i] for i, name in enumerate(self.fields)}
+            for name, values in f.items():
+                data[:, col[name]] = values
             data[:, col["qw"]:col["qz"] + 1] = _euler_to_quat(f["phi"], f["theta"], f["psi"])
-            if n > 1:  # ground velocity by differences (the callback does not copy it)
+            if n > 1 and "vn" not in f:  # ground velocity by differences (the callback does not copy it)
                 v = np.gradient(a[:, 1:4], a[:, 0], axis=0)
                 data[:, col["vn"]:col["vd"] + 1] = v
-            labels = sorted(set(self.phases))
+            labels = sorted(set(phases))
             codes = {p: i for i, p in enumerate(labels)}
-            data[:, col["phase"]] = [codes[p] for p in self.phases]
+            data[:, col["phase"]] = [codes[p] for p in phases]
         t_end = float(data[-1, 0]) if n else 0.0
         dt = float(np.median(np.diff(data[:, 0]))) if n > 1 else math.nan
         return FlightResult(status=status, event=Event(status, t_end, message or status), data=data,
                             phase_labels=labels, dt=dt, wall_s=0.0, steps=max(n - 1, 0))
+
+
+class FlightRecording(StepBuffer):
+    """A :class:`StepBuffer` (the ``setup`` hook only to read the autopilot's phase label and
+    propulsion each step) that writes ``path`` on :meth:`finish` or, failing that, from the
+    buffered steps when the ``with`` block ends."""
+
+    def __init__(self, path: str | Path, reference: Any = None, *, chain: Any = None) -> None:
+        super().__init__(chain=chain)
+        self.path = Path(path)
+        self.reference = reference
+        self.finished: Path | None = None
 
     def finish(self, report: Any = None) -> Path:
         """Write the recording: from ``report`` (FlightReport/FlightResult) when given, else
@@ -117,4 +143,4 @@ def _euler_to_quat(phi: np.ndarray, theta: np.ndarray, psi: np.ndarray) -> np.nd
                      cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy), axis=1)
 
 
-__all__ = ["FlightRecording"]
+__all__ = ["FlightRecording", "StepBuffer"]

@@ -8,8 +8,13 @@
 
 Altitude is drawn upwards (h = -z of NED); positions relative to the winch; phases coloured
 (generation blue, recovery orange) in the paths and as shaded bands in the time histories.
-Matplotlib runs headless (Agg). Every PNG is written under a temporary name and renamed when
-complete (:func:`fdm_awe.fileio.atomic_path`): an interrupted save leaves no truncated image.
+Layout: matplotlib's constrained layout keeps every label inside the picture; a panel's legend
+sits above its axes (never on the data), the phase legend beside the panels. A flight's power
+panel has a robust y-range (:func:`~fdm_awe.recording.series.robust_range`: percentiles of the
+samples after the first second), so the motor's start-up spike does not squash it; its legend
+says so (an optimised cycle has no start-up: full range). Matplotlib runs headless (Agg).
+Every PNG is written under a temporary name and renamed when complete
+(:func:`fdm_awe.fileio.atomic_path`): an interrupted save leaves no truncated image.
 """
 
 from __future__ import annotations
@@ -22,10 +27,11 @@ import numpy as np
 from ..fileio import atomic_path
 from .rrd import segments_by_label
 from .scene import WIND_COLOR, phase_color_float
-from .series import Series, cycle_series, flight_series, load_reference
+from .series import Series, cycle_series, flight_series, load_reference, robust_note, robust_range
 
 DEG = 180.0 / np.pi
-
+#: y label of the power panel (its y-range is the robust one)
+POWER_LABEL = "power [W]"
 
 
 def plot_paths(outdir: str | Path, prefix: str) -> tuple[Path, Path]:
@@ -36,12 +42,14 @@ def plot_paths(outdir: str | Path, prefix: str) -> tuple[Path, Path]:
 
 
 def _save(fig, out) -> Path:  # noqa: ANN001 - a matplotlib Figure
-    """Write ``fig`` to ``out`` atomically (PNG; folders created), close it and return the path."""
+    """Write ``fig`` to ``out`` atomically (PNG; folders created), close it and return the path.
+    The picture is cut to the drawn artists (``bbox_inches="tight"``), so no label a 3D axes
+    draws beyond its box is clipped."""
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     try:
         with atomic_path(out, suffix=".png") as tmp:
-            fig.savefig(tmp, format="png")
+            fig.savefig(tmp, format="png", bbox_inches="tight", pad_inches=0.15)
     finally:
         _plt().close(fig)
     return out
@@ -107,13 +115,12 @@ def figure_3d(paths: Sequence[tuple[str, np.ndarray, Sequence[str], str]], title
               out: str | Path, tether_from: np.ndarray | None = None) -> Path:
     """3D figure of paths ``(name, pos (n, 3) NED, phase labels, linestyle)``; returns the PNG path."""
     plt = _plt()
-    fig = plt.figure(figsize=(9.0, 7.0), dpi=110)
+    fig = plt.figure(figsize=(9.0, 7.0), dpi=110, layout="constrained")
     ax = fig.add_subplot(projection="3d")
     draw_scene_3d(ax, paths, wind, tether_from)
     ax.set_title(title, fontsize=10)
     h, lab = ax.get_legend_handles_labels()
-    fig.legend(h, lab, loc="lower center", ncol=4, fontsize=8, frameon=False)
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.legend(h, lab, loc="outside lower center", ncol=4, fontsize=8, frameon=False)
     return _save(fig, out)
 
 
@@ -218,9 +225,9 @@ def _panels(s: Series, kind: str) -> list[tuple[str, list[tuple[str, str, float]
         ("reel speed [m/s] (+ out)", [("reel_speed", "reel speed", 1.0)]),
     ]
     if kind == "flight":
-        P += [("power [W]", [("p_electrical", "winch electrical (+ out)", 1.0), ("prop_power", "propeller electrical", 1.0)])]
+        P += [(POWER_LABEL, [("p_electrical", "winch electrical (+ out)", 1.0), ("prop_power", "propeller electrical", 1.0)])]
     else:
-        P += [("power [W]", [("p_generated", "generated", 1.0), ("p_thrust", "thrust", 1.0), ("p_reel_in", "reel-in", 1.0)])]
+        P += [(POWER_LABEL, [("p_generated", "generated", 1.0), ("p_thrust", "thrust", 1.0), ("p_reel_in", "reel-in", 1.0)])]
     P += [("cumulative energy [J]", [("E_generated", "generated", 1.0), ("E_thrust", "thrust", 1.0),
                                      ("E_reel_in", "reel-in", 1.0), ("E_net", "net (gen - thrust - reel-in)", 1.0)])]
     if kind == "flight" and "track_error" in s and np.isfinite(s["track_error"]).any():
@@ -228,23 +235,37 @@ def _panels(s: Series, kind: str) -> list[tuple[str, list[tuple[str, str, float]
     return [(lab, [c for c in cols if c[0] in s]) for lab, cols in P if any(c[0] in s for c in cols)]
 
 
-def figure_time(s: Series, title: str, out: str | Path, kind: str = "flight") -> Path:
-    """Time histories (Fig. 8 style) of ``s``; returns the PNG path."""
+def _legend_above(ax: Any, ncol: int, fontsize: float = 7) -> None:
+    """The panel's legend in rows above its axes (the constrained layout makes room)."""
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), ncol=max(1, ncol), fontsize=fontsize, frameon=False,
+              borderaxespad=0.0, handlelength=1.5, columnspacing=1.0)
+
+
+def time_figure(s: Series, title: str, kind: str = "flight") -> Any:
+    """The Figure of :func:`figure_time` (not saved)."""
     plt = _plt()
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     panels = _panels(s, kind)
     ncol = 2
     nrow = int(np.ceil(len(panels) / ncol))
-    fig, axes = plt.subplots(nrow, ncol, figsize=(13.0, 2.6 * nrow + 0.8), dpi=100, sharex=True, squeeze=False)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(13.0, 2.9 * nrow + 0.8), dpi=100, sharex=True, squeeze=False,
+                             layout="constrained")
     for ax, (ylab, cols) in zip(axes.flat, panels):
         _shade_phases(ax, s)
         for key, leg, f in cols:
             ax.plot(*thin(s.t, s[key] * f), lw=1.2, label=leg)
         ax.set_ylabel(ylab)
         ax.grid(True, alpha=0.3)
-        if len(cols) > 1:
-            ax.legend(fontsize=7, loc="best")
+        robust = kind == "flight" and ylab == POWER_LABEL  # a flight's start-up spike; a cycle has none
+        if robust:
+            rng = robust_range(s.t, [s[key] * f for key, _, f in cols])
+            if rng is not None:
+                ax.set_ylim(*rng)
+                ax.add_line(Line2D([], [], color="none", label=robust_note()))
+        if len(ax.get_legend_handles_labels()[0]) > 1:
+            _legend_above(ax, min(len(cols) + robust, 3))
     for ax in axes.flat[len(panels):]:
         ax.set_visible(False)
     for ax in axes[-1]:
@@ -255,10 +276,14 @@ def figure_time(s: Series, title: str, out: str | Path, kind: str = "flight") ->
         above.set_xlabel("time [s]")
     labs = [lab for lab, _, _ in s.phase_segments()]
     handles = [Patch(color=phase_color_float(lab), alpha=0.3, label=lab) for lab in dict.fromkeys(labs)]
-    fig.legend(handles=handles, loc="upper right", fontsize=9, title="phase")
+    fig.legend(handles=handles, loc="outside right upper", fontsize=9, title="phase")
     fig.suptitle(title, fontsize=11)
-    fig.tight_layout(rect=(0, 0, 0.92, 0.97))
-    return _save(fig, out)
+    return fig
+
+
+def figure_time(s: Series, title: str, out: str | Path, kind: str = "flight") -> Path:
+    """Time histories (Fig. 8 style) of ``s``; returns the PNG path."""
+    return _save(time_figure(s, title, kind), out)
 
 
 def plot_flight(flight: Any, reference: Any = None, outdir: str | Path = ".", prefix: str = "flight") -> list[Path]:
@@ -301,7 +326,7 @@ def plot_compare(references: Sequence[Any], names: Sequence[str], outdir: str | 
                    _wind(meta, references[0]), f3)
     keys = [("altitude", "altitude [m]", 1.0), ("airspeed", "airspeed [m/s]", 1.0), ("tension", "tension [N]", 1.0),
             ("reel_speed", "reel speed [m/s]", 1.0), ("thrust", "thrust [N]", 1.0), ("E_net", "net energy [J]", 1.0)]
-    fig, axes = plt.subplots(3, 2, figsize=(12.0, 9.0), dpi=100, sharex=False)
+    fig, axes = plt.subplots(3, 2, figsize=(12.0, 9.5), dpi=100, sharex=False, layout="constrained")
     for ax, (key, ylab, f) in zip(axes.flat, keys):
         for i, (n, s) in enumerate(zip(names, series)):
             if key in s:
@@ -312,9 +337,8 @@ def plot_compare(references: Sequence[Any], names: Sequence[str], outdir: str | 
         ax.set_ylabel(ylab)
         ax.set_xlabel("cycle time [s]")
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
+        _legend_above(ax, len(names), fontsize=8)
     fig.suptitle(title + "  (grey lines: end of generation)", fontsize=11)
-    fig.tight_layout(rect=(0, 0, 1, 0.97))
     return [p3, _save(fig, ft)]
 
 
@@ -328,7 +352,7 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
     rs = _reference_series(reference)
     meta = dict(s.meta)
     title = title or _title(meta, "flight")
-    fig = plt.figure(figsize=(14.0, 7.0), dpi=100)
+    fig = plt.figure(figsize=(14.0, 7.5), dpi=100, layout="constrained")
     gs = fig.add_gridspec(3, 2, width_ratios=[1.25, 1.0])
     ax = fig.add_subplot(gs[:, 0], projection="3d")
     paths = [("flown", s.pos, s.phase, "-")]
@@ -336,7 +360,7 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
         paths.append(("reference", rs.pos, rs.phase, "--"))
     draw_scene_3d(ax, paths, _wind(meta, reference), s.pos[0] if len(s.pos) else None)
     h, lab = ax.get_legend_handles_labels()
-    fig.legend(h, lab, loc="upper left", bbox_to_anchor=(0.01, 0.955), ncol=4, fontsize=8, frameon=False)
+    ax.legend(h, lab, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=4, fontsize=8, frameon=False)
     rows = [
         ("altitude [m]", [("altitude", "altitude h"), ("tether_length", "tether length l")]),
         ("tension [N] / reel speed [m/s]", [("tension", "tension G [N]"), ("reel_speed", "reel speed [m/s] (+ out)")]),
@@ -350,17 +374,16 @@ def plot_summary(flight: Any, reference: Any = None, out: str | Path = "cycle.pn
             axr.plot(*thin(s.t, s[key]), lw=1.2, label=leg)
         axr.set_ylabel(ylab)
         axr.grid(True, alpha=0.3)
-        axr.legend(fontsize=7, loc="best")
+        _legend_above(axr, len(cols))
         if i == len(rows) - 1:
             axr.set_xlabel("time [s]")
         else:
             axr.tick_params(labelbottom=False)
     handles = [Patch(color=phase_color_float(lab), alpha=0.3, label=lab) for lab in dict.fromkeys(s.phase)]
-    fig.legend(handles=handles, loc="upper right", fontsize=8, title="phase (shaded)")
+    fig.legend(handles=handles, loc="outside right upper", fontsize=8, title="phase (shaded)")
     fig.suptitle(title, fontsize=11)
-    fig.tight_layout(rect=(0, 0, 0.93, 0.89))
     return _save(fig, out)
 
 
-__all__ = ["draw_scene_3d", "figure_3d", "figure_time", "plot_compare", "plot_cycle", "plot_flight", "plot_paths",
+__all__ = ["POWER_LABEL", "draw_scene_3d", "figure_3d", "figure_time", "time_figure", "plot_compare", "plot_cycle", "plot_flight", "plot_paths",
            "plot_summary"]

@@ -1,4 +1,8 @@
-"""A rerun recording written to an ``.rrd`` file, always finalised.
+"""A rerun recording written to an ``.rrd`` file, always finalised; the logging helpers of any sink.
+
+:class:`RecordingSink` holds the helpers every recording uses (static data, one row at a
+time, whole columns); :class:`RrdFile` (this module) writes to a file and
+:class:`~fdm_awe.recording.stream.ViewerSink` streams to a viewer.
 
 :class:`RrdFile` wraps one ``rerun.RecordingStream`` with a file sink. The stream writes to a
 temporary file beside ``path``, renamed onto ``path`` when the recording is closed and
@@ -29,7 +33,55 @@ TIMELINE = "sim_time"
 APPLICATION_ID = "fdm-awe"
 
 
-class RrdFile:
+def new_stream() -> Any:
+    """A ``rerun.RecordingStream`` of this application whose only timeline is :data:`TIMELINE`."""
+    import rerun as rr
+
+    rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
+    # simulation time is the only timeline: no wall-clock or log-call counters
+    rec.set_log_time_enabled(False)
+    rec.set_log_tick_enabled(False)
+    return rec
+
+
+class RecordingSink:
+    """Logging helpers over ``self.rec`` (a ``rerun.RecordingStream``); ``self.rr`` is the rerun
+    module. Times are simulation time [s] on :data:`TIMELINE`."""
+
+    rr: Any
+    rec: Any
+
+    def static(self, entity: str, archetype: Any) -> None:
+        self.rec.log(entity, archetype, static=True)
+
+    def at(self, entity: str, t: float, archetype: Any) -> None:
+        """Log one archetype at simulation time ``t`` [s]."""
+        self.rec.set_time(TIMELINE, duration=float(t))
+        self.rec.log(entity, archetype)
+
+    def time_column(self, t: np.ndarray) -> Any:
+        return self.rr.TimeColumn(TIMELINE, duration=np.asarray(t, dtype=np.float64))
+
+    def scalars(self, entity: str, t: np.ndarray, values: np.ndarray, *, name: str | None = None,
+                color: Sequence[int] | None = None) -> int:
+        """A whole scalar series (non-finite samples dropped); returns the rows sent."""
+        v = np.asarray(values, dtype=np.float64)
+        t = np.asarray(t, dtype=np.float64)
+        ok = np.isfinite(v) & np.isfinite(t)
+        if name is not None or color is not None:
+            self.static(entity, self.rr.SeriesLines(names=name, colors=None if color is None else [tuple(color)]))
+        if not ok.any():
+            return 0
+        self.rec.send_columns(entity, indexes=[self.time_column(t[ok])], columns=self.rr.Scalars.columns(scalars=v[ok]))
+        return int(ok.sum())
+
+    def columns(self, entity: str, t: np.ndarray, columns: Any) -> None:
+        """Send prepared component columns (``Archetype.columns(...)``) over times ``t`` [s]."""
+        if len(t):
+            self.rec.send_columns(entity, indexes=[self.time_column(t)], columns=columns)
+
+
+class RrdFile(RecordingSink):
     """Write a recording to ``path``; ``blueprint`` becomes the file's default layout.
 
     ``keep_on_error``: when the ``with`` block ends with an exception, keep what was sent as a
@@ -47,10 +99,7 @@ class RrdFile:
         self._file = contextlib.ExitStack()
         self._tmp = self._file.enter_context(atomic_path(self.path, suffix=".rrd"))
         try:
-            self.rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
-            # simulation time is the only timeline: no wall-clock or log-call counters
-            self.rec.set_log_time_enabled(False)
-            self.rec.set_log_tick_enabled(False)
+            self.rec = new_stream()
             self.rec.save(str(self._tmp), default_blueprint=blueprint)
             if name:
                 self.rec.send_recording_name(name)
@@ -90,36 +139,6 @@ class RrdFile:
             else:
                 self._file.close()  # rename onto path
 
-    # ---- logging helpers
-    def static(self, entity: str, archetype: Any) -> None:
-        self.rec.log(entity, archetype, static=True)
-
-    def at(self, entity: str, t: float, archetype: Any) -> None:
-        """Log one archetype at simulation time ``t`` [s]."""
-        self.rec.set_time(TIMELINE, duration=float(t))
-        self.rec.log(entity, archetype)
-
-    def time_column(self, t: np.ndarray) -> Any:
-        return self.rr.TimeColumn(TIMELINE, duration=np.asarray(t, dtype=np.float64))
-
-    def scalars(self, entity: str, t: np.ndarray, values: np.ndarray, *, name: str | None = None,
-                color: Sequence[int] | None = None) -> int:
-        """A whole scalar series (non-finite samples dropped); returns the rows sent."""
-        v = np.asarray(values, dtype=np.float64)
-        t = np.asarray(t, dtype=np.float64)
-        ok = np.isfinite(v) & np.isfinite(t)
-        if name is not None or color is not None:
-            self.static(entity, self.rr.SeriesLines(names=name, colors=None if color is None else [tuple(color)]))
-        if not ok.any():
-            return 0
-        self.rec.send_columns(entity, indexes=[self.time_column(t[ok])], columns=self.rr.Scalars.columns(scalars=v[ok]))
-        return int(ok.sum())
-
-    def columns(self, entity: str, t: np.ndarray, columns: Any) -> None:
-        """Send prepared component columns (``Archetype.columns(...)``) over times ``t`` [s]."""
-        if len(t):
-            self.rec.send_columns(entity, indexes=[self.time_column(t)], columns=columns)
-
 
 def segments_by_label(points: np.ndarray, labels: Sequence[str]) -> list[tuple[str, np.ndarray]]:
     """Split a path (n, 3) into runs of equal label; neighbouring runs share their joint point
@@ -141,4 +160,4 @@ def segments_by_label(points: np.ndarray, labels: Sequence[str]) -> list[tuple[s
     return out
 
 
-__all__ = ["APPLICATION_ID", "RrdFile", "TIMELINE", "segments_by_label"]
+__all__ = ["APPLICATION_ID", "RecordingSink", "RrdFile", "new_stream", "TIMELINE", "segments_by_label"]

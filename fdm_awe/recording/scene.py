@@ -1,10 +1,10 @@
 """Geometry and colours shared by the recordings and the plots (NumPy only, no rerun).
 
-The glider is drawn as a wireframe in body axes (x forward, y right, z down, origin at the
-CG): fuselage, wing, horizontal tail and fin. The wing span follows the fold state linearly
-from the unfolded to the folded span (both read from the aircraft definition files), so a
-folded glider is visibly short-winged. Drawing proportions other than the spans, the chord
-and the tail arm are only for looks.
+The glider is drawn as a triangle mesh in body axes (x forward, y right, z down, origin at the
+CG): fuselage, wing, horizontal tail and fin. From the aircraft definition files: the wing
+span (unfolded and folded; the drawn span follows the fold state linearly between them), the
+chord, the tail arms and areas, and the nose (the propeller's location ahead of the CG). Only
+for looks: the thicknesses, the fuselage's cross-section and the fin's aspect ratio.
 """
 
 from __future__ import annotations
@@ -36,53 +36,99 @@ def phase_color_float(label: str) -> tuple[float, float, float]:
     return (r / 255.0, g / 255.0, b / 255.0)
 
 
+#: fin aspect ratio (height / mean chord) of the drawing; the files give only its area
+FIN_ASPECT = 1.2
+#: tail-plane aspect ratio (span / chord) of the drawing, from the tail the aircraft files describe
+TAIL_ASPECT = 3.125
+
+
 @dataclass(frozen=True)
 class GliderShape:
-    """Dimensions [m] of the drawn glider (spans and chord from the aircraft files)."""
+    """Dimensions [m] of the drawn glider (from the aircraft files, see the module text)."""
 
     span_unfolded: float
     span_folded: float
     chord: float
-    tail_arm: float
-    tail_span: float
+    nose: float  #: nose ahead of the CG
+    htail_arm: float  #: CG to the tail plane's quarter chord
+    htail_area: float  #: [m^2]
+    vtail_arm: float  #: CG to the fin's quarter chord
+    vtail_area: float  #: [m^2]
 
-    @property
-    def nose(self) -> float:
-        return 0.35 * self.tail_arm
-
-    def wing(self, fold: float) -> np.ndarray:
-        """Wing outline (5, 3) at fold state ``fold`` (0 unfolded .. 1 folded), body axes."""
+    def span(self, fold: float) -> float:
+        """Wing span [m] at fold state ``fold`` (0 unfolded .. 1 folded; NaN counts as 0)."""
         f = float(np.clip(np.nan_to_num(fold), 0.0, 1.0))
-        b = self.span_unfolded + f * (self.span_folded - self.span_unfolded)
-        c = self.chord
-        h = 0.5 * b
-        le, te = 0.25 * c, -0.75 * c
-        return np.array([[le, -h, 0.0], [le, h, 0.0], [te, h, 0.0], [te, -h, 0.0], [le, -h, 0.0]])
+        return self.span_unfolded + f * (self.span_folded - self.span_unfolded)
 
-    def fixed_parts(self) -> list[np.ndarray]:
-        """Fuselage, horizontal tail, fin (line strips in body axes)."""
-        xt = -self.tail_arm
-        hs = 0.5 * self.tail_span
-        ct = 0.6 * self.chord
-        fus = np.array([[self.nose, 0.0, 0.0], [xt - 0.5 * ct, 0.0, 0.0]])
-        htail = np.array([[xt, -hs, 0.0], [xt, hs, 0.0], [xt - ct, hs, 0.0], [xt - ct, -hs, 0.0], [xt, -hs, 0.0]])
-        fin = np.array([[xt, 0.0, 0.0], [xt - ct, 0.0, -0.6 * hs], [xt - ct, 0.0, 0.0]])
-        return [fus, htail, fin]
+    def wing_mesh(self, fold: float) -> tuple[np.ndarray, np.ndarray]:
+        """(vertices (8, 3), triangles (12, 3)) of the wing at fold state ``fold``, body axes:
+        a plate of the span, the chord (quarter chord on the CG) and 8 % of the chord thick."""
+        c, h = self.chord, 0.5 * self.span(fold)
+        return _box((-0.75 * c, 0.25 * c), (-h, h), (-0.04 * c, 0.04 * c))
+
+    def body_mesh(self) -> tuple[np.ndarray, np.ndarray]:
+        """(vertices, triangles) of fuselage, tail plane and fin, body axes (fin upwards: -z)."""
+        ct = float(np.sqrt(self.htail_area / TAIL_ASPECT))
+        st = TAIL_ASPECT * ct
+        cf = float(np.sqrt(self.vtail_area / FIN_ASPECT))
+        hf = FIN_ASPECT * cf
+        xt, xf = -self.htail_arm, -self.vtail_arm
+        tail_end = min(xt - 0.75 * ct, xf - 0.75 * cf)
+        w = 0.08 * self.chord  # fuselage half width and half height
+        fus = _loft([(self.nose, 0.3 * w), (0.6 * self.nose, w), (-0.75 * self.chord, w), (tail_end, 0.4 * w)])
+        htail = _box((xt - 0.75 * ct, xt + 0.25 * ct), (-0.5 * st, 0.5 * st), (-0.05 * ct, 0.05 * ct))
+        fin = _box((xf - 0.75 * cf, xf + 0.25 * cf), (-0.04 * cf, 0.04 * cf), (-hf, 0.0))
+        return _join([fus, htail, fin])
+
+
+def _box(xs: tuple[float, float], ys: tuple[float, float], zs: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
+    """An axis-aligned box: 8 vertices, 12 outward-facing triangles."""
+    v = np.array([[x, y, z] for x in xs for y in ys for z in zs], float)
+    # vertex index = 4 i_x + 2 i_y + i_z
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    return v, np.array([tri for a, b, c, d in quads for tri in ((a, b, c), (a, c, d))], np.uint32)
+
+
+def _loft(sections: list[tuple[float, float]]) -> tuple[np.ndarray, np.ndarray]:
+    """A body of square cross-sections ``(x, half width)`` along x, closed at both ends."""
+    ring = np.array([[0.0, -1.0, -1.0], [0.0, 1.0, -1.0], [0.0, 1.0, 1.0], [0.0, -1.0, 1.0]])
+    v = np.vstack([ring * [0.0, hw, hw] + [x, 0.0, 0.0] for x, hw in sections])
+    tris = []
+    for s in range(len(sections) - 1):
+        a, b = 4 * s, 4 * (s + 1)
+        for k in range(4):
+            k1 = (k + 1) % 4
+            tris += [(a + k, b + k, b + k1), (a + k, b + k1, a + k1)]
+    last = 4 * (len(sections) - 1)
+    tris += [(0, 1, 2), (0, 2, 3), (last, last + 2, last + 1), (last, last + 3, last + 2)]
+    return v, np.array(tris, np.uint32)
+
+
+def _join(parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """One mesh of several (vertices, triangles)."""
+    verts, tris, n = [], [], 0
+    for v, t in parts:
+        verts.append(v)
+        tris.append(t + n)
+        n += len(v)
+    return np.vstack(verts), np.vstack(tris).astype(np.uint32)
 
 
 @lru_cache(maxsize=4)
 def glider_shape() -> GliderShape:
-    """Shape of the foldable glider from ``aircraft/`` (spans, chord, tail arm and area)."""
+    """Shape of the foldable glider from ``aircraft/`` (spans, chord, nose, tail arms and areas)."""
     from .. import ROOT
     from ..definitions.aircraft import load_glider
-    from ..definitions.xmlutil import XmlDoc
+    from ..definitions.xmlutil import XmlDoc, location
 
     g = load_glider()
     doc = XmlDoc.load(ROOT / "aircraft" / "glider_unfolded" / "glider_unfolded.xml")
-    arm = doc.number("metrics/htailarm", lo=0.0, lo_open=True)
-    area = doc.number("metrics/htailarea", lo=0.0, lo_open=True)
-    # tail drawn with aspect ratio 3.125 (the tail of the aircraft files) from its area
-    return GliderShape(g.unfolded.aero.b, g.folded.aero.b, g.unfolded.aero.c, arm, float(np.sqrt(3.125 * area)))
+    num = {k: doc.number(f"metrics/{k}", lo=0.0, lo_open=True) for k in ("htailarm", "htailarea", "vtailarm", "vtailarea")}
+    prop = location(doc.path, doc.find("propulsion/engine/thruster/location"), "propulsion/engine/thruster/location")
+    # structural x points aft: the propeller (on the nose) lies cg_x - prop_x ahead of the CG
+    nose = max(g.unfolded.mass.cg_structural[0] - prop[0], 0.5 * g.unfolded.aero.c)
+    return GliderShape(g.unfolded.aero.b, g.folded.aero.b, g.unfolded.aero.c, nose, num["htailarm"], num["htailarea"],
+                       num["vtailarm"], num["vtailarea"])
 
 
 def ground_grid(x_range: tuple[float, float], y_range: tuple[float, float], step: float = 50.0) -> list[np.ndarray]:
@@ -102,5 +148,5 @@ def scene_extent(*paths: np.ndarray, margin: float = 50.0) -> tuple[tuple[float,
     return ((a[:, 0].min() - margin, a[:, 0].max() + margin), (a[:, 1].min() - margin, a[:, 1].max() + margin))
 
 
-__all__ = ["GliderShape", "PHASE_COLORS", "REFERENCE_COLOR", "TETHER_COLOR", "WIND_COLOR", "glider_shape",
+__all__ = ["FIN_ASPECT", "GliderShape", "TAIL_ASPECT", "PHASE_COLORS", "REFERENCE_COLOR", "TETHER_COLOR", "WIND_COLOR", "glider_shape",
            "ground_grid", "phase_color", "phase_color_float", "scene_extent"]

@@ -193,6 +193,39 @@ def cycle_series(ref: Any) -> Series:
     return Series(t=t, columns=c, phase=phase, meta=meta)
 
 
+#: start-up transient [s] a robust plot range leaves out (the motor spinning up from rest, the
+#: line taking the reference tension)
+STARTUP_S = 1.0
+#: percentile [%] a robust plot range cuts at each end
+ROBUST_Q = 0.1
+
+
+def robust_note() -> str:
+    """How :func:`robust_range` (defaults) picks a range, for a panel title."""
+    return f"y: {ROBUST_Q:g}-{100.0 - ROBUST_Q:g} % of the samples after the first {STARTUP_S:g} s"
+
+
+def robust_range(t: np.ndarray, values: list[np.ndarray], *, skip_s: float = STARTUP_S, q: float = ROBUST_Q,
+                 pad: float = 0.05) -> tuple[float, float] | None:
+    """A y-range for ``values`` (arrays over ``t`` [s]) that a short spike does not stretch: the
+    ``q`` and ``100 - q`` percentiles of the finite samples after the first ``skip_s`` seconds
+    (all samples when fewer than 10 remain), widened by ``pad`` of the span on both sides. None
+    when there is no finite sample."""
+    t = np.asarray(t, float)
+    late = t >= (t[0] + skip_s if len(t) else 0.0)
+    picked = [np.asarray(v, float)[late] for v in values]
+    vals = np.concatenate(picked) if picked else np.zeros(0)
+    vals = vals[np.isfinite(vals)]
+    if len(vals) < 10:
+        vals = np.concatenate([np.asarray(v, float) for v in values]) if values else np.zeros(0)
+        vals = vals[np.isfinite(vals)]
+    if not len(vals):
+        return None
+    lo, hi = (float(x) for x in np.percentile(vals, [q, 100.0 - q]))
+    span = hi - lo if hi > lo else max(abs(hi), 1.0)
+    return lo - pad * span, hi + pad * span
+
+
 def _cumtrapz_phase(p: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Cumulative trapezoid that adds nothing across a repeated time (the phase switch row)."""
     p = np.nan_to_num(np.asarray(p, float))
@@ -202,4 +235,5 @@ def _cumtrapz_phase(p: np.ndarray, t: np.ndarray) -> np.ndarray:
     return np.r_[0.0, np.cumsum(inc)]
 
 
-__all__ = ["Series", "csv_name", "cycle_series", "flight_series", "load_reference"]
+__all__ = ["ROBUST_Q", "STARTUP_S", "Series", "csv_name", "cycle_series", "flight_series", "load_reference", "robust_note",
+           "robust_range"]
