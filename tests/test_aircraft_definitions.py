@@ -13,6 +13,7 @@ import re
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +23,7 @@ os.environ.setdefault("JSBSIM_DEBUG", "0")
 import jsbsim  # noqa: E402
 
 from fdm_awe import ROOT  # noqa: E402
-from fdm_awe.definitions.aircraft import check_aircraft_file, load_airframe_file  # noqa: E402
+from fdm_awe.definitions.aircraft import check_aircraft_file, load_airframe, load_airframe_file  # noqa: E402
 from fdm_awe.definitions.xmlutil import XmlDoc  # noqa: E402
 from fdm_awe.errors import DefinitionError  # noqa: E402
 from fdm_awe.sixdof import JSBSimGlider  # noqa: E402
@@ -82,6 +83,70 @@ def test_loads_with_fdmexec_and_flies_finite(name):
         assert fdm.run()
     for prop in ("velocities/vt-fps", "attitude/theta-rad", "aero/alpha-rad", "position/h-agl-ft"):
         assert math.isfinite(fdm[prop]), prop
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_bare_jsbsim_flies_the_numbers_the_loader_reads(name):
+    """JSBSim alone (the repository root as its root, section files included by JSBSim itself)
+    against fdm_awe's loader: mass, CG, wing area, span, chord, the point-mass polar and the
+    contacts. The morphing aircraft keeps the unfolded form's metrics, mass and CG."""
+    fdm = _fdm(name)
+    fdm["ic/h-agl-ft"] = 300.0
+    fdm["ic/vt-fps"] = 40.0
+    assert fdm.run_ic()
+    path = ROOT / "aircraft" / name / f"{name}.xml"
+    af = load_airframe("unfolded") if name == "glider_foldable" else load_airframe_file(path)
+    assert fdm["inertia/mass-slugs"] * SLUG == pytest.approx(af.mass.mass, rel=1e-4)
+    np.testing.assert_allclose(np.array(fdm.get_mass_balance().get_xyz_cg()).ravel() * IN, af.mass.cg_structural, atol=1e-9)
+    assert fdm["metrics/Sw-sqft"] * FT**2 == pytest.approx(af.aero.S, rel=1e-6)
+    assert fdm["metrics/bw-ft"] * FT == pytest.approx(af.aero.b, rel=1e-6)
+    assert fdm["metrics/cbarw-ft"] * FT == pytest.approx(af.aero.c, rel=1e-6)
+    for key in PM_NAMES:
+        assert fdm[f"aero/pm/{key}"] == pytest.approx(getattr(af.aero, key), rel=1e-12), key
+    assert fdm["propulsion/pm/T-max-N"] == af.propulsion.T_max
+    if name != "glider_foldable":
+        np.testing.assert_allclose(_inertia_kgm2(fdm), af.mass.inertia_matrix, rtol=INERTIA_RTOL, atol=INERTIA_ATOL)
+    doc = check_aircraft_file(path)
+    assert fdm["gear/num-units"] == len(doc.root.findall("ground_reactions/contact")) == 6
+    assert fdm["contact/wow"] == 0.0  # airborne
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_aircraft_follow_jsbsim_idioms_and_share_the_common_sections(name):
+    doc = _doc(name)
+    assert doc.root.attrib["release"] in ("BETA", "PRODUCTION")
+    assert {el.attrib["type"] for el in doc.root.iterfind("ground_reactions/contact")} == {"STRUCTURE"}
+    assert not doc.root.findall("propulsion/tank") and not doc.root.findall("propulsion/engine/feed")
+    # every section file of aircraft/common/ is included, none is copied into the aircraft file
+    common = sorted((ROOT / "aircraft" / "common").glob("*.xml"))
+    assert sorted(doc.section_files) == common
+    def key(el: ET.Element) -> tuple[str, str]:  # tag and name (or text: a property's name)
+        return el.tag, el.attrib.get("name") or (el.text or "").strip()
+
+    own = {key(el) for el in ET.parse(ROOT / "aircraft" / name / f"{name}.xml").getroot().iter()}
+    for f in common:
+        for el in ET.parse(f).getroot():
+            assert key(el) not in own, (f.name, key(el))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_ground_contact_flag_follows_the_skids_and_wingtips(name):
+    fdm = _fdm(name)
+    fdm["ic/h-agl-ft"] = 0.035 / FT  # resting on the skids
+    fdm["ic/vt-fps"] = 0.0
+    fdm.run_ic()
+    for _ in range(12):
+        fdm.run()
+    assert fdm["contact/wow"] == 1.0 and fdm["gear/wow"] == 0.0  # STRUCTURE contacts only
+    assert [fdm[f"contact/unit[{i}]/WOW"] for i in range(6)] == [0.0, 0.0, 1.0, 1.0, 1.0, 1.0]  # tips, skids
+    fdm["ic/h-agl-ft"] = 0.08 / FT  # banked 60 deg to the right, low: the right wingtip alone touches
+    fdm["ic/phi-deg"] = 60.0
+    fdm.run_ic()
+    assert [fdm[f"contact/unit[{i}]/WOW"] for i in range(6)] == [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    assert fdm["contact/wow"] == 1.0
+    fdm["ic/h-agl-ft"] = 10.0 / FT
+    fdm.run_ic()
+    assert fdm["contact/wow"] == 0.0
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -295,6 +360,7 @@ def test_static_thrust_at_full_throttle_is_8_newton(name):
 FOLDABLE = Path("aircraft") / "glider_foldable" / "glider_foldable.xml"
 MOTOR = Path("engine") / "glider_motor.xml"
 PROPELLER = Path("engine") / "prop_9x5.xml"
+COMMON = Path("aircraft") / "common"
 
 
 def _tree(tmp_path: Path) -> Path:
@@ -355,22 +421,56 @@ FOLDABLE_DAMAGE = {
     "cg_location_abc": (r"(<location name=\"CG\" unit=\"M\">\s*<x>)[^<]*(</x>)", r"\g<1> aft \g<2>", "location", "not a number"),
     "wingarea_abc": (*_elem("wingarea", "big"), "metrics/wingarea", "not a number"),
     "wingspan_negative": (*_elem("wingspan", "-1.1"), "metrics/wingspan", "allowed > 0"),
-    "chord_removed": (r"<chord[^>]*>[^<]*</chord>", "", "metrics/chord", "missing"),
-    "htailarea_negative": (*_elem("htailarea", "-0.02"), "metrics/htailarea", ">= 0"),
-    "thrust_max_zero": (*_prop("propulsion/pm/T-max-N", "0"), "propulsion/pm/T-max-N", "allowed > 0"),
-    "efficiency_above_one": (*_prop("propulsion/pm/eta-motor", "1.5"), "propulsion/pm/eta-motor", "<= 1"),
     "function_value_abc": (r"(<value>)\s*1\.0\s*(</value>)", r"\g<1> one \g<2>", "value", "not a number"),
     "rate_limit_word": (*_elem("rate_limit", "fast"), "rate_limit", "neither a number nor a property"),
     "rate_limit_zero": (*_elem("rate_limit", "0"), "rate_limit", "allowed > 0"),
-    "clip_reversed": (r"(<clipto>\s*<min>)\s*-1\s*(</min>\s*<max>)\s*1\s*(</max>)", r"\g<1> 1 \g<2> -1 \g<3>", "clipto", "min < max"),
-    "elevator_range_zero": (r"(?s)(<aerosurface_scale name=\"fcs/pitch-cmd-rad\">.*?<max>)[^<]*(</max>)", r"\g<1> 0 \g<2>",
-                            "fcs/pitch-cmd-rad", "allowed > 0"),
     "spring_negative": (*_elem("spring_coeff", "-10"), "spring_coeff", "allowed > 0"),
     "friction_abc": (*_elem("static_friction", "grippy"), "static_friction", "not a number"),
     "friction_negative": (*_elem("dynamic_friction", "-0.4"), "dynamic_friction", ">= 0"),
-    "tether_hook_renamed": (r'<force name="tether"', '<force name="line"', "force[tether]", "missing"),
-    "engine_file_missing": (r'<engine file="glider_motor">', '<engine file="no_such_motor">', "no_such_motor.xml", "not found"),
     "not_xml": (r"</fdm_config>", "", "xml", "not well-formed"),
+}
+
+
+# Damage in the section files every aircraft includes (aircraft/common/): (file, pattern,
+# replacement, element, words, file the message names: None = the damaged file).
+SHARED_DAMAGE = {
+    "chord_removed": (COMMON / "metrics.xml", r"<chord[^>]*>[^<]*</chord>", "", "metrics/chord", "missing", FOLDABLE),
+    "htailarea_negative": (COMMON / "metrics.xml", *_elem("htailarea", "-0.02"), "metrics/htailarea", ">= 0", None),
+    "thrust_max_zero": (COMMON / "point_mass_propulsion.xml", *_prop("propulsion/pm/T-max-N", "0"), "propulsion/pm/T-max-N",
+                        "allowed > 0", None),
+    "efficiency_above_one": (COMMON / "point_mass_propulsion.xml", *_prop("propulsion/pm/eta-motor", "1.5"),
+                             "propulsion/pm/eta-motor", "<= 1", None),
+    "clip_reversed": (COMMON / "flight_control.xml", r"(<clipto>\s*<min>)\s*-1\s*(</min>\s*<max>)\s*1\s*(</max>)",
+                      r"\g<1> 1 \g<2> -1 \g<3>", "clipto", "min < max", None),
+    "elevator_range_zero": (COMMON / "flight_control.xml", r"(?s)(<aerosurface_scale name=\"fcs/pitch-cmd-rad\">.*?<max>)[^<]*(</max>)",
+                            r"\g<1> 0 \g<2>", "fcs/pitch-cmd-rad", "allowed > 0", None),
+    "servo_rate_zero": (COMMON / "flight_control.xml", *_elem("rate_limit", "0"), "rate_limit", "allowed > 0", None),
+    "skid_spring_negative": (COMMON / "skids.xml", *_elem("spring_coeff", "-10"), "contact[NOSE_SKID]/spring_coeff",
+                             "allowed > 0", None),
+    "skid_friction_abc": (COMMON / "skids.xml", *_elem("static_friction", "grippy"), "contact[NOSE_SKID]/static_friction",
+                          "not a number", None),
+    "contact_flag_misses_a_contact": (COMMON / "skids.xml", r"\s*<property> contact/unit\[5\]/WOW </property>", "",
+                                      "function[contact/wow]", "contact/unit[5]/WOW", None),
+    "contact_flag_not_post": (COMMON / "skids.xml", r'(name="contact/wow") type="post"', r"\g<1>", "function[contact/wow]",
+                              'type="post"', None),
+    "contact_flag_removed": (COMMON / "skids.xml", r'name="contact/wow"', 'name="contact/any"', "function[contact/wow]",
+                             "missing", FOLDABLE),
+    "tether_hook_renamed": (COMMON / "tether_hook.xml", r'<force name="tether"', '<force name="line"', "force[tether]", "missing",
+                            FOLDABLE),
+    "tether_hook_frame": (COMMON / "tether_hook.xml", r'frame="LOCAL"', 'frame="BODY"', "force[tether]", "allowed LOCAL", None),
+    "engine_file_missing": (COMMON / "propulsion.xml", r'<engine file="glider_motor">', '<engine file="no_such_motor">',
+                            "no_such_motor.xml", "not found", Path("engine") / "no_such_motor.xml"),
+    "feed_without_tank": (COMMON / "propulsion.xml", r'(<engine file="glider_motor">)', r"\g<1><feed> 0 </feed>",
+                          "propulsion/engine/feed", "does not exist", None),
+    "aero_model_value_abc": (COMMON / "aerodynamics.xml", r"(<value>)\s*1\.5\s*(</value>)", r"\g<1> x \g<2>", "value",
+                             "not a number", None),
+    "section_file_of_another_section": (FOLDABLE, r'file="\.\./common/tether_hook"', 'file="../common/skids"', "ground_reactions",
+                                        "root element must be <external_reactions>", COMMON / "skids.xml"),
+    "section_file_missing": (FOLDABLE, r'file="\.\./common/skids"', 'file="../common/no_skids"',
+                             "ground_reactions[file=../common/no_skids]", "no_skids.xml not found", None),
+    "pre_function_beside_section_file": (FOLDABLE, r"(<ground_reactions file=[^>]*>)",
+                                         r'\g<1><function name="contact/x"><value> 1 </value></function>',
+                                         "function[contact/x]", "does not load a pre-function", None),
 }
 
 
@@ -396,7 +496,15 @@ def test_damaged_foldable_glider_gives_one_line(tmp_path, case):
     pattern, repl, element, words = FOLDABLE_DAMAGE[case]
     root = _tree(tmp_path)
     _damage(root, FOLDABLE, pattern, repl)
-    _foldable_refused(root, element, words, damaged=None if case != "engine_file_missing" else root / "engine" / "no_such_motor.xml")
+    _foldable_refused(root, element, words)
+
+
+@pytest.mark.parametrize("case", list(SHARED_DAMAGE))
+def test_damaged_section_files_give_one_line_naming_the_file_that_holds_the_fault(tmp_path, case):
+    rel, pattern, repl, element, words, named = SHARED_DAMAGE[case]
+    root = _tree(tmp_path)
+    p = _damage(root, rel, pattern, repl)
+    _foldable_refused(root, element, words, damaged=p if named is None else root / named)
 
 
 ENGINE_DAMAGE = {
