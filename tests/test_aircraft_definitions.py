@@ -2,7 +2,8 @@
 
 References are independent of the definition files: Table 2 of the paper (mass, inertia),
 the derivation formulas of docs/design.md section 5 (Helmbold lift slope, parabolic polar) and the
-contract's static thrust. JSBSim itself evaluates the files.
+contract's static thrust. JSBSim itself evaluates the files. Damaged definitions:
+tests/test_aircraft_damage.py.
 """
 
 from __future__ import annotations
@@ -10,9 +11,9 @@ from __future__ import annotations
 import math
 import os
 import re
-import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -22,10 +23,8 @@ os.environ.setdefault("JSBSIM_DEBUG", "0")
 import jsbsim  # noqa: E402
 
 from fdm_awe import ROOT  # noqa: E402
-from fdm_awe.definitions.aircraft import check_aircraft_file, load_airframe_file  # noqa: E402
+from fdm_awe.definitions.aircraft import check_aircraft_file, load_airframe, load_airframe_file  # noqa: E402
 from fdm_awe.definitions.xmlutil import XmlDoc  # noqa: E402
-from fdm_awe.errors import DefinitionError  # noqa: E402
-from fdm_awe.sixdof import JSBSimGlider  # noqa: E402
 from fdm_awe.units import FT, IN, LBF, SLUG, SLUG_FT2  # noqa: E402
 
 # jsbsim returns numpy.matrix objects from get_J()/get_xyz_cg()
@@ -82,6 +81,70 @@ def test_loads_with_fdmexec_and_flies_finite(name):
         assert fdm.run()
     for prop in ("velocities/vt-fps", "attitude/theta-rad", "aero/alpha-rad", "position/h-agl-ft"):
         assert math.isfinite(fdm[prop]), prop
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_bare_jsbsim_flies_the_numbers_the_loader_reads(name):
+    """JSBSim alone (the repository root as its root, section files included by JSBSim itself)
+    against fdm_awe's loader: mass, CG, wing area, span, chord, the point-mass polar and the
+    contacts. The morphing aircraft keeps the unfolded form's metrics, mass and CG."""
+    fdm = _fdm(name)
+    fdm["ic/h-agl-ft"] = 300.0
+    fdm["ic/vt-fps"] = 40.0
+    assert fdm.run_ic()
+    path = ROOT / "aircraft" / name / f"{name}.xml"
+    af = load_airframe("unfolded") if name == "glider_foldable" else load_airframe_file(path)
+    assert fdm["inertia/mass-slugs"] * SLUG == pytest.approx(af.mass.mass, rel=1e-4)
+    np.testing.assert_allclose(np.array(fdm.get_mass_balance().get_xyz_cg()).ravel() * IN, af.mass.cg_structural, atol=1e-9)
+    assert fdm["metrics/Sw-sqft"] * FT**2 == pytest.approx(af.aero.S, rel=1e-6)
+    assert fdm["metrics/bw-ft"] * FT == pytest.approx(af.aero.b, rel=1e-6)
+    assert fdm["metrics/cbarw-ft"] * FT == pytest.approx(af.aero.c, rel=1e-6)
+    for key in PM_NAMES:
+        assert fdm[f"aero/pm/{key}"] == pytest.approx(getattr(af.aero, key), rel=1e-12), key
+    assert fdm["propulsion/pm/T-max-N"] == af.propulsion.T_max
+    if name != "glider_foldable":
+        np.testing.assert_allclose(_inertia_kgm2(fdm), af.mass.inertia_matrix, rtol=INERTIA_RTOL, atol=INERTIA_ATOL)
+    doc = check_aircraft_file(path)
+    assert fdm["gear/num-units"] == len(doc.root.findall("ground_reactions/contact")) == 6
+    assert fdm["contact/wow"] == 0.0  # airborne
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_aircraft_follow_jsbsim_idioms_and_share_the_common_sections(name):
+    doc = _doc(name)
+    assert doc.root.attrib["release"] in ("BETA", "PRODUCTION")
+    assert {el.attrib["type"] for el in doc.root.iterfind("ground_reactions/contact")} == {"STRUCTURE"}
+    assert not doc.root.findall("propulsion/tank") and not doc.root.findall("propulsion/engine/feed")
+    # every section file of aircraft/common/ is included, none is copied into the aircraft file
+    common = sorted((ROOT / "aircraft" / "common").glob("*.xml"))
+    assert sorted(doc.section_files) == common
+    def key(el: ET.Element) -> tuple[str, str]:  # tag and name (or text: a property's name)
+        return el.tag, el.attrib.get("name") or (el.text or "").strip()
+
+    own = {key(el) for el in ET.parse(ROOT / "aircraft" / name / f"{name}.xml").getroot().iter()}
+    for f in common:
+        for el in ET.parse(f).getroot():
+            assert key(el) not in own, (f.name, key(el))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_ground_contact_flag_follows_the_skids_and_wingtips(name):
+    fdm = _fdm(name)
+    fdm["ic/h-agl-ft"] = 0.035 / FT  # resting on the skids
+    fdm["ic/vt-fps"] = 0.0
+    fdm.run_ic()
+    for _ in range(12):
+        fdm.run()
+    assert fdm["contact/wow"] == 1.0 and fdm["gear/wow"] == 0.0  # STRUCTURE contacts only
+    assert [fdm[f"contact/unit[{i}]/WOW"] for i in range(6)] == [0.0, 0.0, 1.0, 1.0, 1.0, 1.0]  # tips, skids
+    fdm["ic/h-agl-ft"] = 0.08 / FT  # banked 60 deg to the right, low: the right wingtip alone touches
+    fdm["ic/phi-deg"] = 60.0
+    fdm.run_ic()
+    assert [fdm[f"contact/unit[{i}]/WOW"] for i in range(6)] == [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    assert fdm["contact/wow"] == 1.0
+    fdm["ic/h-agl-ft"] = 10.0 / FT
+    fdm.run_ic()
+    assert fdm["contact/wow"] == 0.0
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -286,180 +349,3 @@ def test_static_thrust_at_full_throttle_is_8_newton(name):
         thrust_lbf = fdm["propulsion/engine[0]/thrust-lbs"]
     assert abs(fdm["velocities/u-fps"]) * FT < 0.05  # held static
     assert thrust_lbf * LBF == pytest.approx(8.0, rel=0.10)
-
-
-# ------------------------------------------------------------------ damaged copies of the definitions
-# The aircraft/ and engine/ folders are copied into tmp_path and one file is damaged; the checks
-# (and the 6-DOF adapter, which runs them before JSBSim reads the file) load from that root.
-
-FOLDABLE = Path("aircraft") / "glider_foldable" / "glider_foldable.xml"
-MOTOR = Path("engine") / "glider_motor.xml"
-PROPELLER = Path("engine") / "prop_9x5.xml"
-
-
-def _tree(tmp_path: Path) -> Path:
-    root = tmp_path / "defs"
-    shutil.copytree(ROOT / "aircraft", root / "aircraft")
-    shutil.copytree(ROOT / "engine", root / "engine")
-    return root
-
-
-def _damage(root: Path, rel: Path, pattern: str, repl: str) -> Path:
-    p = root / rel
-    new, n = re.subn(pattern, repl, p.read_text(), count=1)
-    assert n == 1, f"pattern {pattern!r} not found in {rel}"
-    p.write_text(new)
-    return p
-
-
-def _prop(name: str, value: str) -> tuple[str, str]:
-    """Pattern and replacement setting ``<property value=...> name </property>`` to ``value``."""
-    return rf'value="[^"]*"(>\s*{re.escape(name)}\s*<)', rf'value="{value}"\g<1>'
-
-
-def _elem(tag: str, value: str) -> tuple[str, str]:
-    """Pattern and replacement setting the first ``<tag ...> text </tag>`` to ``value``."""
-    return rf"(<{tag}(?: [^>]*)?>)[^<]*(</{tag}>)", rf"\g<1> {value} \g<2>"
-
-
-FOLDABLE_DAMAGE = {
-    "coefficient_abc": (*_prop("aero/unfolded/CL0", "abc"), "aero/unfolded/CL0", "not a number"),
-    "folded_coefficient_abc": (*_prop("aero/folded/Cn_r", "abc"), "aero/folded/Cn_r", "not a number"),
-    "coefficient_nan": (*_prop("aero/folded/Cm_q", "nan"), "aero/folded/Cm_q", "finite"),
-    "coefficient_inf": (*_prop("aero/unfolded/CDalpha2", "inf"), "aero/unfolded/CDalpha2", "finite"),
-    "coefficient_empty": (*_prop("aero/unfolded/Cl_p", ""), "aero/unfolded/Cl_p", "not a number"),
-    "coefficient_removed": (r"<property[^>]*>\s*aero/folded/CD0\s*</property>", "", "aero/folded/CD0", "missing"),
-    "lift_slope_negative": (*_prop("aero/unfolded/CLalpha", "-4.5"), "aero/unfolded/CLalpha", "allowed > 0"),
-    "lift_slope_beyond_2pi": (*_prop("aero/folded/CLalpha", "7"), "aero/folded/CLalpha", "<= 6.28"),
-    "CLmax_below_CL0": (*_prop("aero/folded/CLmax", "0.05"), "aero/folded/CLmax", "CL0"),
-    "drag_zero": (*_prop("aero/unfolded/CD0", "0"), "aero/unfolded/CD0", "allowed > 0"),
-    "pitch_unstable": (*_prop("aero/unfolded/Cm_alpha", "0.45"), "aero/unfolded/Cm_alpha", "< 0"),
-    "no_roll_damping": (*_prop("aero/folded/Cl_p", "0"), "aero/folded/Cl_p", "< 0"),
-    "aileron_zero": (*_prop("aero/folded/Cl_da", "0"), "aero/folded/Cl_da", "> 0"),
-    "elevator_reversed": (*_prop("aero/unfolded/Cm_de", "0.85"), "aero/unfolded/Cm_de", "< 0"),
-    "S_ratio_above_one": (*_prop("aero/fold/S-ratio", "2"), "aero/fold/S-ratio", "<= 1"),
-    "b_ratio_zero": (*_prop("aero/fold/b-ratio", "0"), "aero/fold/b-ratio", "> 0"),
-    "fold_time_zero": (*_prop("fcs/wing-fold-time-s", "0"), "fcs/wing-fold-time-s", "allowed > 0"),
-    "fold_time_negative": (*_prop("fcs/wing-fold-time-s", "-2"), "fcs/wing-fold-time-s", "allowed > 0"),
-    "fold_time_abc": (*_prop("fcs/wing-fold-time-s", "abc"), "fcs/wing-fold-time-s", "not a number"),
-    "fold_time_removed": (r"<property[^>]*>\s*fcs/wing-fold-time-s\s*</property>", "", "fcs/wing-fold-time-s", "missing"),
-    "emptywt_removed": (r"<emptywt[^>]*>[^<]*</emptywt>", "", "mass_balance/emptywt", "missing"),
-    "emptywt_negative": (*_elem("emptywt", "-0.498"), "mass_balance/emptywt", "allowed > 0"),
-    "emptywt_zero": (*_elem("emptywt", "0"), "mass_balance/emptywt", "allowed > 0"),
-    "emptywt_abc": (*_elem("emptywt", "heavy"), "mass_balance/emptywt", "not a number"),
-    "emptywt_unit": (r'<emptywt unit="KG">', '<emptywt unit="STONE">', "mass_balance/emptywt", "unit"),
-    "point_mass_negative": (*_elem("weight", "-0.06"), "pointmass", ">= 0"),
-    "ixx_zero": (*_elem("ixx", "0"), "mass_balance/ixx", "allowed > 0"),
-    "iyy_removed": (r"<iyy[^>]*>[^<]*</iyy>", "", "mass_balance/iyy", "missing"),
-    "inertia_not_physical": (*_elem("ixz", "-0.05"), "mass_balance", "physical"),
-    "cg_location_abc": (r"(<location name=\"CG\" unit=\"M\">\s*<x>)[^<]*(</x>)", r"\g<1> aft \g<2>", "location", "not a number"),
-    "wingarea_abc": (*_elem("wingarea", "big"), "metrics/wingarea", "not a number"),
-    "wingspan_negative": (*_elem("wingspan", "-1.1"), "metrics/wingspan", "allowed > 0"),
-    "chord_removed": (r"<chord[^>]*>[^<]*</chord>", "", "metrics/chord", "missing"),
-    "htailarea_negative": (*_elem("htailarea", "-0.02"), "metrics/htailarea", ">= 0"),
-    "thrust_max_zero": (*_prop("propulsion/pm/T-max-N", "0"), "propulsion/pm/T-max-N", "allowed > 0"),
-    "efficiency_above_one": (*_prop("propulsion/pm/eta-motor", "1.5"), "propulsion/pm/eta-motor", "<= 1"),
-    "function_value_abc": (r"(<value>)\s*1\.0\s*(</value>)", r"\g<1> one \g<2>", "value", "not a number"),
-    "rate_limit_word": (*_elem("rate_limit", "fast"), "rate_limit", "neither a number nor a property"),
-    "rate_limit_zero": (*_elem("rate_limit", "0"), "rate_limit", "allowed > 0"),
-    "clip_reversed": (r"(<clipto>\s*<min>)\s*-1\s*(</min>\s*<max>)\s*1\s*(</max>)", r"\g<1> 1 \g<2> -1 \g<3>", "clipto", "min < max"),
-    "elevator_range_zero": (r"(?s)(<aerosurface_scale name=\"fcs/pitch-cmd-rad\">.*?<max>)[^<]*(</max>)", r"\g<1> 0 \g<2>",
-                            "fcs/pitch-cmd-rad", "allowed > 0"),
-    "spring_negative": (*_elem("spring_coeff", "-10"), "spring_coeff", "allowed > 0"),
-    "friction_abc": (*_elem("static_friction", "grippy"), "static_friction", "not a number"),
-    "friction_negative": (*_elem("dynamic_friction", "-0.4"), "dynamic_friction", ">= 0"),
-    "tether_hook_renamed": (r'<force name="tether"', '<force name="line"', "force[tether]", "missing"),
-    "engine_file_missing": (r'<engine file="glider_motor">', '<engine file="no_such_motor">', "no_such_motor.xml", "not found"),
-    "not_xml": (r"</fdm_config>", "", "xml", "not well-formed"),
-}
-
-
-def _foldable_refused(root: Path, element: str, words: str, damaged: Path | None = None):
-    with pytest.raises(DefinitionError) as ei:
-        check_aircraft_file(root / FOLDABLE, root=root)
-    msg = str(ei.value)
-    assert "\n" not in msg, msg
-    assert str(damaged or root / FOLDABLE) in msg and element in msg and words in msg, msg
-    return msg
-
-
-def test_the_copied_definitions_pass_and_fly_from_another_root(tmp_path):
-    root = _tree(tmp_path)
-    for name in NAMES:
-        check_aircraft_file(root / "aircraft" / name / f"{name}.xml", root=root)
-    g = JSBSimGlider("glider_foldable", root=root)
-    assert g.foldable and g.fold_time_s > 0.0
-
-
-@pytest.mark.parametrize("case", list(FOLDABLE_DAMAGE))
-def test_damaged_foldable_glider_gives_one_line(tmp_path, case):
-    pattern, repl, element, words = FOLDABLE_DAMAGE[case]
-    root = _tree(tmp_path)
-    _damage(root, FOLDABLE, pattern, repl)
-    _foldable_refused(root, element, words, damaged=None if case != "engine_file_missing" else root / "engine" / "no_such_motor.xml")
-
-
-ENGINE_DAMAGE = {
-    "maxvolts_negative": (MOTOR, *_elem("maxvolts", "-11.1"), "maxvolts", "allowed > 0"),
-    "kv_abc": (MOTOR, *_elem("velocityconstant", "fast"), "velocityconstant", "not a number"),
-    "resistance_zero": (MOTOR, *_elem("coilresistance", "0"), "coilresistance", "allowed > 0"),
-    "no_load_current_removed": (MOTOR, r"<noloadcurrent[^>]*>[^<]*</noloadcurrent>", "", "noloadcurrent", "missing"),
-    "diameter_zero": (PROPELLER, *_elem("diameter", "0"), "diameter", "allowed > 0"),
-    "prop_inertia_removed": (PROPELLER, r"<ixx[^>]*>[^<]*</ixx>", "", "ixx", "missing"),
-    "blades_fractional": (PROPELLER, *_elem("numblades", "2.5"), "numblades", "whole number"),
-    "table_entry_abc": (PROPELLER, r"0\.05  0\.1078", "0.05  x", "tableData", "not a number"),
-    "table_entry_nan": (PROPELLER, r"0\.10  0\.1048", "0.10  nan", "tableData", "finite"),
-    "table_J_decreasing": (PROPELLER, r"0\.15  0\.1009", "0.01  0.1009", "C_THRUST", "increasing"),
-}
-
-
-@pytest.mark.parametrize("case", list(ENGINE_DAMAGE))
-def test_damaged_engine_files_give_one_line(tmp_path, case):
-    rel, pattern, repl, element, words = ENGINE_DAMAGE[case]
-    root = _tree(tmp_path)
-    p = _damage(root, rel, pattern, repl)
-    _foldable_refused(root, element, words, damaged=p)
-
-
-@pytest.mark.parametrize("case", ["coefficient_abc", "emptywt_removed", "emptywt_negative", "fold_time_abc"])
-def test_the_6dof_adapter_refuses_a_damaged_glider_before_jsbsim_loads_it(tmp_path, case):
-    pattern, repl, element, words = FOLDABLE_DAMAGE[case]
-    root = _tree(tmp_path)
-    _damage(root, FOLDABLE, pattern, repl)
-    with pytest.raises(DefinitionError) as ei:
-        JSBSimGlider("glider_foldable", root=root)
-    msg = str(ei.value)
-    assert "\n" not in msg and str(root / FOLDABLE) in msg and element in msg and words in msg, msg
-
-
-def test_jsbsim_alone_would_fly_without_empty_weight(tmp_path):
-    """Why the check is needed: JSBSim loads the glider without <emptywt> (it flies the point
-    masses alone, a third of the mass) instead of refusing it."""
-    root = _tree(tmp_path)
-    _damage(root, FOLDABLE, *FOLDABLE_DAMAGE["emptywt_removed"][:2])
-    fdm = jsbsim.FGFDMExec(str(root))
-    fdm.set_debug_level(0)
-    assert fdm.load_model("glider_foldable")
-    fdm["ic/h-agl-ft"] = 300.0
-    fdm.run_ic()
-    assert fdm["inertia/mass-slugs"] * SLUG < 0.5 * MASS_KG
-    with pytest.raises(DefinitionError, match="emptywt"):
-        check_aircraft_file(root / FOLDABLE, root=root)
-
-
-@pytest.mark.parametrize("name", ["glider_unfolded", "glider_folded"])
-def test_static_forms_stability_derivatives_are_checked(tmp_path, name):
-    root = _tree(tmp_path)
-    rel = Path("aircraft") / name / f"{name}.xml"
-    _damage(root, rel, *_prop("aero/coef/Cn_dr", "abc"))
-    with pytest.raises(DefinitionError, match=r"aero/coef/Cn_dr.*not a number"):
-        load_airframe_file(root / rel)
-    (root / rel).write_text((ROOT / rel).read_text())
-    _damage(root, rel, *_prop("aero/coef/Cn_beta", "-0.05"))
-    with pytest.raises(DefinitionError, match=r"aero/coef/Cn_beta.*allowed >= 0"):
-        check_aircraft_file(root / rel, root=root)
-
-
-def test_the_morphing_glider_is_not_a_static_form():
-    with pytest.raises(DefinitionError, match="morphing"):
-        load_airframe_file(ROOT / FOLDABLE)

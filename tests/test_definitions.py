@@ -41,11 +41,15 @@ def test_both_configurations_are_the_same_vehicle():
 
 
 def _mutated(tmp_path, pattern, repl, count=1):
+    """A damaged copy of glider_unfolded, ``aircraft/glider_bad/glider_bad.xml`` beside a copy of
+    the section files it includes (``aircraft/common/``)."""
     src = aircraft_path("glider_unfolded")
     text = src.read_text()
     new, n = re.subn(pattern, repl, text, count=count)
     assert n == count, f"pattern {pattern!r} not found"
-    p = tmp_path / "glider_bad.xml"
+    shutil.copytree(ROOT / "aircraft" / "common", tmp_path / "aircraft" / "common")
+    p = tmp_path / "aircraft" / "glider_bad" / "glider_bad.xml"
+    p.parent.mkdir(parents=True)
     p.write_text(new)
     return p
 

@@ -29,9 +29,11 @@ class ParamDef:
 
 
 def load_autopilot_definition(path: str | Path | None = None) -> list[ParamDef]:
+    """The parameters of an autopilot definition file (root element ``<fdm_awe_autopilot>``, the
+    package's own: JSBSim's ``<autopilot>`` is a section of an aircraft file), range-checked."""
     doc = XmlDoc.load(path or DEFAULT_FILE)
-    if doc.root.tag != "autopilot":
-        raise DefinitionError(doc.path, doc.root.tag, "root element must be <autopilot>")
+    if doc.root.tag != "fdm_awe_autopilot":
+        raise DefinitionError(doc.path, doc.root.tag, "root element must be <fdm_awe_autopilot>")
     out: list[ParamDef] = []
     seen: set[str] = set()
     for i, el in enumerate(doc.root.findall("param")):

@@ -3,14 +3,19 @@
 The point-mass model, the optimiser and the 6-DOF model all read the same numbers from the
 same XML files: ``aircraft/glider_unfolded/glider_unfolded.xml`` (unfolded configuration) and
 ``aircraft/glider_folded/glider_folded.xml`` (folded configuration). Nothing here holds a copy
-of an airframe number.
+of an airframe number. What the forms share (metrics but span and area, skids, tether hook,
+drive, point-mass propulsion values, control surfaces, the aerodynamic model) the aircraft files
+take from JSBSim section files in ``aircraft/common/``; :class:`~.xmlutil.XmlDoc` merges them in
+as JSBSim does, so the loaders read each file as JSBSim flies it.
 
 Named values the XML must declare (JSBSim ``<property value="...">NAME</property>``):
 
-- in ``<aerodynamics>``: ``aero/pm/CL0``, ``aero/pm/CLalpha`` [1/rad], ``aero/pm/CLmax``,
+- in ``<aerodynamics>`` (beside the shared model ``aircraft/common/aerodynamics.xml``):
+  ``aero/pm/CL0``, ``aero/pm/CLalpha`` [1/rad], ``aero/pm/CLmax``,
   ``aero/pm/CD0``, ``aero/pm/CDalpha1`` [1/rad], ``aero/pm/CDalpha2`` [1/rad^2]
-  (paper eqs. 32/46: C_L = C_L0 + C_La a, C_D = C_D0 + C_Da1 a + C_Da2 a^2);
-- anywhere (an inline ``<system name="point-mass-propulsion">``): ``propulsion/pm/P0-W``,
+  (paper eqs. 32/46: C_L = C_L0 + C_La a, C_D = C_D0 + C_Da1 a + C_Da2 a^2) and the stability
+  and control derivatives ``aero/coef/NAME`` (:data:`COEF_RANGES`);
+- anywhere (the system ``aircraft/common/point_mass_propulsion.xml``): ``propulsion/pm/P0-W``,
   ``propulsion/pm/eta-prop``, ``propulsion/pm/eta-motor``, ``propulsion/pm/disk-area-m2``,
   ``propulsion/pm/paper-PT0``, ``propulsion/pm/paper-PT1``, ``propulsion/pm/paper-PT2``,
   ``propulsion/pm/T-max-N``, ``propulsion/pm/T-avail-c1``, ``propulsion/pm/T-avail-c2``.
@@ -18,16 +23,18 @@ Named values the XML must declare (JSBSim ``<property value="...">NAME</property
 The morphing aircraft ``aircraft/glider_foldable/glider_foldable.xml`` (flown by the 6-DOF
 model) declares both coefficient sets, ``aero/unfolded/NAME`` and ``aero/folded/NAME`` (the
 polar above and the stability derivatives ``aero/coef/NAME`` of the static forms), the fold
-ratios ``aero/fold/S-ratio``, ``aero/fold/b-ratio`` and the fold time ``fcs/wing-fold-time-s``.
+ratios ``aero/fold/S-ratio``, ``aero/fold/b-ratio`` and the fold time ``fcs/wing-fold-time-s``,
+and blends the sets into ``aero/pm/*`` and ``aero/coef/*`` with the fold state.
 :func:`check_aircraft_file` checks any of the three files field by field before JSBSim loads
 it (the 6-DOF adapter calls it): every number JSBSim reads, then the ranges of
-:data:`PM_RANGES`, :data:`COEF_RANGES`, mass and inertia, controls, contacts, tether hook and
-the engine files.
+:data:`PM_RANGES`, :data:`COEF_RANGES`, mass and inertia, controls, contacts and their
+ground-contact flag (:data:`GROUND_CONTACT`), tether hook and the engine files.
 """
 
 from __future__ import annotations
 
 import math
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -69,6 +76,10 @@ SURFACES = ("fcs/pitch-cmd-rad", "fcs/roll-cmd-rad", "fcs/yaw-cmd-rad")
 SURFACE_MAX_RAD = math.pi / 2
 #: Longest full fold (``fcs/wing-fold-time-s``) of the morphing aircraft [s].
 FOLD_TIME_MAX_S = 60.0
+#: The airframe's ground-contact flag, 1 when any contact touches the ground: a post function of
+#: ``<ground_reactions>`` over the WOW of every contact (JSBSim's ``gear/wow`` counts BOGEY
+#: contacts only; skids and wingtips are STRUCTURE contacts). The 6-DOF row reads it.
+GROUND_CONTACT = "contact/wow"
 
 
 @dataclass(frozen=True)
@@ -152,7 +163,7 @@ def _mass(doc: XmlDoc) -> MassParams:
     m_e = doc.number("mass_balance/emptywt", lo=0.0, lo_open=True, unit="kg")
     cg_el = doc.find("mass_balance/location")
     assert cg_el is not None
-    cg_e = np.array(location(doc.path, cg_el, "mass_balance/location"))
+    cg_e = np.array(location(doc.origin(cg_el), cg_el, "mass_balance/location"))
     ixx = doc.number("mass_balance/ixx", lo=0.0, lo_open=True, unit="kg m2")
     iyy = doc.number("mass_balance/iyy", lo=0.0, lo_open=True, unit="kg m2")
     izz = doc.number("mass_balance/izz", lo=0.0, lo_open=True, unit="kg m2")
@@ -172,9 +183,9 @@ def _mass(doc: XmlDoc) -> MassParams:
         w = pm.find("weight")
         loc = pm.find("location")
         if w is None or loc is None:
-            raise DefinitionError(doc.path, what, "needs <weight> and <location>")
-        m_i = element_number(doc.path, f"{what}/weight", w, lo=0.0, unit="kg")
-        masses.append((m_i, np.array(location(doc.path, loc, f"{what}/location")), np.zeros((3, 3))))
+            raise DefinitionError(doc.origin(pm), what, "needs <weight> and <location>")
+        m_i = element_number(doc.origin(w), f"{what}/weight", w, lo=0.0, unit="kg")
+        masses.append((m_i, np.array(location(doc.origin(loc), loc, f"{what}/location")), np.zeros((3, 3))))
     M = sum(m for m, _, _ in masses)
     cg = sum(m * r for m, r, _ in masses) / M
     Jt = np.zeros((3, 3))
@@ -271,9 +282,9 @@ def _controls(doc: XmlDoc) -> None:
         what = f"aerosurface_scale[{name}]/range"
         lo_el, hi_el = el.find("range/min"), el.find("range/max")
         if lo_el is None or hi_el is None:
-            raise DefinitionError(doc.path, what, "needs <min> and <max> (deflection at full command, rad)")
-        element_number(doc.path, f"{what}/max", hi_el, lo=0.0, hi=SURFACE_MAX_RAD, lo_open=True, unit="rad")
-        element_number(doc.path, f"{what}/min", lo_el, lo=-SURFACE_MAX_RAD, hi=0.0, hi_open=True, unit="rad")
+            raise DefinitionError(doc.origin(el), what, "needs <min> and <max> (deflection at full command, rad)")
+        element_number(doc.origin(hi_el), f"{what}/max", hi_el, lo=0.0, hi=SURFACE_MAX_RAD, lo_open=True, unit="rad")
+        element_number(doc.origin(lo_el), f"{what}/min", lo_el, lo=-SURFACE_MAX_RAD, hi=0.0, hi_open=True, unit="rad")
     for tag in ("range", "clipto"):
         for i, el in enumerate(fcs.iter(tag)):
             lo_el, hi_el = el.find("min"), el.find("max")
@@ -282,14 +293,14 @@ def _controls(doc: XmlDoc) -> None:
             except (AttributeError, ValueError):
                 continue  # property bounds (checked by name) or missing: JSBSim's defaults
             if not lo < hi:
-                raise DefinitionError(doc.path, f"flight_control/{tag}[{i}]", f"min {lo:g} >= max {hi:g} (allowed min < max)")
+                raise DefinitionError(doc.origin(el), f"flight_control/{tag}[{i}]", f"min {lo:g} >= max {hi:g} (allowed min < max)")
     for i, el in enumerate(fcs.iter("rate_limit")):
         try:
             v = float((el.text or "").strip())
         except ValueError:
             continue  # a property name
         if not v > 0.0:
-            raise DefinitionError(doc.path, f"flight_control/rate_limit[{i}]", f"value {v:g} out of range (allowed > 0 per s)")
+            raise DefinitionError(doc.origin(el), f"flight_control/rate_limit[{i}]", f"value {v:g} out of range (allowed > 0 per s)")
 
 
 def _contacts(doc: XmlDoc) -> None:
@@ -304,16 +315,35 @@ def _contacts(doc: XmlDoc) -> None:
         what = f"ground_reactions/contact[{el.attrib.get('name', '?')}]"
         loc = el.find("location")
         if loc is None:
-            raise DefinitionError(doc.path, f"{what}/location", "missing element")
-        location(doc.path, loc, f"{what}/location")
+            raise DefinitionError(doc.origin(el), f"{what}/location", "missing element")
+        location(doc.origin(loc), loc, f"{what}/location")
         for tag, lo, lo_open in (("spring_coeff", 0.0, True), ("damping_coeff", 0.0, False), ("static_friction", 0.0, False),
                                  ("dynamic_friction", 0.0, False), ("rolling_friction", 0.0, False)):
             sub = el.find(tag)
             if sub is None:
                 if tag == "spring_coeff":
-                    raise DefinitionError(doc.path, f"{what}/{tag}", "missing element")
+                    raise DefinitionError(doc.origin(el), f"{what}/{tag}", "missing element")
                 continue
-            element_number(doc.path, f"{what}/{tag}", sub, lo=lo, lo_open=lo_open, convert=False)
+            element_number(doc.origin(sub), f"{what}/{tag}", sub, lo=lo, lo_open=lo_open, convert=False)
+    _ground_contact_flag(doc, contacts)
+
+
+def _ground_contact_flag(doc: XmlDoc, contacts: list[ET.Element]) -> None:
+    """The :data:`GROUND_CONTACT` post function of ``<ground_reactions>`` reads the WOW flag of
+    every contact (JSBSim numbers the contacts in document order, a section's own before those
+    of its section file; ``gear/unit[i]`` for BOGEY, ``contact/unit[i]`` for other types)."""
+    what = f"ground_reactions/function[{GROUND_CONTACT}]"
+    fn = doc.find(f"ground_reactions/function[@name='{GROUND_CONTACT}']", required=False)
+    if fn is None:
+        raise DefinitionError(doc.path, what, "missing element (the 6-DOF model's ground-contact flag)")
+    if fn.attrib.get("type", "").strip() != "post":
+        raise DefinitionError(doc.origin(fn), what, 'needs type="post" (evaluated after the contacts of the step)')
+    read = {(el.text or "").strip().replace("[0]", "") for el in fn.iter("property")}
+    for i, el in enumerate(contacts):
+        flag = f"{'gear' if el.attrib.get('type') == 'BOGEY' else 'contact'}/unit[{i}]/WOW".replace("[0]", "")
+        if flag not in read:
+            raise DefinitionError(doc.origin(fn), what, f"does not read {flag} (contact {el.attrib.get('name', i)}): "
+                                                        "it must read the WOW of every contact")
 
 
 def _external_forces(doc: XmlDoc) -> None:
@@ -322,19 +352,30 @@ def _external_forces(doc: XmlDoc) -> None:
     if hook is None:
         raise DefinitionError(doc.path, "external_reactions/force[tether]", "missing element (the tether hook the ground station pulls)")
     if hook.attrib.get("frame", "").upper() != "LOCAL":
-        raise DefinitionError(doc.path, "external_reactions/force[tether]", f"frame {hook.attrib.get('frame')!r} not allowed (allowed LOCAL: NED force components)")
+        raise DefinitionError(doc.origin(hook), "external_reactions/force[tether]", f"frame {hook.attrib.get('frame')!r} not allowed (allowed LOCAL: NED force components)")
     loc = hook.find("location")
     if loc is None:
-        raise DefinitionError(doc.path, "external_reactions/force[tether]/location", "missing element")
-    location(doc.path, loc, "external_reactions/force[tether]/location")
+        raise DefinitionError(doc.origin(hook), "external_reactions/force[tether]/location", "missing element")
+    location(doc.origin(loc), loc, "external_reactions/force[tether]/location")
+
+
+def _feeds(doc: XmlDoc) -> None:
+    """Every engine ``<feed>`` names a tank of ``<propulsion>`` (JSBSim numbers them from 0)."""
+    tanks = len(doc.root.findall("propulsion/tank"))
+    for el in doc.root.iterfind("propulsion/engine/feed"):
+        v = element_number(doc.origin(el), "propulsion/engine/feed", el)
+        if not (0 <= v < tanks and v == int(v)):
+            raise DefinitionError(doc.origin(el), "propulsion/engine/feed",
+                                  f"tank {v:g} does not exist (the aircraft has {tanks} tank(s); an electric drive needs no <feed>)")
 
 
 def _airframe_checks(doc: XmlDoc) -> None:
     """The checks every aircraft file gets besides its geometry, mass, propulsion values and
-    aerodynamics: controls, contacts, tether hook."""
+    aerodynamics: controls, contacts, tether hook, engine feeds."""
     _controls(doc)
     _contacts(doc)
     _external_forces(doc)
+    _feeds(doc)
 
 
 def _foldable(doc: XmlDoc) -> None:

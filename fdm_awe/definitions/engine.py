@@ -74,7 +74,7 @@ def _fit(doc: XmlDoc, name: str) -> tuple[float, float, float]:
     return float(c0), float(c1), float(c2)
 
 
-def _motor(doc: XmlDoc) -> dict[str, float]:
+def motor_constants(doc: XmlDoc) -> dict[str, float]:
     """The Drela constants of a ``brushless_dc_motor`` file, checked (numbers as written: JSBSim
     reads them in rpm/V, ohm, A and V)."""
     if doc.root.tag != "brushless_dc_motor":
@@ -118,12 +118,12 @@ def engine_files(adoc: XmlDoc, root: Path | None = None) -> tuple[XmlDoc, XmlDoc
     thr = adoc.find("propulsion/engine/thruster")
     assert eng is not None and thr is not None
     if not eng.attrib.get("file") or not thr.attrib.get("file"):
-        raise DefinitionError(adoc.path, "propulsion/engine", "engine and thruster need a file attribute (a file name in engine/)")
+        raise DefinitionError(adoc.origin(eng), "propulsion/engine", "engine and thruster need a file attribute (a file name in engine/)")
     mdoc = XmlDoc.load(root / "engine" / f"{eng.attrib['file']}.xml")
     pdoc = XmlDoc.load(root / "engine" / f"{thr.attrib['file']}.xml")
     for doc in (mdoc, pdoc):
         check_numbers(doc)
-    _motor(mdoc)
+    motor_constants(mdoc)
     _propeller(pdoc)
     return mdoc, pdoc
 
@@ -134,8 +134,8 @@ def load_electric_drive(aircraft: str = "glider_foldable", root: Path | None = N
     root = ROOT if root is None else Path(root)
     adoc = XmlDoc.load(root / "aircraft" / aircraft / f"{aircraft}.xml")
     mdoc, pdoc = engine_files(adoc, root)
-    return ElectricDrive(diameter=_propeller(pdoc), ct=_fit(pdoc, "C_THRUST"), cp=_fit(pdoc, "C_POWER"), **_motor(mdoc),
+    return ElectricDrive(diameter=_propeller(pdoc), ct=_fit(pdoc, "C_THRUST"), cp=_fit(pdoc, "C_POWER"), **motor_constants(mdoc),
                          source=(mdoc.path, pdoc.path))
 
 
-__all__ = ["ElectricDrive", "FIT_TOL", "J_FIT_MAX", "engine_files", "load_electric_drive"]
+__all__ = ["ElectricDrive", "FIT_TOL", "J_FIT_MAX", "engine_files", "load_electric_drive", "motor_constants"]

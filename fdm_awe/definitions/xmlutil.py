@@ -7,14 +7,21 @@ the file and the element (and the allowed range or form where one applies).
 JSBSim reads as a number: a file that passes it never makes JSBSim parse a non-number (JSBSim
 would stop with a C++ exception and a traceback); the range of each value the package relies
 on is checked by the loaders (:mod:`.aircraft`, :mod:`.engine`).
+
+A JSBSim aircraft file may take a section from a file of its own (``<metrics file="NAME">``,
+``<system file="NAME">``, ...: :data:`SECTION_FILE_ELEMENTS`). :meth:`XmlDoc.load` reads an
+aircraft file the way JSBSim reads it: each such section gets the children of the file it names
+after its own, so every reader sees the numbers JSBSim flies; :meth:`XmlDoc.origin` names the
+file an element came from, and the messages name that file.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import re
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterator
 
@@ -39,19 +46,31 @@ NUMBER_ELEMENTS = frozenset({
 })
 #: Leaf elements whose text is a number or the name of a property (``fcs/...``).
 NUMBER_OR_PROPERTY_ELEMENTS = frozenset({"gain", "rate_limit", "min", "max", "bias", "lag", "width"})
+#: Sections of a JSBSim aircraft file (``<fdm_config>``) that may name a section file with a
+#: ``file`` attribute: JSBSim (``FGModel::Upload``) reads that file, whose root element has the
+#: section's name, and appends the root's children to the section after the section's own
+#: children, which therefore come first (contacts, channels, properties overriding the file's).
+SECTION_FILE_ELEMENTS = frozenset({"metrics", "mass_balance", "ground_reactions", "external_reactions", "buoyant_forces",
+                                   "propulsion", "system", "autopilot", "flight_control", "aerodynamics"})
 _PROPERTY_NAME = re.compile(r"^-?[A-Za-z_][\w\-]*(\[\d+\])?(/[A-Za-z_][\w\-]*(\[\d+\])?)+$")
 _ALLOWED_NUMBER = "allowed: a finite decimal number"
 
 
 @dataclass(frozen=True)
 class XmlDoc:
-    """A parsed definition file: its path (for messages) and its root element."""
+    """A parsed definition file: its path (for messages) and its root element.
+
+    ``sources`` maps the elements read from section files (``id(element)``) to their file.
+    """
 
     path: Path
     root: ET.Element
+    sources: dict[int, Path] = field(default_factory=dict, compare=False, repr=False)
 
     @classmethod
     def load(cls, path: str | Path) -> "XmlDoc":
+        """Parse ``path``; a JSBSim aircraft file (``<fdm_config>``) with the section files it
+        names merged in as JSBSim merges them (:func:`include_section_files`)."""
         p = Path(path)
         if not p.is_file():
             raise DefinitionError(p, "file", "not found" if not p.exists() else "not a regular file")
@@ -61,7 +80,19 @@ class XmlDoc:
             raise DefinitionError(p, "xml", f"not well-formed XML ({exc})") from None
         except OSError as exc:
             raise DefinitionError(p, "file", f"cannot read ({exc.strerror or exc})") from None
-        return cls(p, root)
+        doc = cls(p, root)
+        if root.tag == "fdm_config":
+            include_section_files(doc)
+        return doc
+
+    def origin(self, el: ET.Element) -> Path:
+        """The file element ``el`` was read from: :attr:`path` or one of its section files."""
+        return self.sources.get(id(el), self.path)
+
+    @property
+    def section_files(self) -> tuple[Path, ...]:
+        """The section files merged into this document, in the order they were read."""
+        return tuple(dict.fromkeys(self.sources.values()))
 
     # -- element access ----------------------------------------------------------
     def find(self, xpath: str, required: bool = True) -> ET.Element | None:
@@ -92,7 +123,7 @@ class XmlDoc:
         el = self.find(xpath, required=default is None)
         if el is None:
             return float(default)  # type: ignore[arg-type]
-        return element_number(self.path, xpath, el, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, unit=unit or "",
+        return element_number(self.origin(el), xpath, el, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, unit=unit or "",
                               convert=convert)
 
     def property_value(
@@ -108,8 +139,8 @@ class XmlDoc:
         """Value of a JSBSim ``<property value="...">name</property>`` declaration."""
         for el in self.root.iter("property"):
             if (el.text or "").strip() == name and "value" in el.attrib:
-                what = f"property {name}"
-                return _check(self.path, what, _to_float(self.path, what, el.attrib["value"]), lo, hi, lo_open, hi_open, unit)
+                what, path = f"property {name}", self.origin(el)
+                return _check(path, what, _to_float(path, what, el.attrib["value"]), lo, hi, lo_open, hi_open, unit)
         raise DefinitionError(self.path, f"property {name}", "missing declaration (<property value=...>)")
 
     def has_property(self, name: str) -> bool:
@@ -187,6 +218,50 @@ def location(path: Path, el: ET.Element, what: str) -> tuple[float, float, float
     return (out[0], out[1], out[2])
 
 
+def section_file(aircraft: Path, section: ET.Element) -> Path:
+    """The file a section's ``file`` attribute names, looked up as JSBSim looks it up: a relative
+    name from the aircraft's folder, ``.xml`` appended unless the name ends in it; a ``<system>``
+    file also in the folder's ``Systems`` (``systems``) subfolder and in the JSBSim root's
+    ``systems`` folder; an absolute name as it is. Where it is nowhere, the path in the
+    aircraft's folder."""
+    name = section.attrib["file"].strip()
+    if Path(name).is_absolute():
+        return Path(name)
+    fname = name if name.endswith(".xml") else f"{name}.xml"
+    folder = aircraft.parent
+    folders = [folder] + ([folder / "Systems", folder / "systems", folder.parent.parent / "systems"]
+                          if section.tag == "system" else [])
+    found = next((f / fname for f in folders if (f / fname).is_file()), folder / fname)
+    return Path(os.path.normpath(found))  # ``aircraft/NAME/../common/x.xml`` -> ``aircraft/common/x.xml``
+
+
+def include_section_files(doc: XmlDoc) -> None:
+    """Merge the section files an aircraft file names into ``doc`` as JSBSim does: the file's
+    root must be an element of the section's name; its attributes fill those the section lacks,
+    its children follow the section's own. A pre-function written beside a section file (JSBSim
+    would ignore it) is refused. DefinitionError: file, element, what is wrong."""
+    for section in doc.root:
+        if section.tag not in SECTION_FILE_ELEMENTS or "file" not in section.attrib:
+            continue
+        what = f"{section.tag}[file={section.attrib['file'].strip()}]"
+        for fn in section.findall("function"):
+            if fn.attrib.get("type", "").strip() != "post":
+                raise DefinitionError(doc.path, f"{what}/function[{fn.attrib.get('name', '?')}]",
+                                      "JSBSim does not load a pre-function written beside a section file "
+                                      "(allowed: type=\"post\", or the function inside the section file)")
+        src = section_file(doc.path, section)
+        if not src.is_file():
+            raise DefinitionError(doc.path, what, f"section file {src} not found")
+        inc = XmlDoc.load(src)
+        if inc.root.tag != section.tag:
+            raise DefinitionError(src, inc.root.tag, f"root element must be <{section.tag}> (the section that includes it)")
+        for key, value in inc.root.attrib.items():
+            section.attrib.setdefault(key, value)
+        for child in list(inc.root):
+            section.append(child)
+            doc.sources.update((id(el), src) for el in child.iter())
+
+
 def _walk(el: ET.Element, prefix: str) -> Iterator[tuple[str, ET.Element]]:
     """``(path, element)`` of ``el``'s descendants; a path names elements with a ``name``
     attribute by it (``ground_reactions/contact[NOSE_SKID]/spring_coeff``)."""
@@ -207,26 +282,27 @@ def check_numbers(doc: XmlDoc) -> None:
     :data:`NUMBER_OR_PROPERTY_ELEMENTS`, and rows of numbers in ``<tableData>``."""
     for where, el in _walk(doc.root, ""):
         tag = el.tag
+        path = doc.origin(el)
         if tag == "property" and "value" in el.attrib:
-            _to_float(doc.path, f"property {(el.text or '').strip()}", el.attrib["value"])
+            _to_float(path, f"property {(el.text or '').strip()}", el.attrib["value"])
         elif len(el):
             continue  # an element with children (a function's <max>, a <location>) is checked through them
         elif tag in NUMBER_ELEMENTS:
-            _to_float(doc.path, where, el.text)
+            _to_float(path, where, el.text)
         elif tag in NUMBER_OR_PROPERTY_ELEMENTS:
             text = (el.text or "").strip()
             try:
                 float(text)
             except ValueError:
                 if not _PROPERTY_NAME.match(text):
-                    raise DefinitionError(doc.path, where, f"{text!r} is neither a number nor a property name "
+                    raise DefinitionError(path, where, f"{text!r} is neither a number nor a property name "
                                                           f"(allowed: a finite decimal number or a property such as fcs/name)") from None
             else:
-                _to_float(doc.path, where, text)
+                _to_float(path, where, text)
         elif tag == "tableData":
             rows = [line.split() for line in (el.text or "").strip().splitlines() if line.strip()]
             if not rows:
-                raise DefinitionError(doc.path, where, "empty table (allowed: rows of finite numbers)")
+                raise DefinitionError(path, where, "empty table (allowed: rows of finite numbers)")
             for i, row in enumerate(rows):
                 for tok in row:
-                    _to_float(doc.path, f"{where} row {i + 1}", tok)
+                    _to_float(path, f"{where} row {i + 1}", tok)

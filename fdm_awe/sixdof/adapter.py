@@ -27,7 +27,7 @@ import numpy as np
 
 from .. import ROOT
 from ..definitions.aircraft import check_aircraft_file
-from ..definitions.xmlutil import XmlDoc
+from ..definitions.engine import engine_files, motor_constants
 from ..errors import DefinitionError, InputError
 from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
 from .row import (ALPHA, BETA, CURRENT, FBX, FBZ, FOLD, FOLD_PROPERTY, H_SL, LAT, LON, MASS, P_RATE, PHI,
@@ -60,9 +60,6 @@ class JSBSimGlider:
                  wind_ned: Sequence[float] = (0.0, 0.0, 0.0),
                  turbulence: tuple[str, int] | None = None,
                  root: str | Path = ROOT, home_lat_deg: float = 0.0) -> None:
-        os.environ.setdefault("JSBSIM_DEBUG", "0")  # silence the banner (read at import)
-        import jsbsim  # lazy: keeps ``import fdm_awe`` light
-
         if not (0.0 < dt <= 0.1):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 0.1 s)")
         if not (-80.0 <= home_lat_deg <= 80.0):
@@ -70,27 +67,54 @@ class JSBSimGlider:
         self.name = name
         self.root = Path(root)
         self.dt = float(dt)
-        xml = self.root / "aircraft" / name / f"{name}.xml"
+        self._load()
+        self._bind_properties()
+        self._maxvolts = self._motor_volts()
+        self._measure_airframe()
+        self._set_ground_frame(home_lat_deg)
+        self._hook: tuple = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        self.wind_ned = (0.0, 0.0, 0.0)
+        self.set_wind(wind_ned)
+        self.turbulence = None
+        self.set_turbulence(turbulence)
+        self._force = (0.0, 0.0, 0.0)
+        self._raw: list[float] | None = None
+        self._state: SixDofState | None = None
+        self._controls = Surfaces()
+        self._native: tuple[np.ndarray | None, str] | None = None
+
+    # ------------------------------------------------------------------ construction steps
+    def _load(self) -> None:
+        """Check ``aircraft/NAME/NAME.xml`` field by field, then load it into a new JSBSim
+        instance stepping at ``dt``."""
+        os.environ.setdefault("JSBSIM_DEBUG", "0")  # silence the banner (read at import)
+        import jsbsim  # lazy: keeps ``import fdm_awe`` light
+
+        self._xml = xml = self.root / "aircraft" / self.name / f"{self.name}.xml"
         if not xml.is_file():
-            raise InputError(f"aircraft {name!r}: no definition {xml}")
+            raise InputError(f"aircraft {self.name!r}: no definition {xml}")
         self._doc = check_aircraft_file(xml, root=self.root)  # every field checked before JSBSim reads the file
         fdm = jsbsim.FGFDMExec(str(self.root))
         fdm.set_debug_level(0)
-        if not fdm.load_model(name):
+        if not fdm.load_model(self.name):
             raise DefinitionError(xml, "fdm_config", "JSBSim could not load the aircraft")
         fdm.set_dt(self.dt)
         self.fdm = fdm
-        pm = fdm.get_property_manager()
-        self._pm = pm
+        self._pm = fdm.get_property_manager()
 
-        def node(prop: str):
-            n = pm.get_node(prop, False)
-            if n is None:
-                raise DefinitionError(xml, prop, "property missing in the loaded aircraft")
-            return n
+    def _node(self, prop: str):  # noqa: ANN202 - a JSBSim property node
+        """The loaded aircraft's property node ``prop`` (DefinitionError when it has none)."""
+        n = self._pm.get_node(prop, False)
+        if n is None:
+            raise DefinitionError(self._xml, prop, "property missing in the loaded aircraft")
+        return n
 
-        self._node = node
+    def _bind_properties(self) -> None:
+        """Bound getters of the raw row (:data:`_READ`, then the fold state) and setters of the
+        tether force and the commands: the per-step reads and writes."""
+        node = self._node
         self._get = [node(p).get_double_value for p in _READ]
+        pm = self._pm
         self._foldable = pm.hasNode(FOLD_PROPERTY) if hasattr(pm, "hasNode") else self._has(FOLD_PROPERTY)
         self._fold_get = node(FOLD_PROPERTY).get_double_value if self._foldable else (lambda: 0.0)
         self._get.append(self._fold_get)  # position FOLD: fold state
@@ -104,8 +128,12 @@ class JSBSimGlider:
         self._set_rud = node("fcs/rudder-cmd-norm").set_double_value
         self._set_thr = node("fcs/throttle-cmd-norm[0]").set_double_value
         self._set_fold = node("fcs/wing-fold-cmd-norm").set_double_value if self._foldable else (lambda v: None)
-        self._maxvolts = self._motor_volts()
-        # hook offset from the CG in body axes (m); the CG does not move (fold keeps it fixed)
+
+    def _measure_airframe(self) -> None:
+        """What the adapter takes from the loaded aircraft once: the hook's offset from the CG in
+        body axes (m; the CG does not move, the fold keeps it fixed), the surface deflection per
+        unit command (rad, from the aircraft's own FCS) and the fold time (s, 0 when static)."""
+        fdm = self.fdm
         mb = fdm.get_mass_balance()
         fdm["ic/h-agl-ft"] = 1000.0
         fdm.run_ic()
@@ -114,8 +142,7 @@ class JSBSimGlider:
                          fdm["external_reactions/tether/location-z-in"]]) * IN
         d = hook - cg
         self.hook_offset_body = np.array([-d[0], d[1], -d[2]])  # structural (x aft, z up) -> body
-        self._hook_off = ox, oy, oz = tuple(float(v) for v in self.hook_offset_body)
-        # surface deflection per unit command (rad), from the aircraft's own FCS
+        self._hook_off = tuple(float(v) for v in self.hook_offset_body)
         for cmd in ("fcs/elevator-cmd-norm", "fcs/aileron-cmd-norm", "fcs/rudder-cmd-norm"):
             fdm[cmd] = 1.0
         fdm.run_ic()
@@ -124,15 +151,17 @@ class JSBSimGlider:
         for cmd in ("fcs/elevator-cmd-norm", "fcs/aileron-cmd-norm", "fcs/rudder-cmd-norm"):
             fdm[cmd] = 0.0
         self.fold_time_s = fdm["fcs/wing-fold-time-s"] if self._foldable else 0.0
-        # ground frame
+
+    def _set_ground_frame(self, home_lat_deg: float) -> None:
+        """The NED frame about the winch at ``home_lat_deg`` (WGS84 radii there) and the
+        conversion of a raw row to SI, ``v = raw * scale + offset`` (positions of sixdof.row)."""
         lat0 = math.radians(home_lat_deg)
         s2 = math.sin(lat0) ** 2
         self._lat0 = lat0
         self._M0 = _WGS84_A * (1 - _WGS84_E2) / (1 - _WGS84_E2 * s2) ** 1.5
         self._N0cos = _WGS84_A / math.sqrt(1 - _WGS84_E2 * s2) * math.cos(lat0)
         #: arguments of row.hook_kinematics after the row: ground frame and hook offset
-        self._hook_frame = (lat0, self._M0, self._N0cos, FT, ox, oy, oz)
-        # raw JSBSim values -> SI: v = raw * scale + offset (positions of sixdof.row)
+        self._hook_frame = (lat0, self._M0, self._N0cos, FT, *self._hook_off)
         scale = np.ones(len(self._get))
         offset = np.zeros(len(self._get))
         scale[LAT], offset[LAT] = self._M0, -self._lat0 * self._M0
@@ -149,16 +178,6 @@ class JSBSimGlider:
         scale[SHAFT_HP] = _HP_W
         self._scale, self._offset = scale, offset
         self._scale_l, self._offset_l = scale.tolist(), offset.tolist()
-        self._hook: tuple = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-        self.wind_ned = (0.0, 0.0, 0.0)
-        self.set_wind(wind_ned)
-        self.turbulence = None
-        self.set_turbulence(turbulence)
-        self._force = (0.0, 0.0, 0.0)
-        self._raw: list[float] | None = None
-        self._state: SixDofState | None = None
-        self._controls = Surfaces()
-        self._native: tuple[np.ndarray | None, str] | None = None
 
     def native_handles(self) -> tuple[np.ndarray | None, str]:
         """Handles for the compiled co-simulation step (:mod:`fdm_awe.sim.kernel` layout:
@@ -197,18 +216,9 @@ class JSBSimGlider:
         return self._pm.get_node(prop, False) is not None
 
     def _motor_volts(self) -> float:
-        eng = self._doc.root.find("propulsion/engine")
-        if eng is None or "file" not in eng.attrib:
-            raise DefinitionError(self._doc.path, "propulsion/engine", "missing engine file attribute")
-        edoc = XmlDoc.load(self.root / "engine" / f"{eng.attrib['file']}.xml")
-        el = edoc.find("maxvolts")
-        try:
-            volts = float((el.text or "").strip())  # volts are SI already (unit="VOLTS")
-        except ValueError:
-            volts = float("nan")
-        if not (volts > 0.0 and math.isfinite(volts)):
-            raise DefinitionError(edoc.path, "maxvolts", f"value {el.text!r} out of range (allowed > 0 V)")
-        return volts
+        """The motor's voltage at full throttle, V (its engine file, checked with the aircraft)."""
+        motor, _ = engine_files(self._doc, self.root)
+        return motor_constants(motor)["max_volts"]
 
     @property
     def foldable(self) -> bool:

@@ -35,7 +35,7 @@ PROPERTIES: dict[int, str | None] = {
     FBX: "forces/fbx-total-lbs", FBY: "forces/fby-total-lbs", FBZ: "forces/fbz-total-lbs",
     MASS: "inertia/mass-slugs", QBAR: "aero/qbar-psf", RHO: "atmosphere/rho-slugs_ft3",
     THRUST: "propulsion/engine[0]/thrust-lbs", SHAFT_HP: "propulsion/engine[0]/power-hp",
-    CURRENT: "propulsion/engine[0]/current-amperes", THROTTLE: "fcs/throttle-pos-norm[0]", WOW: "gear/wow",
+    CURRENT: "propulsion/engine[0]/current-amperes", THROTTLE: "fcs/throttle-pos-norm[0]", WOW: "contact/wow",
     FOLD: None,
 }
 #: the fold state's property (position ``FOLD``) on the foldable aircraft
