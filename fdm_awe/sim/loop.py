@@ -166,7 +166,7 @@ class CoSim:
         h, why = self.glider.native_handles()
         if h is None:
             return why
-        from .kernel import compiled_kernel
+        from .kernel import compiled_kernel  # imports numba (about 1 s): only when a compiled loop may run
 
         kern = compiled_kernel()
         if kern is None:
@@ -400,7 +400,7 @@ class CoSim:
 
     def _compiled_event(self, code: int, s: SixDofState, gs_out: Any, p: np.ndarray) -> Event:
         """The :class:`Event` of a compiled loop's event code, as the Python loop gives it."""
-        from . import kernel as ck
+        from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
         if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
             hp, hv = s._hook
