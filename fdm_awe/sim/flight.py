@@ -111,7 +111,6 @@ def landing_verdict(pos_ned: np.ndarray, vel_ned: np.ndarray) -> str | None:
     return None
 
 
-
 class _StopRequest:
     """Ctrl-C during a flight, taken at a step boundary.
 
