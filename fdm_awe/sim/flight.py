@@ -142,7 +142,6 @@ class _StopRequest:
             self._previous = None
 
 
-
 class _FlightWind:
     """The wind a reference was optimised in (metadata ``wind_ned_mps`` at the height of its
     ``wind_profile``; absent: uniform, no wind): JSBSim's steady wind follows the glider's

@@ -51,7 +51,6 @@ def _json_float(v: float, digits: int = 6) -> float | None:
     return round(v, digits) if math.isfinite(v) else None
 
 
-
 @dataclass
 class FlightReport:
     """What :func:`fdm_awe.sim.flight.fly` returns: the run's facts (wind m/s, simulated and wall

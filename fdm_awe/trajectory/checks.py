@@ -49,7 +49,6 @@ def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
 
 
-
 def _column_from_json(src: str, name: str, v: Any) -> np.ndarray:
     """Column ``name`` of the file as a float array: a list of finite numbers."""
     if not isinstance(v, list):

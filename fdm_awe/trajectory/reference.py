@@ -58,4 +58,3 @@ class ReferenceTrajectory:
             if k not in ("t", "phase"):
                 out[k] = float(s[k])
         return out
-
