@@ -40,6 +40,7 @@ import math
 import sys
 import time
 from pathlib import Path
+from typing import Any, Callable
 
 from ..errors import InputError
 from ..fileio import write_json
@@ -263,7 +264,7 @@ def run(args: argparse.Namespace) -> int:
     return _finish(args, report, ref, ref_path, out_dir)
 
 
-def _read_reference(args: argparse.Namespace):
+def _read_reference(args: argparse.Namespace) -> Any:
     """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference`
     (checked field by field, one-line errors), its configuration and scenario checked against
     the options; ``args.config`` defaults to the reference's."""
@@ -289,7 +290,7 @@ def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: b
                 inputs=[args.reference, args.params], dir_files=in_dir)
 
 
-def _optimised_reference(args: argparse.Namespace, problem, out_dir: Path | None):
+def _optimised_reference(args: argparse.Namespace, problem: Any, out_dir: Path | None) -> tuple[Any, Path | None, str]:
     """Optimise the reference of ``problem`` and hand it over in memory (the content of the file
     written with ``--out``, no file otherwise); returns (reference, its file or None, label)."""
     from ..autopilot.tracking import TrackingReference
@@ -314,16 +315,16 @@ class _FlightHooks:
 
     def __init__(self, args: argparse.Namespace, n_total: int) -> None:
         self.args = args
-        self.endpoint = None
-        self.bar = None
-        self._hooks: list = []
+        self.endpoint: Any = None
+        self.bar: Any = None
+        self._hooks: list[Callable[[int, Any, Any], None]] = []
         if not args.quiet and sys.stderr.isatty():
             from tqdm import tqdm
 
             bar = self.bar = tqdm(total=n_total, unit="step", desc="flying", file=sys.stderr, mininterval=0.5)
             self._hooks.append(lambda k, s, o: bar.update(600) if k % 600 == 0 else None)
 
-    def setup(self, ap, sim) -> None:
+    def setup(self, ap: Any, sim: Any) -> None:
         """The flight's ``setup(autopilot, cosim)``."""
         args = self.args
         if args.mode != "AUTO":
@@ -337,7 +338,7 @@ class _FlightHooks:
                                                        signing_key_file=args.mavlink_key)
             build = telemetry_builder(ap, sim)
 
-            def link(k, s, o) -> None:
+            def link(k: int, s: Any, o: Any) -> None:
                 build.integrate(s)
                 endpoint.update(s.t, lambda: build(s, o))
                 ap.gcs_link(endpoint.link_up, s.t)  # the link-loss failsafe (FS_GCS_ENABL)
@@ -349,7 +350,7 @@ class _FlightHooks:
             pacer = RealtimePacer(args.realtime)
             self._hooks.append(lambda k, s, o: pacer.wait(s.t))
 
-    def on_step(self, k, s, o) -> None:
+    def on_step(self, k: int, s: Any, o: Any) -> None:
         """The flight's ``on_step``: every hook in turn."""
         for h in self._hooks:
             h(k, s, o)
@@ -362,7 +363,7 @@ class _FlightHooks:
             self.endpoint.close()
 
 
-def _fly(args: argparse.Namespace, ref, params, plant: str, scale: float):
+def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float) -> Any:
     """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
     the report's wall time is the whole flight's, hooks included. The ground station on the
     MAVLink link is told how the flight ended."""
