@@ -22,12 +22,7 @@ import importlib
 import sys
 from typing import Callable, NoReturn, Sequence
 
-from .errors import FdmAweError
-
-#: exit code of a run interrupted by Ctrl-C (128 + SIGINT, as shells report it)
-EXIT_INTERRUPTED = 130
-#: exit code of bad input
-EXIT_INPUT = 2
+from .errors import EXIT_INPUT, EXIT_INTERRUPTED, FdmAweError
 
 EPILOG = ("exit codes: 0 success, 1 the work did not succeed, 2 bad input (one-line error, before any work), "
           "130 Ctrl-C. Outputs are checked before the work and written atomically; JSON writes NaN as null.")

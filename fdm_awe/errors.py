@@ -1,6 +1,13 @@
-"""Exception types with one-line, user-facing messages."""
+"""Exception types with one-line, user-facing messages, and the exit codes the command line
+gives them."""
 
 from __future__ import annotations
+
+
+#: exit code of a run interrupted by Ctrl-C (128 + SIGINT, as shells report it)
+EXIT_INTERRUPTED = 130
+#: exit code of bad input
+EXIT_INPUT = 2
 
 
 class FdmAweError(Exception):

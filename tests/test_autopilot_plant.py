@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from flight_helpers import DATA
-from fdm_awe.autopilot.autopilot import Autopilot, MotorGate, _flip_short, reference_fold_time
+from fdm_awe.autopilot.autopilot import Autopilot, MotorGate, reference_fold_time
+from fdm_awe.autopilot.motor import _flip_short
 from fdm_awe.autopilot.config import autopilot_params
 from fdm_awe.autopilot.tracking import TrackingReference
 from fdm_awe.sim.loop import COLUMNS

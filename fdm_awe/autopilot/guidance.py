@@ -23,6 +23,11 @@ from ..pointmass.aero import fold_blend
 from ..definitions.aircraft import AeroParams
 from .tracking import RefPoint
 
+#: a 3-vector as three floats (the guidance's arithmetic is written on scalars)
+Vec3 = tuple[float, float, float]
+#: a wing polar as ``S*coefficient`` values (:func:`blended_polar`)
+Polar = tuple[float, float, float, float, float, float]
+
 
 @dataclass(frozen=True)
 class GuidanceGains:
@@ -131,37 +136,47 @@ class Guidance:
         the line: more pull -> more tension -> more pull). ``thrust_max`` [N]: the thrust
         available this step (None: the gains' ``thrust_max``; 0 with the motor stopped, so an
         along-path force the glider lacks is traded through the flight path)."""
-        # written on scalars (x, y, z components; numpy on 3-vectors cost ~100 us a call):
+        # written on scalars and 3-tuples of floats (numpy on 3-vectors cost ~100 us a call):
         # every operation as in the vector formulas of the comments, in the same order, so the
-        # results are those of the numpy form (tests/test_autopilot_guidance.py)
+        # results are those of the numpy form (tests/test_guidance.py)
         k = self.k
-        t_max = k.thrust_max if thrust_max is None else thrust_max
-        rpx, rpy, rpz = _xyz(ref.pos)
-        rvx, rvy, rvz = _xyz(ref.vel)
-        rax, ray, raz = _xyz(ref.acc)
         px, py, pz = _xyz(pos)
         vx, vy, vz = _xyz(vel)
         wx, wy, wz = _xyz(wind)
-        tx, ty, tz = _xyz(tether_force)
-        g = self.g
+        rp = _xyz(ref.pos)
+        rvx, rvy, rvz = _xyz(ref.vel)
         # e_p = p_ref - p, e_v = v_ref - v
-        epx, epy, epz = rpx - px, rpy - py, rpz - pz
+        epx, epy, epz = rp[0] - px, rp[1] - py, rp[2] - pz
         evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
+        e_r = None
         if taut:
             # position loop on the sphere's tangent plane: e -= (e . e_r) e_r
             dn = max(_norm(px, py, pz), 1e-6)
-            erx, ery, erz = px / dn, py / dn, pz / dn
+            erx, ery, erz = e_r = (px / dn, py / dn, pz / dn)
             c = epx * erx + epy * ery + epz * erz
             epx, epy, epz = epx - c * erx, epy - c * ery, epz - c * erz
             c = evx * erx + evy * ery + evz * erz
             evx, evy, evz = evx - c * erx, evy - c * ery, evz - c * erz
-        # integral, clipped to +-int_max
+        corr = self._correction(epx, epy, epz, evx, evy, evz, dt)
+        va_ref = (rvx - wx, rvy - wy, rvz - wz)  # reference air velocity
+        va = (vx - wx, vy - wy, vz - wz)  # air velocity
+        v_ref, v0 = _norm(va_ref[0], va_ref[1], va_ref[2]), _norm(va[0], va[1], va[2])
+        ra = _xyz(ref.acc)
+        a_ff = _path_feed_forward(ra, va_ref, v_ref, va, v0, k.curv_scale_max)
+        F = self._air_force(a_ff, corr, _xyz(tether_force), rp, ra, ref.tension, e_r, v_ref, v0)
+        return self._command(F, va, fold, k.thrust_max if thrust_max is None else thrust_max, _norm(epx, epy, epz))
+
+    def _correction(self, epx: float, epy: float, epz: float, evx: float, evy: float, evz: float,
+                    dt: float) -> Vec3:
+        """The feedback acceleration [m/s^2] ``kp e_p + kd e_v + ki int(e_p)``, saturated at
+        ``a_max``, for position error ``e_p`` [m] and velocity error ``e_v`` [m/s]; the integral
+        [m s] advances by ``e_p dt`` (``dt`` [s]), clipped to +-``int_max``."""
+        k = self.k
         im = k.int_max
         ix, iy, iz = self.integral
         self.integral = [min(max(ix + epx * dt, -im), im), min(max(iy + epy * dt, -im), im),
                          min(max(iz + epz * dt, -im), im)]
         ix, iy, iz = self.integral
-        # corr = kp e_p + kd e_v + ki int, saturated at a_max
         kp, kd, ki = k.kp, k.kd, k.ki
         cx = kp * epx + kd * evx + ki * ix
         cy = kp * epy + kd * evy + ki * iy
@@ -170,90 +185,66 @@ class Guidance:
         if n > k.a_max:
             c = k.a_max / n
             cx, cy, cz = cx * c, cy * c, cz * c
-        # feed-forward of the reference acceleration in the path's own axes: its tangential
-        # part along the glider's air velocity, its normal (turning) part, same size, across
-        # it. Taken in NED as it stands, a heading error would turn the reference's centripetal
-        # acceleration (up to 3 g on a pumping loop) into a demand to brake or to accelerate
-        # (thrust cut, lift raised by the energy trade, the glider slows and falls behind).
-        afx, afy, afz = rax, ray, raz
-        vrx, vry, vrz = rvx - wx, rvy - wy, rvz - wz  # reference air velocity
-        v_ref = _norm(vrx, vry, vrz)
-        v0x, v0y, v0z = vx - wx, vy - wy, vz - wz  # air velocity
-        v0 = _norm(v0x, v0y, v0z)
-        if v_ref > 1.0 and v0 > 1.0:
-            trx, try_, trz = vrx / v_ref, vry / v_ref, vrz / v_ref
-            tnx, tny, tnz = v0x / v0, v0y / v0, v0z / v0
-            a_t = afx * trx + afy * try_ + afz * trz
-            anx, any_, anz = afx - a_t * trx, afy - a_t * try_, afz - a_t * trz
-            c = anx * tnx + any_ * tny + anz * tnz
-            apx, apy, apz = anx - c * tnx, any_ - c * tny, anz - c * tnz
-            n_p, n_n = _norm(apx, apy, apz), _norm(anx, any_, anz)
-            if n_p > 1e-9:
-                # the turn keeps the path's curvature: the glider follows the reference path
-                # (its point moves with the glider), so a faster glider needs (v/v_ref)^2 of the
-                # reference's centripetal acceleration to fly the same radius (bounded by
-                # curv_scale_max; None: the reference's acceleration as it stands). Only scaled
-                # up: a slower glider keeps the reference's turn (scaling it down weakened the
-                # turn of a glider lagging on a slack line in turbulence)
-                scale = 1.0 if k.curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), k.curv_scale_max)
-                c = n_n / n_p * scale
-                apx, apy, apz = apx * c, apy * c, apz * c
-            afx, afy, afz = a_t * tnx + apx, a_t * tny + apy, a_t * tnz + apz
-        # F = m (a_cmd - g) - F_tether, a_cmd = a_ff + corr
-        m = self.m
+        return cx, cy, cz
+
+    def _air_force(self, a_ff: Vec3, corr: Vec3, tether: Vec3, rp: Vec3, ra: Vec3, tension: float,
+                   e_r: Vec3 | None, v_ref: float, v0: float) -> Vec3:
+        """The force [N] the air (and the propeller) must provide, ``F = m (a_cmd - g) - F_tether``
+        with ``a_cmd = a_ff + corr`` [m/s^2] and the measured line force ``tether`` [N]; on a taut
+        line (``e_r``: the glider's radial unit vector) its radial part is the reference's (from
+        its position ``rp`` [m], acceleration ``ra`` [m/s^2] and ``tension`` [N], plus the
+        overspeed term; airspeeds ``v_ref``, ``v0`` [m/s] of reference and glider)."""
+        k, m, g = self.k, self.m, self.g
+        afx, afy, afz = a_ff
+        cx, cy, cz = corr
+        tx, ty, tz = tether
         Fx = m * ((afx + cx) - 0.0) - tx
         Fy = m * ((afy + cy) - 0.0) - ty
         Fz = m * ((afz + cz) - g) - tz
-        if taut:
-            dn = max(_norm(rpx, rpy, rpz), 1e-6)
-            F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
-                       + m * (raz - g) * (rpz / dn)) + ref.tension
-            if k.overspeed_tension > 0.0 and v_ref > 1.0:
-                # overspeed protection: on a taut line the glider sheds speed through the line,
-                # not through its drag: pull harder than the reference (more lift, more induced
-                # drag) and the winch pays out faster, taking the excess energy at the drum
-                F_r_ref += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
-            # radial component replaced by the reference's: F - (F . e_r) e_r + F_r_ref e_r
-            c = Fx * erx + Fy * ery + Fz * erz
-            Fx, Fy, Fz = (Fx - c * erx + F_r_ref * erx, Fy - c * ery + F_r_ref * ery, Fz - c * erz + F_r_ref * erz)
-        vax, vay, vaz = vx - wx, vy - wy, vz - wz
-        V = max(_norm(vax, vay, vaz), 1.0)
-        e1x, e1y, e1z = vax / V, vay / V, vaz / V
+        if e_r is None:
+            return Fx, Fy, Fz
+        rpx, rpy, rpz = rp
+        rax, ray, raz = ra
+        dn = max(_norm(rpx, rpy, rpz), 1e-6)
+        F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
+                   + m * (raz - g) * (rpz / dn)) + tension
+        if k.overspeed_tension > 0.0 and v_ref > 1.0:
+            # overspeed protection: on a taut line the glider sheds speed through the line,
+            # not through its drag: pull harder than the reference (more lift, more induced
+            # drag) and the winch pays out faster, taking the excess energy at the drum
+            F_r_ref += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
+        # radial component replaced by the reference's: F - (F . e_r) e_r + F_r_ref e_r
+        erx, ery, erz = e_r
+        c = Fx * erx + Fy * ery + Fz * erz
+        return (Fx - c * erx + F_r_ref * erx, Fy - c * ery + F_r_ref * ery, Fz - c * erz + F_r_ref * erz)
+
+    def _command(self, F: Vec3, va: Vec3, fold: float, t_max: float, pos_error: float) -> GuidanceCommand:
+        """The command flying force ``F`` [N]: split along the air velocity ``va`` [m/s] (thrust
+        minus drag, at most ``t_max`` [N] of thrust) and across it (lift), at fold state
+        ``fold``; the attitude follows from the air velocity, alpha and bank (no sideslip).
+        ``pos_error`` [m]: the position error it carries."""
+        k = self.k
+        V = max(_norm(va[0], va[1], va[2]), 1.0)
+        e1x, e1y, e1z = e1 = (va[0] / V, va[1] / V, va[2] / V)
+        Fx, Fy, Fz = F
         F_par = Fx * e1x + Fy * e1y + Fz * e1z
-        Qx, Qy, Qz = Fx - F_par * e1x, Fy - F_par * e1y, Fz - F_par * e1z  # F_perp
-        qS_cl0, qS_cla, qS_clmax, qS_cd0, qS_cd1, qS_cd2 = self.polar(fold)
+        polar = self.polar(fold)
         q = 0.5 * self.rho * V * V
         horiz = math.hypot(e1x, e1y)
         if horiz > 1e-6:
             r0x, r0y, r0z = -e1y / horiz, e1x / horiz, 0.0 / horiz
         else:  # vertical flight: any horizontal axis
             r0x, r0y, r0z = 0.0, 1.0, 0.0
+        right0 = (r0x, r0y, r0z)
         # up0 = right0 x e1 (= -c3 at zero bank: points up in level flight)
-        u0x, u0y, u0z = r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x
-        alpha_stall = (qS_clmax - qS_cl0) / qS_cla
-        # energy exchange (TECS-like): an along-path force the propeller cannot give (braking
-        # beyond the drag, or more than full thrust) is traded through the flight path: pull up
-        # to bleed speed into height, push over to gain speed from height.
-        for _ in range(2):
-            L = _norm(Qx, Qy, Qz)
-            alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
-            drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-            excess = F_par + drag
-            # the propeller pushes along the body x-axis: at most t_max cos(alpha) along the path
-            t_par = t_max * math.cos(alpha) if k.thrust_on_body_axis else t_max
-            if excess < 0.0:
-                c = k.energy_trade * excess
-            elif excess > t_par:
-                c = k.energy_trade * (excess - t_par)
-            else:
-                break
-            # F_perp = F - F_par e1 - c up0
-            Qx, Qy, Qz = Fx - F_par * e1x - c * u0x, Fy - F_par * e1y - c * u0y, Fz - F_par * e1z - c * u0z
-        L = _norm(Qx, Qy, Qz)
+        up0 = (r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x)
+        alpha_stall = (polar[2] - polar[0]) / polar[1]
+        Q = _traded_lift(F, F_par, e1, up0, q, polar, t_max, k, alpha_stall)
+        L = _norm(Q[0], Q[1], Q[2])
         # bank about the air velocity: lift direction relative to the unbanked "up"
         if L > 1e-6:
-            eLx, eLy, eLz = Qx / L, Qy / L, Qz / L
-            mu = math.atan2(eLx * r0x + eLy * r0y + eLz * r0z, eLx * u0x + eLy * u0y + eLz * u0z)
+            eLx, eLy, eLz = Q[0] / L, Q[1] / L, Q[2] / L
+            mu = math.atan2(eLx * r0x + eLy * r0y + eLz * r0z, eLx * up0[0] + eLy * up0[1] + eLz * up0[2])
         else:
             mu = 0.0
         if k.negative_lift and abs(mu) > math.pi - k.phi_max:
@@ -261,22 +252,7 @@ class Guidance:
             # over (negative lift, wings banked the other way) instead of banking past it
             mu -= math.copysign(math.pi, mu)
             L = -L
-        # lift -> alpha (linear lift, limited by CLmax and the alpha limits)
-        a_hi = min(k.alpha_max, alpha_stall)
-        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
-        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-        if k.thrust_on_body_axis:
-            # the propeller pushes along the body x-axis, alpha above the air velocity: T cos(alpha)
-            # along the path (against the drag), T sin(alpha) along the lift, so the wing lifts
-            # only L - T sin(alpha) (fixed-point passes: T sin(alpha) is a few percent of L, each
-            # pass shrinks the error by about that share)
-            for _ in range(3):
-                thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
-                alpha = min(max(((L - thrust * math.sin(alpha)) / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
-                drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-            thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
-        else:
-            thrust = min(max(F_par + drag, 0.0), t_max)
+        alpha, thrust = _alpha_and_thrust(L, F_par, q, polar, t_max, k, min(k.alpha_max, alpha_stall))
         # the bank limit keeps the lift above the horizon in level flight; climbing or diving
         # steeply the wind-axis bank no longer says where the lift points relative to gravity
         # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical
@@ -284,14 +260,107 @@ class Guidance:
         if k.phi_max_vertical is not None and k.phi_max_vertical > k.phi_max:
             phi_lim += (k.phi_max_vertical - k.phi_max) * (1.0 - horiz * horiz)
         mu = min(max(mu, -phi_lim), phi_lim)
-        cm, sm = math.cos(mu), math.sin(mu)
-        eLx, eLy, eLz = cm * u0x + sm * r0x, cm * u0y + sm * r0y, cm * u0z + sm * r0z
-        # body axes: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL, y_b = z_b x x_b
-        ca, sa = math.cos(alpha), math.sin(alpha)
-        xbx, xby, xbz = ca * e1x + sa * eLx, ca * e1y + sa * eLy, ca * e1z + sa * eLz
-        zbx, zby, zbz = sa * e1x - ca * eLx, sa * e1y - ca * eLy, sa * e1z - ca * eLz
-        ybz = zbx * xby - zby * xbx
-        pitch = -math.asin(max(-1.0, min(1.0, xbz)))
-        roll = math.atan2(ybz, zbz)
-        yaw = math.atan2(xby, xbx)
-        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, (qS_cl0 + qS_cla * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S), _norm(epx, epy, epz))
+        roll, pitch, yaw = _body_euler(e1, right0, up0, mu, alpha)
+        cl = (polar[0] + polar[1] * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S)
+        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)
+
+
+def _path_feed_forward(a_ref: Vec3, va_ref: Vec3, v_ref: float, va: Vec3, v0: float,
+                       curv_scale_max: float | None) -> Vec3:
+    """Feed-forward of the reference acceleration ``a_ref`` [m/s^2] in the path's own axes: its
+    tangential part (along the reference air velocity ``va_ref``, of size ``v_ref`` [m/s]) along
+    the glider's air velocity ``va`` (size ``v0``), its normal (turning) part, same size, across
+    it. Taken in NED as it stands, a heading error would turn the reference's centripetal
+    acceleration (up to 3 g on a pumping loop) into a demand to brake or to accelerate (thrust
+    cut, lift raised by the energy trade, the glider slows and falls behind)."""
+    afx, afy, afz = a_ref
+    if not (v_ref > 1.0 and v0 > 1.0):
+        return a_ref
+    trx, try_, trz = va_ref[0] / v_ref, va_ref[1] / v_ref, va_ref[2] / v_ref
+    tnx, tny, tnz = va[0] / v0, va[1] / v0, va[2] / v0
+    a_t = afx * trx + afy * try_ + afz * trz
+    anx, any_, anz = afx - a_t * trx, afy - a_t * try_, afz - a_t * trz
+    c = anx * tnx + any_ * tny + anz * tnz
+    apx, apy, apz = anx - c * tnx, any_ - c * tny, anz - c * tnz
+    n_p, n_n = _norm(apx, apy, apz), _norm(anx, any_, anz)
+    if n_p > 1e-9:
+        # the turn keeps the path's curvature: the glider follows the reference path
+        # (its point moves with the glider), so a faster glider needs (v/v_ref)^2 of the
+        # reference's centripetal acceleration to fly the same radius (bounded by
+        # curv_scale_max; None: the reference's acceleration as it stands). Only scaled
+        # up: a slower glider keeps the reference's turn (scaling it down weakened the
+        # turn of a glider lagging on a slack line in turbulence)
+        scale = 1.0 if curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), curv_scale_max)
+        c = n_n / n_p * scale
+        apx, apy, apz = apx * c, apy * c, apz * c
+    return a_t * tnx + apx, a_t * tny + apy, a_t * tnz + apz
+
+
+def _traded_lift(F: Vec3, F_par: float, e1: Vec3, up0: Vec3, q: float, polar: Polar, t_max: float,
+                 k: GuidanceGains, alpha_stall: float) -> Vec3:
+    """The force across the air velocity (the lift's share of ``F`` [N], ``F_par`` [N] of it along
+    ``e1``) after the energy exchange (TECS-like): an along-path force the propeller cannot give
+    (braking beyond the drag, or more than the ``t_max`` [N] of thrust) is traded through the
+    flight path: pull up (along ``up0``) to bleed speed into height, push over to gain speed
+    from height. ``q`` [Pa]: dynamic pressure; ``polar``: :func:`blended_polar`."""
+    Fx, Fy, Fz = F
+    e1x, e1y, e1z = e1
+    u0x, u0y, u0z = up0
+    qS_cl0, qS_cla, _, qS_cd0, qS_cd1, qS_cd2 = polar
+    Qx, Qy, Qz = Fx - F_par * e1x, Fy - F_par * e1y, Fz - F_par * e1z  # F_perp
+    for _ in range(2):
+        L = _norm(Qx, Qy, Qz)
+        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
+        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+        excess = F_par + drag
+        # the propeller pushes along the body x-axis: at most t_max cos(alpha) along the path
+        t_par = t_max * math.cos(alpha) if k.thrust_on_body_axis else t_max
+        if excess < 0.0:
+            c = k.energy_trade * excess
+        elif excess > t_par:
+            c = k.energy_trade * (excess - t_par)
+        else:
+            break
+        # F_perp = F - F_par e1 - c up0
+        Qx, Qy, Qz = Fx - F_par * e1x - c * u0x, Fy - F_par * e1y - c * u0y, Fz - F_par * e1z - c * u0z
+    return Qx, Qy, Qz
+
+
+def _alpha_and_thrust(L: float, F_par: float, q: float, polar: Polar, t_max: float, k: GuidanceGains,
+                      a_hi: float) -> tuple[float, float]:
+    """Angle of attack [rad] for lift ``L`` [N] (linear lift, between ``alpha_min`` and ``a_hi``)
+    and the thrust [N] (0 .. ``t_max``) for the along-path force ``F_par`` [N] against the drag at
+    dynamic pressure ``q`` [Pa]. With the thrust on the body x-axis, alpha above the air velocity,
+    ``T cos(alpha)`` acts along the path (against the drag) and ``T sin(alpha)`` along the lift,
+    so the wing lifts only ``L - T sin(alpha)`` (fixed-point passes: ``T sin(alpha)`` is a few
+    percent of L, each pass shrinks the error by about that share)."""
+    qS_cl0, qS_cla, _, qS_cd0, qS_cd1, qS_cd2 = polar
+    alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
+    drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+    if not k.thrust_on_body_axis:
+        return alpha, min(max(F_par + drag, 0.0), t_max)
+    for _ in range(3):
+        thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
+        alpha = min(max(((L - thrust * math.sin(alpha)) / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
+        drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
+    return alpha, min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
+
+
+def _body_euler(e1: Vec3, right0: Vec3, up0: Vec3, mu: float, alpha: float) -> tuple[float, float, float]:
+    """Body roll, pitch, yaw (Euler angles, rad) of the attitude with the air velocity along
+    ``e1``, wind-axis bank ``mu`` from the unbanked axes ``right0``, ``up0``, angle of attack
+    ``alpha`` and no sideslip: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL,
+    y_b = z_b x x_b (eL the banked lift direction)."""
+    e1x, e1y, e1z = e1
+    r0x, r0y, r0z = right0
+    u0x, u0y, u0z = up0
+    cm, sm = math.cos(mu), math.sin(mu)
+    eLx, eLy, eLz = cm * u0x + sm * r0x, cm * u0y + sm * r0y, cm * u0z + sm * r0z
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    xbx, xby, xbz = ca * e1x + sa * eLx, ca * e1y + sa * eLy, ca * e1z + sa * eLz
+    zbx, zby, zbz = sa * e1x - ca * eLx, sa * e1y - ca * eLy, sa * e1z - ca * eLz
+    ybz = zbx * xby - zby * xbx
+    pitch = -math.asin(max(-1.0, min(1.0, xbz)))
+    roll = math.atan2(ybz, zbz)
+    yaw = math.atan2(xby, xbx)
+    return roll, pitch, yaw

@@ -40,8 +40,16 @@ import math
 import sys
 import time
 from pathlib import Path
+from typing import Any, Callable
 
-from .optimize import NOMINAL_DEFAULT_WHY, add_plant_model_args, add_wind_profile_args
+from ..errors import EXIT_INTERRUPTED, InputError
+from ..fileio import write_json
+from . import _checks as chk
+from .optimize import (NOMINAL_DEFAULT_WHY, add_plant_model_args, add_wind_profile_args, check_plant_args,
+                       wind_profile_from_args)
+
+# The modules of the work (the optimiser, JSBSim, numba, the recordings, MAVLink) are imported in
+# the functions that use them: the command line imports every command module at its start.
 
 HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + autopilot)"
 
@@ -131,9 +139,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _check(args: argparse.Namespace) -> None:
     """Every option on its own (ranges, forms) and the options a reference fixes."""
-    from ..errors import InputError
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
-    from . import _checks as chk
 
     chk.integer(args.cycles, "--cycles", 1, 1000, what="pumping cycles")
     chk.number(args.dt, "--dt", 1e-4, 0.05, unit="s", what="co-simulation step")
@@ -166,8 +172,6 @@ def _check(args: argparse.Namespace) -> None:
     elif args.allow_mismatch:
         raise InputError("--allow-mismatch: only with --reference (nothing to mismatch when fly optimises the reference)")
     else:
-        from .optimize import check_plant_args, wind_profile_from_args
-
         check_plant_args(args, args.scenario or DEFAULT_SCENARIO)
         wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
 
@@ -175,8 +179,6 @@ def _check(args: argparse.Namespace) -> None:
 def check_reference_options(args: argparse.Namespace, meta: dict, ref_path: str) -> None:
     """An explicit ``--config``/``--scenario`` must be the reference's (``meta``), unless
     ``--allow-mismatch``: then a warning line each on stderr."""
-    from ..errors import InputError
-
     for attr, option, what in (("config", "--config", "configuration"), ("scenario", "--scenario", "scenario")):
         want, have = getattr(args, attr), meta.get(attr)
         if want is None or want == have:
@@ -192,7 +194,6 @@ def reference_problem(args: argparse.Namespace):
     """The validated :class:`~fdm_awe.ocp.problem.CycleProblem` of the reference to optimise
     (flyable bounds; the effective defaults for options not given)."""
     from ..ocp.problem import CycleProblem
-    from .optimize import wind_profile_from_args
 
     return CycleProblem(scenario=args.scenario, config=args.config,
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
@@ -206,7 +207,6 @@ def reference_problem(args: argparse.Namespace):
 
 def optimise_reference(problem):
     """Optimise the reference of the run; returns the ok CycleResult (InputError if none)."""
-    from ..errors import InputError
     from ..ocp.solve import solve_cycle
 
     b = problem.bounds
@@ -243,17 +243,10 @@ def flight_drag_scale(meta: dict, requested: float | None, ref_path: object) -> 
 
 
 def run(args: argparse.Namespace) -> int:
-    from . import _checks as chk
-
     _check(args)
-    ref = None
+    ref = problem = None
     if args.reference:
-        from ..autopilot.tracking import TrackingReference
-
-        ref = TrackingReference.from_ocp_file(args.reference)  # checked field by field (one-line errors)
-        check_reference_options(args, ref.meta, args.reference)
-        args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
-                                      else DEFAULT_CONFIG)
+        ref = _read_reference(args)
     else:
         args.scenario = args.scenario or DEFAULT_SCENARIO
         args.config = args.config or DEFAULT_CONFIG
@@ -263,99 +256,149 @@ def run(args: argparse.Namespace) -> int:
 
     params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
     out_dir = Path(args.out) if args.out else None
-    from ..recording.outputs import output_files
-
-    planned = output_files(out_dir, "flight", args.rrd)
-    in_dir = [("--out", p) for k, p in planned.items() if out_dir and not (k == "rrd" and args.rrd)]
-    if out_dir and ref is None:
-        in_dir.append(("--out", out_dir / reference_file_name(args)))
-    chk.outputs(files=[("--json", args.json), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
-                inputs=[args.reference, args.params], dir_files=in_dir)
+    _check_outputs(args, out_dir, optimising=ref is None)
 
     if ref is None:
-        from ..autopilot.tracking import TrackingReference
-        from ..trajectory import reference_from_result, write_reference
-
-        res = optimise_reference(problem)
-        ref_label = f"the optimised {args.scenario} {args.config} reference"
-        # in memory: the content of the file written with --out, no file otherwise
-        ref = TrackingReference.from_ocp(reference_from_result(res, ref_label))
-        ref_path: Path | None = None
-        if out_dir is not None:
-            ref_path = write_reference(res, out_dir / reference_file_name(args))
-            ref_label = str(ref_path)
-            print(f"reference trajectory: {ref_path}", file=sys.stderr)
+        ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
     else:
         ref_path = Path(args.reference)
         ref_label = str(ref_path)
     plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
     scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
     from ..recording.stream import open_live
-    from ..sim.flight import fly
 
     live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-    endpoint = pacer = None
-    hooks = []
-    holder: dict = {}
+    report = _fly(args, ref, params, plant, scale, live)
+    _print_summary(report, ref_label)
+    return _finish(args, report, ref, ref_path, out_dir)
 
-    def setup(ap, sim) -> None:
-        nonlocal endpoint, pacer
-        holder["ap"] = ap
+
+def _read_reference(args: argparse.Namespace) -> Any:
+    """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference`
+    (checked field by field, one-line errors), its configuration and scenario checked against
+    the options; ``args.config`` defaults to the reference's."""
+    from ..autopilot.tracking import TrackingReference
+
+    ref = TrackingReference.from_ocp_file(args.reference)
+    check_reference_options(args, ref.meta, args.reference)
+    args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
+                                  else DEFAULT_CONFIG)
+    return ref
+
+
+def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: bool) -> None:
+    """Every output path checked before any work: ``--json``, ``--rrd``, ``--out`` and the files
+    it will hold (with an optimised reference's file when ``optimising``), none an input."""
+    from ..recording.outputs import output_files
+
+    planned = output_files(out_dir, "flight", args.rrd)
+    in_dir = [("--out", p) for k, p in planned.items() if out_dir and not (k == "rrd" and args.rrd)]
+    if out_dir and optimising:
+        in_dir.append(("--out", out_dir / reference_file_name(args)))
+    chk.outputs(files=[("--json", args.json), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
+                inputs=[args.reference, args.params], dir_files=in_dir)
+
+
+def _optimised_reference(args: argparse.Namespace, problem: Any, out_dir: Path | None) -> tuple[Any, Path | None, str]:
+    """Optimise the reference of ``problem`` and hand it over in memory (the content of the file
+    written with ``--out``, no file otherwise); returns (reference, its file or None, label)."""
+    from ..autopilot.tracking import TrackingReference
+    from ..trajectory import reference_from_result, write_reference
+
+    res = optimise_reference(problem)
+    ref_label = f"the optimised {args.scenario} {args.config} reference"
+    ref = TrackingReference.from_ocp(reference_from_result(res, ref_label))
+    ref_path: Path | None = None
+    if out_dir is not None:
+        ref_path = write_reference(res, out_dir / reference_file_name(args))
+        ref_label = str(ref_path)
+        print(f"reference trajectory: {ref_path}", file=sys.stderr)
+    return ref, ref_path, ref_label
+
+
+class _FlightHooks:
+    """What the command attaches to a flight: the progress bar (unless ``--quiet`` or not a
+    terminal; ``n_total`` steps), and at the flight's set-up the start mode (``--mode``), the
+    MAVLink endpoint with its telemetry and link-loss failsafe (``--mavlink``) and the pacing
+    against the wall clock (``--realtime``) and the live viewer (``--spawn`` / ``--connect``,
+    ``live``); all called after every step (:meth:`on_step`)."""
+
+    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None) -> None:
+        self.args = args
+        self.live = live
+        self.endpoint: Any = None
+        self.bar: Any = None
+        self._hooks: list[Callable[[int, Any, Any], None]] = []
+        if not args.quiet and sys.stderr.isatty():
+            from tqdm import tqdm
+
+            bar = self.bar = tqdm(total=n_total, unit="step", desc="flying", file=sys.stderr, mininterval=0.5)
+            self._hooks.append(lambda k, s, o: bar.update(600) if k % 600 == 0 else None)
+
+    def setup(self, ap: Any, sim: Any) -> None:
+        """The flight's ``setup(autopilot, cosim)``."""
+        args = self.args
         if args.mode != "AUTO":
             ap.set_mode(args.mode)
         if args.mavlink:
-            from ..mavlink.endpoint import MavlinkEndpoint
             from ..mavlink.bridge import telemetry_builder
+            from ..mavlink.endpoint import MavlinkEndpoint
 
-            endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap, signing_key=getattr(args, "signing_key", None),
-                                       signing_key_file=args.mavlink_key)
+            endpoint = self.endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap,
+                                                       signing_key=getattr(args, "signing_key", None),
+                                                       signing_key_file=args.mavlink_key)
             build = telemetry_builder(ap, sim)
-            def link(k, s, o) -> None:
+
+            def link(k: int, s: Any, o: Any) -> None:
                 build.integrate(s)
                 endpoint.update(s.t, lambda: build(s, o))
                 ap.gcs_link(endpoint.link_up, s.t)  # the link-loss failsafe (FS_GCS_ENABL)
 
-            hooks.append(link)
+            self._hooks.append(link)
         if args.realtime:
             from ..sim.pacing import RealtimePacer
 
             pacer = RealtimePacer(args.realtime)
-            hooks.append(lambda k, s, o: pacer.wait(s.t))
-        if live is not None:
-            live.setup(ap, sim)
-            hooks.append(live)
+            self._hooks.append(lambda k, s, o: pacer.wait(s.t))
+        if self.live is not None:
+            self.live.setup(ap, sim)
+            self._hooks.append(self.live)
 
-    n_total = int(round(args.cycles * ref.period / args.dt))
-    bar = None
-    if not args.quiet and sys.stderr.isatty():
-        from tqdm import tqdm
-
-        bar = tqdm(total=n_total, unit="step", desc="flying", file=sys.stderr, mininterval=0.5)
-        hooks.append(lambda k, s, o: bar.update(600) if k % 600 == 0 else None)
-
-    def on_step(k, s, o) -> None:
-        for h in hooks:
+    def on_step(self, k: int, s: Any, o: Any) -> None:
+        """The flight's ``on_step``: every hook in turn."""
+        for h in self._hooks:
             h(k, s, o)
 
+    def close(self) -> None:
+        """Close the progress bar, the MAVLink endpoint and the live viewer's stream."""
+        if self.bar is not None:
+            self.bar.close()
+        if self.endpoint is not None:
+            self.endpoint.close()
+        if self.live is not None:
+            self.live.close()
+
+
+def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None) -> Any:
+    """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
+    the report's wall time is the whole flight's, hooks included. The ground station on the
+    MAVLink link is told how the flight ended."""
+    from ..sim import flight
+
+    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live)
     t0 = time.perf_counter()
     try:
-        report = fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                     on_step=on_step, params=params, setup=setup, plant=plant, tether_drag_scale=scale,
-                     tether=args.tether)
-        if endpoint is not None:
-            endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
+        report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
+                            on_step=hooks.on_step, params=params, setup=hooks.setup, plant=plant,
+                            tether_drag_scale=scale, tether=args.tether)
+        if hooks.endpoint is not None:
+            hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
         if live is not None:
             live.finish(report)  # the last rows, the flown path, the events and the report
     finally:
-        if bar is not None:
-            bar.close()
-        if endpoint is not None:
-            endpoint.close()
-        if live is not None:
-            live.close()
+        hooks.close()
     report.wall_s = time.perf_counter() - t0
-    _print_summary(report, ref_label)
-    return _finish(args, report, ref, ref_path, out_dir)
+    return report
 
 
 def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_dir: Path | None) -> int:
@@ -366,8 +409,6 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
     are written stops the files not yet begun (those written stay, none is truncated); the JSON
     then lists the files written (``outputs_cut_short`` true) and the exit code is 130.
     """
-    from ..cli import EXIT_INTERRUPTED
-    from ..fileio import write_json
 
     doc = report.as_json()
     doc["reference"] = None if ref_path is None else str(ref_path)

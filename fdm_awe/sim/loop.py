@@ -26,7 +26,8 @@ the machine allow it, and the Python loop, its reference, which gives bit-identi
 step either way; one that declares ``constant_commands = True`` lets the compiled loop run in
 blocks of one simulated second when no ``on_step`` is given.
 
-This module wires blocks; it holds no physics.
+This module wires blocks; it holds no physics. The run's result (statuses, events, the logged
+columns, :class:`FlightResult`) is :mod:`fdm_awe.sim.result`, its names re-exported here.
 """
 
 from __future__ import annotations
@@ -44,8 +45,11 @@ from ..errors import InputError
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.row import FBZ, MASS, T, VT
 from ..sixdof.state import SixDofState, Surfaces
+from ..units import FT, LBF
+from .result import COLUMNS, STATION_COLUMNS, STATUSES, Event, FlightResult, log_table
 
-STATUSES = ("ok", "ground_contact", "tether_break", "nonfinite", "airspeed_limit", "load_limit", "interrupted")
+#: ground-station columns of a run's per-step record
+_N_GS = len(STATION_COLUMNS)
 
 
 class Controller(Protocol):
@@ -82,88 +86,47 @@ class Limits:
             raise InputError(f"Limits.grace_s: {self.grace_s!r} out of range (allowed >= 0)")
 
 
-@dataclass(frozen=True)
-class Event:
-    """What ended a run: ``kind`` (one of the statuses), time s, one-line message."""
+class _Commands:
+    """The commands of a run's rows: the surfaces of each row (:attr:`controls`) and, for a
+    controller with a ``phase`` (:attr:`has_phase`), its code per row (:attr:`phases`; codes
+    index :attr:`labels`, in the order the phases first appeared)."""
 
-    kind: str
-    t: float
-    message: str
+    def __init__(self, ctrl: Any, controls: Surfaces) -> None:
+        self.has_phase = hasattr(ctrl, "phase")
+        self.controls: list[Surfaces] = [controls]
+        self.labels: list[str] = []
+        self._codes: dict[str, int] = {}
+        self.phases: list[int] = [self.code(getattr(ctrl, "phase", None))]
 
+    def code(self, phase: Any) -> int:
+        """The code of ``phase`` (the next free one for a phase not seen yet); -1 for None."""
+        if phase is None:
+            return -1
+        code = self._codes.get(phase)
+        if code is None:
+            code = self._codes[phase] = len(self.labels)
+            self.labels.append(str(phase))
+        return code
 
-# Logged columns, in order (SI units; angles rad).
-COLUMNS: tuple[str, ...] = (
-    "t", "x", "y", "z", "vn", "ve", "vd", "qw", "qx", "qy", "qz", "phi", "theta", "psi", "p", "q", "r",
-    "airspeed", "alpha", "beta", "fold", "thrust", "p_prop", "load_factor",
-    "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec",
-    "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd", "phase",
-)
-_C = {name: i for i, name in enumerate(COLUMNS)}
-#: column ranges of the vector-valued names: (first, end)
-_SPANS = {"pos": (_C["x"], _C["z"] + 1), "vel": (_C["vn"], _C["vd"] + 1), "quat": (_C["qw"], _C["qz"] + 1),
-          "euler": (_C["phi"], _C["psi"] + 1), "omega_body": (_C["p"], _C["r"] + 1),
-          "tether_force": (_C["fx"], _C["fz"] + 1), "controls": (_C["aileron"], _C["fold_cmd"] + 1)}
-#: the ground station's logged columns (tension .. fz)
-_GS_SPAN = (_C["tension"], _C["fz"] + 1)
-#: logged columns (or ranges, see _SPANS) from the glider's converted rows: (column, JSBSimGlider.convert_raw key)
-_FROM_STATE = (("t", "t"), ("pos", "pos_ned"), ("vel", "vel_ned"), ("quat", "quat"), ("euler", "euler"),
-               ("omega_body", "omega_body"), ("airspeed", "airspeed"), ("alpha", "alpha"), ("beta", "beta"),
-               ("fold", "fold"), ("thrust", "thrust_N"), ("p_prop", "prop_power_W"), ("load_factor", "load_factor"))
-_N_GS = _GS_SPAN[1] - _GS_SPAN[0]
+    def rows(self) -> int:
+        """The rows every record has (an interrupt may fall between the appends of a step)."""
+        return min(len(self.controls), len(self.phases)) if self.has_phase else len(self.controls)
 
 
-@dataclass
-class FlightResult:
-    """A co-simulation run: ``status`` (see :data:`STATUSES`), the ending ``event`` (None when
-    the run reached ``t_end``), and the logged time series (one row per step plus the initial
-    row; SI units). Named arrays: ``t``, ``pos`` (n,3), ``vel`` (n,3), ``quat`` (n,4),
-    ``euler`` (n,3), ``omega_body`` (n,3), ``airspeed``, ``alpha``, ``beta``, ``fold``,
-    ``thrust``, ``p_prop``, ``load_factor``, ``tension``, ``length``, ``reel_speed``,
-    ``omega`` (drum), ``current``, ``duty``, ``p_elec``, ``tether_force`` (n,3), ``controls``
-    (n,5: aileron, elevator, rudder, throttle, fold_cmd), ``phase`` (labels per row).
-    Ground-station columns of the initial row are NaN (no step yet)."""
+def _advance_call(glider: Any) -> Callable[[float, float, float], SixDofState]:
+    """``glider.advance(fx, fy, fz)``: the tether force [N] applied, one step, the new state in one
+    call; on a glider without it, the three calls it stands for."""
+    advance = getattr(glider, "advance", None)
+    if advance is not None:
+        return advance
+    set_tf, step, state = glider.set_tether_force, glider.step, glider.state
 
-    status: str
-    event: Event | None
-    data: np.ndarray
-    phase_labels: list[str]
-    dt: float
-    wall_s: float
-    steps: int
+    def three_calls(fx: float, fy: float, fz: float) -> SixDofState:
+        set_tf((fx, fy, fz))
+        step()
+        return state()
 
-    def __getattr__(self, name: str) -> np.ndarray:
-        """A logged column (:data:`COLUMNS`) or a vector's columns (``pos``, ``vel``, ``quat``,
-        ``euler``, ``omega_body``, ``tether_force``, ``controls``) as a view of ``data``."""
-        if "data" in self.__dict__:
-            if name in _C:
-                return self.__dict__["data"][:, _C[name]]
-            if name in _SPANS:
-                a, b = _SPANS[name]
-                return self.__dict__["data"][:, a:b]
-        raise AttributeError(name)
-
-    @property
-    def phase(self) -> list[str]:
-        codes = self.data[:, _C["phase"]]
-        return [self.phase_labels[int(c)] if c == c else "" for c in codes]
-
-    @property
-    def sim_time_s(self) -> float:
-        t = _C["t"]
-        return float(self.data[-1, t] - self.data[0, t]) if len(self.data) else 0.0
-
-    @property
-    def realtime_factor(self) -> float:
-        return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
-
-    def truncate(self, steps: int) -> None:
-        """Keep the first ``steps`` steps (rows ``0 .. steps``), e.g. the steps a caller booked
-        whole before an interruption."""
-        steps = max(0, min(int(steps), self.steps))
-        self.data = self.data[: steps + 1]
-        self.steps = steps
-        if self.event is not None and self.event.kind == "interrupted" and len(self.data):
-            self.event = Event("interrupted", float(self.data[-1, _C["t"]]), self.event.message)
+    return three_calls
 
 
 class CoSim:
@@ -203,7 +166,7 @@ class CoSim:
         h, why = self.glider.native_handles()
         if h is None:
             return why
-        from .kernel import compiled_kernel
+        from .kernel import compiled_kernel  # imports numba (about 1 s): only when a compiled loop may run
 
         kern = compiled_kernel()
         if kern is None:
@@ -223,48 +186,43 @@ class CoSim:
         if self.compiled:
             raise InputError(f"compiled: the compiled loop is not available here ({loop})")
         self.loop, self.loop_reason = "python", str(loop)
+        return self._run_python(t_end, on_step)
+
+    # Both loops write each step's work out in the loop body, with the methods it calls bound to
+    # local names before the loop: a call per step costs measurable time there. Measured: a
+    # method that records a step's commands and phase costs ~60 ns more per step than the same
+    # lines in the loop (best of 9 runs of 10^6 steps); the compiled loop's body cut into its
+    # parts (the block's records, the state rebuilt from the log row) would pay two or three such
+    # calls with their arguments and results, 1-2 % of a compiled step with the controller
+    # called every step (11 us).
+
+    def _run_python(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None) -> FlightResult:
+        """:meth:`run` in Python, the reference of the compiled loop (the step of the module doc)."""
         g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
         n = int(round(t_end / dt))
         # per-step records: raw JSBSim rows, ground-station tuples, commands (converted at the end)
         # (flat float arrays: turned into the result's columns without a per-row conversion)
-        raws = array("d")
-        gsrec = array("d")
-        ctl: list[Surfaces] = []
-        phases: list[int] = []
-        labels: list[str] = []
-        codes: dict[str, int] = {}
+        raws, gsrec = array("d"), array("d")
+        cmds = _Commands(ctrl, g.controls)
+        ctl, phases = cmds.controls, cmds.phases
         s = g.state()
-        t0 = s.t
-        nan_gs = (math.nan,) * _N_GS  # no ground-station step yet
         raw0 = g.raw()
         ncol = len(raw0)
         raws.extend(raw0)
-        gsrec.extend(nan_gs)
-        ctl.append(g.controls)
-        phases.append(self._phase_code(ctrl, labels, codes))
+        gsrec.extend((math.nan,) * _N_GS)  # no ground-station step yet
         r = s._r  # the state's raw JSBSim row (positions of sixdof.row)
         # the event checks' thresholds, airborne flag and the state's SI factors (SixDofState)
-        lim_v = limit_vector(lim, t0, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS])
+        lim_v = limit_vector(lim, s.t, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS])
         gs_out = self.last_gs_output
         event: Event | None = None
         k = 0
-        set_controls = g.set_controls
-        advance = getattr(g, "advance", None)  # force, step and new state in one call
-        if advance is None:  # a glider without it: the three calls
-            set_tf, step, state = g.set_tether_force, g.step, g.state
-
-            def advance(fx: float, fy: float, fz: float) -> SixDofState:
-                set_tf((fx, fy, fz))
-                step()
-                return state()
+        set_controls, advance = g.set_controls, _advance_call(g)
         update, gs_step = ctrl.update, gs.step
         gsrec_add = gsrec.fromlist
         raws_add = raws.fromlist if type(raw0) is list else raws.extend
-        has_phase = hasattr(ctrl, "phase")
+        has_phase = cmds.has_phase
         last_phase, last_code = None, -1
-        check = step_event
-        ndarray = np.ndarray
-        isfinite = math.isfinite
+        check, ndarray, isfinite = step_event, np.ndarray, math.isfinite
         wall0 = time.perf_counter()
         try:
             while k < n:
@@ -303,7 +261,7 @@ class CoSim:
                     ph = ctrl.phase
                     if ph is not last_phase:
                         last_phase = ph
-                        last_code = self._phase_code(ctrl, labels, codes)
+                        last_code = cmds.code(ph)
                     phases.append(last_code)
                 if on_step is not None and on_step(k, s, gs_out):
                     break  # the caller's end condition (e.g. N cycles flown): status "ok"
@@ -315,27 +273,20 @@ class CoSim:
             event = self._event(E_INTERRUPT, s, gs_out)
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
-        # an interrupt may fall between the appends of a step: keep the rows every record has
-        m = min(len(raws) // ncol, len(gsrec) // _N_GS, len(ctl), len(phases) if has_phase else len(ctl))
-        data = self._assemble(np.frombuffer(raws, dtype=float).reshape(-1, ncol)[:m],
-                              np.frombuffer(gsrec, dtype=float).reshape(-1, _N_GS)[:m], ctl[:m],
-                              phases if has_phase else None)
-        if event is not None and event.kind == "interrupted" and m:
-            event = Event("interrupted", float(data[-1, _C["t"]]), event.message)
-        status = "ok" if event is None else event.kind
-        return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
-                            steps=m - 1)
+        m = min(len(raws) // ncol, len(gsrec) // _N_GS, cmds.rows())
+        return self._result(np.frombuffer(raws, dtype=float).reshape(-1, ncol)[:m],
+                            np.frombuffer(gsrec, dtype=float).reshape(-1, _N_GS)[:m], cmds, event, wall)
 
+    # over 80 lines: its loop body written out (see the note above _run_python)
     def _run_compiled(self, t_end: float, on_step: Callable[[int, SixDofState, Any], None] | None,
                       kern: Any, h: Any, gsa: tuple) -> FlightResult:
         """:meth:`run` with the loop body compiled (:mod:`.kernel`): the same steps, the
         same order, identical results. The controller is called every step from Python, unless
         it declares ``constant_commands = True`` (fixed commands, no ``phase`` changes) and no
         ``on_step`` is given: then blocks of up to one simulated second run in one call."""
-        from . import kernel as ck
-        from ..units import FT, LBF
+        from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
-        g, gs, ctrl, dt, lim = self.glider, self.gs, self.controller, self.dt, self.limits
+        g, gs, ctrl, dt = self.glider, self.gs, self.controller, self.dt
         n = int(round(t_end / dt))
         s = g.state()
         raw0 = g.raw()
@@ -347,20 +298,10 @@ class CoSim:
         log = np.full((min(n + 1, 1 << 14), width), math.nan)
         log[0, :nr] = raw0
         s_gs, c_gs, nsub = gsa
-        lat0, m0, n0cos, off = g.native_constants()
-        p = np.zeros(ck.N_PARAMS)
-        p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = dt, nsub, lat0, m0, n0cos
-        p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
-        p[ck.P_FT], p[ck.P_LBF] = FT, LBF
-        (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s._hook
-        p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g._force
-        lim_v = np.array(limit_vector(lim, s.t, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS]))
-        ctl: list[Surfaces] = [g.controls]
-        phases: list[int] = []
-        labels: list[str] = []
-        codes: dict[str, int] = {}
-        phases.append(self._phase_code(ctrl, labels, codes))
-        has_phase = hasattr(ctrl, "phase")
+        p = self._kernel_params(s, nsub)
+        lim_v = np.array(limit_vector(self.limits, s.t, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS]))
+        cmds = _Commands(ctrl, g.controls)
+        ctl, phases, has_phase = cmds.controls, cmds.phases, cmds.has_phase
         last_phase, last_code = None, -1
         block = (max(1, int(round(1.0 / dt))) if getattr(ctrl, "constant_commands", False) and on_step is None
                  else 1)
@@ -402,7 +343,7 @@ class CoSim:
                         ph = ctrl.phase
                         if ph is not last_phase:
                             last_phase = ph
-                            last_code = self._phase_code(ctrl, labels, codes)
+                            last_code = cmds.code(ph)
                         if done == 1:
                             phases.append(last_code)
                         else:
@@ -427,17 +368,41 @@ class CoSim:
         self.last_gs_output = gs_out
         # an interrupt may fall between counting a step and appending its commands or phase:
         # keep the rows every record has
-        m = min(k + 1, len(ctl), len(phases) if has_phase else k + 1)
-        data = self._assemble(log[:m, :nr], log[:m, nr:nr + _N_GS], ctl[:m], phases if has_phase else None)
-        if event is not None and event.kind == "interrupted":
-            event = Event("interrupted", float(data[-1, _C["t"]]), event.message)
+        m = min(k + 1, cmds.rows())
+        return self._result(log[:m, :nr], log[:m, nr:nr + _N_GS], cmds, event, wall)
+
+    def _kernel_params(self, s: SixDofState, nsub: int) -> np.ndarray:
+        """The compiled step's parameter vector (:mod:`.kernel`'s ``P_*``) at glider state ``s``:
+        step [s], the station's sub-steps, the glider's native constants, the unit factors, the
+        tether hook's position [m] and velocity [m/s] and the force on it [N]."""
+        from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
+
+        g = self.glider
+        lat0, m0, n0cos, off = g.native_constants()
+        p = np.zeros(ck.N_PARAMS)
+        p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = self.dt, nsub, lat0, m0, n0cos
+        p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
+        p[ck.P_FT], p[ck.P_LBF] = FT, LBF
+        (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s._hook
+        p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g._force
+        return p
+
+    def _result(self, raws: np.ndarray, gsrec: np.ndarray, cmds: "_Commands", event: Event | None,
+                wall: float) -> FlightResult:
+        """The :class:`FlightResult` of a run's rows (glider rows ``raws``, station rows
+        ``gsrec``, commands ``cmds``), ended by ``event`` (None: the run's end) after ``wall`` s."""
+        m = len(raws)
+        data = log_table(self.glider.convert_raw, raws, gsrec, cmds.controls[:m],
+                         cmds.phases if cmds.has_phase else None)
+        if event is not None and event.kind == "interrupted" and m:
+            event = Event("interrupted", float(data[-1, COLUMNS.index("t")]), event.message)
         status = "ok" if event is None else event.kind
-        return FlightResult(status=status, event=event, data=data, phase_labels=labels, dt=dt, wall_s=wall,
+        return FlightResult(status=status, event=event, data=data, phase_labels=cmds.labels, dt=self.dt, wall_s=wall,
                             steps=m - 1)
 
     def _compiled_event(self, code: int, s: SixDofState, gs_out: Any, p: np.ndarray) -> Event:
         """The :class:`Event` of a compiled loop's event code, as the Python loop gives it."""
-        from . import kernel as ck
+        from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
         if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
             hp, hv = s._hook
@@ -452,39 +417,6 @@ class CoSim:
         """The :class:`Event` of event ``code`` (:data:`fdm_awe.sim.events.EVENTS`) at state ``s``."""
         kind, message = event_message(code, self.limits, s, gs_out, force, error)
         return Event(kind, s.t, message)
-
-    @staticmethod
-    def _phase_code(ctrl: Any, labels: list[str], codes: dict[str, int]) -> int:
-        ph = getattr(ctrl, "phase", None)
-        if ph is None:
-            return -1
-        code = codes.get(ph)
-        if code is None:
-            code = codes[ph] = len(labels)
-            labels.append(str(ph))
-        return code
-
-    def _assemble(self, raws: np.ndarray, gsrec: np.ndarray, ctl: list, phases: list | None) -> np.ndarray:
-        n = len(raws)
-        data = np.full((n, len(COLUMNS)), np.nan)
-        if n == 0:
-            return data
-        si = self.glider.convert_raw(raws)
-        for name, key in _FROM_STATE:
-            if name in _SPANS:
-                i, j = _SPANS[name]
-                data[:, i:j] = si[key]
-            else:
-                data[:, _C[name]] = si[key]
-        i, j = _GS_SPAN
-        data[:, i:j] = gsrec
-        i, j = _SPANS["controls"]
-        data[:, i:j] = np.array([(c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd) for c in ctl])
-        if phases is not None:
-            ph = np.array(phases[:n], dtype=float)
-            ph[ph < 0] = np.nan
-            data[: len(ph), _C["phase"]] = ph
-        return data
 
 
 __all__ = ["COLUMNS", "STATUSES", "CoSim", "Controller", "Event", "FlightResult", "Limits"]

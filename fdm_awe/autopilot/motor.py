@@ -1,0 +1,143 @@
+"""When the autopilot runs the glider's motor in AUTO: the gate's rules (:class:`MotorGate`),
+its plan for a reference (:meth:`MotorGate.plan`) and the switch that follows the plan step by
+step (:class:`MotorSwitch`: dwell time, the rescue for a lost path, the soft start)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .tracking import TrackingReference
+
+
+@dataclass(frozen=True)
+class MotorGate:
+    """When AUTO stops the motor (the reference's motor-off mode, column ``motor_on``).
+
+    The optimiser's on-fraction ``s`` of an interval is the share of it the motor runs
+    (thrust ``s T_on`` on average, power ``s P_on + (1 - s) P0``). The motor stops where ``s``
+    is below ``off_below``: throttle 0, the ESC brakes the propeller to a stop (no thrust, no
+    windmill drag), the glider draws only P0, the thrust loop is off and its integral held.
+    Elsewhere it runs and flies the guidance's thrust (the reference's mean thrust ``s T_on``
+    plus corrections) continuously.
+
+    Each start costs what the optimiser's model does not book: the 6-DOF drive spins its
+    propeller up from rest (rotor and propeller 1e-4 kg m^2: 15-30 J at 5500-7900 rpm, lost
+    again when the ESC brakes it) through the coil's resistance, 40-80 J more than running on
+    after a throttle step at 12.5-20 m/s (about 90 J after the thrust loop's jump to ~0.9
+    throttle on the nominal 8 m/s cycle), and its thrust comes 0.3-0.5 s late. So:
+
+    - the motor starts soft: the throttle's ceiling rises from 0 to 1 over ``soft_start_s``
+      after a start, which limits the inrush current as an ESC's soft start does (1 s halves
+      the start's cost on that cycle, to about 50 J);
+    - it does not pulse within an interval (each pulse would cost a start, more than the duty
+      cycle saves, 2-8 W);
+    - it does not follow every switch of the reference (:meth:`plan`): a pause shorter than
+      ``min_off_s`` is bridged with the motor running at the guidance's (near zero) thrust,
+      which draws the turning propeller's idle power (5-30 W above P0), less than a restart;
+      then a lone burst shorter than ``min_on_s`` is left out (the guidance trades its
+      along-path force through the flight path);
+    - a switch waits at least ``min_dwell_s`` after the previous one (no chattering);
+    - the motor is the glider's reserve: when the position error exceeds ``rescue_error_m``
+      it runs whatever the plan says, until the error is back below half of that (a glider
+      that lost its path without thrust, e.g. in a slow low-tension climb, sinks away from it
+      for good).
+    """
+
+    off_below: float = 0.2  #: on-fraction below which the motor is stopped [-] (0 .. 1)
+    min_off_s: float = 3.0  #: shortest reference pause the motor is stopped for [s]
+    min_on_s: float = 1.0  #: shortest lone reference burst the stopped motor is started for [s]
+    min_dwell_s: float = 0.5  #: least time between two motor switches [s]
+    #: soft start: after a start the throttle may rise from 0 to 1 only over this time [s]
+    soft_start_s: float = 1.0
+    #: position error above which the motor runs whatever the plan says [m]
+    rescue_error_m: float = 10.0
+
+    def __post_init__(self) -> None:
+        if not (0.0 <= self.off_below <= 1.0):
+            raise ValueError(f"MotorGate.off_below: {self.off_below!r} out of range (allowed 0 .. 1)")
+        for name in ("min_off_s", "min_on_s", "min_dwell_s", "soft_start_s"):
+            v = getattr(self, name)
+            if not (0.0 <= v <= 60.0):
+                raise ValueError(f"MotorGate.{name}: {v!r} s out of range (allowed 0 .. 60 s)")
+        if not (self.rescue_error_m > 0.0):
+            raise ValueError(f"MotorGate.rescue_error_m: {self.rescue_error_m!r} m out of range (allowed > 0 m)")
+
+    def plan(self, ref: TrackingReference) -> np.ndarray:
+        """Whether the motor runs on each segment of ``ref``
+        (:meth:`~.tracking.TrackingReference.motor_segments`; the cycle repeats): on where the
+        on-fraction is at least ``off_below``, pauses shorter than ``min_off_s`` filled, then
+        bursts shorter than ``min_on_s`` removed (both measured around the cycle's end too)."""
+        run = ref.motor_segments() >= self.off_below
+        dur = np.diff(ref.t)
+        dur[-1] += max(ref.period - float(ref.t[-1]), 0.0)
+        run = _flip_short(run, dur, False, self.min_off_s)
+        return _flip_short(run, dur, True, self.min_on_s)
+
+
+def _flip_short(flags: np.ndarray, dur: np.ndarray, value: bool, limit: float) -> np.ndarray:
+    """``flags`` with every cyclic run of ``value`` lasting less than ``limit`` [s] (segment
+    durations ``dur``) flipped; unchanged when ``value`` fills the whole cycle or never occurs."""
+    flags = np.asarray(flags, bool)
+    n = len(flags)
+    if limit <= 0.0 or n == 0 or flags.all() or not flags.any():
+        return flags.copy()
+    out = flags.copy()
+    start = int(np.flatnonzero(flags != np.roll(flags, 1))[0])  # a run starts here
+    order = np.roll(np.arange(n), -start)
+    i = 0
+    while i < n:
+        j = i
+        while j < n and flags[order[j]] == flags[order[i]]:
+            j += 1
+        run = order[i:j]
+        if flags[run[0]] == value and float(dur[run].sum()) < limit:
+            out[run] = not value
+        i = j
+    return out
+
+
+class MotorSwitch:
+    """Whether AUTO runs the motor, step by step, under ``gate`` (:class:`MotorGate`)."""
+
+    def __init__(self, gate: MotorGate) -> None:
+        self.gate = gate
+        #: AUTO runs the motor (False: stopped where the reference's motor is off)
+        self.running = True
+        self.switches = 0  #: motor stops and starts in AUTO so far
+        self.rescue = False  #: the motor runs for a position error beyond MotorGate.rescue_error_m
+        self.switch_t = -math.inf  #: time of the last switch [s]
+        self._plan: tuple[Any, MotorGate, np.ndarray] | None = None  # (reference, gate, gate.plan(reference))
+
+    def update(self, ref: TrackingReference, t_cycle: float, t: float, track_error: float) -> bool:
+        """Whether the motor runs this step at cycle time ``t_cycle`` [s] of ``ref``, time ``t``
+        [s]: as :meth:`MotorGate.plan` says, or for a position error ``track_error`` [m] (the
+        last step's) beyond the gate's ``rescue_error_m``; a switch at least ``min_dwell_s``
+        after the last."""
+        gate = self.gate
+        plan = self._plan
+        if plan is None or plan[0] is not ref or plan[1] is not gate:
+            plan = self._plan = (ref, gate, gate.plan(ref))
+        want = bool(plan[2][ref.segment_index(t_cycle)])
+        if not want:
+            e = track_error
+            if e > gate.rescue_error_m:
+                self.rescue = True
+            elif not e > 0.5 * gate.rescue_error_m:  # below half of it, or no error yet (NaN)
+                self.rescue = False
+            want = self.rescue
+        if want != self.running and t - self.switch_t >= gate.min_dwell_s:
+            self.running = want
+            self.switch_t = t
+            self.switches += 1
+        return self.running
+
+    def ceiling(self, t: float) -> float:
+        """The throttle's ceiling at time ``t`` [s] (0 .. 1): rising from 0 to 1 over the gate's
+        ``soft_start_s`` after a start (the propeller spins up from rest), else 1."""
+        if self.switches and t - self.switch_t < self.gate.soft_start_s:
+            return (t - self.switch_t) / self.gate.soft_start_s
+        return 1.0

@@ -1,0 +1,108 @@
+"""The report of a flight (:func:`fdm_awe.sim.flight.fly`): its status, per-cycle numbers, energy
+ledger and logs, and its JSON (docs/design.md section 1). Statuses, energy terms and the
+ledger are described in :mod:`fdm_awe.sim.flight`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+#: what each plant is (written into the flight's JSON)
+PLANT_NOTES = {
+    "physical": "JSBSim 9x5 propeller and motor; ground station with DC machine, converter and PI speed loop",
+    "paper": "paper scenario's simplifications: ideal thruster (body-x force, power by the P(T) fit), "
+             "kinematic winch on an elastic line (generation booked as tension x reel speed, reel-in at constant power)",
+}
+
+#: statuses of a flight (:mod:`fdm_awe.sim.flight`); other ground-station events appear by name
+FLIGHT_STATUSES = ("ok", "incomplete", "interrupted", "landed", "parked", "ground_contact", "tether_break",
+                   "nonfinite", "airspeed_limit", "load_limit")
+
+
+@dataclass
+class CycleMetrics:
+    """One cycle of a flight: ``index`` (0-based), times flown in generation ``T1_s`` and in
+    recovery ``T2_s`` (s, >= 0), energies (J; :mod:`fdm_awe.sim.flight`; all >= 0 except ``E_net_J``),
+    position tracking error RMS and maximum (m; NaN when no step of the cycle had a reference
+    point), and whether the cycle was flown to its end (``complete``)."""
+
+    index: int
+    T1_s: float
+    T2_s: float
+    E_generated_J: float
+    E_thrust_J: float
+    E_reel_in_J: float
+    E_net_J: float
+    track_rms_m: float
+    track_max_m: float
+    complete: bool
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: floats rounded to 6 decimals, NaN as None."""
+        return {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.__dict__.items()}
+
+
+def _json_float(v: float, digits: int = 6) -> float | None:
+    """``v`` rounded for JSON, None when not finite (JSON never carries NaN)."""
+    v = float(v)
+    return round(v, digits) if math.isfinite(v) else None
+
+
+@dataclass
+class FlightReport:
+    """What :func:`fdm_awe.sim.flight.fly` returns: the run's facts (wind m/s, simulated and wall
+    time s), its status and message, per-cycle numbers, the energy ledger (J) with its largest
+    relative residual, and the logs (the co-simulation's result, tracking error m, reference
+    position m NED, the autopilot's notes, the lumped line's shape)."""
+
+    scenario: str
+    config: str
+    wind_mps: float
+    status: str
+    message: str
+    sim_time_s: float
+    wall_s: float
+    cycles: list[CycleMetrics]
+    ledger: dict[str, Any]
+    ledger_residual_rel: float
+    result: Any = field(repr=False, default=None)  #: fdm_awe.sim.loop.FlightResult
+    track_error: np.ndarray | None = field(repr=False, default=None)
+    reference_pos: np.ndarray | None = field(repr=False, default=None)
+    autopilot_log: list[tuple[float, str]] = field(default_factory=list)
+    plant: str = "physical"  #: "physical" or "paper" (see PLANT_NOTES)
+    tether_drag_scale: float = 1.0  #: factor on the line drag the ground station applied (1 = the defined line)
+    line: str | None = None  #: the tether line flown (:data:`fdm_awe.groundstation.line.LINES`)
+    #: the generator load the winch flew in generation (reference metadata ``generator``;
+    #: None on the paper plant, whose kinematic winch has none)
+    generator: str | None = None
+    tether: str = "straight"  #: the line model: "straight" or "lumped:N"
+    #: the lumped line's shape sampled at :data:`fdm_awe.sim.flight.LINE_SHAPE_HZ`: ``t`` (m,) s, ``nodes`` (m, N+1, 3)
+    #: m NED winch first, ``tension`` (m, N) N per segment; None for the straight line
+    line_shape: dict[str, np.ndarray] | None = field(repr=False, default=None)
+
+    @property
+    def realtime_factor(self) -> float:
+        return self.sim_time_s / self.wall_s if self.wall_s > 0 else float("inf")
+
+    def as_json(self) -> dict[str, Any]:
+        """docs/design.md section 1 output contract of ``fdm-awe fly``.
+
+        ``status``: one of :data:`FLIGHT_STATUSES` or a ground-station event name (:mod:`fdm_awe.sim.flight`:
+        ``ok`` only when every requested cycle was completed; ``incomplete`` when the time cap
+        ended the flight first; ``interrupted`` after Ctrl-C; ``landed``; event names). Each
+        cycle carries ``complete``. Numbers that cannot be computed (e.g. the tracking error
+        of a cycle without a reference point) are ``null``: the JSON never carries NaN."""
+        return {
+            "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
+            "config": self.config, "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
+            "line": self.line, "generator": self.generator, "tether": self.tether,
+            "status": self.status,
+            "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),
+            "realtime_factor": _json_float(self.realtime_factor, 1),
+            "ledger_residual_rel": _json_float(float(f"{self.ledger_residual_rel:.3e}"), 12),
+            "ledger": {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.ledger.items()},
+            "cycles": [c.as_dict() for c in self.cycles],
+        }

@@ -1,0 +1,47 @@
+"""What a reference-trajectory file holds and allows: its format name and version, the phases of
+a cycle, the columns with their units and allowed ranges, and the metadata's limits (the file
+format is described in :mod:`fdm_awe.trajectory`)."""
+
+from __future__ import annotations
+
+import math
+
+#: Phase names of a cycle, indexed by phase code (metadata ``phase_names``)
+PHASE_NAMES = ("generation", "recovery")
+#: Phase codes (column ``phase``)
+GENERATION, RECOVERY = 0, 1
+
+FORMAT = "fdm-awe-reference-trajectory"
+VERSION = 1
+
+COLUMN_UNITS = {
+    "t": "s", "phase": "-", "x": "m", "y": "m", "z": "m", "V": "m/s", "gamma": "rad", "psi": "rad",
+    "alpha": "rad", "phi": "rad", "T": "N", "tension": "N", "tether_length": "m", "reel_speed": "m/s",
+    "fold": "-", "p_generated_W": "W", "p_thrust_W": "W", "p_reel_in_W": "W",
+}
+#: Columns a reference may carry beyond the required :data:`COLUMN_UNITS` (absent: the default)
+OPTIONAL_COLUMN_UNITS = {"motor_on": "-", "boost_duty": "-"}
+
+#: Largest reference file read [bytes] (a 60 s cycle on the default mesh is about 100 kB).
+MAX_FILE_BYTES = 64 * 2**20
+#: Allowed values of the columns: ``(lo, hi, lo_open)`` SI, or ``None`` for any finite number.
+#: Bounds that the optimiser meets only up to its constraint tolerance get a relative slack of
+#: :data:`SLACK` (of the column's largest magnitude); open lower bounds (airspeed, line length)
+#: get none.
+COLUMN_RANGES: dict[str, tuple[float, float, bool] | None] = {
+    "t": None, "phase": (0.0, 1.0, False), "x": (-1e4, 1e4, False), "y": (-1e4, 1e4, False), "z": (-1e4, 0.0, False),
+    "V": (0.0, 100.0, True), "gamma": (-math.pi / 2, math.pi / 2, False), "psi": None,
+    "alpha": (-math.pi / 2, math.pi / 2, False), "phi": (-math.pi / 2, math.pi / 2, False), "T": (0.0, 1e3, False),
+    "tension": (0.0, 1e4, False), "tether_length": (0.0, 1e4, True), "reel_speed": (-100.0, 100.0, False),
+    "fold": (0.0, 1.0, False), "p_generated_W": None, "p_thrust_W": None, "p_reel_in_W": None,
+    "motor_on": (0.0, 1.0, False), "boost_duty": (0.0, 1.0, False),
+}
+SLACK = 1e-6
+#: Relative tolerance of the time relations (t ends at T1 + T2, the phase switch at T1, period_s).
+TIME_RTOL = 1e-6
+#: Wind speed range of a reference [m/s] (the optimiser's, :class:`fdm_awe.ocp.problem.CycleProblem`).
+WIND_MAX = 25.0
+#: Longest phase of a reference [s].
+PHASE_MAX_S = 3600.0
+#: Configuration -> airframe of its recovery phase (metadata ``recovery_airframe``).
+RECOVERY_AIRFRAME = {"foldable": "folded", "nominal": "unfolded"}
