@@ -325,7 +325,7 @@ class CycleNLP:
         """IPOPT defaults of this NLP.
 
         Optimality tolerance 1e-6 and constraint tolerance 1e-7 (scaled): an accepted solution
-        must hold every scaled constraint within 1e-6 (``solve.VIOLATION_TOL``), and the
+        must hold every scaled constraint within 1e-6 (:data:`.assemble.VIOLATION_TOL`), and the
         re-integration check (:data:`fdm_awe.ocp.verify.POSITION_TOL_REL`, ``ENERGY_TOL_REL``) is met with a
         wide margin at the default mesh.
         Monotone (Fiacco-McCormick) barrier: the adaptive strategy's extra linear solves per
