@@ -44,9 +44,11 @@ integrator's error, not a booked term. Axial line inertia moving with the drum s
 drum's inertia ``mu l r_w^2`` as for the straight line.
 
 The line's state and ledger live in the ground station's state array after the drivetrain's
-(``OFF``); its constants after :data:`.substeps.STATION_CONSTANTS`. Every function here is
-plain Python over floats and arrays; numba compiles :func:`lumped_station_step` (cache tied to
-this file and :mod:`.substeps`), Python runs the same source when ``FDM_AWE_JIT=0``.
+(``OFF``); its constants after :data:`.substeps.STATION_CONSTANTS` (the layout, the model spec
+and the views of the state: :mod:`.lumped_state`, whose names are also reached here). Every
+function here is plain Python over floats and arrays; numba compiles :func:`lumped_station_step`
+(cache tied to this file, :mod:`.substeps`, :mod:`.lumped_state` and :mod:`fdm_awe.wind`),
+Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -56,66 +58,20 @@ import math
 import os
 from typing import Callable
 
-import numpy as np
-
-from ..errors import InputError
-from .ledger import FIELDS as _DT_LEDGER, Balance
+from .. import wind
+from ..jitcache import compile_cached, follow_sources
 from ..wind import shear_factor
-from .substeps import _DRAG_W, _WEIGHT_W, STATE as _DT_STATE, STATION_CONSTANTS, advance, machine_mode_code
+from . import lumped_state, substeps
+from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
+    C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
+    CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
+    L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
+    TETHER_MODELS, ZETA, LineLedger, line_constants, nodes, parse_tether, state_size, tensions, velocities,
+)
+from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, machine_mode_code
 
-#: tether models a ground station takes: ``straight`` or ``lumped:N``
-TETHER_MODELS = ("straight", "lumped:N")
-#: allowed segment counts
-N_MIN, N_MAX = 2, 200
-#: inner-step fraction of the leapfrog stability limit 2 / omega_max
-CFL = 0.8
-#: axial damping ratio of a segment in flight (of its own k-m mode)
-ZETA = 0.05
-
-#: offset of the line's block in the ground station's state array
-OFF = len(_DT_STATE) + len(_DT_LEDGER)
-#: head of the line's block: initialised flag, segments, mean glider-end tension of the last
-#: step N, largest segment tension of the last step N, inner steps per drivetrain sub-step,
-#: force-on-glider terms of the last step (drag part, weight part, N NED)
-HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z")
-INPUTS = ("hook_work", "mass_inflow")
-LOSSES = ("payout_work", "drag", "damping", "break_release")
-STORES = ("kinetic", "elastic", "potential")
-INTERFACE = ("drum_handover",)
-FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
-(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ) = range(OFF, OFF + len(HEAD))
-LED = OFF + len(HEAD)
-(L_HOOK, L_MASS, L_PAYOUT, L_DRAG, L_DAMP, L_BREAK, L_HAND, L_S0K, L_S0E, L_S0P, L_SK, L_SE, L_SP) = range(
-    LED, LED + len(FIELDS))
-#: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
-NODES = LED + len(FIELDS)
-#: constants after STATION_CONSTANTS
-CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
-             # the wind field along the line (:func:`wind_at`): profile numbers of
-             # fdm_awe.wind.shear_factor (code 0: the station's uniform wind), the wind at the
-             # profile's reference height, and the gust of the moment (turbulence, NED)
-             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
-(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
-    len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
 # station constants used here (STATION_CONSTANTS order)
 _C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
-
-
-def parse_tether(spec: object) -> int:
-    """0 for ``"straight"``, N for ``"lumped:N"`` (N segments, 2 .. 200); else a one-line
-    :class:`~fdm_awe.errors.InputError` naming ``--tether`` and the allowed values."""
-    if spec == "straight":
-        return 0
-    if isinstance(spec, str) and spec.startswith("lumped:"):
-        tail = spec[len("lumped:"):]
-        if tail.isdigit() and N_MIN <= int(tail) <= N_MAX:
-            return int(tail)
-    raise InputError(f"--tether {spec!r} not allowed (allowed: straight, lumped:N with N {N_MIN} .. {N_MAX})")
-
-
-def state_size(n: int) -> int:
-    """Length of the ground station's state array with an ``n``-segment line."""
-    return NODES + 9 * (n + 1) + n
 
 
 def wind_at(c, z: float) -> tuple[float, float, float]:
@@ -477,27 +433,25 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
 
 _CALLED = (shear_factor, wind_at, line_forces, line_energies, inner_steps, inner_count, store_energies, place_line, relax_line,
            generalised_tension)
+#: the other source files whose code or constants the compiled functions hold (their on-disk
+#: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
+_SOURCES = (substeps, wind, lumped_state)
 
 
 @functools.lru_cache(maxsize=None)
 def compiled_lumped() -> Callable | None:
     """:func:`lumped_station_step` compiled by numba (cached on disk), or None (numba missing,
     ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead)."""
-    from .substeps import _register, compiled_station
-
     if compiled_station() is None:
         return None
-    from .. import wind
-    from ..jitcache import compile_cached
-    from . import substeps
 
     def signature(nb):
         f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
         return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
 
     _register()
-    # tied also to the drum step and the wind profile compiled into it
-    return compile_cached(lumped_station_step, signature, _CALLED, (substeps, wind), "fdm_awe.groundstation.lumped")
+    # tied also to the drum step, the wind profile and the line's layout compiled into it
+    return compile_cached(lumped_station_step, signature, _CALLED, _SOURCES, "fdm_awe.groundstation.lumped")
 
 
 @functools.lru_cache(maxsize=None)
@@ -509,65 +463,14 @@ def compiled_function(name: str) -> Callable:
     if os.environ.get("FDM_AWE_JIT", "1") == "0":
         return f
     try:
-        import numba
+        import numba  # here: optional, and its import costs start-up time
         from numba.extending import register_jitable
-
-        from .substeps import _register
 
         _register()
         for g in _CALLED:
             register_jitable(g)
-        return numba.njit(cache=True)(f)
+        kern = numba.njit(cache=True)(f)
+        follow_sources(kern, _SOURCES)
+        return kern
     except ImportError:
         return f
-
-
-def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
-                   cfl: float = CFL) -> list[float]:
-    """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
-    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
-    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
-
-
-def nodes(s: np.ndarray, n: int) -> np.ndarray:
-    """Node positions (n+1, 3) m NED (a copy)."""
-    return s[NODES:NODES + 3 * (n + 1)].reshape(n + 1, 3).copy()
-
-
-def velocities(s: np.ndarray, n: int) -> np.ndarray:
-    """Node velocities (n+1, 3) m/s NED (a copy; the hook's is not kept)."""
-    a = NODES + 3 * (n + 1)
-    return s[a:a + 3 * (n + 1)].reshape(n + 1, 3).copy()
-
-
-def tensions(s: np.ndarray, n: int) -> np.ndarray:
-    """Segment tensions (n,) N, winch end first (a copy)."""
-    a = NODES + 9 * (n + 1)
-    return s[a:a + n].copy()
-
-
-class LineLedger(Balance):
-    """The line's energy ledger (J) as a view of the ground station's state array."""
-
-    _INPUTS, _LOSSES, _STORES, _INTERFACE = INPUTS, LOSSES, STORES, INTERFACE
-
-    def __init__(self, s: np.ndarray) -> None:
-        self._s = s
-
-    def __getattr__(self, name: str) -> float:
-        if name in FIELDS:
-            return float(self._s[LED + FIELDS.index(name)])
-        raise AttributeError(name)
-
-    def clear(self) -> None:
-        for i, f in enumerate(FIELDS):
-            if not f.startswith("stored"):
-                self._s[LED + i] = 0.0
-        self._s[L_S0K], self._s[L_S0E], self._s[L_S0P] = self._s[L_SK], self._s[L_SE], self._s[L_SP]
-
-    def as_dict(self) -> dict[str, float]:
-        """The balance's terms (:meth:`Balance.as_dict`) and ``coupling``, the drum's one-sub-step
-        lag: the elastic energy the line handed over minus what the drum booked, J."""
-        d = super().as_dict()
-        d["coupling"] = self.payout_work - self.drum_handover
-        return d
