@@ -43,12 +43,11 @@ nodes); ``payout_work`` the elastic energy the line gives to the drum through it
 integrator's error, not a booked term. Axial line inertia moving with the drum stays in the
 drum's inertia ``mu l r_w^2`` as for the straight line.
 
-The line's state and ledger live in the ground station's state array after the drivetrain's
-(``OFF``); its constants after :data:`.substeps.STATION_CONSTANTS` (the layout, the model spec
-and the views of the state: :mod:`.lumped_state`, whose names are also reached here). Every
-function here is plain Python over floats and arrays; numba compiles :func:`lumped_station_step`
-(cache tied to this file, :mod:`.substeps`, :mod:`.lumped_state` and :mod:`fdm_awe.wind`),
-Python runs the same source when ``FDM_AWE_JIT=0``.
+The line's state, ledger and constants live in the ground station's arrays after the
+drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views; its names are also
+reached here). Every function here is plain Python over floats and arrays; numba compiles
+:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.lumped_state` and
+:mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -68,7 +67,7 @@ from .lumped_state import (  # noqa: F401 - the line's layout and views, also re
     L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
     TETHER_MODELS, ZETA, LineLedger, line_constants, nodes, parse_tether, state_size, tensions, velocities,
 )
-from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, machine_mode_code
+from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, cross_flow_drag, machine_mode_code
 
 # station constants used here (STATION_CONSTANTS order)
 _C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
@@ -84,6 +83,26 @@ def wind_at(c, z: float) -> tuple[float, float, float]:
         return c[_C_WN], c[_C_WE], c[_C_WD]
     f = shear_factor(code, c[C_SPARAM], c[C_SHREF], c[C_SFLOOR], -z)
     return c[C_WRN] * f + c[C_GN], c[C_WRE] * f + c[C_GE], c[C_GD]
+
+
+def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float, uz: float, rvx: float, rvy: float,
+                 rvz: float) -> tuple[float, float, float, float]:
+    """The pull of one segment along itself: tension only (stiffness ``k`` N/m, rest length
+    ``ls`` m, length ``d`` m) and, while taut, the damper ``cd`` N s/m on its stretch rate (the
+    velocity ``(rvx, rvy, rvz)`` m/s of its far end relative to its near end, along ``(ux, uy,
+    uz)``). Returns ``(force N, elastic tension N, elastic energy J, damper power W)``, zeros
+    when slack."""
+    st = d - ls
+    f = T = e = p = 0.0
+    if st > 0.0:
+        T = k * st
+        e = 0.5 * k * st * st
+        f = T
+        if cd != 0.0:
+            rate = ux * rvx + uy * rvy + uz * rvz
+            f += cd * rate
+            p = cd * rate * rate
+    return f, T, e, p
 
 
 def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
@@ -127,17 +146,9 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
         d = math.sqrt(dx * dx + dy * dy + dz * dz)
         inv = 1.0 / d if d > 0.0 else 0.0
         ux, uy, uz = dx * inv, dy * inv, dz * inv
-        st = d - ls
-        f = 0.0
-        T = 0.0
-        if st > 0.0:
-            T = k * st
-            e_el += 0.5 * k * st * st
-            f = T
-            if cd != 0.0:
-                rate = ux * (vbx - vax) + uy * (vby - vay) + uz * (vbz - vaz)
-                f += cd * rate
-                p_damp += cd * rate * rate
+        f, T, e, p = segment_pull(k, cd, d, ls, ux, uy, uz, vbx - vax, vby - vay, vbz - vaz)
+        e_el += e
+        p_damp += p
         if ls_old != ls:
             so = d - ls_old
             if so > 0.0:
@@ -147,18 +158,13 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
             tmax = T
         fx, fy, fz = f * ux, f * uy, f * uz
         qx = qy = qz = 0.0
-        if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it
+        if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it, half to each end node
             if sheared:
                 wx, wy, wz = wind_at(c, az + 0.5 * dz)
             else:  # the uniform wind, read once (keeps the loop as fast as without a profile)
                 wx, wy, wz = wu
-            rx = 0.5 * (vax + vbx) - wx
-            ry = 0.5 * (vay + vby) - wy
-            rz = 0.5 * (vaz + vbz) - wz
-            rr = rx * ux + ry * uy + rz * uz
-            px, py, pz = rx - rr * ux, ry - rr * uy, rz - rr * uz
-            q = 0.5 * dk * d * math.sqrt(px * px + py * py + pz * pz)  # half to each end node
-            qx, qy, qz = q * px, q * py, q * pz
+            qx, qy, qz = cross_flow_drag(ux, uy, uz, 0.5 * (vax + vbx) - wx, 0.5 * (vay + vby) - wy,
+                                         0.5 * (vaz + vbz) - wz, 0.5 * dk * d)
         fa = F + 3 * i
         s[fa] += fx + qx
         s[fa + 1] += fy + qy
@@ -343,28 +349,53 @@ def generalised_tension(s, c, n: int) -> float:
     return t / n
 
 
+def settle_line(s, c, n: int, x: float, y: float, z: float) -> None:
+    """The line's static shape to the hook at ``(x, y, z)`` m (:func:`place_line`,
+    :func:`relax_line`); its ledger starts there (the settling is not part of the flight's)."""
+    place_line(s, c, n, x, y, z)
+    relax_line(s, c, n, 3.0)
+    for i in range(LED, L_S0K):
+        s[i] = 0.0
+    store_energies(s, c, n, 0)
+    s[R_READY] = 1.0
+
+
+def move_hook(s, c, n: int, x: float, y: float, z: float, vx: float, vy: float, vz: float) -> None:
+    """The hook's real position ``(x, y, z)`` m differs from the last prediction: the hook node
+    goes there (moving with ``(vx, vy, vz)`` m/s), the forces follow, and the work at the line
+    end (trapezoid of the force on the hook) is booked."""
+    ph = NODES + 3 * n
+    dhx, dhy, dhz = x - s[ph], y - s[ph + 1], z - s[ph + 2]
+    F = NODES + 6 * (n + 1) + 3 * n
+    fx0, fy0, fz0 = s[F], s[F + 1], s[F + 2]
+    s[ph], s[ph + 1], s[ph + 2] = x, y, z
+    ls = s[0] / n
+    line_forces(s, c, n, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+    s[L_HOOK] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
+
+
+def break_line(s, c, n: int, vx: float, vy: float, vz: float) -> None:
+    """The line breaks: its strain energy is booked as released, its tensions drop to 0 (the
+    glider's hook moves with ``(vx, vy, vz)`` m/s)."""
+    s[6] = 1.0
+    ls = s[0] / n
+    line_forces(s, c, n, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+    store_energies(s, c, n, 1)
+    s[L_BREAK] += s[L_SE]
+    TT = NODES + 9 * (n + 1)
+    for i in range(n):
+        s[TT + i] = 0.0
+
+
 def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
     """:func:`.substeps.station_step` with the lumped line (same arguments and returns; ``s``
     and ``c`` hold the line's block after the drivetrain's, see the module docstring)."""
     N = int(c[C_NSEG])
-    P = NODES
-    ph = P + 3 * N
     broken = s[6] != 0.0
     if s[R_READY] == 0.0:  # first step: the line's static shape to the hook
-        place_line(s, c, N, x, y, z)
-        relax_line(s, c, N, 3.0)
-        for i in range(LED, L_S0K):  # the settling is not part of the flight's ledger
-            s[i] = 0.0
-        store_energies(s, c, N, 0)
-        s[R_READY] = 1.0
-    elif not broken:  # the hook's real position differs from the last prediction: work at the line end
-        dhx, dhy, dhz = x - s[ph], y - s[ph + 1], z - s[ph + 2]
-        F = P + 6 * (N + 1) + 3 * N
-        fx0, fy0, fz0 = s[F], s[F + 1], s[F + 2]
-        s[ph], s[ph + 1], s[ph + 2] = x, y, z
-        ls = s[0] / N
-        line_forces(s, c, N, ls, c[_C_MU] * ls, vx, vy, vz, ls)
-        s[L_HOOK] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
+        settle_line(s, c, N, x, y, z)
+    elif not broken:
+        move_hook(s, c, N, x, y, z, vx, vy, vz)
     h = dt / n
     tsum = pl_sum = ps_sum = 0.0
     ev = 0
@@ -403,15 +434,8 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             tmax = tm_
         if tm_ > c[_C_TBREAK]:  # the line breaks: its strain energy is lost, the glider is free
             broken = True
-            s[6] = 1.0
             ev = 3
-            ls = s[0] / N
-            line_forces(s, c, N, ls, c[_C_MU] * ls, vx, vy, vz, ls)
-            store_energies(s, c, N, 1)
-            s[L_BREAK] += s[L_SE]
-            TT = P + 9 * (N + 1)
-            for i in range(N):
-                s[TT + i] = 0.0
+            break_line(s, c, N, vx, vy, vz)
     if broken and ev != 3:
         fx = fy = fz = 0.0
     else:
@@ -431,8 +455,8 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
 
 
-_CALLED = (shear_factor, wind_at, line_forces, line_energies, inner_steps, inner_count, store_energies, place_line, relax_line,
-           generalised_tension)
+_CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,
+           place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
 _SOURCES = (substeps, wind, lumped_state)
