@@ -209,7 +209,8 @@ def test_physical_foldable_cycle_exists_only_with_static_thrust():
     the static-thrust problem is feasible (a local solver finds a feasible point only from
     some starts; measured: the first one, a 10 s recovery loop of 40 m)."""
     from fdm_awe.ocp.guess import default_starts, loop_guess
-    from fdm_awe.ocp.solve import ELASTIC_PENALTY, _accept
+    from fdm_awe.ocp.assemble import accept as _accept
+    from fdm_awe.ocp.local import ELASTIC_PENALTY
     from fdm_awe.pointmass.model import wind_vector
 
     pr = CycleProblem(scenario="physical", config="foldable", wind_speed=8.0, mesh=COARSE, **FAILING_FOLD_PLANT)

@@ -6,6 +6,7 @@ Modules, one job each:
 - :mod:`.definitions` -- ``tether/ground_station.xml`` -> typed SI dataclasses
 - :mod:`.tether` -- line geometry, elastic tension, drag and weight shares on the glider
 - :mod:`.lumped` -- the lumped-mass line (``tether="lumped:N"``): nodes, segments, its own ledger
+- :mod:`.lumped_state` -- the lumped line's place in the state and constants arrays, its views
 - :mod:`.winch` -- drum equation (eq. 14) with implicit set-valued Coulomb friction
 - :mod:`.machine` -- armature equation (eqs. 15, 16, 18, 19) and the eq. 17 mode rule
 - :mod:`.converter` -- averaged asymmetric half-bridge (generator: rectifier/boost; motor: PWM)

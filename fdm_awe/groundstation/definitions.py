@@ -253,8 +253,12 @@ def load_ground_station(path: str | Path | None = None, line: str | None = None)
     doc = XmlDoc.load(DEFAULT_PATH if path is None else path)
     if doc.root.tag != "ground_station":
         raise DefinitionError(doc.path, doc.root.tag, "root element must be <ground_station>")
-    v = lambda xp, u, **kw: _value(doc, xp, u, **kw)  # noqa: E731
+    return GroundStationParams(_read_tether(doc, name), _read_winch(doc), _read_machine(doc), _read_converter(doc),
+                               _read_controller(doc), _read_integration(doc), str(doc.path))
 
+
+def _read_tether(doc: XmlDoc, name: str) -> TetherParams:
+    """``<tether>`` with the line ``name`` (every line of the file is read and checked)."""
     lines = {n: _read_line(doc.path, n, el) for n, el in _line_elements(doc).items()}
     if name not in lines:
         have = ", ".join(lines) or "none"
@@ -266,12 +270,12 @@ def load_ground_station(path: str | Path | None = None, line: str | None = None)
         cd_perpendicular=section.cd_perpendicular,
         axial_stiffness=section.axial_stiffness,
         breaking_load=section.breaking_load,
-        drag_share=v("tether/drag_share", "ND", lo=0.0, hi=1.0),
-        weight_share=v("tether/weight_share", "ND", lo=0.0, hi=1.0),
-        min_length=v("tether/min_length", "M", lo=0.0, lo_open=True),
-        max_length=v("tether/max_length", "M", lo=0.0, lo_open=True),
-        air_density=v("tether/air_density", "KG/M3", lo=0.0, hi=2.0, lo_open=True),
-        gravity=v("tether/gravity", "M/S2", lo=0.0, hi=20.0, lo_open=True),
+        drag_share=_value(doc, "tether/drag_share", "ND", lo=0.0, hi=1.0),
+        weight_share=_value(doc, "tether/weight_share", "ND", lo=0.0, hi=1.0),
+        min_length=_value(doc, "tether/min_length", "M", lo=0.0, lo_open=True),
+        max_length=_value(doc, "tether/max_length", "M", lo=0.0, lo_open=True),
+        air_density=_value(doc, "tether/air_density", "KG/M3", lo=0.0, hi=2.0, lo_open=True),
+        gravity=_value(doc, "tether/gravity", "M/S2", lo=0.0, hi=20.0, lo_open=True),
         name=name,
         rated_tension=rated,
         material=material,
@@ -280,25 +284,38 @@ def load_ground_station(path: str | Path | None = None, line: str | None = None)
     if tether.max_length <= tether.min_length:
         raise DefinitionError(doc.path, "tether/max_length",
                               f"value {tether.max_length:g} must exceed tether/min_length {tether.min_length:g}")
-    winch = WinchParams(
-        radius=v("winch/radius", "M", lo=0.0, lo_open=True, hi=2.0),
-        inertia=v("winch/inertia", "KG*M2", lo=0.0, lo_open=True),
-        mass=v("winch/mass", "KG", lo=0.0),
-        viscous_friction=v("winch/viscous_friction", "N*M*S", lo=0.0),
-        coulomb_friction=v("winch/coulomb_friction", "N*M", lo=0.0),
+    return tether
+
+
+def _read_winch(doc: XmlDoc) -> WinchParams:
+    """``<winch>``."""
+    return WinchParams(
+        radius=_value(doc, "winch/radius", "M", lo=0.0, lo_open=True, hi=2.0),
+        inertia=_value(doc, "winch/inertia", "KG*M2", lo=0.0, lo_open=True),
+        mass=_value(doc, "winch/mass", "KG", lo=0.0),
+        viscous_friction=_value(doc, "winch/viscous_friction", "N*M*S", lo=0.0),
+        coulomb_friction=_value(doc, "winch/coulomb_friction", "N*M", lo=0.0),
     )
-    machine = DcMachineParams(
-        k=v("dc_machine/motor_constant", "V*S/RAD", lo=0.0, lo_open=True),
-        resistance=v("dc_machine/armature_resistance", "OHM", lo=0.0, lo_open=True),
-        inductance=v("dc_machine/armature_inductance", "H", lo=0.0, lo_open=True),
+
+
+def _read_machine(doc: XmlDoc) -> DcMachineParams:
+    """``<dc_machine>``."""
+    return DcMachineParams(
+        k=_value(doc, "dc_machine/motor_constant", "V*S/RAD", lo=0.0, lo_open=True),
+        resistance=_value(doc, "dc_machine/armature_resistance", "OHM", lo=0.0, lo_open=True),
+        inductance=_value(doc, "dc_machine/armature_inductance", "H", lo=0.0, lo_open=True),
     )
+
+
+def _read_converter(doc: XmlDoc) -> ConverterParams:
+    """``<converter>``: the boost duty within its largest value, two device drops below the supply."""
     converter = ConverterParams(
-        device_drop=v("converter/device_drop", "V", lo=0.0),
-        supply_voltage=v("converter/supply_voltage", "V", lo=0.0, lo_open=True),
-        link_capacitance=v("converter/link_capacitance", "F", lo=0.0, lo_open=True),
-        load_resistance=v("converter/load_resistance", "OHM", lo=0.0, lo_open=True),
-        boost_duty=v("converter/boost_duty", "ND", lo=0.0, hi=1.0),
-        boost_duty_max=v("converter/boost_duty_max", "ND", lo=0.0, hi=0.95),
+        device_drop=_value(doc, "converter/device_drop", "V", lo=0.0),
+        supply_voltage=_value(doc, "converter/supply_voltage", "V", lo=0.0, lo_open=True),
+        link_capacitance=_value(doc, "converter/link_capacitance", "F", lo=0.0, lo_open=True),
+        load_resistance=_value(doc, "converter/load_resistance", "OHM", lo=0.0, lo_open=True),
+        boost_duty=_value(doc, "converter/boost_duty", "ND", lo=0.0, hi=1.0),
+        boost_duty_max=_value(doc, "converter/boost_duty_max", "ND", lo=0.0, hi=0.95),
     )
     if converter.boost_duty > converter.boost_duty_max:
         raise DefinitionError(doc.path, "converter/boost_duty",
@@ -308,16 +325,23 @@ def load_ground_station(path: str | Path | None = None, line: str | None = None)
         raise DefinitionError(doc.path, "converter/device_drop",
                               f"value {converter.device_drop:g} V out of range (allowed < half the supply voltage "
                               f"{converter.supply_voltage:g} V: every current path holds two devices)")
+    return converter
+
+
+def _read_controller(doc: XmlDoc) -> SpeedControllerParams:
+    """``<speed_controller>``: the duty range not empty."""
     controller = SpeedControllerParams(
-        kp=v("speed_controller/kp", "S/RAD", lo=0.0),
-        ki=v("speed_controller/ki", "1/RAD", lo=0.0),
-        duty_min=v("speed_controller/duty_min", "ND", lo=0.0, hi=1.0),
-        duty_max=v("speed_controller/duty_max", "ND", lo=0.0, hi=1.0),
+        kp=_value(doc, "speed_controller/kp", "S/RAD", lo=0.0),
+        ki=_value(doc, "speed_controller/ki", "1/RAD", lo=0.0),
+        duty_min=_value(doc, "speed_controller/duty_min", "ND", lo=0.0, hi=1.0),
+        duty_max=_value(doc, "speed_controller/duty_max", "ND", lo=0.0, hi=1.0),
     )
     if controller.duty_max <= controller.duty_min:
         raise DefinitionError(doc.path, "speed_controller/duty_max",
                               f"value {controller.duty_max:g} must exceed duty_min {controller.duty_min:g}")
-    integration = IntegrationParams(
-        max_substep=v("integration/max_substep", "S", lo=1e-6, hi=0.01),
-    )
-    return GroundStationParams(tether, winch, machine, converter, controller, integration, str(doc.path))
+    return controller
+
+
+def _read_integration(doc: XmlDoc) -> IntegrationParams:
+    """``<integration>``."""
+    return IntegrationParams(max_substep=_value(doc, "integration/max_substep", "S", lo=1e-6, hi=0.01))

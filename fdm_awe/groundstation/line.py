@@ -31,7 +31,9 @@ import math
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any, Sequence
 
+from ..definitions.aircraft import load_airframe
 from ..errors import InputError
+from ..pointmass.aero import tether_drag_coefficient
 
 if TYPE_CHECKING:  # pragma: no cover - typing only (definitions imports this module)
     from .definitions import GroundStationParams, TetherParams
@@ -106,7 +108,7 @@ def size_line(material: LineMaterial, sizing: LineSizing) -> LineSection:
 def working_lengths() -> tuple[float, float]:
     """The optimiser's shortest and longest working line, m: the start distance ``d0`` and the
     end of generation ``d_tf`` of :class:`fdm_awe.ocp.problem.CycleProblem` (its defaults)."""
-    from ..ocp.problem import CycleProblem  # plain dataclasses, no CasADi
+    from ..ocp.problem import CycleProblem  # here, not at the top: ocp.problem imports this module
 
     defaults = {f.name: f.default for f in fields(CycleProblem)}
     return float(defaults["d0"]), float(defaults["d_tf"])
@@ -159,16 +161,12 @@ def line_summary(params: "GroundStationParams | TetherParams", lengths: Sequence
     ``lengths`` m (default :func:`working_lengths`: the optimiser's d0 and d_tf);
     ``wing_area`` m^2 (default: S of the unfolded glider's aircraft definition).
     """
-    from ..pointmass.aero import tether_drag_coefficient
-
     t = getattr(params, "tether", params)
     ls = tuple(float(v) for v in (working_lengths() if lengths is None else lengths))
     for v in ls:
         if not (math.isfinite(v) and v > 0.0):
             raise InputError(f"line length {v!r} m out of range (allowed > 0)")
     if wing_area is None:
-        from ..definitions.aircraft import load_airframe
-
         wing_area = load_airframe("unfolded").aero.S
     if not (math.isfinite(wing_area) and wing_area > 0.0):
         raise InputError(f"wing area {wing_area!r} m2 out of range (allowed > 0)")

@@ -43,10 +43,11 @@ nodes); ``payout_work`` the elastic energy the line gives to the drum through it
 integrator's error, not a booked term. Axial line inertia moving with the drum stays in the
 drum's inertia ``mu l r_w^2`` as for the straight line.
 
-The line's state and ledger live in the ground station's state array after the drivetrain's
-(``OFF``); its constants after :data:`.substeps.STATION_CONSTANTS`. Every function here is
-plain Python over floats and arrays; numba compiles :func:`lumped_station_step` (cache tied to
-this file and :mod:`.substeps`), Python runs the same source when ``FDM_AWE_JIT=0``.
+The line's state, ledger and constants live in the ground station's arrays after the
+drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views; its names are also
+reached here). Every function here is plain Python over floats and arrays; numba compiles
+:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.lumped_state` and
+:mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -56,66 +57,20 @@ import math
 import os
 from typing import Callable
 
-import numpy as np
-
-from ..errors import InputError
-from .ledger import FIELDS as _DT_LEDGER, Balance
+from .. import wind
+from ..jitcache import compile_cached, follow_sources
 from ..wind import shear_factor
-from .substeps import _DRAG_W, _WEIGHT_W, STATE as _DT_STATE, STATION_CONSTANTS, advance, machine_mode_code
+from . import lumped_state, substeps
+from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
+    C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
+    CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
+    L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
+    TETHER_MODELS, ZETA, LineLedger, line_constants, nodes, parse_tether, state_size, tensions, velocities,
+)
+from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, cross_flow_drag, machine_mode_code
 
-#: tether models a ground station takes: ``straight`` or ``lumped:N``
-TETHER_MODELS = ("straight", "lumped:N")
-#: allowed segment counts
-N_MIN, N_MAX = 2, 200
-#: inner-step fraction of the leapfrog stability limit 2 / omega_max
-CFL = 0.8
-#: axial damping ratio of a segment in flight (of its own k-m mode)
-ZETA = 0.05
-
-#: offset of the line's block in the ground station's state array
-OFF = len(_DT_STATE) + len(_DT_LEDGER)
-#: head of the line's block: initialised flag, segments, mean glider-end tension of the last
-#: step N, largest segment tension of the last step N, inner steps per drivetrain sub-step,
-#: force-on-glider terms of the last step (drag part, weight part, N NED)
-HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z")
-INPUTS = ("hook_work", "mass_inflow")
-LOSSES = ("payout_work", "drag", "damping", "break_release")
-STORES = ("kinetic", "elastic", "potential")
-INTERFACE = ("drum_handover",)
-FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
-(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ) = range(OFF, OFF + len(HEAD))
-LED = OFF + len(HEAD)
-(L_HOOK, L_MASS, L_PAYOUT, L_DRAG, L_DAMP, L_BREAK, L_HAND, L_S0K, L_S0E, L_S0P, L_SK, L_SE, L_SP) = range(
-    LED, LED + len(FIELDS))
-#: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
-NODES = LED + len(FIELDS)
-#: constants after STATION_CONSTANTS
-CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
-             # the wind field along the line (:func:`wind_at`): profile numbers of
-             # fdm_awe.wind.shear_factor (code 0: the station's uniform wind), the wind at the
-             # profile's reference height, and the gust of the moment (turbulence, NED)
-             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
-(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
-    len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
 # station constants used here (STATION_CONSTANTS order)
 _C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
-
-
-def parse_tether(spec: object) -> int:
-    """0 for ``"straight"``, N for ``"lumped:N"`` (N segments, 2 .. 200); else a one-line
-    :class:`~fdm_awe.errors.InputError` naming ``--tether`` and the allowed values."""
-    if spec == "straight":
-        return 0
-    if isinstance(spec, str) and spec.startswith("lumped:"):
-        tail = spec[len("lumped:"):]
-        if tail.isdigit() and N_MIN <= int(tail) <= N_MAX:
-            return int(tail)
-    raise InputError(f"--tether {spec!r} not allowed (allowed: straight, lumped:N with N {N_MIN} .. {N_MAX})")
-
-
-def state_size(n: int) -> int:
-    """Length of the ground station's state array with an ``n``-segment line."""
-    return NODES + 9 * (n + 1) + n
 
 
 def wind_at(c, z: float) -> tuple[float, float, float]:
@@ -128,6 +83,26 @@ def wind_at(c, z: float) -> tuple[float, float, float]:
         return c[_C_WN], c[_C_WE], c[_C_WD]
     f = shear_factor(code, c[C_SPARAM], c[C_SHREF], c[C_SFLOOR], -z)
     return c[C_WRN] * f + c[C_GN], c[C_WRE] * f + c[C_GE], c[C_GD]
+
+
+def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float, uz: float, rvx: float, rvy: float,
+                 rvz: float) -> tuple[float, float, float, float]:
+    """The pull of one segment along itself: tension only (stiffness ``k`` N/m, rest length
+    ``ls`` m, length ``d`` m) and, while taut, the damper ``cd`` N s/m on its stretch rate (the
+    velocity ``(rvx, rvy, rvz)`` m/s of its far end relative to its near end, along ``(ux, uy,
+    uz)``). Returns ``(force N, elastic tension N, elastic energy J, damper power W)``, zeros
+    when slack."""
+    st = d - ls
+    f = T = e = p = 0.0
+    if st > 0.0:
+        T = k * st
+        e = 0.5 * k * st * st
+        f = T
+        if cd != 0.0:
+            rate = ux * rvx + uy * rvy + uz * rvz
+            f += cd * rate
+            p = cd * rate * rate
+    return f, T, e, p
 
 
 def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
@@ -171,17 +146,9 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
         d = math.sqrt(dx * dx + dy * dy + dz * dz)
         inv = 1.0 / d if d > 0.0 else 0.0
         ux, uy, uz = dx * inv, dy * inv, dz * inv
-        st = d - ls
-        f = 0.0
-        T = 0.0
-        if st > 0.0:
-            T = k * st
-            e_el += 0.5 * k * st * st
-            f = T
-            if cd != 0.0:
-                rate = ux * (vbx - vax) + uy * (vby - vay) + uz * (vbz - vaz)
-                f += cd * rate
-                p_damp += cd * rate * rate
+        f, T, e, p = segment_pull(k, cd, d, ls, ux, uy, uz, vbx - vax, vby - vay, vbz - vaz)
+        e_el += e
+        p_damp += p
         if ls_old != ls:
             so = d - ls_old
             if so > 0.0:
@@ -191,18 +158,13 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
             tmax = T
         fx, fy, fz = f * ux, f * uy, f * uz
         qx = qy = qz = 0.0
-        if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it
+        if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it, half to each end node
             if sheared:
                 wx, wy, wz = wind_at(c, az + 0.5 * dz)
             else:  # the uniform wind, read once (keeps the loop as fast as without a profile)
                 wx, wy, wz = wu
-            rx = 0.5 * (vax + vbx) - wx
-            ry = 0.5 * (vay + vby) - wy
-            rz = 0.5 * (vaz + vbz) - wz
-            rr = rx * ux + ry * uy + rz * uz
-            px, py, pz = rx - rr * ux, ry - rr * uy, rz - rr * uz
-            q = 0.5 * dk * d * math.sqrt(px * px + py * py + pz * pz)  # half to each end node
-            qx, qy, qz = q * px, q * py, q * pz
+            qx, qy, qz = cross_flow_drag(ux, uy, uz, 0.5 * (vax + vbx) - wx, 0.5 * (vay + vby) - wy,
+                                         0.5 * (vaz + vbz) - wz, 0.5 * dk * d)
         fa = F + 3 * i
         s[fa] += fx + qx
         s[fa + 1] += fy + qy
@@ -387,28 +349,53 @@ def generalised_tension(s, c, n: int) -> float:
     return t / n
 
 
+def settle_line(s, c, n: int, x: float, y: float, z: float) -> None:
+    """The line's static shape to the hook at ``(x, y, z)`` m (:func:`place_line`,
+    :func:`relax_line`); its ledger starts there (the settling is not part of the flight's)."""
+    place_line(s, c, n, x, y, z)
+    relax_line(s, c, n, 3.0)
+    for i in range(LED, L_S0K):
+        s[i] = 0.0
+    store_energies(s, c, n, 0)
+    s[R_READY] = 1.0
+
+
+def move_hook(s, c, n: int, x: float, y: float, z: float, vx: float, vy: float, vz: float) -> None:
+    """The hook's real position ``(x, y, z)`` m differs from the last prediction: the hook node
+    goes there (moving with ``(vx, vy, vz)`` m/s), the forces follow, and the work at the line
+    end (trapezoid of the force on the hook) is booked."""
+    ph = NODES + 3 * n
+    dhx, dhy, dhz = x - s[ph], y - s[ph + 1], z - s[ph + 2]
+    F = NODES + 6 * (n + 1) + 3 * n
+    fx0, fy0, fz0 = s[F], s[F + 1], s[F + 2]
+    s[ph], s[ph + 1], s[ph + 2] = x, y, z
+    ls = s[0] / n
+    line_forces(s, c, n, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+    s[L_HOOK] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
+
+
+def break_line(s, c, n: int, vx: float, vy: float, vz: float) -> None:
+    """The line breaks: its strain energy is booked as released, its tensions drop to 0 (the
+    glider's hook moves with ``(vx, vy, vz)`` m/s)."""
+    s[6] = 1.0
+    ls = s[0] / n
+    line_forces(s, c, n, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+    store_energies(s, c, n, 1)
+    s[L_BREAK] += s[L_SE]
+    TT = NODES + 9 * (n + 1)
+    for i in range(n):
+        s[TT + i] = 0.0
+
+
 def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
     """:func:`.substeps.station_step` with the lumped line (same arguments and returns; ``s``
     and ``c`` hold the line's block after the drivetrain's, see the module docstring)."""
     N = int(c[C_NSEG])
-    P = NODES
-    ph = P + 3 * N
     broken = s[6] != 0.0
     if s[R_READY] == 0.0:  # first step: the line's static shape to the hook
-        place_line(s, c, N, x, y, z)
-        relax_line(s, c, N, 3.0)
-        for i in range(LED, L_S0K):  # the settling is not part of the flight's ledger
-            s[i] = 0.0
-        store_energies(s, c, N, 0)
-        s[R_READY] = 1.0
-    elif not broken:  # the hook's real position differs from the last prediction: work at the line end
-        dhx, dhy, dhz = x - s[ph], y - s[ph + 1], z - s[ph + 2]
-        F = P + 6 * (N + 1) + 3 * N
-        fx0, fy0, fz0 = s[F], s[F + 1], s[F + 2]
-        s[ph], s[ph + 1], s[ph + 2] = x, y, z
-        ls = s[0] / N
-        line_forces(s, c, N, ls, c[_C_MU] * ls, vx, vy, vz, ls)
-        s[L_HOOK] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
+        settle_line(s, c, N, x, y, z)
+    elif not broken:
+        move_hook(s, c, N, x, y, z, vx, vy, vz)
     h = dt / n
     tsum = pl_sum = ps_sum = 0.0
     ev = 0
@@ -447,15 +434,8 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             tmax = tm_
         if tm_ > c[_C_TBREAK]:  # the line breaks: its strain energy is lost, the glider is free
             broken = True
-            s[6] = 1.0
             ev = 3
-            ls = s[0] / N
-            line_forces(s, c, N, ls, c[_C_MU] * ls, vx, vy, vz, ls)
-            store_energies(s, c, N, 1)
-            s[L_BREAK] += s[L_SE]
-            TT = P + 9 * (N + 1)
-            for i in range(N):
-                s[TT + i] = 0.0
+            break_line(s, c, N, vx, vy, vz)
     if broken and ev != 3:
         fx = fy = fz = 0.0
     else:
@@ -475,29 +455,27 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
 
 
-_CALLED = (shear_factor, wind_at, line_forces, line_energies, inner_steps, inner_count, store_energies, place_line, relax_line,
-           generalised_tension)
+_CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,
+           place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
+#: the other source files whose code or constants the compiled functions hold (their on-disk
+#: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
+_SOURCES = (substeps, wind, lumped_state)
 
 
 @functools.lru_cache(maxsize=None)
 def compiled_lumped() -> Callable | None:
     """:func:`lumped_station_step` compiled by numba (cached on disk), or None (numba missing,
     ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead)."""
-    from .substeps import _register, compiled_station
-
     if compiled_station() is None:
         return None
-    from .. import wind
-    from ..jitcache import compile_cached
-    from . import substeps
 
     def signature(nb):
         f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
         return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
 
     _register()
-    # tied also to the drum step and the wind profile compiled into it
-    return compile_cached(lumped_station_step, signature, _CALLED, (substeps, wind), "fdm_awe.groundstation.lumped")
+    # tied also to the drum step, the wind profile and the line's layout compiled into it
+    return compile_cached(lumped_station_step, signature, _CALLED, _SOURCES, "fdm_awe.groundstation.lumped")
 
 
 @functools.lru_cache(maxsize=None)
@@ -509,65 +487,14 @@ def compiled_function(name: str) -> Callable:
     if os.environ.get("FDM_AWE_JIT", "1") == "0":
         return f
     try:
-        import numba
+        import numba  # here: optional, and its import costs start-up time
         from numba.extending import register_jitable
-
-        from .substeps import _register
 
         _register()
         for g in _CALLED:
             register_jitable(g)
-        return numba.njit(cache=True)(f)
+        kern = numba.njit(cache=True)(f)
+        follow_sources(kern, _SOURCES)
+        return kern
     except ImportError:
         return f
-
-
-def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
-                   cfl: float = CFL) -> list[float]:
-    """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
-    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
-    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
-
-
-def nodes(s: np.ndarray, n: int) -> np.ndarray:
-    """Node positions (n+1, 3) m NED (a copy)."""
-    return s[NODES:NODES + 3 * (n + 1)].reshape(n + 1, 3).copy()
-
-
-def velocities(s: np.ndarray, n: int) -> np.ndarray:
-    """Node velocities (n+1, 3) m/s NED (a copy; the hook's is not kept)."""
-    a = NODES + 3 * (n + 1)
-    return s[a:a + 3 * (n + 1)].reshape(n + 1, 3).copy()
-
-
-def tensions(s: np.ndarray, n: int) -> np.ndarray:
-    """Segment tensions (n,) N, winch end first (a copy)."""
-    a = NODES + 9 * (n + 1)
-    return s[a:a + n].copy()
-
-
-class LineLedger(Balance):
-    """The line's energy ledger (J) as a view of the ground station's state array."""
-
-    _INPUTS, _LOSSES, _STORES, _INTERFACE = INPUTS, LOSSES, STORES, INTERFACE
-
-    def __init__(self, s: np.ndarray) -> None:
-        self._s = s
-
-    def __getattr__(self, name: str) -> float:
-        if name in FIELDS:
-            return float(self._s[LED + FIELDS.index(name)])
-        raise AttributeError(name)
-
-    def clear(self) -> None:
-        for i, f in enumerate(FIELDS):
-            if not f.startswith("stored"):
-                self._s[LED + i] = 0.0
-        self._s[L_S0K], self._s[L_S0E], self._s[L_S0P] = self._s[L_SK], self._s[L_SE], self._s[L_SP]
-
-    def as_dict(self) -> dict[str, float]:
-        """The balance's terms (:meth:`Balance.as_dict`) and ``coupling``, the drum's one-sub-step
-        lag: the elastic energy the line handed over minus what the drum booked, J."""
-        d = super().as_dict()
-        d["coupling"] = self.payout_work - self.drum_handover
-        return d

@@ -23,12 +23,12 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
-from . import lumped
+from . import lumped, lumped_state
 from .converter import GENERATOR, MODES, MOTOR
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
-from .lumped import parse_tether
+from .lumped_state import parse_tether
 from .machine import machine_mode
 from .substeps import EVENTS, MACHINE_MODES as _MACHINE_MODES, compiled_station, station_step
 from .tether import check_tether_drag_scale, line_drag_coefficient
@@ -276,13 +276,13 @@ class GroundStation:
         self._step_py = station_step
         nseg = self.tether_segments
         if nseg:
-            s_all = np.zeros(lumped.state_size(nseg))
-            s_all[:lumped.OFF] = dtr_s = self.drivetrain._s
-            self.drivetrain._s = s_all[:lumped.OFF]
-            self.drivetrain.ledger.buffer = s_all[len(dtr_s) - len(self.drivetrain.ledger.buffer):lumped.OFF]
+            s_all = np.zeros(lumped_state.state_size(nseg))
+            s_all[:lumped_state.OFF] = dtr_s = self.drivetrain._s
+            self.drivetrain._s = s_all[:lumped_state.OFF]
+            self.drivetrain.ledger.buffer = s_all[len(dtr_s) - len(self.drivetrain.ledger.buffer):lumped_state.OFF]
             self._s_all = s_all
-            s_all[lumped.R_NSEG] = nseg
-            self._scl += lumped.line_constants(nseg, tp.air_density, tp.cd_perpendicular, tp.diameter,
+            s_all[lumped_state.R_NSEG] = nseg
+            self._scl += lumped_state.line_constants(nseg, tp.air_density, tp.cd_perpendicular, tp.diameter,
                                                self.tether_drag_scale if tp.drag_share > 0.0 else 0.0)
             self._step_kernel = lumped.compiled_lumped() if self._step_kernel is not None else None
             self._step_py = lumped.lumped_station_step
@@ -302,7 +302,7 @@ class GroundStation:
                 *(_finite(f"gust[{k}]", v) for k, v in enumerate(gust))]
         if len(vals) != 9:
             raise InputError("set_line_wind: wind_ref needs 2 components (N, E), gust 3 (N, E, D)")
-        i = lumped.C_SCODE
+        i = lumped_state.C_SCODE
         self._scl[i:i + 9] = vals
         self._sc[i:i + 9] = vals
         if code == 0.0:  # uniform: the station's wind plus the gust, read as it is at every node
@@ -311,17 +311,17 @@ class GroundStation:
             self._sc[19:22] = w
 
     @property
-    def line_ledger(self) -> "lumped.LineLedger | None":
+    def line_ledger(self) -> "lumped_state.LineLedger | None":
         """The lumped line's own energy ledger (J), None for the straight line."""
-        return lumped.LineLedger(self._s_all) if self.tether_segments else None
+        return lumped_state.LineLedger(self._s_all) if self.tether_segments else None
 
     def line_nodes(self) -> np.ndarray | None:
         """The lumped line's node positions (N+1, 3) m NED, winch first; None for the straight line."""
-        return lumped.nodes(self._s_all, self.tether_segments) if self.tether_segments else None
+        return lumped_state.nodes(self._s_all, self.tether_segments) if self.tether_segments else None
 
     def line_tensions(self) -> np.ndarray | None:
         """The lumped line's segment tensions (N,) N, winch first; None for the straight line."""
-        return lumped.tensions(self._s_all, self.tether_segments) if self.tether_segments else None
+        return lumped_state.tensions(self._s_all, self.tether_segments) if self.tether_segments else None
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -357,7 +357,7 @@ class GroundStation:
             _finite("load_resistance", load_resistance, lo=0.0, lo_open=True)
         self.drivetrain.reset(tether_length, reel_speed / self.params.winch.radius, mode, load_resistance)
         if self.tether_segments:  # the line takes its static shape to the hook on the first step
-            self._s_all[lumped.R_READY] = 0.0
+            self._s_all[lumped_state.R_READY] = 0.0
 
     def unstretched_length(self, distance: float, tension: float = 0.0) -> float:
         """Unstretched length (m) that carries ``tension`` (N) at winch-glider ``distance`` (m)."""

@@ -8,7 +8,7 @@ executions on the same scenarios and compares every state and ledger term for ex
 The relations (the modules that describe them in parentheses): :func:`pi_step` (:mod:`.controller`),
 :func:`link_coefficients` (:mod:`.converter`), :func:`armature_coefficients` and
 :func:`machine_mode_code` (:mod:`.machine`), :func:`drum_speed`, :func:`drum_step` and
-:func:`end_stop` (:mod:`.winch`), :func:`drag_share` and :func:`weight_share` (:mod:`.tether`);
+:func:`end_stop` (:mod:`.winch`), :func:`cross_flow_drag` and :func:`weight_share` (:mod:`.tether`);
 the sub-step loop :func:`substeps`, one drivetrain step with its ledger :func:`advance`
 (:mod:`.drivetrain`) and one :meth:`.station.GroundStation.step` :func:`station_step`.
 
@@ -208,12 +208,12 @@ def end_stop(J: float, w0: float, w1: float, l0: float, l1: float, h: float, hr:
     return w1, l1, mf, -h * tau_stop * w1 + 0.5 * J * (w1 - w0) ** 2
 
 
-def drag_share(x: float, y: float, z: float, d: float, vax: float, vay: float, vaz: float,
-               c_l: float) -> tuple[float, float, float]:
-    """The glider's share of the line drag, NED, N: ``c_l |v_perp| v_perp``, ``v_perp`` the air
-    velocity ``(vax, vay, vaz)`` (m/s) normal to the line to ``(x, y, z)`` (m, ``d`` > 0 away),
-    ``c_l = -share 0.5 rho C_D_perp d_t scale l`` (kg/m, :mod:`.tether`)."""
-    ux, uy, uz = x / d, y / d, z / d
+def cross_flow_drag(ux: float, uy: float, uz: float, vax: float, vay: float, vaz: float,
+                    c_l: float) -> tuple[float, float, float]:
+    """Cross-flow drag of a line (or a segment of it) along the unit vector ``(ux, uy, uz)``,
+    NED, N: ``c_l |v_perp| v_perp``, ``v_perp`` the air velocity ``(vax, vay, vaz)`` (m/s) normal
+    to it; ``c_l`` kg/m, e.g. the glider's share of the straight line's drag ``-share 0.5 rho
+    C_D_perp d_t scale l`` (:mod:`.tether`) or half a lumped segment's (:mod:`.lumped`)."""
     vr = vax * ux + vay * uy + vaz * uz
     px, py, pz = vax - vr * ux, vay - vr * uy, vaz - vr * uz
     c = c_l * math.sqrt(px * px + py * py + pz * pz)
@@ -250,7 +250,7 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
     S_du2, t_sum)``.
 
     Over 80 lines on purpose: one loop whose sums live in local variables (registers, compiled);
-    its pieces are the functions above.
+    its pieces are the functions above (split under 80 lines, the compiled step took 2 % longer).
     """
     hr, hK, hM = h * r, h * K, h * Mc
     event = 0
@@ -431,7 +431,7 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
         if d <= 0.0 or c[23] == 0.0:
             fx = fy = fz = 0.0
         else:
-            fx, fy, fz = drag_share(x, y, z, d, vx - c[19], vy - c[20], vz - c[21], c[22] * l_start)
+            fx, fy, fz = cross_flow_drag(x / d, y / d, z / d, vx - c[19], vy - c[20], vz - c[21], c[22] * l_start)
         s[_DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
         fw = weight_share(c[24], l_start, c[25])
         s[_WEIGHT_W] += fw * vz * dt
@@ -447,7 +447,7 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
 
 
 #: the functions called by :func:`advance` and :func:`station_step` (compiled with them)
-_CALLED = (pi_step, link_coefficients, armature_coefficients, drum_speed, _piece, drum_step, end_stop, drag_share,
+_CALLED = (pi_step, link_coefficients, armature_coefficients, drum_speed, _piece, drum_step, end_stop, cross_flow_drag,
            weight_share, machine_mode_code, substeps, advance)
 
 

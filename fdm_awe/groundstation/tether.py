@@ -22,7 +22,7 @@ from the ground-station definition (:mod:`fdm_awe.groundstation.line`: ``sized``
 Table 1's ``paper`` line).
 
 The ground station's step computes the drag and weight shares with
-:func:`fdm_awe.groundstation.substeps.drag_share` and ``weight_share``; the functions here give
+:func:`fdm_awe.groundstation.substeps.cross_flow_drag` and ``weight_share``; the functions here give
 them from the definition's :class:`TetherParams`.
 """
 
@@ -32,7 +32,7 @@ import math
 
 from ..errors import InputError
 from .definitions import TetherParams
-from .substeps import drag_share
+from .substeps import cross_flow_drag
 
 #: allowed line-drag sensitivity factor (``tether_drag_scale`` of the optimiser and of the
 #: ground station; 1 = the defined line)
@@ -77,7 +77,7 @@ def line_drag_share(
     d = math.sqrt(x * x + y * y + z * z)
     if d <= 0.0 or p.drag_share <= 0.0 or scale <= 0.0:
         return 0.0, 0.0, 0.0
-    return drag_share(x, y, z, d, vax, vay, vaz, line_drag_coefficient(p, scale) * length)
+    return cross_flow_drag(x / d, y / d, z / d, vax, vay, vaz, line_drag_coefficient(p, scale) * length)
 
 
 def line_drag_coefficient(p: TetherParams, scale: float = 1.0) -> float:

@@ -29,6 +29,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from ..groundstation import load_ground_station
+from ..groundstation.steady import motor_steady
 from ..pointmass import mathops as mo
 from ..definitions.aircraft import PropulsionParams
 from ..pointmass.propeller import power as propeller_power
@@ -65,8 +67,6 @@ class WinchElectrics:
         it is), or from the definition ``tether/ground_station.xml`` with the tether line ``line``
         (:data:`fdm_awe.groundstation.line.LINES`; None: the definition's default, ``sized``).
         A :class:`~fdm_awe.ocp.problem.CycleProblem` names its line (``problem.line``)."""
-        from ..groundstation import load_ground_station
-
         if params is not None and line is not None:
             raise ValueError("from_ground_station: give params or line, not both (params carry their own line)")
         gs = load_ground_station(line=line) if params is None else params
@@ -144,8 +144,6 @@ def motor_supply_power(v_reel: Any, w: WinchElectrics) -> Any:
     is at hand (the same relation the co-simulation's ground station is built on).
     """
     if w.gs_params is not None:
-        from ..groundstation.steady import motor_steady
-
         return motor_steady(-v_reel, 0.0, w.gs_params).p_supply
     return motor_voltage(v_reel, w) * motor_current(v_reel, w)
 

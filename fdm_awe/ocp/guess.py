@@ -18,6 +18,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .energy import generator_tension
 from .model import CycleModel
 from .problem import CycleProblem
 
@@ -130,8 +131,6 @@ def loop_guess(problem: CycleProblem, model: CycleModel, start: LoopStart, wind_
         phi = np.clip(np.arctan(Vc * psidot / model.g), -0.8 * b.phi_max, 0.8 * b.phi_max)
         a = af.aero
         if ip == 0:
-            from .energy import generator_tension
-
             G = np.full(n, start.G) if model.scenario.tension_control else generator_tension(np.gradient(np.linalg.norm(P, axis=1), t), model.winch)
         else:
             G = np.zeros(n)

@@ -35,11 +35,16 @@ import stat
 import sys
 import time
 import zlib
+from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
 import casadi as ca
 import numpy as np
+
+from ..fileio import atomic_path
+from .collocation import CycleNLP
+from .layout import PhaseLayout
 
 #: file format of an entry (part of the key)
 FORMAT = "fdm-awe-nlp-cache"
@@ -53,6 +58,8 @@ MAX_MB_ENV = "FDM_AWE_NLP_CACHE_MAX_MB"
 MAX_BYTES = 2**30
 #: attributes of a CycleNLP that are not stored: rebuilt from the inputs or created on use
 _NOT_STORED = {"problem", "model", "_solvers", "solvers_build_s", "build_s", "nlp", "_derivatives"}
+#: the dataclasses a CycleNLP holds (stored field by field, by class name)
+_DATACLASSES = {cls.__name__: cls for cls in (PhaseLayout,)}
 
 
 class NotCacheable(Exception):
@@ -95,8 +102,6 @@ def source_hash() -> str:
 
 def _package_version() -> str:
     try:
-        from importlib.metadata import version
-
         return version("fdm-awe")
     except Exception:  # not installed (a source checkout on the path)
         return "unknown"
@@ -135,7 +140,7 @@ def _encode(v: Any, fns: list[Any]) -> Any:
         return [_encode(x, fns) for x in v]
     if isinstance(v, dict) and all(isinstance(k, str) for k in v):
         return {"__dict__": {k: _encode(x, fns) for k, x in v.items()}}
-    if dataclasses.is_dataclass(v) and not isinstance(v, type) and type(v).__module__ == "fdm_awe.ocp.collocation":
+    if dataclasses.is_dataclass(v) and not isinstance(v, type) and _DATACLASSES.get(type(v).__name__) is type(v):
         out = {}
         for f in dataclasses.fields(v):
             x = getattr(v, f.name)
@@ -152,8 +157,6 @@ def _has_symbols(x: Any) -> bool:
 
 
 def _decode(v: Any, fns: list[Any]) -> Any:
-    from . import collocation
-
     if isinstance(v, list):
         return [_decode(x, fns) for x in v]
     if not isinstance(v, dict):
@@ -168,7 +171,7 @@ def _decode(v: Any, fns: list[Any]) -> Any:
     if "__dict__" in v:
         return {k: _decode(x, fns) for k, x in v["__dict__"].items()}
     if "__dc__" in v:
-        cls = getattr(collocation, v["__dc__"])
+        cls = _DATACLASSES[v["__dc__"]]
         obj = cls.__new__(cls)
         for k, x in v["fields"].items():
             object.__setattr__(obj, k, _decode(x, fns))
@@ -251,8 +254,6 @@ def load(problem: Any, model: Any) -> Any | None:
 
 
 def _restore(problem: Any, model: Any, header: dict[str, Any], fns: list[Any]) -> Any:
-    from .collocation import CycleNLP
-
     nlp = CycleNLP.__new__(CycleNLP)
     nlp.problem = problem.validate()
     nlp.model = model
@@ -315,8 +316,6 @@ def save(nlp: Any, background: bool = False) -> Path | None:
     folder = cache_dir()
     try:
         folder.mkdir(parents=True, exist_ok=True, mode=0o700)
-        from ..fileio import atomic_path
-
         tmp_target = folder / f".{key}.writing"  # not an entry's name: readers never see it
         with atomic_path(tmp_target) as tmp:
             s = ca.FileSerializer(str(tmp))

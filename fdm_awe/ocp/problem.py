@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
+from ..definitions.aircraft import FOLD_TIME_MAX_S
 from ..errors import InputError
 from ..groundstation.line import check_line
 from ..groundstation.tether import check_tether_drag_scale
@@ -271,8 +272,6 @@ class CycleProblem:
         self.bounds.validate()
         self.mesh.validate()
         if self.fold_time is not None:
-            from ..definitions.aircraft import FOLD_TIME_MAX_S
-
             if not (isinstance(self.fold_time, (int, float)) and math.isfinite(self.fold_time)
                     and 0.0 <= self.fold_time <= FOLD_TIME_MAX_S):
                 raise InputError(f"fold_time = {self.fold_time!r} s out of range (allowed 0 .. {FOLD_TIME_MAX_S:g} s)")

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from ..pointmass.model import wind_vector
 from ..trajectory import (  # noqa: F401 - the reference file's names, re-exported
     COLUMN_RANGES, COLUMN_UNITS, FORMAT, MAX_FILE_BYTES, OPTIONAL_COLUMN_UNITS, PHASE_MAX_S, PHASE_NAMES,
     RECOVERY_AIRFRAME, SLACK, TIME_RTOL, VERSION, WIND_MAX, ReferenceTrajectory, check_reference,
@@ -89,8 +90,6 @@ class CycleResult:
 
     def metadata(self) -> dict[str, Any]:
         pr = self.problem
-        from ..pointmass.model import wind_vector
-
         md: dict[str, Any] = {
             "scenario": self.scenario, "config": self.config, "wind_mps": self.wind_mps, "wind_from_deg": self.wind_from_deg,
             "wind_ned_mps": list(wind_vector(self.wind_mps, self.wind_from_deg)), "T1_s": self.T1_s, "T2_s": self.T2_s,

@@ -1,8 +1,9 @@
 """Solve the cycle OCP robustly: a global multi-start strategy, homotopy, warm starts, NLP caches.
 
 ``solve_cycle(problem)`` returns a :class:`CycleResult` whose ``status`` is ``"ok"`` only when
-IPOPT reports success AND the scaled constraints hold within :data:`VIOLATION_TOL`; otherwise
-``"failed"`` with the reason (never a result presented as valid).
+IPOPT reports success AND the scaled constraints hold within
+:data:`fdm_awe.ocp.assemble.VIOLATION_TOL`; otherwise ``"failed"`` with the reason (never a
+result presented as valid; :mod:`fdm_awe.ocp.assemble`).
 
 Global strategy (a cold solve through the coarse mesh, the default of ``fdm-awe optimize``;
 :mod:`fdm_awe.ocp.strategy`, docs/design.md section 5): every start of
@@ -15,56 +16,39 @@ the winner by the same rule is polished (:data:`POLISH_OPTIONS`). ``result.strat
 every start's outcome. ``cold_check=True`` compares a warm-started solution with a cold solve
 of the same point and keeps the better.
 
-Local strategy (one start, or ``strategy="first"``): for each start solve the NLP; if
-it fails and the scenario has tether drag, retry by homotopy (tether drag factor 0 -> 0.5 -> 1,
-each step started from the previous solution); for the foldable glider, finally through the
-nominal recovery (aerodynamics morphed 0 -> 1); the foldable glider first tries an elastic solve
-(fictitious accelerations in the recovery dynamics, exact L1 penalty) whose result starts the
-strict problem only if every slack vanished (a feasibility aid, never a relaxation: a result
-always satisfies the strict problem). Starts are tried until ``n_starts`` succeeded;
-the best average power among them is kept. Warm: start from a previous result of the same NLP
-structure (e.g. the neighbouring wind speed of a sweep) with its multipliers; on failure fall
-back to the cold strategy.
+Local strategy (one start, or ``strategy="first"``; :mod:`fdm_awe.ocp.local`): each start
+solved directly, then by its continuations (elastic solve, morph of the folded recovery,
+tether-drag homotopy) until ``n_starts`` succeeded, the best kept; a warm start from a
+previous result first, with a cold fallback.
 
 Limits are iteration counts (per attempt and in total, deterministic; in the global strategy
 per start and per refinement); wall time is only a safety net. Built NLPs are cached per
 structure (scenario, configuration, geometry, bounds, mesh) in the process, so sweeps and
 repeated solves pay the build once, and on disk (:mod:`fdm_awe.ocp.nlpcache`), so a new
-process loads them instead of building them.
+process loads them instead of building them (:mod:`fdm_awe.ocp.build`).
 """
 
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
+from dataclasses import replace
 from typing import Any
 
-import numpy as np
-
-from ..definitions.aircraft import Glider, load_glider
+from ..definitions.aircraft import Glider
 from ..pointmass.model import wind_vector
-from .collocation import DEFAULT_MAX_CPU_S, DEFAULT_MAX_ITER, CycleNLP, RawSolution
+from .assemble import accept, failed_result, ok_result
+from .build import clear_cache, get_nlp, structure_key
 from .energy import WinchElectrics
-from .guess import LoopStart, default_starts, guess_from_result, loop_guess
-from . import nlpcache
-from .model import CycleModel
+from .guess import LoopStart
+from .local import MAX_ITER, MAX_ITER_TOTAL, SAFETY_WALL_S, WARM_OPTIONS, attempt_options, solve_local
 from .problem import CycleProblem, Mesh
 from .result import CycleResult
 from .strategy import (COLD_CHECK_W, REFINE, TIE_W, Outcome, auto_workers, family, outcome_record, refine_candidates,
                        run_tasks, select, strategy_starts)
 
-#: largest scaled constraint violation accepted as a solution
-VIOLATION_TOL = 1e-6
-
-#: IPOPT iterations per attempt (one NLP solve) and over all attempts of one ``solve_cycle``
-MAX_ITER = DEFAULT_MAX_ITER
-MAX_ITER_TOTAL = 3000
-#: wall-clock safety net [s] of one ``solve_cycle`` (the iteration budget is the primary limit)
-SAFETY_WALL_S = DEFAULT_MAX_CPU_S
-#: weight of the exact L1 penalty on the elastic slacks (per recovery interval, relative to the
-#: scaled objective) and the largest scaled slack counted as zero
-ELASTIC_PENALTY = 1000.0
-ELASTIC_SLACK_TOL = 1e-6
+#: the entry points of the optimiser (the NLP caches' are :mod:`fdm_awe.ocp.build`'s)
+__all__ = ["COARSE_MESH", "POLISH_OPTIONS", "STRATEGIES", "WARM_FALLBACKS", "clear_cache", "get_nlp", "solve_cycle",
+           "structure_key"]
 
 #: mesh of the first, cheap solve of a cold start; the target mesh is then solved from its
 #: interpolated solution (mesh continuation)
@@ -73,83 +57,13 @@ COARSE_MESH = Mesh(20, 10, 3)
 #: what ``solve_cycle`` tries after a failed warm start (see its ``warm_fallback``)
 WARM_FALLBACKS = ("all", "one", "none")
 
-_CACHE: "OrderedDict[tuple, CycleNLP]" = OrderedDict()
-
-#: built NLPs kept per process (least recently used dropped first); a sweep over design
-#: variants walks each variant's wind chain, so a few entries give every chain one build
-CACHE_SIZE = 8
-
-#: warm start: primal-dual restart with a small monotone barrier (measured at the default mesh,
-#: physical nominal 8 -> 8.25 / 8.5 m/s: 188 / 199 iterations where the adaptive barrier from
-#: mu 1e-4 took 211 and at +0.5 m/s lost the warm start; with the 1e-6 tolerances 198 / 196,
-#: because the neighbouring wind's optimum is another local optimum: -11.8 -> -5.9 W; paper
-#: foldable 3 -> 3.25 m/s: 20 iterations)
-WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.warm_start_bound_push": 1e-6,
-                "ipopt.warm_start_mult_bound_push": 1e-6, "ipopt.mu_init": 1e-5, "ipopt.mu_strategy": "monotone"}
-
-
 #: the final polish of the global strategy: a primal-dual warm start from the winner, as
-#: :data:`WARM_OPTIONS`, with a 100x tighter optimality and a 100x tighter constraint tolerance
+#: :data:`fdm_awe.ocp.local.WARM_OPTIONS`, with a 100x tighter optimality and a 100x tighter
+#: constraint tolerance
 POLISH_OPTIONS = {**WARM_OPTIONS, "ipopt.tol": 1e-8, "ipopt.constr_viol_tol": 1e-9}
 
 #: cold strategies of ``solve_cycle`` (see its ``strategy``)
 STRATEGIES = ("auto", "global", "first")
-
-
-def _attempt_options(max_iter: int, time_budget_s: float, ipopt_options: dict | None) -> dict[str, Any]:
-    """IPOPT options of every attempt of a call that differ from the NLP's defaults (each
-    distinct option set builds its own solver)."""
-    opts: dict[str, Any] = {}
-    if int(max_iter) != MAX_ITER:
-        opts["ipopt.max_iter"] = int(max_iter)
-    if float(time_budget_s) != SAFETY_WALL_S:
-        opts["ipopt.max_cpu_time"] = float(max(time_budget_s, 1.0))
-    opts.update(ipopt_options or {})
-    return opts
-
-
-def structure_key(problem: CycleProblem) -> tuple:
-    """Everything that shapes the NLP except the wind (a parameter)."""
-    return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
-            problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
-            problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile)
-
-
-def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
-            cache: bool = True, disk_cache: bool | None = None) -> tuple[CycleNLP, float]:
-    """The NLP for ``problem`` (built or from the caches) and the build time [s] spent now.
-
-    ``disk_cache`` (default: the same as ``cache``): look the NLP up in the on-disk cache of
-    :mod:`fdm_awe.ocp.nlpcache` before building it, and store a newly built one there.
-
-    The cache key is the problem's structure plus the glider and winch values (both frozen
-    dataclasses compared by value), so a custom glider variant is built once per process and
-    reused for every wind speed of its sweep chain.
-    """
-    if disk_cache is None:
-        disk_cache = cache
-    key = (structure_key(problem), glider, winch)
-    if cache and key in _CACHE:
-        _CACHE.move_to_end(key)
-        return _CACHE[key], 0.0
-    model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station(line=problem.line))
-    nlp = nlpcache.load(problem, model) if disk_cache else None
-    if nlp is None:
-        nlp = CycleNLP(problem, model)
-        if disk_cache:
-            s0 = nlp.solvers_build_s
-            nlpcache.save(nlp, background=True)  # generates the derivative functions (the first IPOPT instance)
-            nlp.build_s += nlp.solvers_build_s - s0  # counted once, as the build of this NLP
-            nlp.solvers_build_s = s0
-    if cache:
-        _CACHE[key] = nlp
-        while len(_CACHE) > CACHE_SIZE:
-            _CACHE.popitem(last=False)
-    return nlp, nlp.build_s
-
-
-def clear_cache() -> None:
-    _CACHE.clear()
 
 
 def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, starts: list[LoopStart] | None = None,
@@ -214,143 +128,33 @@ def solve_cycle(problem: CycleProblem, *, warm: CycleResult | None = None, start
     if strategy == "global" and warm is None and cold == "all":
         return _solve_global(problem, starts, coarse or None, limits, workers, polish)
     if coarse and warm is None:
-        from dataclasses import replace as _replace
-
-        first = solve_cycle(_replace(problem, mesh=coarse), starts=starts, n_starts=n_starts, glider=glider,
-                            winch=winch, ipopt_options=ipopt_options, cache=cache, coarse=None,
-                            time_budget_s=time_budget_s, max_iter=max_iter, max_iter_total=max_iter_total,
-                            cold=cold)
-        if first.ok:
-            res = solve_cycle(problem, warm=first, glider=glider, winch=winch, ipopt_options=ipopt_options,
-                              cache=cache, coarse=None,
-                              time_budget_s=time_budget_s, max_iter=max_iter,
-                              max_iter_total=max(max_iter_total - first.iterations, 1))
-            res.build_s += first.build_s
-            res.solve_s += first.solve_s
-            res.iterations += first.iterations
-            if res.ok:
-                res.start = f"{first.start}, refined from mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}"
-            return res
-        # the coarse mesh found no cycle: the target mesh is not tried cold (same starts, same
-        # strategy, many more variables); the reason names the coarse mesh
-        first.reason = f"mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}: {first.reason}"
-        first.problem, first.key = problem, structure_key(problem)
-        return first
+        return _solve_through_coarse(problem, coarse, starts, n_starts, cold, limits)
     nlp, nlp_build_s = get_nlp(problem, glider, winch, cache)
-    solvers_s0 = nlp.solvers_build_s
+    return solve_local(problem, nlp, nlp_build_s, warm=warm, starts=starts, n_starts=n_starts,
+                       warm_fallback=warm_fallback, cold=cold, ipopt_options=ipopt_options,
+                       time_budget_s=time_budget_s, max_iter=max_iter, max_iter_total=max_iter_total)
 
-    def built() -> float:
-        """Build time of this call [s]: the NLP (if not cached) and the IPOPT instances created."""
-        return nlp_build_s + nlp.solvers_build_s - solvers_s0
 
-    wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
-    total_s = 0.0
-    total_it = 0
-    reasons: list[str] = []
-    base_opts = _attempt_options(max_iter, time_budget_s, ipopt_options)
-
-    def run(w0: np.ndarray, k: int, drag: float, morph: float = 1.0, lam_x=None, lam_g=None, opts=None,
-            elastic: bool = False) -> RawSolution:
-        nonlocal total_s, total_it
-        params = nlp.params(wind, drag, k, morph, ELASTIC_PENALTY if elastic else 0.0)
-        if total_it >= max_iter_total or total_s > time_budget_s:
-            why = (f"iteration budget of {max_iter_total} used up" if total_it >= max_iter_total
-                   else f"wall-time safety net of {time_budget_s:g} s reached")
-            return RawSolution("failed", why, 0, 0.0, w0, np.zeros_like(w0), np.zeros(len(nlp.lbg)), math.nan, params)
-        o = dict(base_opts)
-        if opts:
-            o.update(opts)
-        r = nlp.solve(w0, params, lam_x, lam_g, o or None, elastic=elastic)
-        total_s += r.solve_s
-        total_it += r.iterations
-        return r
-
-    if warm is not None and warm.key == structure_key(problem) and warm.w is not None and len(warm.w) != nlp.nw:
-        warm = None  # a vector of another NLP layout (e.g. stored by an older version): start cold
-    if warm is not None and warm.ok and warm.key == structure_key(problem) and warm.w is not None:
-        r = run(warm.w, warm.k_wrap, 1.0, 1.0, warm.lam_x, warm.lam_g, WARM_OPTIONS)
-        if _accept(nlp, r):
-            return _finish(problem, nlp, warm.k_wrap, "warm start", r, built(), total_s, total_it)
-        reasons.append(f"warm start: {r.reason}")
-    elif warm is not None and warm.ok:
-        phases, k = guess_from_result(warm, nlp.model)
-        r = run(nlp.pack(phases), k, 1.0, 1.0)
-        if _accept(nlp, r):
-            return _finish(problem, nlp, k, "from a previous solution", r, built(), total_s, total_it)
-        reasons.append(f"from a previous solution: {r.reason}")
-    one_cold = warm is None and cold == "one"
-    if (reasons and warm_fallback != "all") or one_cold:
-        if warm_fallback == "one" or one_cold:
-            st = (starts or default_starts(problem))[0]
-            phases, k = loop_guess(problem, nlp.model, st, wind)
-            r = run(nlp.pack(phases), k, 1.0, 1.0)
-            if _accept(nlp, r):
-                return _finish(problem, nlp, k, st.label(), r, built(), total_s, total_it)
-            reasons.append(f"{st.label()} (one cold solve): {r.reason}")
-        return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
-                           "; ".join(reasons), total_s, built(), total_it, problem=problem, key=structure_key(problem))
-
-    foldable = problem.config == "foldable"
-    drag_homotopy = nlp.model.scenario.tether_drag
-
-    elastic_slack: list[float] = []
-
-    def attempt(w0: np.ndarray, k: int) -> RawSolution:
-        """Direct solve; on failure, for the foldable glider an elastic solve (the recovery's
-        dynamics slacks open, exact L1 penalty) and the strict problem from it if its slacks
-        vanished, then a continuation from the nominal recovery (aerodynamics morphed 0 -> 1 in
-        quarters); then (tether drag) a homotopy in the tether drag (0 -> 0.5 -> 1)."""
-        r = run(w0, k, 1.0, 1.0)
-        if _accept(nlp, r):
-            return r
-        if foldable:
-            re = run(w0, k, 1.0, 1.0, elastic=True)
-            if re.status == "ok":
-                elastic_slack.append(nlp.max_slack(re.w))
-                if elastic_slack[-1] <= ELASTIC_SLACK_TOL:
-                    r = run(re.w, k, 1.0, 1.0)
-                    if _accept(nlp, r):
-                        return r
-            w = w0
-            for morph in (0.0, 0.25, 0.5, 0.75, 1.0):
-                r = run(w, k, 1.0, morph)
-                if not _accept(nlp, r):
-                    break
-                w = r.w
-            if _accept(nlp, r):
-                return r
-        if drag_homotopy:
-            w = w0
-            for drag in (0.0, 0.5, 1.0):
-                r = run(w, k, drag, 1.0)
-                if not _accept(nlp, r):
-                    break
-                w = r.w
-        return r
-
-    best: tuple[float, RawSolution, int, str] | None = None
-    n_ok = 0
-    for st in starts or default_starts(problem):
-        phases, k = loop_guess(problem, nlp.model, st, wind)
-        r = attempt(nlp.pack(phases), k)
-        if _accept(nlp, r):
-            n_ok += 1
-            if best is None or r.objective < best[0]:
-                best = (r.objective, r, k, st.label())
-            if n_ok >= n_starts:
-                break
-        else:
-            reasons.append(f"{st.label()}: {r.reason}")
-    if best is None:
-        reason = "; ".join(reasons) or "no start converged"
-        if elastic_slack and min(elastic_slack) > ELASTIC_SLACK_TOL:
-            reason = (f"no feasible cycle found: the elastic feasibility solves end with a fictitious acceleration "
-                      f"of {min(elastic_slack):.3g} (scaled) left in the folded recovery (locally infeasible; README: "
-                      f"folding, line drag and T <= T_avail(V)); {reason}")
-        return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed",
-                           reason, total_s, built(), total_it, problem=problem, key=structure_key(problem))
-    _, r, k, label = best
-    return _finish(problem, nlp, k, label, r, built(), total_s, total_it)
+def _solve_through_coarse(problem: CycleProblem, coarse: Mesh, starts: list[LoopStart] | None, n_starts: int,
+                          cold: str, limits: dict[str, Any]) -> CycleResult:
+    """Mesh continuation of the local strategy: its solve on the ``coarse`` mesh, then the target
+    mesh started from that solution (interpolated) with what is left of the iteration budget."""
+    first = solve_cycle(replace(problem, mesh=coarse), starts=starts, n_starts=n_starts, coarse=None, cold=cold,
+                        **limits)
+    if first.ok:
+        res = solve_cycle(problem, warm=first, coarse=None,
+                          **{**limits, "max_iter_total": max(limits["max_iter_total"] - first.iterations, 1)})
+        res.build_s += first.build_s
+        res.solve_s += first.solve_s
+        res.iterations += first.iterations
+        if res.ok:
+            res.start = f"{first.start}, refined from mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}"
+        return res
+    # the coarse mesh found no cycle: the target mesh is not tried cold (same starts, same
+    # strategy, many more variables); the reason names the coarse mesh
+    first.reason = f"mesh {coarse.n_gen}/{coarse.n_rec}/{coarse.degree}: {first.reason}"
+    first.problem, first.key = problem, structure_key(problem)
+    return first
 
 
 def _mesh_name(mesh: Mesh) -> str:
@@ -364,7 +168,7 @@ def _prebuild(problem: CycleProblem, limits: dict[str, Any], options: dict | Non
         return 0.0
     nlp, b = get_nlp(problem, limits["glider"], limits["winch"])
     s0 = nlp.solvers_build_s
-    opts = options if options is not None else _attempt_options(limits["max_iter"], limits["time_budget_s"],
+    opts = options if options is not None else attempt_options(limits["max_iter"], limits["time_budget_s"],
                                                                limits["ipopt_options"])
     nlp._solver(opts or None)
     return b + nlp.solvers_build_s - s0
@@ -394,11 +198,9 @@ def _solve_global(problem: CycleProblem, starts: list[LoopStart] | None, coarse:
     :func:`fdm_awe.ocp.strategy.refine_candidates`, pick by :func:`fdm_awe.ocp.strategy.select`,
     polish. Each start and each refinement has its
     own iteration budget (``max_iter_total``), so no outcome depends on another's."""
-    from dataclasses import replace as _replace
-
     starts = list(starts) if starts else strategy_starts(problem)
     labels = [f"{family(st)}: {st.label()}" for st in starts]
-    explore = _replace(problem, mesh=coarse) if coarse else problem
+    explore = replace(problem, mesh=coarse) if coarse else problem
     n_workers = auto_workers(len(starts)) if workers is None else max(1, int(workers))
     build_s = _prebuild(explore, limits) if n_workers > 1 else 0.0
     explored = run_tasks(_explore_task, [(explore, st, limits) for st in starts], n_workers)
@@ -411,8 +213,7 @@ def _solve_global(problem: CycleProblem, starts: list[LoopStart] | None, coarse:
     ranked = select(outcomes)
 
     def failed(reason: str) -> CycleResult:
-        res = CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "failed", reason,
-                          solve_s, build_s, iterations, problem=problem, key=structure_key(problem))
+        res = failed_result(problem, reason, solve_s, build_s, iterations)
         res.strategy = record
         return res
 
@@ -462,15 +263,15 @@ def _polish(problem: CycleProblem, best: CycleResult, limits: dict[str, Any]) ->
     s0 = nlp.solvers_build_s
     wind = wind_vector(problem.wind_speed, problem.wind_from_deg)[:2]
     params = nlp.params(wind, 1.0, best.k_wrap, 1.0)
-    opts = {**_attempt_options(limits["max_iter"], limits["time_budget_s"], limits["ipopt_options"]), **POLISH_OPTIONS}
+    opts = {**attempt_options(limits["max_iter"], limits["time_budget_s"], limits["ipopt_options"]), **POLISH_OPTIONS}
     r = nlp.solve(best.w, params, best.lam_x, best.lam_g, opts)
     built = b + nlp.solvers_build_s - s0
-    info: dict[str, Any] = {"status": "ok" if _accept(nlp, r) else "failed", "iterations": int(r.iterations),
+    info: dict[str, Any] = {"status": "ok" if accept(nlp, r) else "failed", "iterations": int(r.iterations),
                             "solve_s": round(r.solve_s, 4), "P_before_W": round(best.P_avg_W, 6)}
     if info["status"] != "ok":
         info["reason"] = r.reason
         return best, info, built
-    res = _finish(problem, nlp, best.k_wrap, best.start + ", polished", r, 0.0, 0.0, 0)
+    res = ok_result(problem, nlp, best.k_wrap, best.start + ", polished", r, 0.0, 0.0, 0)
     info["P_after_W"] = round(res.P_avg_W, 6)
     return res, info, built
 
@@ -503,65 +304,3 @@ def _with_cold_check(problem: CycleProblem, warm: CycleResult, starts: list[Loop
     keep.solve_s += other.solve_s
     keep.build_s += other.build_s
     return keep
-
-
-def _accept(nlp: CycleNLP, r: RawSolution | None) -> bool:
-    """IPOPT success, finite objective and scaled constraints within :data:`VIOLATION_TOL`."""
-    if r is None or r.status != "ok":
-        return False
-    viol, where = nlp.constraint_violation(r.w, r.params)
-    if not (viol <= VIOLATION_TOL) or not math.isfinite(r.objective):
-        r.status, r.reason = "failed", f"constraint {where} violated by {viol:.2e} after '{r.reason}'"
-        return False
-    return True
-
-
-def _finish(problem: CycleProblem, nlp: CycleNLP, k: int, label: str, r: RawSolution, build_s: float,
-            total_s: float, total_it: int) -> CycleResult:
-    en = nlp.energies(r.w, r.params)
-    viol, _ = nlp.constraint_violation(r.w, r.params)
-    phases = nlp.unpack(r.w)
-    res = CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "ok", r.reason,
-                      total_s, build_s, total_it, en["T1_s"], en["T2_s"], en["E_generated_J"], en["E_thrust_J"],
-                      en["E_reel_in_J"], k, label, viol, trajectory_columns(nlp, phases, r.params), r.w, r.lam_x,
-                      r.lam_g, structure_key(problem), phases, problem=problem,
-                      fold_time_s=nlp.model.fold_time, motor_off=nlp.model.motor_off)
-    return res
-
-
-def trajectory_columns(nlp: CycleNLP, phases: list[dict[str, Any]], params: np.ndarray) -> dict[str, np.ndarray]:
-    """Reference-trajectory columns (see :mod:`fdm_awe.ocp.result`) from the unpacked phases."""
-    m = nlp.model
-    d = nlp.d
-    wind = (float(params[0]), float(params[1]))
-    rows: dict[str, list[float]] = {k: [] for k in ("t", "phase", "x", "y", "z", "V", "gamma", "psi", "alpha", "phi", "T",
-                                                    "tension", "tether_length", "reel_speed", "fold", "p_generated_W",
-                                                    "p_thrust_W", "p_reel_in_W", "motor_on", "boost_duty")}
-    t_off = 0.0
-    for ip, ph in enumerate(phases):
-        X, U, t = ph["X"], ph["U"], ph["t"]
-        block = m.phase(ip)
-        for q in range(len(t)):
-            kint = min(q // d, len(U) - 1)
-            u = U[kint]
-            out = block(list(X[q]), list(u), wind, 1.0)
-            rows["t"].append(t_off + t[q])
-            rows["phase"].append(ip)
-            for i, s in enumerate(("x", "y", "z", "V", "gamma", "psi")):
-                rows[s].append(X[q, i])
-            rows["alpha"].append(u[0])
-            rows["phi"].append(u[1])
-            rows["T"].append(float(m.mean_thrust(ip, u)))  # s T_on in the motor-off mode
-            rows["tension"].append(float(out["G"]))
-            rows["tether_length"].append(float(out["l"]))
-            rows["reel_speed"].append(float(out["v_reel"]))
-            rows["fold"].append(float(ph["fold"][q]))
-            rows["p_generated_W"].append(float(out["P_gen"]))
-            rows["p_thrust_W"].append(float(out["P_thr"]))
-            rows["p_reel_in_W"].append(float(out["P_rw"]))
-            on = m.on_fraction(ip, u)  # None: no motor-off mode, the motor runs throughout
-            rows["motor_on"].append(1.0 if on is None else float(on))
-            duty = m.boost_duty(u) if ip == 0 else None  # None: the passive rectifier (recovery: motor mode)
-            rows["boost_duty"].append(0.0 if duty is None else float(duty))
-        t_off += ph["T"]
-    return {k: np.asarray(v, float) for k, v in rows.items()}

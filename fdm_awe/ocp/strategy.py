@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 import multiprocessing
 import os
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
 
@@ -167,8 +168,6 @@ def run_tasks(fn: Callable[..., Any], tasks: Sequence[tuple], workers: int | Non
     n = auto_workers(len(tasks)) if workers is None else max(1, min(int(workers), len(tasks)))
     if n <= 1 or "fork" not in multiprocessing.get_all_start_methods():
         return [fn(*t) for t in tasks]
-    from concurrent.futures import ProcessPoolExecutor
-
     with ProcessPoolExecutor(max_workers=n, mp_context=multiprocessing.get_context("fork")) as pool:
         futures = [pool.submit(fn, *t) for t in tasks]
         return [f.result() for f in futures]

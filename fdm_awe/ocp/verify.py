@@ -31,6 +31,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..definitions.aircraft import load_glider
+from ..pointmass.model import wind_vector
 from .energy import WinchElectrics
 from .model import CycleModel
 from .result import CycleResult
@@ -103,8 +104,6 @@ def verify(result: CycleResult, nlp: Any = None, model: CycleModel | None = None
     pr = result.problem
     if model is None:
         model = nlp.model if nlp is not None else CycleModel.build(pr, load_glider(), WinchElectrics.from_ground_station(line=pr.line))
-    from ..pointmass.model import wind_vector
-
     wind = wind_vector(result.wind_mps, result.wind_from_deg)[:2]
     d = pr.mesh.degree
     names = ("x", "y", "z", "V", "gamma", "psi", "l")

@@ -1,0 +1,126 @@
+"""Where the lumped-mass line lives in the ground station's arrays, and how it is read.
+
+The line (:mod:`.lumped`, ``tether="lumped:N"``) keeps its state and its energy ledger in the
+ground station's state array after the drivetrain's (from :data:`OFF`): a head (:data:`HEAD`,
+indices ``R_*``), the ledger (:data:`FIELDS`, indices ``L_*``, from :data:`LED`), then from
+:data:`NODES` the node positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3 m, m/s, N NED and
+the segment tensions N. Its constants follow :data:`.substeps.STATION_CONSTANTS` in the
+constants array (:data:`CONSTANTS`, indices ``C_*``; :func:`line_constants`).
+
+Here too: the spec of the line model (:func:`parse_tether`), the state array's length
+(:func:`state_size`) and views of the state (:func:`nodes`, :func:`velocities`,
+:func:`tensions`, :class:`LineLedger`). The indices are compiled into the line's step as
+constants (its on-disk cache is tied to this file).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from .ledger import FIELDS as _DT_LEDGER, Balance
+from .substeps import STATE as _DT_STATE, STATION_CONSTANTS
+
+#: tether models a ground station takes: ``straight`` or ``lumped:N``
+TETHER_MODELS = ("straight", "lumped:N")
+#: allowed segment counts
+N_MIN, N_MAX = 2, 200
+#: inner-step fraction of the leapfrog stability limit 2 / omega_max
+CFL = 0.8
+#: axial damping ratio of a segment in flight (of its own k-m mode)
+ZETA = 0.05
+
+#: offset of the line's block in the ground station's state array
+OFF = len(_DT_STATE) + len(_DT_LEDGER)
+#: head of the line's block: initialised flag, segments, mean glider-end tension of the last
+#: step N, largest segment tension of the last step N, inner steps per drivetrain sub-step,
+#: force-on-glider terms of the last step (drag part, weight part, N NED)
+HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z")
+#: the line's ledger (J; :mod:`.lumped` explains each term)
+INPUTS = ("hook_work", "mass_inflow")
+LOSSES = ("payout_work", "drag", "damping", "break_release")
+STORES = ("kinetic", "elastic", "potential")
+INTERFACE = ("drum_handover",)
+FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
+(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ) = range(OFF, OFF + len(HEAD))
+LED = OFF + len(HEAD)
+(L_HOOK, L_MASS, L_PAYOUT, L_DRAG, L_DAMP, L_BREAK, L_HAND, L_S0K, L_S0E, L_S0P, L_SK, L_SE, L_SP) = range(
+    LED, LED + len(FIELDS))
+#: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
+NODES = LED + len(FIELDS)
+#: constants after STATION_CONSTANTS
+CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
+             # the wind field along the line (:func:`.lumped.wind_at`): profile numbers of
+             # fdm_awe.wind.shear_factor (code 0: the station's uniform wind), the wind at the
+             # profile's reference height, and the gust of the moment (turbulence, NED)
+             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
+(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
+    len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
+
+
+def parse_tether(spec: object) -> int:
+    """0 for ``"straight"``, N for ``"lumped:N"`` (N segments, 2 .. 200); else a one-line
+    :class:`~fdm_awe.errors.InputError` naming ``--tether`` and the allowed values."""
+    if spec == "straight":
+        return 0
+    if isinstance(spec, str) and spec.startswith("lumped:"):
+        tail = spec[len("lumped:"):]
+        if tail.isdigit() and N_MIN <= int(tail) <= N_MAX:
+            return int(tail)
+    raise InputError(f"--tether {spec!r} not allowed (allowed: straight, lumped:N with N {N_MIN} .. {N_MAX})")
+
+
+def state_size(n: int) -> int:
+    """Length of the ground station's state array with an ``n``-segment line."""
+    return NODES + 9 * (n + 1) + n
+
+
+def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
+                   cfl: float = CFL) -> list[float]:
+    """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
+    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
+    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
+
+
+def nodes(s: np.ndarray, n: int) -> np.ndarray:
+    """Node positions (n+1, 3) m NED (a copy)."""
+    return s[NODES:NODES + 3 * (n + 1)].reshape(n + 1, 3).copy()
+
+
+def velocities(s: np.ndarray, n: int) -> np.ndarray:
+    """Node velocities (n+1, 3) m/s NED (a copy; the hook's is not kept)."""
+    a = NODES + 3 * (n + 1)
+    return s[a:a + 3 * (n + 1)].reshape(n + 1, 3).copy()
+
+
+def tensions(s: np.ndarray, n: int) -> np.ndarray:
+    """Segment tensions (n,) N, winch end first (a copy)."""
+    a = NODES + 9 * (n + 1)
+    return s[a:a + n].copy()
+
+
+class LineLedger(Balance):
+    """The line's energy ledger (J) as a view of the ground station's state array."""
+
+    _INPUTS, _LOSSES, _STORES, _INTERFACE = INPUTS, LOSSES, STORES, INTERFACE
+
+    def __init__(self, s: np.ndarray) -> None:
+        self._s = s
+
+    def __getattr__(self, name: str) -> float:
+        if name in FIELDS:
+            return float(self._s[LED + FIELDS.index(name)])
+        raise AttributeError(name)
+
+    def clear(self) -> None:
+        for i, f in enumerate(FIELDS):
+            if not f.startswith("stored"):
+                self._s[LED + i] = 0.0
+        self._s[L_S0K], self._s[L_S0E], self._s[L_S0P] = self._s[L_SK], self._s[L_SE], self._s[L_SP]
+
+    def as_dict(self) -> dict[str, float]:
+        """The balance's terms (:meth:`Balance.as_dict`) and ``coupling``, the drum's one-sub-step
+        lag: the elastic energy the line handed over minus what the drum booked, J."""
+        d = super().as_dict()
+        d["coupling"] = self.payout_work - self.drum_handover
+        return d
