@@ -33,6 +33,58 @@ RULES = {
 }
 
 
+#: The layers of docs/architecture.md, bottom up: a unit imports only units of a LOWER layer or
+#: its own (units are the sub-packages and the top-level modules of fdm_awe; the package's own
+#: ``__init__`` (ROOT, version) sits below everything).
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("errors", "units"),
+    ("fileio", "jitcache", "progress"),
+    ("definitions",),
+    ("pointmass", "sixdof"),
+    ("wind",),
+    ("groundstation",),
+    ("trajectory",),
+    ("ocp",),
+    ("autopilot",),
+    ("sim",),
+    ("mavlink", "recording", "sweep"),
+    ("commands",),
+    ("cli",),
+    ("__main__",),
+)
+RANK = {unit: i for i, layer in enumerate(LAYERS) for unit in layer}
+
+
+def _unit(module: str) -> str:
+    """``fdm_awe.X...`` -> ``X`` (the unit), ``fdm_awe`` -> ``""`` (the package's own __init__)."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else ""
+
+
+def test_every_unit_has_a_layer() -> None:
+    units = {p.stem if p.is_file() else p.name for p in PKG.iterdir()
+             if (p.suffix == ".py" and p.stem != "__init__") or (p.is_dir() and (p / "__init__.py").exists())}
+    assert units == set(RANK), (sorted(units - set(RANK)), sorted(set(RANK) - units))
+
+
+def test_imports_point_down_the_layers() -> None:
+    """Every import statement of the package (also those inside functions) names a module of its
+    own unit, of a lower layer, or the package's own __init__: no cycles between units."""
+    bad = []
+    for path in sorted(PKG.rglob("*.py")):
+        module = ".".join(("fdm_awe", *path.relative_to(PKG).with_suffix("").parts)).removesuffix(".__init__")
+        own = _unit(module)
+        for name in _imports(module):
+            if not name.startswith("fdm_awe"):
+                continue
+            unit = _unit(name)
+            if unit in ("", own) or unit not in RANK:  # the package itself; a name imported from it
+                continue
+            if RANK[unit] >= RANK[own]:
+                bad.append(f"{module} imports {name} (layer {RANK[unit]} >= {RANK[own]})")
+    assert not bad, "\n".join(bad)
+
+
 def _modules(prefix: str) -> list[str]:
     """Module names of the package (or module) ``prefix``."""
     rel = Path(*prefix.split(".")[1:])

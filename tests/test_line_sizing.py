@@ -13,8 +13,9 @@ import pytest
 from fdm_awe import ROOT
 from fdm_awe.errors import DefinitionError, InputError
 from fdm_awe.groundstation import load_ground_station
+from fdm_awe.ocp.problem import working_lengths
 from fdm_awe.groundstation.line import (DEFAULT_LINE, LINES, N_PER_TEX, TEX, LineMaterial, LineSizing, check_line, line_summary,
-                                        size_line, working_lengths)
+                                        size_line)
 
 XML = ROOT / "tether" / "ground_station.xml"
 
@@ -102,7 +103,7 @@ def test_summary_gives_the_equivalent_line_drag():
     assert s150.drag_area_m2[0] == pytest.approx(1.1 * 0.00072 * 150.0 / 4.0, rel=1e-12)
     # default lengths: the optimiser's start and end of generation
     assert working_lengths() == (200.0, 250.0)
-    sp, ss = line_summary(paper), line_summary(load_ground_station())
+    sp, ss = line_summary(paper, working_lengths()), line_summary(load_ground_station(), working_lengths())
     assert sp.lengths_m == ss.lengths_m == (200.0, 250.0)
     # paper line: 1.1 x 0.72 mm x (200, 250) m / 0.605 m2 = 0.2618, 0.3273
     assert sp.cd_t == pytest.approx((0.261818, 0.327273), rel=1e-5)
@@ -121,7 +122,7 @@ def test_summary_gives_the_equivalent_line_drag():
         with pytest.raises(InputError, match="line length"):
             line_summary(paper, lengths=bad)
     with pytest.raises(InputError, match="wing area"):
-        line_summary(paper, wing_area=-1.0)
+        line_summary(paper, (150.0,), wing_area=-1.0)
 
 
 @pytest.mark.parametrize("bad", ["foo", "", "Paper", None, 3, ["sized"]])

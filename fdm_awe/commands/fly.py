@@ -103,7 +103,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="line model of the ground station: straight (default: the straight elastic line with the "
                         "glider carrying 1/4 of its drag and 1/2 of its weight) or lumped:N (N = 2..200 elastic "
                         "segments with mass, weight and drag; the recording shows its nodes and tensions)")
-    from ..ocp.problem import FLYABLE_GENERATORS
+    from ..trajectory.schema import FLYABLE_GENERATORS
 
     add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ",
                          generators=FLYABLE_GENERATORS)

@@ -23,7 +23,7 @@ def ground_station_info(wing_area: float) -> dict[str, object]:
     for the JSON (``ground_station``, ``lines`` by name, ``default_line`` per scenario)."""
     from ..groundstation import load_ground_station
     from ..groundstation.line import DEFAULT_LINE, LINES, line_summary
-    from ..ocp.problem import PLANT_DEFAULTS
+    from ..ocp.problem import PLANT_DEFAULTS, working_lengths
 
     gs = load_ground_station()
     w, m, c = gs.winch, gs.machine, gs.converter
@@ -32,7 +32,7 @@ def ground_station_info(wing_area: float) -> dict[str, object]:
     defaults = {scn: str(d["line"]) for scn, d in PLANT_DEFAULTS.items()}
     lines: dict[str, object] = {}
     for name in LINES:
-        ls = line_summary(load_ground_station(line=name), wing_area=wing_area)
+        ls = line_summary(load_ground_station(line=name), lengths=working_lengths(), wing_area=wing_area)
         users = [scn for scn, n in defaults.items() if n == name]
         print(ls.text() + (f"  [default of the {' and '.join(users)} scenario]" if users else ""))
         lines[name] = ls.as_dict()

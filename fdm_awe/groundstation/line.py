@@ -28,7 +28,7 @@ SI throughout (kg/m, m, N, N m/kg for the specific strengths: 1 N/tex = 1e6 N m/
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Sequence
 
 from ..definitions.aircraft import load_airframe
@@ -105,15 +105,6 @@ def size_line(material: LineMaterial, sizing: LineSizing) -> LineSection:
     )
 
 
-def working_lengths() -> tuple[float, float]:
-    """The optimiser's shortest and longest working line, m: the start distance ``d0`` and the
-    end of generation ``d_tf`` of :class:`fdm_awe.ocp.problem.CycleProblem` (its defaults)."""
-    from ..ocp.problem import CycleProblem  # here, not at the top: ocp.problem imports this module
-
-    defaults = {f.name: f.default for f in fields(CycleProblem)}
-    return float(defaults["d0"]), float(defaults["d_tf"])
-
-
 @dataclass(frozen=True)
 class LineSummary:
     """A line as ``fdm-awe info`` shows it (SI). Drag numbers per entry of ``lengths_m``."""
@@ -153,16 +144,17 @@ class LineSummary:
                 f"C_D_perp {self.cd_perpendicular:g}; on S {self.wing_area:g} m2 at {drag}")
 
 
-def line_summary(params: "GroundStationParams | TetherParams", lengths: Sequence[float] | None = None,
+def line_summary(params: "GroundStationParams | TetherParams", lengths: Sequence[float],
                  wing_area: float | None = None) -> LineSummary:
     """Sizing, section and equivalent drag of the line in ``params`` (ground-station or tether
     parameters).
 
-    ``lengths`` m (default :func:`working_lengths`: the optimiser's d0 and d_tf);
+    ``lengths`` m (``fdm-awe info``: :func:`fdm_awe.ocp.problem.working_lengths`, the optimiser's
+    d0 and d_tf);
     ``wing_area`` m^2 (default: S of the unfolded glider's aircraft definition).
     """
     t = getattr(params, "tether", params)
-    ls = tuple(float(v) for v in (working_lengths() if lengths is None else lengths))
+    ls = tuple(float(v) for v in lengths)
     for v in ls:
         if not (math.isfinite(v) and v > 0.0):
             raise InputError(f"line length {v!r} m out of range (allowed > 0)")

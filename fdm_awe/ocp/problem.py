@@ -10,30 +10,17 @@ Units: SI throughout (m, s, m/s, N, W, rad) except ``elevation0_deg``, ``azimuth
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 from ..definitions.aircraft import FOLD_TIME_MAX_S
 from ..errors import InputError
 from ..groundstation.line import check_line
 from ..groundstation.tether import check_tether_drag_scale
+from ..trajectory.schema import CONFIGS, GENERATORS, PROPELLERS, SCENARIOS
 from ..wind import WindProfile
 
-SCENARIOS = ("physical", "paper")
-CONFIGS = ("nominal", "foldable")
-#: propeller models of the physical scenario: the 6-DOF glider's own drive from the engine files
-#: (fdm_awe.pointmass.propeller.power_engine, its default) or momentum theory + efficiencies
-PROPELLERS = ("momentum", "engine")
-#: generator loads of the physical scenario's generation phase (docs/design.md section 6):
-#: ``passive``, the passive rectifier into the load resistor (T2 off, the paper's choice; the
-#: tension follows the reel speed, about 8 N per m/s); ``boost``, the T2 duty of the asymmetric
-#: half-bridge (eq. 18) as a bounded control, which scales the load the armature sees to
-#: ``(1 - d2)^2 R_L`` and so chooses the tension at a given speed, paying its copper and device
-#: losses; ``ideal``, a loss-free current-controlled converter that holds any tension within the
-#: bounds (the machine's copper, device and friction losses kept): the physical counterpart of the
-#: paper's free tension, an upper bound the half-bridge cannot reach, so it cannot be flown
-GENERATORS = ("passive", "boost", "ideal")
-#: generator loads a flight's ground station can realise
-FLYABLE_GENERATORS = ("passive", "boost")
+# the cycle's vocabularies (scenario, configuration, propeller model, generator load) are the
+# reference file's metadata values, defined with its schema
 
 #: What each scenario optimises when :class:`CycleProblem` is given no ``line``, ``propeller``
 #: or ``line_weight``: the ``physical`` scenario models the plant the 6-DOF glider flies (the
@@ -302,3 +289,10 @@ class CycleProblem:
 
     def with_wind(self, speed: float, from_deg: float | None = None) -> "CycleProblem":
         return replace(self, wind_speed=speed, wind_from_deg=self.wind_from_deg if from_deg is None else from_deg)
+
+
+def working_lengths() -> tuple[float, float]:
+    """The optimiser's shortest and longest working line, m: the start distance ``d0`` and the
+    end of generation ``d_tf`` of :class:`CycleProblem` (its defaults)."""
+    defaults = {f.name: f.default for f in fields(CycleProblem)}
+    return float(defaults["d0"]), float(defaults["d_tf"])

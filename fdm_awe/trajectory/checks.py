@@ -13,8 +13,8 @@ import numpy as np
 from ..errors import InputError
 from ..wind import WindProfile
 from .reference import ReferenceTrajectory
-from .schema import (COLUMN_RANGES, COLUMN_UNITS, FORMAT, PHASE_MAX_S, PHASE_NAMES, RECOVERY_AIRFRAME, SLACK, TIME_RTOL,
-                     VERSION, WIND_MAX)
+from .schema import (COLUMN_RANGES, COLUMN_UNITS, CONFIGS, FORMAT, GENERATORS, PHASE_MAX_S, PHASE_NAMES, PROPELLERS,
+                     RECOVERY_AIRFRAME, SCENARIOS, SLACK, TIME_RTOL, VERSION, WIND_MAX)
 
 
 # Some checks take their allowed values from the optimiser's, the ground station's and the
@@ -185,7 +185,6 @@ def _check_metadata(src: str, md: dict[str, Any]) -> dict[str, Any]:
 
 def _check_cycle_kind(src: str, md: dict[str, Any]) -> tuple[str, str]:
     """Scenario and configuration (returned), status, recovery airframe and phase names."""
-    from ..ocp.problem import CONFIGS, SCENARIOS
 
     scenario = _meta_choice(src, md, "scenario", SCENARIOS)
     config = _meta_choice(src, md, "config", CONFIGS)
@@ -223,7 +222,6 @@ def _check_plant(src: str, md: dict[str, Any], scenario: str, config: str) -> No
     from ..definitions.aircraft import FOLD_TIME_MAX_S
     from ..groundstation.line import LINES
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
-    from ..ocp.problem import GENERATORS, PROPELLERS
 
     scale = _meta_number(src, md, "tether_drag_scale", 0.0, TETHER_DRAG_SCALE_MAX)
     md["tether_drag_scale"] = 1.0 if scale is None else scale  # files written before it existed: the defined line
@@ -325,7 +323,7 @@ def check_reference(ref: ReferenceTrajectory) -> ReferenceTrajectory:
         i = int(bad[0]) + 1
         raise InputError(f"{src}: columns.t[{i}]: {t[i]:.9g} s after {t[i - 1]:.9g} s; allowed: strictly increasing "
                          f"times (one repeated time at the generation/recovery switch)")
-    T1, T2, period = md["T1_s"], md["T2_s"], md["period_s"]
+    T1, period = md["T1_s"], md["period_s"]
     tol = TIME_RTOL * max(1.0, period)
     if abs(t[0]) > tol:
         raise InputError(f"{src}: columns.t[0]: {t[0]:.9g} s, allowed 0 (the cycle starts at t = 0)")

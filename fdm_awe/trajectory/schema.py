@@ -1,5 +1,6 @@
 """What a reference-trajectory file holds and allows: its format name and version, the phases of
-a cycle, the columns with their units and allowed ranges, and the metadata's limits (the file
+a cycle, the columns with their units and allowed ranges, the metadata's vocabularies (scenario,
+configuration, propeller model, generator load; the optimiser's options use the same) and limits (the file
 format is described in :mod:`fdm_awe.trajectory`)."""
 
 from __future__ import annotations
@@ -10,6 +11,23 @@ import math
 PHASE_NAMES = ("generation", "recovery")
 #: Phase codes (column ``phase``)
 GENERATION, RECOVERY = 0, 1
+
+SCENARIOS = ("physical", "paper")
+CONFIGS = ("nominal", "foldable")
+#: propeller models of the physical scenario: the 6-DOF glider's own drive from the engine files
+#: (fdm_awe.pointmass.propeller.power_engine, its default) or momentum theory + efficiencies
+PROPELLERS = ("momentum", "engine")
+#: generator loads of the physical scenario's generation phase (docs/design.md section 6):
+#: ``passive``, the passive rectifier into the load resistor (T2 off, the paper's choice; the
+#: tension follows the reel speed, about 8 N per m/s); ``boost``, the T2 duty of the asymmetric
+#: half-bridge (eq. 18) as a bounded control, which scales the load the armature sees to
+#: ``(1 - d2)^2 R_L`` and so chooses the tension at a given speed, paying its copper and device
+#: losses; ``ideal``, a loss-free current-controlled converter that holds any tension within the
+#: bounds (the machine's copper, device and friction losses kept): the physical counterpart of the
+#: paper's free tension, an upper bound the half-bridge cannot reach, so it cannot be flown
+GENERATORS = ("passive", "boost", "ideal")
+#: generator loads a flight's ground station can realise
+FLYABLE_GENERATORS = ("passive", "boost")
 
 FORMAT = "fdm-awe-reference-trajectory"
 VERSION = 1
