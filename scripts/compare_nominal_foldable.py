@@ -29,7 +29,7 @@ CONFIGS = ("nominal", "foldable")
 def optimise_pair(scenario: str, wind: float, out: Path, quiet: bool | None) -> dict[str, Any]:
     """config -> CycleResult; writes reference_<config>.json for each ``ok`` result."""
     from fdm_awe.ocp.problem import CycleProblem
-    from fdm_awe.ocp.result import write_reference
+    from fdm_awe.trajectory import write_reference
     from fdm_awe.ocp.solve import solve_cycle
     from fdm_awe.progress import activity
 

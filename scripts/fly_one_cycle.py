@@ -49,7 +49,7 @@ def main(argv: list[str] | None = None) -> int:
         ref_file = Path(args.reference)
     else:
         from fdm_awe.ocp.problem import CycleProblem
-        from fdm_awe.ocp.result import write_reference
+        from fdm_awe.trajectory import write_reference
         from fdm_awe.ocp.solve import solve_cycle
 
         problem = CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind)

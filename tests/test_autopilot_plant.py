@@ -21,7 +21,8 @@ from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.errors import InputError
 from fdm_awe.sim.flight import fly
 from fdm_awe.ocp.model import fold_fraction
-from fdm_awe.ocp.result import COLUMN_UNITS, CycleResult, check_reference_document, read_reference, write_reference
+from fdm_awe.ocp.result import CycleResult
+from fdm_awe.trajectory import COLUMN_UNITS, check_reference_document, read_reference, write_reference
 from fdm_awe.sixdof import JSBSimGlider
 
 NOMINAL = DATA / "ref_physical_nominal_8mps.json"

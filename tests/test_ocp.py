@@ -17,7 +17,7 @@ from fdm_awe.errors import InputError
 from fdm_awe.ocp.energy import (WinchElectrics, design_reference_generator, generator_load_power, generator_tension,
                                 motor_supply_power)
 from fdm_awe.ocp.problem import LEGACY_PHYSICAL_PLANT, Bounds, CycleProblem, Mesh
-from fdm_awe.ocp.result import read_reference, write_reference
+from fdm_awe.trajectory import read_reference, write_reference
 from fdm_awe.ocp.solve import get_nlp, solve_cycle
 from fdm_awe.ocp.verify import ENERGY_TOL_REL, POSITION_TOL_REL, verify
 

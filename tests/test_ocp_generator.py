@@ -24,7 +24,7 @@ from fdm_awe.ocp.energy import (WinchElectrics, generator_load_power, generator_
                                 ideal_generator_power)
 from fdm_awe.ocp.model import BOOST_DUTY, CycleModel
 from fdm_awe.ocp.problem import CycleProblem, Mesh
-from fdm_awe.ocp.result import check_reference, write_reference, read_reference
+from fdm_awe.trajectory import check_reference, write_reference, read_reference
 from fdm_awe.ocp.solve import solve_cycle
 
 COARSE = Mesh(20, 12, 3)

@@ -345,7 +345,8 @@ def test_flight_recording_finish_uses_the_report(flight, circle, tmp_path):
 
 def test_cycle_outputs_from_a_cycle_result(tmp_path):
     """A CycleResult (as solve_cycle returns it) is recorded directly; a failed one writes nothing."""
-    from fdm_awe.ocp.result import CycleResult, read_reference
+    from fdm_awe.ocp.result import CycleResult
+    from fdm_awe.trajectory import read_reference
     from fdm_awe.recording import cycle_outputs
 
     tr = read_reference(_reference_file(tmp_path / "ref.json"))

@@ -16,7 +16,8 @@ import pytest
 
 from fdm_awe.autopilot.tracking import TrackingReference
 from fdm_awe.errors import InputError
-from fdm_awe.ocp.result import COLUMN_UNITS, CycleResult, read_reference, write_reference
+from fdm_awe.ocp.result import CycleResult
+from fdm_awe.trajectory import COLUMN_UNITS, read_reference, write_reference
 
 DATA = Path(__file__).parent / "data"
 SOURCE = DATA / "ref_physical_foldable_8mps_halfline.json"

@@ -147,7 +147,7 @@ def test_shear_above_the_reference_height_gains_power(log_cycle):
 
 
 def test_reference_file_records_and_checks_the_profile(log_cycle, tmp_path):
-    from fdm_awe.ocp.result import read_reference, write_reference
+    from fdm_awe.trajectory import read_reference, write_reference
 
     _, res = log_cycle
     p = write_reference(res, tmp_path / "ref.json")
@@ -166,7 +166,7 @@ def test_reference_file_records_and_checks_the_profile(log_cycle, tmp_path):
 def test_flight_wind_follows_the_glider_altitude():
     from fdm_awe.autopilot.tracking import TrackingReference
     from fdm_awe.sim.flight import fly
-    from fdm_awe.ocp.result import check_reference_document
+    from fdm_awe.trajectory import check_reference_document
     from fdm_awe.wind import line_height
 
     doc = json.loads((DATA / "ref_physical_nominal_8mps_sized.json").read_text())

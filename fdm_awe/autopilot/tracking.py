@@ -202,7 +202,7 @@ class TrackingReference:
     def from_ocp_file(cls, path: str | Path) -> "TrackingReference":
         """From a reference-trajectory file written by the optimiser (``fdm-awe optimize``).
 
-        The file is checked field by field first (:func:`fdm_awe.ocp.result.read_reference`): a
+        The file is checked field by field first (:func:`fdm_awe.trajectory.read_reference`): a
         malformed file raises :class:`~fdm_awe.errors.InputError` with one line naming the file,
         the field and its allowed range or form. ``meta`` carries the checked metadata
         (``scenario``, ``config``, ``T1_s``, ``T2_s``, ``wind_ned_mps``, ``tether_drag_scale``,
@@ -214,8 +214,8 @@ class TrackingReference:
 
     @classmethod
     def from_ocp(cls, ref: object) -> "TrackingReference":
-        """From an optimiser :class:`~fdm_awe.ocp.result.ReferenceTrajectory` (checked again by
-        :func:`~fdm_awe.ocp.result.check_reference`, so one built in memory gets the same checks).
+        """From an optimiser :class:`~fdm_awe.trajectory.ReferenceTrajectory` (checked again by
+        :func:`~fdm_awe.trajectory.check_reference`, so one built in memory gets the same checks).
 
         Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata, at each
         row's height when the metadata's ``wind_profile`` has shear; ``motor_on``

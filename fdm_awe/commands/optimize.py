@@ -261,7 +261,7 @@ def run(args: argparse.Namespace) -> int:
                 dir_files=[("--out", p) for k, p in output_files(args.out, "cycle", args.rrd).items()
                            if args.out and not (k == "rrd" and args.rrd)])
     from ..fileio import write_json
-    from ..ocp.result import write_reference
+    from ..trajectory import write_reference
     from ..ocp.solve import get_nlp, solve_cycle
 
     print(f"optimising {problem.scenario}/{problem.config} at {problem.wind_speed:g} m/s ...", file=sys.stderr, flush=True)

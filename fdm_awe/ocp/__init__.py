@@ -23,7 +23,7 @@ Typical use::
 
     from fdm_awe.ocp.problem import CycleProblem
     from fdm_awe.ocp.solve import solve_cycle
-    from fdm_awe.ocp.result import write_reference, read_reference
+    from fdm_awe.trajectory import write_reference, read_reference
 
     res = solve_cycle(CycleProblem(scenario="physical", config="foldable", wind_speed=8.0))
     if res.ok:

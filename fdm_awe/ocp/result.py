@@ -1,8 +1,7 @@
 """Cycle result and its JSON summary (docs/design.md section 1).
 
 The reference-trajectory file an ``ok`` result is written to (format, checks, reader and writer)
-is :mod:`fdm_awe.trajectory`; its names are re-exported here (``write_reference``,
-``read_reference``, ``ReferenceTrajectory``, ...).
+is :mod:`fdm_awe.trajectory`.
 """
 
 from __future__ import annotations
@@ -14,11 +13,7 @@ from typing import Any
 import numpy as np
 
 from ..pointmass.model import wind_vector
-from ..trajectory import (  # noqa: F401 - the reference file's names, re-exported
-    COLUMN_RANGES, COLUMN_UNITS, FORMAT, MAX_FILE_BYTES, OPTIONAL_COLUMN_UNITS, PHASE_MAX_S, PHASE_NAMES,
-    RECOVERY_AIRFRAME, SLACK, TIME_RTOL, VERSION, WIND_MAX, ReferenceTrajectory, check_reference,
-    check_reference_document, read_reference, reference_document, reference_from_result, write_reference,
-)
+from ..trajectory import PHASE_NAMES
 
 
 @dataclass
