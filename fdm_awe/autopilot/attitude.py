@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains
@@ -39,10 +38,6 @@ class AttitudeLoops:
     def reset(self) -> None:
         """Zero the integrator."""
         self.law.reset()
-
-    def path_rate_body(self, s: SixDofState) -> np.ndarray:
-        """Rotation rate of the air-velocity vector, body axes [rad/s]."""
-        return np.array(self._path_rate(s))
 
     def _path_rate(self, s: SixDofState) -> tuple[float, float, float]:
         # omega_path = v_b x a_b / V^2, a_b = specific force + gravity (body axes), on scalars

@@ -143,10 +143,6 @@ class XmlDoc:
                 return _check(path, what, _to_float(path, what, el.attrib["value"]), lo, hi, lo_open, hi_open, unit)
         raise DefinitionError(self.path, f"property {name}", "missing declaration (<property value=...>)")
 
-    def has_property(self, name: str) -> bool:
-        """Whether the file declares ``<property value=...>name</property>``."""
-        return any((el.text or "").strip() == name and "value" in el.attrib for el in self.root.iter("property"))
-
 
 def _to_float(path: Path, what: str, text: str | None) -> float:
     t = (text or "").strip()
