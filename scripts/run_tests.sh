@@ -2,8 +2,9 @@
 # Set up .venv if needed, then run the whole test suite: first the wheel check
 # (scripts/check_wheel.py: sdist and wheel built from this checkout, the wheel installed with its
 # dependencies into a fresh virtual environment in a temporary folder, then `fdm-awe info`, a short
-# `optimize` and `fly --cycles 1` run from outside the checkout), then pytest. Extra arguments go
-# to pytest. The exit status is non-zero if either fails; pytest's closing line stays the last
+# `optimize` and `fly --cycles 1` run from outside the checkout), then pytest, in parallel
+# (pytest-xdist). Extra arguments go to pytest. The exit status is non-zero if either fails;
+# pytest's closing line stays the last
 # line of the test run (a failed wheel check adds one line after it).
 # FDM_AWE_WHEEL_CHECK=0 skips the wheel check (e.g. for a quick targeted pytest run).
 set -euo pipefail
@@ -15,7 +16,9 @@ if [ "${FDM_AWE_WHEEL_CHECK:-1}" != "0" ]; then
     .venv/bin/python scripts/check_wheel.py || wheel=$?
 fi
 tests=0
-.venv/bin/python -m pytest -q "$@" || tests=$?
+# in parallel, by groups: a module's tests (a documented command's document) run in one worker
+# in their order (tests/conftest.py); one worker per core, at most 4
+.venv/bin/python -m pytest -q -n auto --maxprocesses=4 --dist loadgroup "$@" || tests=$?
 if [ "$wheel" != "0" ]; then
     echo "run_tests: the wheel check failed (exit $wheel, see its output above the tests)"
     exit "$wheel"

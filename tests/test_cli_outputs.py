@@ -275,11 +275,11 @@ def test_fly_ctrl_c_writes_the_flight_so_far_and_exits_130(tmp_path):
                           "--realtime", "30", "--quiet", "--json", str(out), "--out", str(run)],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=tmp_path)
     try:
-        # the flight starts right after this line (the reference is loaded, the outputs checked)
+        # the flight's loop starts right after this line (JSBSim and the autopilot are set up)
         head = []
-        while not head or ("line drag" not in head[-1] and head[-1]):
+        while not head or ("flying:" not in head[-1] and head[-1]):
             head.append(p.stderr.readline())
-        assert "line drag" in head[-1], head
+        assert "flying:" in head[-1], head
         time.sleep(2.0)
         p.send_signal(signal.SIGINT)
         stdout, stderr = p.communicate(timeout=90)

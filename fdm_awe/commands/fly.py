@@ -363,6 +363,7 @@ class _FlightHooks:
         if self.live is not None:
             self.live.setup(ap, sim)
             self._hooks.append(self.live)
+        print(f"flying: {args.cycles} cycle(s), mode {ap.mode}", file=sys.stderr, flush=True)  # set up, the loop starts
 
     def on_step(self, k: int, s: Any, o: Any) -> None:
         """The flight's ``on_step``: every hook in turn."""
