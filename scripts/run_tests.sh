@@ -16,9 +16,10 @@ if [ "${FDM_AWE_WHEEL_CHECK:-1}" != "0" ]; then
     .venv/bin/python scripts/check_wheel.py || wheel=$?
 fi
 tests=0
-# in parallel, by groups: a module's tests (a documented command's document) run in one worker
-# in their order (tests/conftest.py); one worker per core, at most 4
-.venv/bin/python -m pytest -q -n auto --maxprocesses=4 --dist loadgroup "$@" || tests=$?
+# in parallel, by file: a module's tests run in one worker in their order (the documented
+# command lines of tests/test_docs_commands.py read each other's outputs); one worker per core,
+# at most 4
+.venv/bin/python -m pytest -q -n auto --maxprocesses=4 --dist loadfile "$@" || tests=$?
 if [ "$wheel" != "0" ]; then
     echo "run_tests: the wheel check failed (exit $wheel, see its output above the tests)"
     exit "$wheel"

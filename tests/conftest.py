@@ -42,13 +42,3 @@ def no_work(monkeypatch):
     monkeypatch.setattr(execute, "run_sweep", spy("run_sweep"))
     monkeypatch.setattr(performance, "steady_glide", spy("steady_glide"))  # info's work
 
-
-@pytest.hookimpl(tryfirst=True)
-def pytest_collection_modifyitems(config, items):
-    """Run in parallel by whole groups (``pytest -n 2 --dist loadgroup``, as the README's test
-    command does): a test without an ``xdist_group`` mark belongs to its module's group, so a
-    module's tests run in one worker in their order and share its module fixtures; the
-    documented command lines group by document (they read each other's outputs)."""
-    for item in items:
-        if item.get_closest_marker("xdist_group") is None:
-            item.add_marker(pytest.mark.xdist_group(item.module.__name__))

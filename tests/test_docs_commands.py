@@ -320,7 +320,7 @@ PLANS = plans(LINES)
 
 
 def _param(d: DocLine, p: Plan):
-    marks = [pytest.mark.xdist_group(f"doc:{d.doc}")]  # a document's lines run in order in one worker
+    marks = []
     if d.text in KNOWN_FAILING:
         marks.append(pytest.mark.xfail(reason=KNOWN_FAILING[d.text], strict=False))
     return pytest.param(d, p, id=f"{d.doc}:{d.lineno} {p.how}", marks=marks)
