@@ -46,8 +46,8 @@ drum's inertia ``mu l r_w^2`` as for the straight line.
 The line's state, ledger and constants live in the ground station's arrays after the
 drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views; its names are also
 reached here). Every function here is plain Python over floats and arrays; numba compiles
-:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.lumped_state` and
-:mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
+:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state`
+and :mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ from typing import Callable
 from .. import wind
 from ..jitcache import compile_cached, follow_sources
 from ..wind import shear_factor
-from . import lumped_state, substeps
+from . import lumped_state, substeps, winch
 from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
     C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
     CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
@@ -459,7 +459,7 @@ _CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inne
            place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
-_SOURCES = (substeps, wind, lumped_state)
+_SOURCES = (substeps, winch, wind, lumped_state)
 
 
 @functools.lru_cache(maxsize=None)
