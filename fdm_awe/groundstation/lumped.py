@@ -69,13 +69,13 @@ from .lumped_state import (  # noqa: F401 - the line's layout and views, also re
 )
 from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, cross_flow_drag, machine_mode_code
 
-# station constants used here (STATION_CONSTANTS order)
-_C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
+# station constants used here (positions in STATION_CONSTANTS)
+_C_MU, _C_EA, _C_TBREAK, _C_G, _C_DRAGON, _C_WN, _C_WE, _C_WD = 4, 5, 6, substeps.C_G, substeps.C_DRAG_ON, *substeps.C_WINDS
 
 
 def wind_at(c, z: float) -> tuple[float, float, float]:
     """Wind at the height ``-z`` m (NED ``z``), m/s NED, the one place the line reads the wind:
-    the station's uniform wind ``c[19:22]``, or with a wind profile the wind at the reference
+    the station's uniform wind ``c[C_WIND:C_WIND + 3]``, or with a wind profile the wind at the reference
     height scaled to this height (:func:`fdm_awe.wind.shear_factor`); plus the gust of the
     moment (the turbulence the glider meets, taken as uniform along the line)."""
     code = c[C_SCODE]
