@@ -212,7 +212,9 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         i_on = i1 > 0.0
         if not i_on:
             i1 = 0.0
-        va = v_src if not held else v_src + (i1 - iA - iB * w1) / aH  # the source that passes i1
+        va = v_src  # the source in effect: held at the limit (ib 0), the one that passes i1; else -V_a
+        if held:
+            va = v_src + (i1 - iA - iB * w1) / aH if ib == 0.0 else -Va
         u1 = cu * u0 + q * i1
         T1 = tA - tB * w1
         t_on = T1 > 0.0
