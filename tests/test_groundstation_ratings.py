@@ -7,15 +7,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from fdm_awe import ROOT
-from fdm_awe.errors import DefinitionError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.sim.events import EVENTS, machine_current
+import test_groundstation_definitions as definitions
 from test_groundstation_substeps import _pair, _run
 
 P = load_ground_station(line="paper")
@@ -23,7 +21,6 @@ P = load_ground_station(line="paper")
 UNLIMITED = dataclasses.replace(P, converter=dataclasses.replace(P.converter, current_limit=math.inf))
 GEN = WinchCommand("generator")
 REEL_IN = WinchCommand("motor", reel_speed_ref=-3.0)
-XML = ROOT / "tether" / "ground_station.xml"
 
 
 def _plugging(params, tension: float, dt: float = 1e-3):
@@ -79,13 +76,10 @@ def test_pi_does_not_wind_up_against_the_current_limit():
     # reel-in commanded against 90 N: 22 A x K = 2.73 N m holds the drum with the Coulomb
     # friction (stuck at 0 rad/s) while the PI asks for more (error +100 rad/s); a wound-up
     # integrator would reach the duty limit (Ki x error x 1 s = 10). Then 5 N: reel-in at 3 m/s.
-    gs = GroundStation(P)
+    gs, dt = GroundStation(P), 1 / 120
     gs.reset(200.0, 0.0, "motor")
-    dt = 1 / 120
-    held = []
-    for _ in range(120):
-        out = gs.step_with_tension(dt, 90.0, REEL_IN)
-        held.append((out.current, out.omega, out.duty, gs.drivetrain.integ))
+    held = [(o.current, o.omega, o.duty, gs.drivetrain.integ)
+            for o in (gs.step_with_tension(dt, 90.0, REEL_IN) for _ in range(120))]
     current, omega, duty, integ = np.array(held[60:]).T
     assert np.all(current == pytest.approx(P.converter.current_limit, rel=1e-12)) and np.all(omega == 0.0)
     assert np.all((duty > 0.0) & (duty < 1.0))  # the limit, not the duty range, holds the duty
@@ -145,14 +139,6 @@ def test_compiled_and_python_steps_alike_under_the_limit():
     assert _run(st, steps) == len(steps)
 
 
-def _bad(tmp_path: Path, old: str, new: str) -> Path:
-    text = XML.read_text()
-    assert old in text
-    f = tmp_path / "gs.xml"
-    f.write_text(text.replace(old, new, 1))
-    return f
-
-
 @pytest.mark.parametrize(
     "old,new,element,words",
     [
@@ -172,10 +158,7 @@ def _bad(tmp_path: Path, old: str, new: str) -> Path:
     ],
 )
 def test_a_bad_rating_is_refused_in_one_line(tmp_path, old, new, element, words):
-    with pytest.raises(DefinitionError) as ei:
-        load_ground_station(_bad(tmp_path, old, new))
-    msg = str(ei.value)
-    assert "\n" not in msg and "gs.xml" in msg and element in msg and words in msg, msg
+    definitions.test_bad_file_gives_one_line_error(tmp_path, old, new, element, words)  # file, element, range
 
 
 def test_ratings_follow_the_rated_tension():
