@@ -1,4 +1,5 @@
-"""Every relation of the ground station's step, written once as plain functions of floats.
+"""The ground station's step and its relations, written once as plain functions of floats
+(the drum's in :mod:`.winch`).
 
 Numba compiles these functions when it is available; Python runs the same functions when it
 is not (or when ``FDM_AWE_JIT=0`` is set): there is no second copy. A test runs both
@@ -6,9 +7,9 @@ executions on the same scenarios and compares every state and ledger term for ex
 (no fast-math: the compiled code rounds as Python does).
 
 The relations (the modules that describe them in parentheses): :func:`pi_step` (:mod:`.controller`),
-:func:`link_coefficients` (:mod:`.converter`), :func:`armature_coefficients` and
-:func:`machine_mode_code` (:mod:`.machine`), :func:`cross_flow_drag` and :func:`weight_share`
-(:mod:`.tether`); the drum's (``drum_speed``, ``drum_step``, ``end_stop``) live in :mod:`.winch`;
+:func:`link_coefficients` and the current limit :func:`hold_current` (:mod:`.converter`),
+:func:`armature_coefficients` and :func:`machine_mode_code` (:mod:`.machine`),
+:func:`cross_flow_drag` and :func:`weight_share` (:mod:`.tether`); the drum's (``drum_speed``, ``drum_step``, ``end_stop``) live in :mod:`.winch`;
 the sub-step loop :func:`substeps`, one drivetrain step with its ledger :func:`advance`
 (:mod:`.drivetrain`) and one :meth:`.station.GroundStation.step` :func:`station_step`.
 
