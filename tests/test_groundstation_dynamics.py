@@ -132,7 +132,9 @@ def test_pi_reel_in_settles_without_steady_error():
 
 
 def _stall_then_release(monkeypatch=None, naive=False):
-    gs = GroundStation(P)
+    # the duty limits' anti-windup: a converter without a current limit, so that the stall
+    # saturates the duty (the current limit's own: test_groundstation_ratings.py)
+    gs = GroundStation(dataclasses.replace(P, converter=dataclasses.replace(P.converter, current_limit=math.inf)))
     if naive:  # plain PI: output clipped, integrator free (the wind-up reference), run by Python
         import fdm_awe.groundstation.substeps as substeps
 

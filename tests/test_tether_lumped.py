@@ -23,8 +23,9 @@ from scipy.optimize import brentq, fsolve
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation import lumped as L
+from fdm_awe.groundstation.substeps import C_DRAG_ON, C_G, C_WIND
 
-G_IDX, DRAG_ON, WIND = 25, 23, slice(19, 22)
+G_IDX, DRAG_ON, WIND = C_G, C_DRAG_ON, slice(C_WIND, C_WIND + 3)
 
 
 def _line(n: int, length: float, *, drag: bool = False, gravity: bool = True, zeta: float = 0.0,
@@ -334,7 +335,7 @@ def test_nodes_see_the_wind_profile_at_their_own_height_plus_the_gust() -> None:
     assert float(prof.factor(10.0)) == pytest.approx(1.0) and float(prof.factor(140.0)) > 1.4
     gs.set_line_wind(None, (0.0, 0.0))  # uniform: the station's own wind
     c = np.array(gs._sc)
-    assert L.wind_at(c, -50.0) == (c[19], c[20], c[21])
+    assert L.wind_at(c, -50.0) == (c[C_WIND], c[C_WIND + 1], c[C_WIND + 2])
     outs = []
     for jit in (True, False):
         st = GroundStation(load_ground_station(line="sized"), wind_ned=(-8.0, 0.0, 0.0), tether="lumped:4")

@@ -9,10 +9,10 @@ Modules, one job each:
 - :mod:`.lumped_state` -- the lumped line's place in the state and constants arrays, its views
 - :mod:`.winch` -- drum equation (eq. 14) with implicit set-valued Coulomb friction
 - :mod:`.machine` -- armature equation (eqs. 15, 16, 18, 19) and the eq. 17 mode rule
-- :mod:`.converter` -- averaged asymmetric half-bridge (generator: rectifier/boost; motor: PWM)
+- :mod:`.converter` -- averaged asymmetric half-bridge (generator: rectifier/boost; motor: PWM, current limit)
 - :mod:`.controller` -- PI of the T1 duty with limits and anti-windup
 - :mod:`.drivetrain` -- the coupled implicit sub-step integrator
-- :mod:`.substeps` -- every relation of the step, written once (numba compiles it when available)
+- :mod:`.substeps` -- the step and its relations, written once (numba compiles it when available)
 - :mod:`.ledger` -- energy ledger
 - :mod:`.station` -- ``GroundStation.step`` co-simulation interface
 - :mod:`.steady` -- steady-state relations for NumPy and CasADi (OCP)

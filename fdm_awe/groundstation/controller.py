@@ -4,7 +4,10 @@
 (rad/s; a larger duty pulls harder in the reel-in direction, so a drum turning slower in the
 reel-in sense than commanded has e > 0). The integrator ``x_I`` (duty) integrates ``Ki e``
 (forward Euler at the ground station's sub-step) only while that does not push further into a
-saturated limit (conditional integration) and is itself kept inside the duty limits.
+saturated limit (conditional integration) and is itself kept inside the duty limits. The
+converter's current limit lowers the duty below the PI's output (:func:`.substeps.hold_current`):
+in a sub-step where it does, the integrator keeps its value while the error would raise it
+further (the same conditional integration, decided after the sub-step's current is known).
 Gains and limits come from the definition file (``speed_controller``). The law is
 :func:`fdm_awe.groundstation.substeps.pi_step` (the ground station's step calls it there).
 """

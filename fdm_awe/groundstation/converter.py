@@ -13,18 +13,30 @@ Motor mode (T2 on, T1 PWM with duty ``d1``), fed from the supply ``V_a``:
 - T1 on: eq. 19, ``V_a = e + R i + L di/dt + 2 U_d``; T1 off: freewheeling through T2 and D2.
   Averaged: source ``d1 V_a``; the supply delivers ``d1 V_a i``. The link capacitor stays on
   ``R_L`` and discharges into it.
+- Current limit (``converter/current_limit``, :func:`.substeps.hold_current`): where the
+  sub-step's current would exceed it, the converter lowers the T1 duty until the current is
+  the limit (the current is affine in the source voltage in the backward-Euler step, so the
+  duty follows exactly). A drum paying out fast drives the current by its EMF even with T1
+  off; then T2 opens too for a share of the period (a duty below 0, down to -1 with both
+  switches open): the armature sees ``-V_a`` through D1 and D2 and the current returns to the
+  supply bus. The supply is taken to take no energy back: a brake chopper on the bus holds it
+  at ``V_a`` and burns that energy in its resistor (the ledger's ``brake``). Where even both
+  switches open pass more than the limit (the line pulling the drum out beyond what the
+  machine can brake at ``-V_a``), the current is the EMF's and the flight logs the rating.
 
 :func:`link_coefficients` (:mod:`.substeps`) gives the link's terms of one backward-Euler
 sub-step; the step takes ``v_src = d1 V_a, s = 0`` in motor mode and ``v_src = 0, s = 1 - d2``
-in generator mode.
+in generator mode. The passive rectifier of the generator mode has no current limit: in
+steady state its current is the torque balance's, ``K i = r_w T - M_c - B omega``, so it
+passes the machine's peak current only under a line tension of about 105 N (docs/design.md 5).
 """
 
 from __future__ import annotations
 
-from .substeps import link_coefficients
+from .substeps import hold_current, link_coefficients
 
 GENERATOR = "generator"
 MOTOR = "motor"
 MODES = (GENERATOR, MOTOR)
 
-__all__ = ["GENERATOR", "MODES", "MOTOR", "link_coefficients"]
+__all__ = ["GENERATOR", "MODES", "MOTOR", "hold_current", "link_coefficients"]

@@ -75,6 +75,8 @@ class DcMachineParams:
     k: float  #: motor constant K_e = K_t
     resistance: float  #: armature resistance R, ohm
     inductance: float  #: armature inductance L_a, H
+    rated_current: float  #: rated continuous armature current, A
+    peak_current: float  #: armature current allowed for a few seconds, A (>= rated_current)
 
 
 @dataclass(frozen=True)
@@ -86,6 +88,8 @@ class ConverterParams:
     link_capacitance: float  #: C_Link, F
     load_resistance: float  #: default R_L, ohm
     boost_duty: float  #: default T2 duty in generator mode, - (0 = passive rectifier)
+    #: current limit of the motor mode, A (<= the machine's peak current)
+    current_limit: float
     #: largest T2 duty in generator mode, - (the bound of the optimiser's boost-duty control)
     boost_duty_max: float = 0.8
 
@@ -159,6 +163,8 @@ def _same_dimension(a: str, b: str) -> bool:
     return a in _DIMENSION and _DIMENSION.get(a) == _DIMENSION.get(b)
 
 
+#: largest rated or peak armature current, A (a check of the typed number, not a machine's size)
+_CURRENT_MAX = 1000.0
 #: the section elements a line states when it is not sized from a material (Table 1's line)
 _STATED = ("mass_per_length", "diameter", "cd_perpendicular", "axial_stiffness", "breaking_load")
 #: largest line diameter, m (stated or derived)
@@ -253,7 +259,8 @@ def load_ground_station(path: str | Path | None = None, line: str | None = None)
     doc = XmlDoc.load(DEFAULT_PATH if path is None else path)
     if doc.root.tag != "ground_station":
         raise DefinitionError(doc.path, doc.root.tag, "root element must be <ground_station>")
-    return GroundStationParams(_read_tether(doc, name), _read_winch(doc), _read_machine(doc), _read_converter(doc),
+    machine = _read_machine(doc)
+    return GroundStationParams(_read_tether(doc, name), _read_winch(doc), machine, _read_converter(doc, machine),
                                _read_controller(doc), _read_integration(doc), str(doc.path))
 
 
@@ -299,16 +306,24 @@ def _read_winch(doc: XmlDoc) -> WinchParams:
 
 
 def _read_machine(doc: XmlDoc) -> DcMachineParams:
-    """``<dc_machine>``."""
-    return DcMachineParams(
+    """``<dc_machine>``: the peak current not below the rated current."""
+    machine = DcMachineParams(
         k=_value(doc, "dc_machine/motor_constant", "V*S/RAD", lo=0.0, lo_open=True),
         resistance=_value(doc, "dc_machine/armature_resistance", "OHM", lo=0.0, lo_open=True),
         inductance=_value(doc, "dc_machine/armature_inductance", "H", lo=0.0, lo_open=True),
+        rated_current=_value(doc, "dc_machine/rated_current", "A", lo=0.0, lo_open=True, hi=_CURRENT_MAX),
+        peak_current=_value(doc, "dc_machine/peak_current", "A", lo=0.0, lo_open=True, hi=_CURRENT_MAX),
     )
+    if machine.peak_current < machine.rated_current:
+        raise DefinitionError(doc.path, "dc_machine/peak_current",
+                              f"value {machine.peak_current:g} A out of range (allowed >= dc_machine/rated_current "
+                              f"{machine.rated_current:g} A)")
+    return machine
 
 
-def _read_converter(doc: XmlDoc) -> ConverterParams:
-    """``<converter>``: the boost duty within its largest value, two device drops below the supply."""
+def _read_converter(doc: XmlDoc, machine: DcMachineParams) -> ConverterParams:
+    """``<converter>``: the boost duty within its largest value, two device drops below the supply,
+    the current limit within the ``machine``'s peak current."""
     converter = ConverterParams(
         device_drop=_value(doc, "converter/device_drop", "V", lo=0.0),
         supply_voltage=_value(doc, "converter/supply_voltage", "V", lo=0.0, lo_open=True),
@@ -316,7 +331,12 @@ def _read_converter(doc: XmlDoc) -> ConverterParams:
         load_resistance=_value(doc, "converter/load_resistance", "OHM", lo=0.0, lo_open=True),
         boost_duty=_value(doc, "converter/boost_duty", "ND", lo=0.0, hi=1.0),
         boost_duty_max=_value(doc, "converter/boost_duty_max", "ND", lo=0.0, hi=0.95),
+        current_limit=_value(doc, "converter/current_limit", "A", lo=0.0, lo_open=True, hi=_CURRENT_MAX),
     )
+    if converter.current_limit > machine.peak_current:
+        raise DefinitionError(doc.path, "converter/current_limit",
+                              f"value {converter.current_limit:g} A out of range (allowed <= dc_machine/peak_current "
+                              f"{machine.peak_current:g} A)")
     if converter.boost_duty > converter.boost_duty_max:
         raise DefinitionError(doc.path, "converter/boost_duty",
                               f"value {converter.boost_duty:g} out of range (allowed 0 .. boost_duty_max "

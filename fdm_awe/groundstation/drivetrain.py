@@ -13,6 +13,9 @@ sub-step is backward Euler for all states at once -- unstretched line length ``l
    ``l1 = l0 + h r_w omega1``; or a prescribed tension at the drum (tests, quasi-static use).
 5. Drum (:mod:`.winch`): the piecewise-linear, monotone scalar equation for ``omega1`` with the
    set-valued Coulomb friction, solved exactly (stick-slip without chattering).
+6. Motor mode: where the current would exceed the converter's limit, the drum is solved again
+   with the current held at the limit and the duty follows from the armature equation
+   (:mod:`.converter`; below duty 0 the braking path through D1, D2).
 
 Backward Euler is L-stable, so the fast electrical modes (L_a/R ~ 0.4 ms, R_L C ~ 1.5 ms) and a
 stiff short line never constrain the flight step; steady states are exact. The integrator's own
@@ -70,7 +73,8 @@ class Drivetrain:
     current = _state_float(2, "armature current, A")
     u_link = _state_float(3, "DC-link voltage, V")
     integ = _state_float(4, "PI integrator (duty)")
-    duty = _state_float(5, "duty in effect (T1 in motor mode, T2 in generator mode)")
+    duty = _state_float(5, "duty in effect (T1 in motor mode, below 0 under the current limit's braking; T2 in "
+                           "generator mode)")
     broken = _state_bool(6, "the line is broken")
     at_stop = _state_bool(7, "the drum is at an end stop")
     stretch = _state_float(8, "d - l at the end of the last sub-step, m")
@@ -92,7 +96,7 @@ class Drivetrain:
         self._cl = [wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
                     tp.axial_stiffness, tp.breaking_load, tp.min_length, tp.max_length, mp.k, mp.resistance,
                     mp.inductance, 2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance, ctrl.kp, ctrl.ki,
-                    ctrl.duty_min, ctrl.duty_max]
+                    ctrl.duty_min, ctrl.duty_max, cp.current_limit]
         self._c = np.array(self._cl, dtype=float)  # and as an array (compiled)
         self.ledger = EnergyLedger(self._s[len(STATE):])
         self._kernel = compiled()  # substeps.advance compiled (None: Python runs it)

@@ -4,7 +4,7 @@ electrical terminals, accumulated by the implicit integrator.
 Balance (all terms in J, closes to round-off by construction of the discrete powers)::
 
     glider_work + supply + wound_line_kinetic + strain_payout
-      = load + copper + semiconductor + coulomb + viscous + end_stop + break_release + numerical
+      = load + copper + semiconductor + brake + coulomb + viscous + end_stop + break_release + numerical
         + delta(kinetic + inductor + capacitor + elastic)
 
 Inputs
@@ -18,6 +18,8 @@ Inputs
                      (< 0 while paying out: strained line leaves the drum; order strain x work).
 Outputs / losses
     ``load`` into R_L; ``copper`` R i^2; ``semiconductor`` 2 U_d i (diodes and switches);
+    ``brake`` burnt by the supply bus's brake chopper: what the current limit returns through D1
+    and D2 in motor mode, both switches open (:func:`.substeps.hold_current`);
     ``coulomb`` M_c |omega|; ``viscous`` B omega^2; ``end_stop`` absorbed by the drum's end stops;
     ``break_release`` strain energy lost when the line breaks; ``numerical`` the backward-Euler
     integrator's own dissipation ``0.5 J dw^2 + 0.5 L di^2 + 0.5 C du^2 + (T ds - dE_el)`` (>= 0,
@@ -38,7 +40,7 @@ from __future__ import annotations
 import numpy as np
 
 INPUTS = ("glider_work", "supply", "wound_line_kinetic", "strain_payout")
-LOSSES = ("load", "copper", "semiconductor", "coulomb", "viscous", "end_stop", "break_release", "numerical")
+LOSSES = ("load", "copper", "semiconductor", "brake", "coulomb", "viscous", "end_stop", "break_release", "numerical")
 STORES = ("kinetic", "inductor", "capacitor", "elastic")
 INTERFACE = ("drum_work", "airgap", "line_drag_work_on_glider", "line_weight_work_on_glider")
 #: Every term, in the order of the ledger's float buffer (``EnergyLedger.buffer``).

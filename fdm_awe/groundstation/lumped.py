@@ -46,8 +46,8 @@ drum's inertia ``mu l r_w^2`` as for the straight line.
 The line's state, ledger and constants live in the ground station's arrays after the
 drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views; its names are also
 reached here). Every function here is plain Python over floats and arrays; numba compiles
-:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.lumped_state` and
-:mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
+:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state`
+and :mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -60,7 +60,7 @@ from typing import Callable
 from .. import wind
 from ..jitcache import compile_cached, follow_sources
 from ..wind import shear_factor
-from . import lumped_state, substeps
+from . import lumped_state, substeps, winch
 from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
     C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
     CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
@@ -69,13 +69,13 @@ from .lumped_state import (  # noqa: F401 - the line's layout and views, also re
 )
 from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, cross_flow_drag, machine_mode_code
 
-# station constants used here (STATION_CONSTANTS order)
-_C_MU, _C_EA, _C_TBREAK, _C_WN, _C_WE, _C_WD, _C_G, _C_DRAGON = 4, 5, 6, 19, 20, 21, 25, 23
+# station constants used here (positions in STATION_CONSTANTS)
+_C_MU, _C_EA, _C_TBREAK, _C_G, _C_DRAGON, _C_WN, _C_WE, _C_WD = 4, 5, 6, substeps.C_G, substeps.C_DRAG_ON, *substeps.C_WINDS
 
 
 def wind_at(c, z: float) -> tuple[float, float, float]:
     """Wind at the height ``-z`` m (NED ``z``), m/s NED, the one place the line reads the wind:
-    the station's uniform wind ``c[19:22]``, or with a wind profile the wind at the reference
+    the station's uniform wind ``c[C_WIND:C_WIND + 3]``, or with a wind profile the wind at the reference
     height scaled to this height (:func:`fdm_awe.wind.shear_factor`); plus the gust of the
     moment (the turbulence the glider meets, taken as uniform along the line)."""
     code = c[C_SCODE]
@@ -459,7 +459,7 @@ _CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inne
            place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
-_SOURCES = (substeps, wind, lumped_state)
+_SOURCES = (substeps, winch, wind, lumped_state)
 
 
 @functools.lru_cache(maxsize=None)

@@ -30,7 +30,7 @@ from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
 from .lumped_state import parse_tether
 from .machine import machine_mode
-from .substeps import EVENTS, MACHINE_MODES as _MACHINE_MODES, compiled_station, station_step
+from .substeps import C_WIND, EVENTS, MACHINE_MODES as _MACHINE_MODES, compiled_station, station_step
 from .tether import check_tether_drag_scale, line_drag_coefficient
 _new = object.__new__
 _NAN = float("nan")
@@ -89,7 +89,8 @@ class GroundStationOutput:
     (tension + drag/weight shares; given as an array or three floats, read as an array);
     ``tension`` N, mean line tension over the step; ``length`` m, unstretched paid-out length;
     ``reel_speed`` m/s, > 0 reel-out; ``omega`` rad/s, drum speed (> 0 reel-out); ``current`` A,
-    armature current (>= 0); ``duty`` T1 duty in motor mode, T2 (boost) duty in generator mode;
+    armature current (>= 0); ``duty`` T1 duty in motor mode (below 0: the current limit's braking,
+    the share of the period with T2 open too, :mod:`.converter`), T2 (boost) duty in generator mode;
     ``mode`` converter mode in effect ("generator" / "motor"); ``u_link`` V, DC-link (load)
     capacitor voltage; ``p_electrical`` W, mean (load power - supply power): > 0 delivered out
     of the station; ``event`` None, "tether_break", "tether_fully_reeled_in",
@@ -307,8 +308,8 @@ class GroundStation:
         self._sc[i:i + 9] = vals
         if code == 0.0:  # uniform: the station's wind plus the gust, read as it is at every node
             w = [self.wind[k] + vals[6 + k] for k in range(3)]
-            self._scl[19:22] = w
-            self._sc[19:22] = w
+            self._scl[C_WIND:C_WIND + 3] = w
+            self._sc[C_WIND:C_WIND + 3] = w
 
     @property
     def line_ledger(self) -> "lumped_state.LineLedger | None":
@@ -330,8 +331,8 @@ class GroundStation:
             raise InputError("wind_ned: need 3 components (N, E, D)")
         self.wind = (w[0], w[1], w[2])
         if hasattr(self, "_sc"):
-            self._scl[19:22] = self.wind
-            self._sc[19:22] = self.wind
+            self._scl[C_WIND:C_WIND + 3] = self.wind
+            self._sc[C_WIND:C_WIND + 3] = self.wind
 
     @property
     def ledger(self) -> EnergyLedger:

@@ -1,4 +1,5 @@
-"""Every relation of the ground station's step, written once as plain functions of floats.
+"""The ground station's step and its relations, written once as plain functions of floats
+(the drum's in :mod:`.winch`).
 
 Numba compiles these functions when it is available; Python runs the same functions when it
 is not (or when ``FDM_AWE_JIT=0`` is set): there is no second copy. A test runs both
@@ -6,16 +7,16 @@ executions on the same scenarios and compares every state and ledger term for ex
 (no fast-math: the compiled code rounds as Python does).
 
 The relations (the modules that describe them in parentheses): :func:`pi_step` (:mod:`.controller`),
-:func:`link_coefficients` (:mod:`.converter`), :func:`armature_coefficients` and
-:func:`machine_mode_code` (:mod:`.machine`), :func:`drum_speed`, :func:`drum_step` and
-:func:`end_stop` (:mod:`.winch`), :func:`cross_flow_drag` and :func:`weight_share` (:mod:`.tether`);
+:func:`link_coefficients` and the current limit :func:`hold_current` (:mod:`.converter`),
+:func:`armature_coefficients` and :func:`machine_mode_code` (:mod:`.machine`),
+:func:`cross_flow_drag` and :func:`weight_share` (:mod:`.tether`); the drum's (``drum_speed``, ``drum_step``, ``end_stop``) live in :mod:`.winch`;
 the sub-step loop :func:`substeps`, one drivetrain step with its ledger :func:`advance`
 (:mod:`.drivetrain`) and one :meth:`.station.GroundStation.step` :func:`station_step`.
 
-All of them live in this one module because numba's on-disk cache (``cache=True``) is
-invalidated only by a change of the compiled function's own source file.
-:func:`compiled` / :func:`compiled_station` return the compiled :func:`advance` /
-:func:`station_step`, or None when numba is missing or ``FDM_AWE_JIT=0``.
+Numba's on-disk cache (``cache=True``) checks a compiled function only against its own source
+file: the compiled :func:`advance` and :func:`station_step` are tied also to :mod:`.winch`
+(:func:`fdm_awe.jitcache.follow_sources`). :func:`compiled` / :func:`compiled_station` return
+them, or None when numba is missing or ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -25,6 +26,10 @@ import math
 import os
 import warnings
 from typing import Callable
+
+from ..jitcache import follow_sources
+from . import winch
+from .winch import DRUM_RELATIONS, drum_speed, drum_step, end_stop
 
 #: Event codes (0: none).
 EVENTS = (None, "tether_fully_reeled_in", "tether_fully_paid_out", "tether_break")
@@ -36,16 +41,20 @@ MACHINE_MODES = ("idle", "generator", "motor")
 STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
 _NS = len(STATE)
 # ledger terms, offsets in the state array (ledger.FIELDS order)
-(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
- _NUMERICAL, _DRUM, _AIRGAP, _DRAG_W, _WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 24)
+(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _BRAKE, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
+ _NUMERICAL, _DRUM, _AIRGAP, _DRAG_W, _WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 25)
 
 #: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
 #: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
 #: ``len(DRIVETRAIN_CONSTANTS)``.
 STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
-                     "C", "kp", "ki", "d_min", "d_max", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
+                     "C", "kp", "ki", "d_min", "d_max", "i_lim", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
                      "weight_c", "g")
-DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:19]
+DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:20]
+#: positions in ``c`` of the station's wind (N; E, D follow) and its line-share factors
+C_WIND, C_DRAG, C_DRAG_ON, C_WEIGHT, C_G = (STATION_CONSTANTS.index(k)
+                                           for k in ("wind_n", "drag_c", "drag_on", "weight_c", "g"))
+C_WINDS = (C_WIND, C_WIND + 1, C_WIND + 2)  #: the wind's N, E, D
 
 
 def pi_step(kp: float, ki: float, d_min: float, d_max: float, err: float, integ: float,
@@ -91,121 +100,23 @@ def armature_coefficients(L: float, R: float, K: float, h: float, s: float, q: f
     return L / D, h / D, h * K / D
 
 
-def drum_speed(J: float, w0: float, h: float, B: float, Mc: float, r: float,
-               tA: float, tB: float, K: float, iA: float, iB: float) -> tuple[float, float]:
-    """One backward-Euler step of the drum speed with set-valued Coulomb friction: solves
-    ``J (w - w0) = h [r T(w) - K i(w) - B w - M_f]``, ``M_f in Mc Sign(w)``, ``T(w) = max(0, tA -
-    tB w)`` (N, tB >= 0), ``i(w) = max(0, iA + iB w)`` (A, iB >= 0). The residual is continuous,
-    piecewise linear and strictly increasing (a unique solution): the stick condition at w = 0,
-    then the linear pieces between the kinks. Returns ``(w rad/s, M_f N m)`` (> 0 opposes reel-out).
-    """
-    hM = h * Mc
-    R0 = -J * w0 - h * r * (tA if tA > 0.0 else 0.0) + h * K * (iA if iA > 0.0 else 0.0)
-    if R0 + hM < 0.0:
-        c, sgn = -hM, 1.0
-    elif R0 - hM > 0.0:
-        c, sgn = hM, -1.0
-    else:
-        return 0.0, -R0 / h  # stuck: friction holds the drum, |M_f| <= Mc
-    g = w0 if w0 * sgn > 0.0 else sgn * 1e-9
-    tg = tA - tB * g > 0.0
-    ig = iA + iB * g > 0.0
-    w = _piece(J, w0, h, B, r, tA, tB, K, iA, iB, c, tg, ig)
-    if w * sgn > 0.0 and (tA - tB * w > 0.0) == tg and (iA + iB * w > 0.0) == ig:
-        return w, sgn * Mc
-    # kinks of the piecewise-linear residual on the half-line of sgn, ascending
-    nk = 0
-    k1 = k2 = 0.0
-    if tB > 0.0:
-        kk = tA / tB
-        if kk * sgn > 0.0:
-            k1 = kk
-            nk = 1
-    if iB > 0.0:
-        kk = -iA / iB
-        if kk * sgn > 0.0:
-            if nk == 0:
-                k1 = kk
-            elif kk < k1:
-                k2 = k1
-                k1 = kk
-            else:
-                k2 = kk
-            nk += 1
-    inf = math.inf
-    for j in range(nk + 1):
-        if sgn > 0.0:  # edges 0, k1, k2 then +inf
-            lo = 0.0 if j == 0 else (k1 if j == 1 else k2)
-            hi = inf if j == nk else (k1 if j == 0 else k2)
-        else:  # -inf, then edges k1, k2, 0
-            lo = -inf if j == 0 else (k1 if j == 1 else k2)
-            hi = 0.0 if j == nk else (k1 if j == 0 else k2)
-        if lo != -inf and hi != inf:
-            m = 0.5 * (lo + hi)
-        else:
-            m = lo + 1.0 if hi == inf else hi - 1.0
-        w = _piece(J, w0, h, B, r, tA, tB, K, iA, iB, c, tA - tB * m > 0.0, iA + iB * m > 0.0)
-        if lo - 1e-12 * (1.0 + abs(lo)) <= w <= hi + 1e-12 * (1.0 + abs(hi)):
-            return w, sgn * Mc
-    return w, sgn * Mc  # unreachable for consistent inputs (monotone residual)
-
-
-def _piece(J: float, w0: float, h: float, B: float, r: float, tA: float, tB: float, K: float,
-           iA: float, iB: float, c: float, t_on: bool, i_on: bool) -> float:
-    """Root of the linear piece of R(w) = c with the given active tension/current terms."""
-    a = -J * w0
-    b = J + h * B
-    if t_on:
-        a -= h * r * tA
-        b += h * r * tB
-    if i_on:
-        a += h * K * iA
-        b += h * K * iB
-    return (c - a) / b
-
-
-def drum_step(J: float, Jb: float, w0: float, h: float, B: float, Mc: float, r: float, K: float,
-              hr: float, hK: float, hM: float, tA: float, tB: float, iA: float, iB: float,
-              t_on: bool, i_on: bool) -> tuple[float, float]:
-    """:func:`drum_speed` with a fast path: the friction sign of ``w0`` and the tension/current
-    pieces active in the last sub-step (``t_on``, ``i_on``) are tried first (``Jb = J + h B``,
-    ``hr = h r``, ``hK = h K``, ``hM = h Mc``). Returns ``(w rad/s, M_f N m)``."""
-    if w0 != 0.0:
-        a_ = -J * w0
-        b_ = Jb
-        if t_on:
-            a_ -= hr * tA
-            b_ += hr * tB
-        if i_on:
-            a_ += hK * iA
-            b_ += hK * iB
-        if w0 > 0.0:
-            w1 = (-hM - a_) / b_
-            ok = w1 > 0.0
-            mf = Mc
-        else:
-            w1 = (hM - a_) / b_
-            ok = w1 < 0.0
-            mf = -Mc
-        if ok and (tA - tB * w1 > 0.0) == t_on and (iA + iB * w1 > 0.0) == i_on:
-            return w1, mf
-    return drum_speed(J, w0, h, B, Mc, r, tA, tB, K, iA, iB)
-
-
-def end_stop(J: float, w0: float, w1: float, l0: float, l1: float, h: float, hr: float, r: float, B: float,
-             K: float, Mc: float, lmin: float, lmax: float, tA: float, tB: float, iA: float,
-             iB: float) -> tuple[float, float, float, float]:
-    """The drum stopped at the end stop (length ``lmin``/``lmax`` m) that the free sub-step
-    (``w1`` rad/s, ``l1`` m) would pass: ``(w1 rad/s, l1 m, M_f N m, energy absorbed J)``."""
-    w1 = ((lmin if w1 < 0.0 else lmax) - l0) / hr
-    if w1 * (l1 - l0) <= 0.0:
-        w1 = 0.0
-    l1 = l0 + hr * w1
-    mf = Mc if w1 > 0.0 else (-Mc if w1 < 0.0 else 0.0)
-    i1 = iA + iB * w1
-    T1 = tA - tB * w1
-    tau_stop = J * (w1 - w0) / h - (r * (T1 if T1 > 0.0 else 0.0) - K * (i1 if i1 > 0.0 else 0.0) - B * w1 - mf)
-    return w1, l1, mf, -h * tau_stop * w1 + 0.5 * J * (w1 - w0) ** 2
+def hold_current(J: float, Jb: float, w0: float, h: float, B: float, Mc: float, r: float, K: float, hr: float,
+                 hK: float, hM: float, tA: float, tB: float, iA: float, iB: float, t_on: bool, aH: float,
+                 v_src: float, Va: float, i_lim: float) -> tuple[float, float, float, float]:
+    """The converter's current limit ``i_lim`` (A) in motor mode, for a sub-step whose armature
+    current ``iA + iB w1`` (:func:`armature_coefficients`, with the source ``v_src`` V) would
+    exceed it: the drum's step (:func:`.winch.drum_step`, arguments as there) with the current
+    held at ``i_lim``. The source voltage that holds it lies ``(i_lim - iA - iB w1) / aH`` below
+    ``v_src`` (``aH`` A/V); down to 0 the T1 duty gives it, below 0 T2 opens too (the current
+    returns through D1 and D2 to the supply bus), at most down to ``-Va`` (both switches open).
+    Where even ``-Va`` passes more, the current stays above the limit. Returns ``(w1 rad/s,
+    M_f N m, a, b)``: the drum's current ``a + b w1`` (A)."""
+    w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, i_lim, 0.0, t_on, True)
+    if v_src + (i_lim - iA - iB * w1) / aH >= -Va:
+        return w1, mf, i_lim, 0.0
+    iA += aH * (-Va - v_src)  # both switches open
+    w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, True)
+    return w1, mf, iA, iB
 
 
 def cross_flow_drag(ux: float, uy: float, uz: float, vax: float, vay: float, vaz: float,
@@ -237,31 +148,36 @@ def machine_mode_code(omega: float, current: float, K: float) -> int:
 
 def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,  # noqa: C901
              l0, w0, i0, u0, integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, fixed_tension, e_glider,
-             r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aS, iB, kp, ki, d_min, d_max):
+             r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aS, iB, kp, ki, d_min, d_max, i_lim):
     """``n`` backward-Euler sub-steps of ``h`` s of line, drum, armature and link (see
     :mod:`.drivetrain` for the model and the names).
 
     The glider moves from ``(px, py, pz)`` by ``(hvx, hvy, hvz)`` per sub-step (m); ``pi`` the
     PI runs, else ``v_src`` (V) is the open-loop source; ``fixed`` a prescribed tension
-    ``fixed_tension`` (N) replaces the line. ``e_glider`` the glider work booked before the
-    loop (J). Returns the end states ``(l, omega, i, u_L, integ, duty, broken, at_stop, s,
-    k)``, the event code (index into :data:`EVENTS`), and the step's energy sums ``(e_glider,
-    e_supply, e_stop, e_brk, e_numel, S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2,
-    S_du2, t_sum)``.
+    ``fixed_tension`` (N) replaces the line. In motor mode the converter holds the current at
+    ``i_lim`` (A, :func:`hold_current`; the PI's integrator then stops where it would push on).
+    ``e_glider`` the glider work booked before the loop (J). Returns the end states ``(l, omega,
+    i, u_L, integ, duty, broken, at_stop, s, k)`` (``duty`` the one in effect), the event code
+    (index into :data:`EVENTS`), and the step's energy sums ``(e_glider, e_supply, e_brake,
+    e_stop, e_brk, e_numel, S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2,
+    t_sum)``.
 
     Over 80 lines on purpose: one loop whose sums live in local variables (registers, compiled);
     its pieces are the functions above (split under 80 lines, the compiled step took 2 % longer).
     """
     hr, hK, hM = h * r, h * K, h * Mc
     event = 0
-    e_supply = e_stop = e_brk = e_numel = 0.0
+    e_supply = e_brake = e_stop = e_brk = e_numel = 0.0
     S_u2 = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
     t_sum = 0.0
     line = not (fixed or broken)
     t_on = i_on = True
     d1 = 0.0
+    held = False  # the current limit held the last sub-step's current
+    integ0 = va = 0.0
     for _ in range(n):
         if pi:  # PI sample on the measured drum speed
+            integ0 = integ
             duty, integ = pi_step(kp, ki, d_min, d_max, w0 - omega_ref, integ, h)
             v_src = duty * Va
         iA = aL * i0 + aH * (v_src - two_ud) - aS * u0  # armature: i1 = iA + iB w1 before the clamp
@@ -276,9 +192,16 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         else:
             tA = fixed_tension
         w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, i_on)
+        ia, ib = iA, iB  # the current the drum sees: ia + ib w1
+        held = motor and iA + iB * w1 > i_lim
+        if held:  # the converter's current limit
+            w1, mf, ia, ib = hold_current(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, aH, v_src, Va,
+                                          i_lim)
+            if pi and w0 > omega_ref:  # conditional integration: no wind-up against the limit
+                integ = integ0
         l1 = l0 + hr * w1
         if (l1 < lmin and w1 < 0.0) or (l1 > lmax and w1 > 0.0):  # drum end stops
-            w1, l1, mf, e = end_stop(J, w0, w1, l0, l1, h, hr, r, B, K, Mc, lmin, lmax, tA, tB, iA, iB)
+            w1, l1, mf, e = end_stop(J, w0, w1, l0, l1, h, hr, r, B, K, Mc, lmin, lmax, tA, tB, ia, ib)
             if not at_stop:
                 event = 1 if l1 < 0.5 * (lmin + lmax) else 2
             at_stop = True
@@ -286,10 +209,13 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
             S_dw2 -= (w1 - w0) ** 2  # booked as end-stop loss, not integrator dissipation
         else:
             at_stop = False
-        i1 = iA + iB * w1
+        i1 = ia + ib * w1
         i_on = i1 > 0.0
         if not i_on:
             i1 = 0.0
+        va = v_src  # the source in effect: held at the limit (ib 0), the one that passes i1; else -V_a
+        if held:
+            va = v_src + (i1 - iA - iB * w1) / aH if ib == 0.0 else -Va
         u1 = cu * u0 + q * i1
         T1 = tA - tB * w1
         t_on = T1 > 0.0
@@ -310,7 +236,10 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         S_di2 += di * di
         S_du2 += du * du
         if motor:
-            e_supply += v_src * i1
+            if va >= 0.0:
+                e_supply += va * i1
+            else:  # T2 open too: D1 and D2 return the current to the supply bus, its brake chopper burns it
+                e_brake -= va * i1
         if line:
             s1 = d1 - l1
             e_glider += T1 * (d1 - d0)
@@ -329,8 +258,10 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
             e_glider += T1 * hr * w1
         t_sum += T1
         l0, w0, i0, u0 = l1, w1, i1, u1
+    if held:
+        duty = va / Va
     return (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, event,
-            e_glider, e_supply, e_stop, e_brk, e_numel,
+            e_glider, e_supply, e_brake, e_stop, e_brk, e_numel,
             S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)
 
 
@@ -347,6 +278,7 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     """
     r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
     K, R, L, two_ud, Va, C, kp, ki, d_min, d_max = c[9], c[10], c[11], c[12], c[13], c[14], c[15], c[16], c[17], c[18]
+    i_lim = c[19]
     h = dt / n
     if motor != (s[9] != 0.0):  # mode switch: the PI integrator restarts at 0
         if motor:
@@ -380,12 +312,12 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
             v_src = duty * Va
     else:
         duty = boost_duty
-    (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_stop, e_brk, e_numel,
+    (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_brake, e_stop, e_brk, e_numel,
      S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(
         n, h, x, y, z, h * vx, h * vy, h * vz, pi, motor, fixed, broken, at_stop, l_start, float(s[1]),
         float(s[2]), float(s[3]), integ, duty, v_src, d0, s0, k, tB, J, J + h * B, omega_ref, fixed_tension,
         e_glider, r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aH * s_cpl * cu, iB, kp, ki, d_min,
-        d_max)
+        d_max, i_lim)
     stretch = s0 if not broken else 0.0  # (0 with a prescribed tension)
     s[0], s[1], s[2], s[3], s[4], s[5] = l0, w0, i0, u0, integ, duty
     s[6], s[7], s[8] = 1.0 if broken else 0.0, 1.0 if at_stop else 0.0, stretch
@@ -400,6 +332,7 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     s[_LOAD] += h * S_u2 / RL
     s[_COPPER] += h * R * S_i2
     s[_SEMI] += h * two_ud * S_i
+    s[_BRAKE] += h * e_brake
     s[_COULOMB] += h * S_fw
     s[_VISCOUS] += h * B * S_w2
     s[_END_STOP] += e_stop
@@ -428,12 +361,13 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
     if broken and ev != 3:  # no line, no force
         fx = fy = fz = 0.0
     else:
-        if d <= 0.0 or c[23] == 0.0:
+        if d <= 0.0 or c[C_DRAG_ON] == 0.0:
             fx = fy = fz = 0.0
         else:
-            fx, fy, fz = cross_flow_drag(x / d, y / d, z / d, vx - c[19], vy - c[20], vz - c[21], c[22] * l_start)
+            fx, fy, fz = cross_flow_drag(x / d, y / d, z / d, vx - c[C_WIND], vy - c[C_WIND + 1], vz - c[C_WIND + 2],
+                                         c[C_DRAG] * l_start)
         s[_DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
-        fw = weight_share(c[24], l_start, c[25])
+        fw = weight_share(c[C_WEIGHT], l_start, c[C_G])
         s[_WEIGHT_W] += fw * vz * dt
         fz += fw
         if d > 0.0 and tmean > 0.0:
@@ -447,8 +381,8 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
 
 
 #: the functions called by :func:`advance` and :func:`station_step` (compiled with them)
-_CALLED = (pi_step, link_coefficients, armature_coefficients, drum_speed, _piece, drum_step, end_stop, cross_flow_drag,
-           weight_share, machine_mode_code, substeps, advance)
+_CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, *DRUM_RELATIONS, cross_flow_drag, weight_share,
+           machine_mode_code, substeps, advance)
 
 
 @functools.lru_cache(maxsize=None)
@@ -473,7 +407,11 @@ def _njit(f: Callable, sig: tuple) -> Callable | None:
         _register()
         f8, b1 = numba.float64, numba.boolean
         args = tuple({"f": f8, "b": b1, "a": f8[::1], "i": numba.int64}[ch] for ch in sig)
-        return numba.njit(args, cache=True)(f)
+        kern = numba.njit(cache=True)(f)
+        follow_sources(kern, (winch,))  # the drum's relations compiled into it
+        kern.compile(args)
+        kern.disable_compile()  # its one signature, as numba.njit(args) gives it
+        return kern
     except Exception as exc:  # a broken numba install must not stop a simulation
         warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python step runs instead",
                       RuntimeWarning, stacklevel=3)
@@ -495,5 +433,6 @@ def compiled_station() -> Callable | None:
     return _njit(station_step, "aaifffffffbffff")
 
 
-__all__ = ["DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE", "STATION_CONSTANTS", "advance",
-           "compiled", "compiled_station", "drum_speed", "machine_mode_code", "pi_step", "station_step", "substeps"]
+__all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
+           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "drum_speed", "hold_current",
+           "machine_mode_code", "pi_step", "station_step", "substeps"]

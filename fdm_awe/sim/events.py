@@ -10,6 +10,12 @@ co-simulation step (:mod:`fdm_awe.sim.kernel`) compiles it with numba and the Py
 (:meth:`fdm_awe.sim.loop.CoSim.run`) runs the same source, so both end a run on the same step with
 the same code. Its thresholds come in a vector (``L_*`` positions) built by
 :func:`limit_vector`, a float64 array in the compiled step and a list in Python.
+
+One event of the table is logged and does not end the run (its status ``ok``):
+``machine_current``, the armature current above the machine's peak rating. The converter
+holds the motor mode's current at its limit, below that rating; the generator's passive
+rectifier does not limit, and a current above the peak for a few steps heats the machine, it
+does not stop the flight (:func:`machine_current` reads it from a flight's log).
 """
 
 from __future__ import annotations
@@ -17,6 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 from ..sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
 
@@ -26,8 +34,8 @@ class EventKind:
     """One event: ``code`` (its index in :data:`EVENTS`), ``name``, the run ``status`` it gives
     ("" : the ground station's event name) and its ``message`` template (fields: ``error``,
     ``force`` (N), ``gs_event``, ``x``, ``y`` (m), ``airspeed`` (m/s), ``tension`` (N),
-    ``load_factor`` (g) and the limits ``airspeed_max``, ``airspeed_min``, ``max_tension``,
-    ``max_load_factor``)."""
+    ``load_factor`` (g), ``current`` (A) and the limits ``airspeed_max``, ``airspeed_min``,
+    ``max_tension``, ``max_load_factor``, ``peak_current`` (A))."""
 
     code: int
     name: str
@@ -36,7 +44,7 @@ class EventKind:
 
 
 #: every event, indexed by its code; the compiled step returns codes 0 .. 9, the Python loop
-#: also ``jsbsim_failed`` and ``interrupted``
+#: also ``jsbsim_failed`` and ``interrupted``; a flight logs ``machine_current`` (the run goes on)
 EVENTS: tuple[EventKind, ...] = (
     EventKind(0, "none", "ok", ""),
     EventKind(1, "hook_rejected", "nonfinite", "ground station rejected the glider state: {error}"),
@@ -50,9 +58,11 @@ EVENTS: tuple[EventKind, ...] = (
     EventKind(9, "load_factor", "load_limit", "load factor {load_factor:.2f} g beyond {max_load_factor:g} g"),
     EventKind(10, "jsbsim_failed", "nonfinite", "JSBSim failed: {error}"),
     EventKind(11, "interrupted", "interrupted", "interrupted by the user"),
+    EventKind(12, "machine_current", "ok", "armature current {current:.1f} A above the machine's peak rating "
+                                           "{peak_current:g} A"),
 )
 (E_NONE, E_HOOK, E_FORCE, E_STATE, E_GS, E_GROUND, E_VHI, E_VLO, E_TENSION, E_LOAD, E_JSBSIM,
- E_INTERRUPT) = range(len(EVENTS))
+ E_INTERRUPT, E_CURRENT) = range(len(EVENTS))
 #: event names by code
 EVENT_CODES: tuple[str, ...] = tuple(e.name for e in EVENTS)
 
@@ -139,4 +149,26 @@ def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
     return status, msg.format(**values)
 
 
-__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "N_LIMITS", "event_message", "limit_vector", "step_event"]
+def machine_current(t: np.ndarray, current: np.ndarray, rated: float,
+                    peak: float) -> tuple[float, float, list[tuple[float, str]]]:
+    """The armature current of a flight's log against the machine's ratings: ``t`` the rows'
+    times s, ``current`` their armature currents A (the value at the end of each step; NaN
+    where none), ``rated`` the rated continuous current A, ``peak`` the peak current A. Returns
+    the largest current A (NaN without one), the time above the rated current s (the steps
+    whose current ends above it) and the logged events: for each excursion above the peak, its
+    first row's time s and the ``machine_current`` message with the excursion's largest
+    current."""
+    i = np.nan_to_num(np.asarray(current, dtype=float), nan=0.0)
+    t = np.asarray(t, dtype=float)
+    i_max = float(np.nanmax(current)) if np.any(np.isfinite(current)) else math.nan
+    above = float(np.sum(np.diff(t)[i[1:] > rated])) if len(t) > 1 else 0.0
+    over = np.flatnonzero(i > peak)
+    events: list[tuple[float, str]] = []
+    for run in np.split(over, np.flatnonzero(np.diff(over) > 1) + 1) if len(over) else []:
+        msg = EVENTS[E_CURRENT].message.format(current=float(i[run].max()), peak_current=peak)
+        events.append((float(t[run[0]]), msg))
+    return i_max, above, events
+
+
+__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "N_LIMITS", "event_message", "limit_vector", "machine_current",
+           "step_event"]

@@ -79,6 +79,7 @@ from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
 from ..wind import WindProfile, line_height
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
+from .events import machine_current
 from .glider_ledger import GliderLedger
 from .loop import COLUMNS, CoSim, FlightResult, Limits
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
@@ -358,15 +359,19 @@ def fly(
     mets = cycle_metrics(spans, dt, log.e_load[: k_end + 1], e_thrust, log.e_supply[: k_end + 1], log.err[: k_end + 1])
     ledger, rel = _ledger(gl, rig.gs, float(e_thrust[k_end]), bool(nseg))
     status, msg = _status(res, ap, interrupted, flown[0] or t_end is not None, T_total, cycles, mets)
+    m = gsp.machine  # the armature current against the machine's ratings (the paper plant's winch has none)
+    i_pk, above, rated = (None, None, []) if paper else machine_current(res.t, res.current, m.rated_current,
+                                                                          m.peak_current)
+    notes = sorted(list(ap.log) + rated, key=lambda e: e[0])  # the autopilot's and the logged events
     line = meta.get("line")
     return FlightReport(
         scenario=str(meta.get("scenario", "custom")), config=config,
         wind_mps=float(meta.get("wind_mps", math.hypot(wind.ned[0], wind.ned[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=log.err[: k_end + 1], reference_pos=log.refpos[: k_end + 1],
-        autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
+        autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
-        line_shape=log.line_shape(),
+        line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
     )
 
 

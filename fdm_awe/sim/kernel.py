@@ -141,7 +141,7 @@ def compiled_kernel() -> Callable | None:
     if station is None or lumped_station is None:
         return None
     from .. import wind
-    from ..groundstation import lumped, lumped_state, substeps
+    from ..groundstation import lumped, lumped_state, substeps, winch
     from ..jitcache import compile_cached
     from ..sixdof import native
 
@@ -154,7 +154,7 @@ def compiled_kernel() -> Callable | None:
     # the lumped line or the wind profile compiles the kernel anew
     return compile_cached(cosim_steps, signature, (hook_kinematics, step_event),
                           (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps,
-                           lumped, lumped_state, native, wind), "fdm_awe.sim.kernel")
+                           winch, lumped, lumped_state, native, wind), "fdm_awe.sim.kernel")
 
 
 __all__ = ["EVENT_CODES", "GS_COLUMNS", "N_LIMITS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]

@@ -56,7 +56,8 @@ class FlightReport:
     """What :func:`fdm_awe.sim.flight.fly` returns: the run's facts (wind m/s, simulated and wall
     time s), its status and message, per-cycle numbers, the energy ledger (J) with its largest
     relative residual, and the logs (the co-simulation's result, tracking error m, reference
-    position m NED, the autopilot's notes, the lumped line's shape)."""
+    position m NED, the autopilot's notes with the flight's logged events, the lumped line's
+    shape) and the armature current against the machine's ratings (physical plant)."""
 
     scenario: str
     config: str
@@ -71,6 +72,7 @@ class FlightReport:
     result: Any = field(repr=False, default=None)  #: fdm_awe.sim.loop.FlightResult
     track_error: np.ndarray | None = field(repr=False, default=None)
     reference_pos: np.ndarray | None = field(repr=False, default=None)
+    #: (time s, note): the autopilot's notes and the flight's logged events (``machine_current``)
     autopilot_log: list[tuple[float, str]] = field(default_factory=list)
     plant: str = "physical"  #: "physical" or "paper" (see PLANT_NOTES)
     tether_drag_scale: float = 1.0  #: factor on the line drag the ground station applied (1 = the defined line)
@@ -82,6 +84,9 @@ class FlightReport:
     #: the lumped line's shape sampled at :data:`fdm_awe.sim.flight.LINE_SHAPE_HZ`: ``t`` (m,) s, ``nodes`` (m, N+1, 3)
     #: m NED winch first, ``tension`` (m, N) N per segment; None for the straight line
     line_shape: dict[str, np.ndarray] | None = field(repr=False, default=None)
+    peak_current_A: float | None = None  #: largest armature current, A (None on the paper plant)
+    #: time the armature current spent above the machine's rated current, s (None on the paper plant)
+    time_above_rated_current_s: float | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -103,6 +108,9 @@ class FlightReport:
             "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),
             "realtime_factor": _json_float(self.realtime_factor, 1),
             "ledger_residual_rel": _json_float(float(f"{self.ledger_residual_rel:.3e}"), 12),
+            "peak_current_A": None if self.peak_current_A is None else _json_float(self.peak_current_A),
+            "time_above_rated_current_s": (None if self.time_above_rated_current_s is None
+                                           else _json_float(self.time_above_rated_current_s)),
             "ledger": {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.ledger.items()},
             "cycles": [c.as_dict() for c in self.cycles],
         }
