@@ -321,6 +321,8 @@ class FlightReport:
     #: the lumped line's shape sampled at :data:`LINE_SHAPE_HZ`: ``t`` (m,) s, ``nodes`` (m, N+1, 3)
     #: m NED winch first, ``tension`` (m, N) N per segment; None for the straight line
     line_shape: dict[str, np.ndarray] | None = field(repr=False, default=None)
+    #: surface motion above 0.5 Hz (:class:`fdm_awe.sim.activity.ControlActivity`), None before a run
+    control_activity: Any = None
 
     @property
     def realtime_factor(self) -> float:
@@ -344,6 +346,8 @@ class FlightReport:
             "ledger_residual_rel": _json_float(float(f"{self.ledger_residual_rel:.3e}"), 12),
             "ledger": {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.ledger.items()},
             "cycles": [c.as_dict() for c in self.cycles],
+            "control_activity": None if self.control_activity is None else
+            {k: _json_float(v) for k, v in self.control_activity.as_dict().items()},
         }
 
 
@@ -383,6 +387,7 @@ def fly(
     """
     from ..autopilot.autopilot import Autopilot
     from ..autopilot.guidance import norm3
+    from .activity import control_activity
     from ..autopilot.config import autopilot_params
     from .loop import COLUMNS, CoSim, Limits
     from ..definitions.aircraft import load_glider
@@ -587,5 +592,5 @@ def fly(
         ledger_residual_rel=rel, result=res, track_error=err[: k_end + 1], reference_pos=refpos[: k_end + 1],
         autopilot_log=list(ap.log), plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
         line="paper" if line is None else str(line), generator=None if paper else str(gen or "passive"),
-        line_shape=line_shape,
+        line_shape=line_shape, control_activity=control_activity(*res.controls[:, :3].T, dt),
     )
