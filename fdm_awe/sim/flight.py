@@ -387,6 +387,7 @@ def fly(
     """
     from ..autopilot.autopilot import Autopilot
     from ..autopilot.guidance import norm3
+    from ..autopilot.shaping import flyable_reference
     from .activity import control_activity
     from ..autopilot.config import autopilot_params
     from .loop import COLUMNS, CoSim, Limits
@@ -406,6 +407,7 @@ def fly(
 
     nseg = parse_tether(tether)
     paper = plant == "paper"
+    reference = flyable_reference(reference)  # the optimiser's held-control steps smoothed out
     meta = reference.meta
     wind = tuple(float(v) for v in meta.get("wind_ned_mps", (0.0, 0.0, 0.0)))
     # the wind profile the reference was optimised in (absent: uniform): JSBSim's steady wind

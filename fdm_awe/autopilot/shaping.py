@@ -1,0 +1,105 @@
+"""The flyable reference: the optimiser's cycle with its held controls' steps smoothed out.
+
+The optimiser holds its controls (bank, angle of attack, thrust, tension) constant over each
+mesh interval of length ``h`` (0.4 .. 0.8 s on the stored cycles) and lets them jump at the
+interval boundaries, up to a bank reversal of 1.2 rad at a phase switch. The path's
+acceleration and the tension, which the guidance feeds forward, are then staircases that step
+every ``h`` (1.2 .. 2.5 Hz). A glider cannot jump its bank: the attitude loops chase each step,
+and with the airframe's strong adverse yaw (``|Cn_da| > |Cn_dr|`` at full deflection) every
+step rings through aileron, rudder and sideslip at the interval rate -- the ~1.1 Hz
+oscillation seen through turns and dives.
+
+:func:`flyable_reference` smooths the reference the autopilot flies with two centred running
+means over the cycle (periodic, across the phase switches): one of width ``h``, whose
+transfer function is zero at ``1/h, 2/h, ...``, so the staircase's harmonics vanish and the
+steps become ramps; then one of width ``2 h``, which spreads each bank change over about
+``3 h`` (~2.3 s at ``h`` = 0.8 s, the roll the 6-DOF glider flies with its rudder still able to
+hold the sideslip). Position, velocity, acceleration and tension go through the same linear
+filter, so they stay consistent (the filter commutes with the time derivative); the smoothed
+path lies within about 0.5 m RMS of the optimiser's (its corners are rounded). Being centred,
+the filter adds no lag: the path is known ahead. The tether length and reel speed (the
+winch's targets) and the feed-forward controls are left as they are.
+
+A reference without held controls (e.g. one built from waypoints) is returned unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from .tracking import TrackingReference
+
+#: the columns smoothed (see the module doc)
+SMOOTHED = ("pos", "vel", "acc", "tension")
+#: widths of the running means, in hold intervals
+WINDOWS = (1.0, 2.0)
+#: the held controls whose steps mark the optimiser's interval boundaries
+_HELD = ("alpha", "phi", "thrust")
+
+
+def hold_interval(ref: TrackingReference) -> float:
+    """The optimiser's hold interval [s]: the longest of the phases' intervals, from the
+    metadata's ``mesh`` (``n_gen``, ``n_rec`` intervals over ``T1`` and ``T2``) when given, else
+    the median time between steps of the held controls in each phase; 0 when the reference
+    has no held controls."""
+    mesh = ref.meta.get("mesh")
+    if isinstance(mesh, dict) and mesh.get("n_gen") and mesh.get("n_rec"):
+        return max(ref.T1 / float(mesh["n_gen"]), ref.T2 / float(mesh["n_rec"]))
+    widths = []
+    for p in np.unique(ref.phase):
+        sel = np.flatnonzero(ref.phase == p)
+        steps = np.zeros(len(sel) - 1, bool)
+        for name in _HELD:
+            steps |= np.diff(np.asarray(getattr(ref, name), float)[sel]) != 0.0
+        times = ref.t[sel][1:][steps]
+        if len(times) >= 3:
+            widths.append(float(np.median(np.diff(times))))
+    return max(widths) if widths else 0.0
+
+
+def periodic_mean(t: np.ndarray, y: np.ndarray, width: float, period: float) -> np.ndarray:
+    """Centred running mean over ``width`` [s] of the periodic (``period`` [s]), piecewise-
+    linear signal with samples ``y`` (``(n,)`` or ``(n, k)``) at increasing times ``t`` in
+    ``[0, period)``, at the sample times: the exact integral of the linear interpolant over
+    the window, divided by its width."""
+    t = np.asarray(t, float)
+    y = np.asarray(y, float)
+    if not (0.0 < width < period):
+        raise ValueError(f"periodic_mean: width {width!r} s out of range (allowed 0 .. the period {period!r} s)")
+    # three cycles of the samples in [0, period) (a last sample at the period is the first
+    # one again), so every window lies inside
+    base = t < t[0] + period - 1e-9
+    tb, yb = t[base], y[base]
+    tt = np.concatenate([tb - period, tb, tb + period])
+    yy = np.concatenate([yb, yb, yb])
+    shape = (-1,) + (1,) * (y.ndim - 1)
+    F = np.concatenate([np.zeros((1,) + y.shape[1:]),
+                        np.cumsum(0.5 * (yy[1:] + yy[:-1]) * np.diff(tt).reshape(shape), axis=0)])
+
+    def integral(x: np.ndarray) -> np.ndarray:
+        i = np.clip(np.searchsorted(tt, x, side="right") - 1, 0, len(tt) - 2)
+        s = (x - tt[i]).reshape(shape)
+        slope = (yy[i + 1] - yy[i]) / (tt[i + 1] - tt[i]).reshape(shape)
+        return F[i] + yy[i] * s + 0.5 * slope * s * s
+
+    return (integral(t + 0.5 * width) - integral(t - 0.5 * width)) / width
+
+
+def flyable_reference(ref: TrackingReference, windows: tuple[float, ...] = WINDOWS) -> TrackingReference:
+    """``ref`` with :data:`SMOOTHED` passed through centred running means of ``windows`` hold
+    intervals each (:func:`hold_interval`; see the module doc). Its metadata gains
+    ``shaping_windows_s``, the widths used [s]."""
+    h = hold_interval(ref)
+    widths = [w * h for w in windows]
+    if h <= 0.0 or not all(0.0 < w < ref.period for w in widths) or not math.isfinite(h):
+        return ref
+    new = {}
+    for name in SMOOTHED:
+        y = np.asarray(getattr(ref, name), float)
+        for w in widths:
+            y = periodic_mean(ref.t, y, w, ref.period)
+        new[name] = y
+    return replace(ref, **new, meta={**ref.meta, "shaping_windows_s": [round(w, 6) for w in widths]})
