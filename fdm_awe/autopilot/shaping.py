@@ -1,24 +1,27 @@
 """The flyable reference: the optimiser's cycle with its held controls' steps smoothed out.
 
 The optimiser holds its controls (bank, angle of attack, thrust, tension) constant over each
-mesh interval of length ``h`` (0.4 .. 0.8 s on the stored cycles) and lets them jump at the
+mesh interval of length ``h`` (0.5 .. 0.85 s on the stored cycles) and lets them jump at the
 interval boundaries, up to a bank reversal of 1.2 rad at a phase switch. The path's
 acceleration and the tension, which the guidance feeds forward, are then staircases that step
-every ``h`` (1.2 .. 2.5 Hz). A glider cannot jump its bank: the attitude loops chase each step,
-and with the airframe's strong adverse yaw (``|Cn_da| > |Cn_dr|`` at full deflection) every
-step rings through aileron, rudder and sideslip at the interval rate -- the ~1.1 Hz
-oscillation seen through turns and dives.
+every ``h`` (1.2 .. 2 Hz). A glider cannot jump its bank: the attitude loops chase each step,
+and with the airframe's strong adverse yaw (a full aileron yaws it nearly as hard as a full
+rudder: ``Cn_da`` 0.014 against ``Cn_dr`` 0.016 per full deflection) every step rings through
+aileron, rudder and sideslip at the interval rate -- the ~1.1 Hz oscillation seen through
+turns and dives.
 
 :func:`flyable_reference` smooths the reference the autopilot flies with two centred running
 means over the cycle (periodic, across the phase switches): one of width ``h``, whose
 transfer function is zero at ``1/h, 2/h, ...``, so the staircase's harmonics vanish and the
-steps become ramps; then one of width ``2 h``, which spreads each bank change over about
-``3 h`` (~2.3 s at ``h`` = 0.8 s, the roll the 6-DOF glider flies with its rudder still able to
-hold the sideslip). Position, velocity, acceleration and tension go through the same linear
-filter, so they stay consistent (the filter commutes with the time derivative); the smoothed
-path lies within about 0.5 m RMS of the optimiser's (its corners are rounded). Being centred,
-the filter adds no lag: the path is known ahead. The tether length and reel speed (the
-winch's targets) and the feed-forward controls are left as they are.
+steps become ramps; then one of width ``1.5 h``, which spreads each bank change over about
+``2.5 h`` (~2 s at ``h`` = 0.8 s). Position, velocity, acceleration and tension go through the
+same linear filter, so they stay consistent (the filter commutes with the time derivative);
+on the stored cycles the smoothed path lies 0.4 .. 0.8 m RMS (1.3 .. 3.3 m at the sharpest
+corners) from the optimiser's. Being centred, the filter adds no lag: the path is known ahead.
+A wider window is worse, not smoother: centred, it brings part of a pull-up's acceleration
+forward to where the glider is still slow, and asks for lift beyond its CLmax there (with
+``2 h`` the half-line foldable cycle fell 17 m behind its path in a dive). The tether length
+and reel speed (the winch's targets) and the feed-forward controls are left as they are.
 
 A reference without held controls (e.g. one built from waypoints) is returned unchanged.
 """
@@ -35,7 +38,7 @@ from .tracking import TrackingReference
 #: the columns smoothed (see the module doc)
 SMOOTHED = ("pos", "vel", "acc", "tension")
 #: widths of the running means, in hold intervals
-WINDOWS = (1.0, 2.0)
+WINDOWS = (1.0, 1.5)
 #: the held controls whose steps mark the optimiser's interval boundaries
 _HELD = ("alpha", "phi", "thrust")
 
