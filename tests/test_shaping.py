@@ -40,7 +40,7 @@ def test_the_flyable_reference_stays_near_the_optimisers_path_and_consistent():
     fly = flyable_reference(ref)
     assert fly.meta["shaping_windows_s"] == [pytest.approx(w * h, rel=1e-5) for w in WINDOWS]
     dev = np.linalg.norm(fly.pos - ref.pos, axis=1)
-    assert np.sqrt(np.mean(dev ** 2)) < 0.6 and dev.max() < 2.5  # m: 0.38 RMS, 1.9 at most
+    assert np.sqrt(np.mean(dev ** 2)) < 0.4 and dev.max() < 2.0  # m: 0.25 RMS, 1.4 at most
     # one filter for all columns: the smoothed velocity is the smoothed position's rate
     tt = np.linspace(0.0, ref.period, 3001)[:-1]
     pos = np.array([fly.sample(t).pos for t in tt])
