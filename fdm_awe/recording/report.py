@@ -49,6 +49,10 @@ def flight_markdown(report: Any, title: str | None = None) -> str:
            f"- status: **{r.status}** ({r.message})",
            f"- simulated {r.sim_time_s:.2f} s in {r.wall_s:.2f} s wall time ({r.realtime_factor:.0f}x real time)",
            f"- energy ledger residual (relative to the largest term): {r.ledger_residual_rel:.2e}"]
+    if getattr(r, "control_activity", None) is not None:
+        a = r.control_activity
+        out.append(f"- control activity (surface command RMS above {a.f_cut_hz:g} Hz, full deflections): aileron "
+                   f"{_f(a.aileron, 3)}, elevator {_f(a.elevator, 3)}, rudder {_f(a.rudder, 3)}, total {_f(a.total, 3)}")
     if getattr(r, "plant", None):
         from ..sim.flight import PLANT_NOTES
 

@@ -69,6 +69,7 @@ import numpy as np
 from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
 from ..autopilot.guidance import norm3
+from ..autopilot.shaping import flyable_reference
 from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
 from ..groundstation import GroundStation, GroundStationParams, load_ground_station
@@ -78,6 +79,7 @@ from ..groundstation.tether import check_tether_drag_scale
 from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
 from ..wind import WindProfile, line_height
+from .activity import control_activity
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
 from .events import machine_current
 from .glider_ledger import GliderLedger
@@ -335,6 +337,7 @@ def fly(
     tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
     nseg = parse_tether(tether)
     paper = plant == "paper"
+    reference = flyable_reference(reference)  # the optimiser's held-control steps smoothed out
     meta = reference.meta
     wind = _FlightWind(meta)
     gsp = _station_params(meta, paper, nseg)
@@ -372,6 +375,7 @@ def fly(
         autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
+        control_activity=control_activity(*res.controls[:, :3].T, dt),
     )
 
 

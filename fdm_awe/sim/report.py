@@ -87,6 +87,8 @@ class FlightReport:
     peak_current_A: float | None = None  #: largest armature current, A (None on the paper plant)
     #: time the armature current spent above the machine's rated current, s (None on the paper plant)
     time_above_rated_current_s: float | None = None
+    #: surface motion above 0.5 Hz (:class:`fdm_awe.sim.activity.ControlActivity`), None before a run
+    control_activity: Any = None
 
     @property
     def realtime_factor(self) -> float:
@@ -113,4 +115,6 @@ class FlightReport:
                                            else _json_float(self.time_above_rated_current_s)),
             "ledger": {k: (_json_float(v) if isinstance(v, float) else v) for k, v in self.ledger.items()},
             "cycles": [c.as_dict() for c in self.cycles],
+            "control_activity": None if self.control_activity is None else
+            {k: _json_float(v) for k, v in self.control_activity.as_dict().items()},
         }
