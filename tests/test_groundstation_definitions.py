@@ -1,5 +1,5 @@
 """Ground-station definition file: Table 1 values, units, and one-line errors on bad files.
-The tether lines (sized and paper) are tested in test_line_sizing.py."""
+The tether lines (sized and paper) are tested in test_groundstation_line.py."""
 
 from __future__ import annotations
 

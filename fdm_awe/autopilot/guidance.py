@@ -138,7 +138,7 @@ class Guidance:
         along-path force the glider lacks is traded through the flight path)."""
         # written on scalars and 3-tuples of floats (numpy on 3-vectors cost ~100 us a call):
         # every operation as in the vector formulas of the comments, in the same order, so the
-        # results are those of the numpy form (tests/test_guidance.py)
+        # results are those of the numpy form (tests/test_autopilot_guidance.py)
         k = self.k
         px, py, pz = _xyz(pos)
         vx, vy, vz = _xyz(vel)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from cosim_helpers import FixedLengthLine, LineOutput
+from sim_helpers import FixedLengthLine, LineOutput
 from fdm_awe import ROOT
 from fdm_awe.sim.loop import COLUMNS, CoSim, Limits
 from fdm_awe.definitions.xmlutil import XmlDoc
