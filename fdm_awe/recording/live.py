@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from ..sim.propulsion import logged_propulsion
+
 _FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust", "p_prop",
            "load_factor", "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec")
 
@@ -59,8 +61,7 @@ class StepBuffer:
     def _row(self, s: Any, o: Any) -> tuple:
         """The values of :attr:`fields` after a step (``o`` the ground station's output, None
         before the first step)."""
-        thr = self._thruster
-        thrust, p_prop = (thr.thrust, thr.power()) if thr is not None else (s.thrust_N, s.prop_power_W + self._p0)
+        thrust, p_prop = logged_propulsion(s.thrust_N, s.prop_power_W, self._p0, self._thruster)
         gs = (math.nan,) * 7 if o is None else (o.tension, o.length, o.reel_speed, o.omega, o.current, o.duty,
                                                 o.p_electrical)
         return (s.t, s.x, s.y, s.z, s.phi, s.theta, s.psi, s.airspeed, s.alpha, s.beta, s.fold, thrust, p_prop,

@@ -84,6 +84,7 @@ from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics
 from .events import machine_current
 from .glider_ledger import GliderLedger
 from .loop import COLUMNS, CoSim, FlightResult, Limits
+from .propulsion import logged_propulsion
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
 from .report import FLIGHT_STATUSES, PLANT_NOTES, CycleMetrics, FlightReport
 
@@ -431,15 +432,13 @@ def _thrust_energy(res: FlightResult, log: _FlightLog, rig: _Rig, paper: bool, d
     propulsion columns it completes: the paper plant's ideal thruster, the motor's constant
     draw P0)."""
     k_end = res.steps
-    if paper:
-        # the logged propulsion columns show the ideal thruster (the real propeller is idle)
-        res.data[1:, COLUMNS.index("thrust")] = log.t_ideal[1: k_end + 1]
-        res.data[1:, COLUMNS.index("p_prop")] = [rig.thruster.power(t) for t in log.t_ideal[1: k_end + 1]]
+    it, ip = COLUMNS.index("thrust"), COLUMNS.index("p_prop")
+    if paper:  # the logged propulsion columns show the ideal thruster (the real propeller is idle)
+        res.data[1:, it], res.data[1:, ip] = logged_propulsion(res.data[1:, it], res.data[1:, ip], 0.0, rig.thruster,
+                                                               np.asarray(log.t_ideal[1: k_end + 1], float))
         return log.e_ideal[: k_end + 1]
-    # the logged propulsion power: the motor's electrical input (JSBSim: throttle x battery
-    # voltage x current) plus the constant draw the optimiser's propulsion model books
-    # (P0: ESC and avionics), so that flight and optimiser count the same consumers
-    res.data[:, COLUMNS.index("p_prop")] += rig.airframes.unfolded.propulsion.P0
+    res.data[:, it], res.data[:, ip] = logged_propulsion(res.data[:, it], res.data[:, ip],
+                                                         rig.airframes.unfolded.propulsion.P0)
     p_prop = np.nan_to_num(res.p_prop)
     return np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
 
