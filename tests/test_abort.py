@@ -5,7 +5,8 @@ rejoins the path smoothly after FBWA.
 The full acceptance grid (12 trigger times x two references x calm and two turbulence seeds)
 runs in ``scripts/abort_grid.py``; here a representative subset: the trigger times of the
 issue (late generation on the physical nominal cycle, the very start of the paper foldable
-cycle), one in the recovery phase and one in moderate turbulence (which parks)."""
+cycle), one in the recovery phase, the grid's former crash (the paper foldable cycle at 2 P / 12)
+and one in moderate turbulence (which parks)."""
 
 from __future__ import annotations
 
@@ -68,13 +69,19 @@ def _assert_landed(rep, after) -> None:
     (NOMINAL, 25.7),                 # the issue's MAVProxy rtl: late generation, line paying out
     (NOMINAL, 50.0),                 # recovery phase: motor mode reeling in
     (FOLDABLE, 0.0),                 # the issue's `fly --mode RECOVER`: 25 m/s on a taut line
-], ids=["nominal-25.7s", "nominal-50s", "foldable-0s"])
+    (FOLDABLE, 5.8),                 # the grid's crash: a final begun abeam the winch touched down 199 m out
+], ids=["nominal-25.7s", "nominal-50s", "foldable-0s", "foldable-5.8s"])
 def test_recover_lands_gently_at_the_winch_in_calm_air(path, trigger_s):
     rep, ap, after = _abort(path, trigger_s, 200.0)
     _assert_landed(rep, after)
     assert ap.rec_stage == "flare"
     stages = [m for _, m in ap.log if m.startswith("recovery:")]
     assert any("final approach" in m for m in stages) and any("flare" in m for m in stages)
+    # the final approach is the line over the winch into the wind: the touchdown lies on it
+    # (the foldable cycle's 3 m/s headwind leaves a ground run longer than the circle's radius)
+    w = np.asarray(TrackingReference.from_ocp_file(path).meta["wind_ned_mps"][:2], dtype=float)
+    end = after[-1]
+    assert abs(end[C["x"]] * w[1] - end[C["y"]] * w[0]) / np.hypot(*w) < 5.0
 
 
 def test_recover_parks_in_moderate_turbulence():

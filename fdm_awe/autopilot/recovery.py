@@ -2,8 +2,9 @@
 
 Unfold, no thrust, glide to a circle of ``REC_RADIUS`` about the winch and descend on it at
 ``REC_AIRSPEED`` (stage ``return``); hold on it at its floor altitude (``hold``); with
-``REC_LAND`` 1 turn into the wind for the final approach (``final``) and, below
-``REC_FLARE_ALT``, fly wings level and flare (``flare``, no path). With ``REC_LAND`` 0, or when
+``REC_LAND`` 1 turn off it on its downwind side onto the final approach, a straight line into
+the wind over the winch (``final``), and, below ``REC_FLARE_ALT``, fly wings level and flare
+(``flare``, no path). With ``REC_LAND`` 0, or when
 vertical gusts exceed ``REC_GUST_MAX`` near the hold, the glider parks in the hold at
 ``REC_HOLD_ALT``. The winch brakes a paying-out drum in generator mode first, then reels in the
 slack beyond ``REC_SLACK`` (at most ``REC_REEL_SPD``), and spools free on the final approach.
@@ -43,7 +44,9 @@ class Recovery:
         self.stage: str | None = None
         self._sense = 1.0  # +1 clockwise, -1 counter-clockwise seen from above
         self._h = 0.0  # altitude reference [m]
-        self._final: tuple[np.ndarray, np.ndarray] | None = None  # final approach: start, track
+        #: final approach: its track (unit vector, the line passes over the winch) and, while
+        #: the glider turns onto it, the turn's centre [m] and radius [m] (None, 0 on the line)
+        self._final: tuple[np.ndarray, np.ndarray | None, float] | None = None
         self.park = False  #: the recovery parks in the hold instead of landing
         self._gust2 = 0.0  # mean square of the vertical wind [m^2/s^2], ~10 s filter
 
@@ -82,17 +85,56 @@ class Recovery:
         reel = -min(max(0.5 * (slack - p["REC_SLACK"]), 0.0), p["REC_REEL_SPD"])
         return WinchCommand(mode="motor", reel_speed_ref=reel)
 
-    def _circle_field(self, q: np.ndarray) -> np.ndarray:
-        """Horizontal unit vector of the recovery circle's guidance field at horizontal
-        position ``q`` (m, north/east of the winch): tangent to the circle of REC_RADIUS in the
-        recovery's sense on it, turned towards it by ``atan((rho - R) / (R / 2))`` off it
-        (straight at the winch far outside, straight out near the centre)."""
-        R = self.params["REC_RADIUS"]
+    def _circle_field(self, q: np.ndarray, centre: np.ndarray | None = None, radius: float = 0.0) -> np.ndarray:
+        """Horizontal unit vector of a circle's guidance field at horizontal position ``q`` (m,
+        north/east of the winch): tangent to the circle of ``radius`` [m] about ``centre`` [m]
+        (default: REC_RADIUS about the winch) in the recovery's sense on it, turned towards it
+        by ``atan((rho - R) / (R / 2))`` off it (straight at the centre far outside, straight
+        out near the centre)."""
+        if centre is None:
+            R = self.params["REC_RADIUS"]
+        else:
+            R = radius
+            q = q - centre
         rho = math.hypot(q[0], q[1])
         er = q / rho if rho > 1e-6 else np.array([1.0, 0.0])
         et = self._sense * np.array([-er[1], er[0]])
         beta = math.atan((rho - R) / (0.5 * R))
         return math.cos(beta) * et - math.sin(beta) * er
+
+    def _turn_onto_final(self, q: np.ndarray, wind: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
+        """The final approach if the glider, holding on the circle at horizontal position ``q``
+        [m], turns onto it now, else None: its track (unit vector into the horizontal ``wind``
+        [m/s]; in calm air, below 1 m/s, any direction: the turn begins now) and the centre [m]
+        and radius [m] of the turn onto it.
+
+        The final is the straight line over the winch: the touchdown lies the final's and the
+        flare's ground run beyond the turn's end, which is ``sqrt(R^2 - 2 R r)`` downwind of the
+        winch. (Left where the circle's track points upwind, abeam the winch, the touchdown would
+        lie that run and REC_RADIUS ``R`` from the winch at right angles: beyond the landing
+        bound when a weak headwind makes the run long.) The turn, in the circle's sense, is
+        tangent to the circle and to the line: radius ``r`` for 45 deg bank at the fastest
+        ground speed, ``(V + |wind|)^2 / g`` (REC_AIRSPEED ``V``), at most 0.45 R; its centre
+        ``r`` off the line and ``R - r`` from the winch, so it begins at the circle's bearing
+        ``atan(r / sqrt(R^2 - 2 R r))`` before the downwind point (or at most 0.1 rad after;
+        a glider that reaches the final altitude later circles once more)."""
+        R = self.params["REC_RADIUS"]
+        V = self.params["REC_AIRSPEED"]
+        wn = math.hypot(wind[0], wind[1])
+        r = min((V + wn) ** 2 / self.guidance.g, 0.45 * R)
+        xc = math.sqrt(R * R - 2.0 * R * r)  # the centre's distance down the line from the winch
+        lead = math.atan2(r, xc)  # bearing of the circle's tangent point off its downwind point
+        psi_q = math.atan2(q[1], q[0])
+        if wn < 1.0:
+            psi_e = psi_q + self._sense * lead
+        else:
+            psi_e = math.atan2(wind[1], wind[0])
+            to_go = self._sense * ((psi_e - psi_q + math.pi) % (2.0 * math.pi) - math.pi)
+            if not lead - 0.1 < to_go <= lead:  # at the tangent point (0.1 rad: ~0.5 s on the circle)
+                return None
+        e = np.array([math.cos(psi_e), math.sin(psi_e)])  # downwind
+        side = self._sense * np.array([e[1], -e[0]])  # towards the glider's side of the line
+        return -e, xc * e + r * side, r
 
     @staticmethod
     def _ground_speed(u: np.ndarray, wind: np.ndarray, V: float) -> float:
@@ -122,44 +164,52 @@ class Recovery:
         R = p["REC_RADIUS"]
         h = -float(s.pos_ned[2])
         w = np.array([wind[0], wind[1]])
-        wn = math.hypot(w[0], w[1])
         q = np.array([s.pos_ned[0], s.pos_ned[1]])
         self._watch_gusts(wind, h, dt)
         land = p["REC_LAND"] > 0.5 and not self.park
         floor = p["REC_FINAL_ALT"] if land else p["REC_HOLD_ALT"]
         sink = V / p["REC_SLOPE"]
         if self.stage in ("return", "hold"):
-            u = self._circle_field(q)
             on_circle = abs(math.hypot(q[0], q[1]) - R) < 0.25 * R
             if self.stage == "return" and on_circle and h < floor + 3.0:
                 self.stage = "hold"
                 self._note(f"recovery: on the circle at {h:.1f} m")
-            upwind = wn < 1.0 or float(u @ w) < -0.87 * wn  # the track within 30 deg of the wind's eye
-            if land and self.stage == "hold" and upwind:
-                f = -w / wn if wn >= 1.0 else u
-                self._final = (q.copy(), f)
+            # the final begins at REC_FINAL_ALT: the altitude reference on the floor, the glider
+            # within 1 m of it (it may lag the reference by a few metres)
+            at_floor = self._h <= floor and h < floor + 1.0
+            turn = self._turn_onto_final(q, w) if land and self.stage == "hold" and at_floor else None
+            if turn is not None:
+                self._final = turn
                 self.stage = "final"
-                self._note(f"recovery: final approach from {h:.1f} m, track {math.degrees(math.atan2(f[1], f[0])):.0f} deg")
-        if self.stage == "final":
-            q0, f = self._final  # type: ignore[misc]
-            if h < p["REC_FLARE_ALT"]:
-                self.stage = "flare"
-                self._note(f"recovery: flare at {h:.1f} m")
-                return None
-            along = float((q - q0) @ f)
-            pos_h = q0 + along * f
-            vg = self._ground_speed(f, w, V)
-            self._h = min(max(self._h - sink * dt, 0.0), h + 10.0)
-            vel = np.array([vg * f[0], vg * f[1], sink if self._h > 0.0 else 0.0])
-            acc = np.zeros(3)
-        elif self.stage == "flare":
+                f = turn[0]
+                self._note(f"recovery: turn onto the final approach from {h:.1f} m, radius {turn[2]:.0f} m, "
+                           f"track {math.degrees(math.atan2(f[1], f[0])):.0f} deg over the winch")
+        if self.stage == "final" and h < p["REC_FLARE_ALT"]:
+            self.stage = "flare"
+            self._note(f"recovery: flare at {h:.1f} m")
+        if self.stage == "flare":
             return None
+        centre: np.ndarray | None = None  # of the turn onto the final (None: the circle, or the line)
+        r = 0.0
+        if self.stage == "final":
+            f, centre, r = self._final  # type: ignore[misc]
+            if centre is not None and float((q - centre) @ f) >= 0.0:  # abeam the centre: the turn's end
+                self._final, centre = (f, None, 0.0), None
+        floor = 0.0 if self.stage == "final" else floor
+        self._h = min(max(self._h - sink * dt, floor), h + 10.0)
+        descending = self._h > floor
+        if self.stage == "final" and centre is None:
+            # on the line over the winch
+            pos_h = float(q @ f) * f
+            vg = self._ground_speed(f, w, V)
+            vel = np.array([vg * f[0], vg * f[1], sink if descending else 0.0])
+            acc = np.zeros(3)
         else:
+            # a circle's guidance field: REC_RADIUS about the winch or the turn onto the final
+            u = self._circle_field(q, centre, r)
             vg = self._ground_speed(u, w, V)
             # the field's turn along the track: a = vg^2 du/ds (finite difference over 1 m)
-            du = self._circle_field(q + u) - u
-            self._h = min(max(self._h - sink * dt, floor), h + 10.0)
-            descending = self._h > floor
+            du = self._circle_field(q + u, centre, r) - u
             vel = np.array([vg * u[0], vg * u[1], sink if descending else 0.0])
             acc = np.array([vg * vg * du[0], vg * vg * du[1], 0.0])
             pos_h = q
