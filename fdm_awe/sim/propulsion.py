@@ -11,8 +11,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 
 def logged_propulsion(thrust_N: Any, motor_power_W: Any, P0: float,
                       thruster: Any = None, ideal_thrust_N: Any = None) -> tuple[Any, Any]:
@@ -20,9 +18,7 @@ def logged_propulsion(thrust_N: Any, motor_power_W: Any, P0: float,
     thruster's at ``ideal_thrust_N`` (default its current thrust) when ``thruster`` is given,
     else the propeller's thrust and the motor's input plus ``P0``."""
     if thruster is None:
-        return thrust_N, np.add(motor_power_W, P0) if isinstance(motor_power_W, np.ndarray) else motor_power_W + P0
+        return thrust_N, motor_power_W + P0
     if ideal_thrust_N is None:
         return thruster.thrust, thruster.power()
-    if isinstance(ideal_thrust_N, np.ndarray):
-        return ideal_thrust_N, np.array([thruster.power(t) for t in ideal_thrust_N])
-    return ideal_thrust_N, thruster.power(ideal_thrust_N)
+    return ideal_thrust_N, thruster.power(ideal_thrust_N)  # the fit is a polynomial: arrays too
