@@ -230,7 +230,7 @@ class Guidance:
         F_par = Fx * e1x + Fy * e1y + Fz * e1z
         polar = self.polar(fold)
         q = 0.5 * self.rho * V * V
-        horiz = math.hypot(e1x, e1y)
+        horiz = math.sqrt(e1x * e1x + e1y * e1y)
         if horiz > 1e-6:
             r0x, r0y, r0z = -e1y / horiz, e1x / horiz, 0.0 / horiz
         else:  # vertical flight: any horizontal axis
@@ -290,7 +290,7 @@ def _path_feed_forward(a_ref: Vec3, va_ref: Vec3, v_ref: float, va: Vec3, v0: fl
         # curv_scale_max; None: the reference's acceleration as it stands). Only scaled
         # up: a slower glider keeps the reference's turn (scaling it down weakened the
         # turn of a glider lagging on a slack line in turbulence)
-        scale = 1.0 if curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), curv_scale_max)
+        scale = 1.0 if curv_scale_max is None else min(max((v0 / v_ref) * (v0 / v_ref), 1.0), curv_scale_max)
         c = n_n / n_p * scale
         apx, apy, apz = apx * c, apy * c, apz * c
     return a_t * tnx + apx, a_t * tny + apy, a_t * tnz + apz

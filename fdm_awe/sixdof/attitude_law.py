@@ -119,14 +119,14 @@ class AttitudeLaw:
         ia = self._int + e_a * dt
         self._int = ia = (ia if ia > -0.2 else -0.2) if ia < 0.2 else 0.2
         w = gn.w_alpha
-        m_des = self._iyy * (w**2 * (e_a + gn.ki_alpha * ia) - 2 * gn.z_alpha * w * (q - q_ref))
+        m_des = self._iyy * (w * w * (e_a + gn.ki_alpha * ia) - 2 * gn.z_alpha * w * (q - q_ref))
         # roll
         if self.bank_integral:
             ip = self._int_phi + e_phi * dt
             self._int_phi = ip = (ip if ip > -0.5 else -0.5) if ip < 0.5 else 0.5
             e_phi = e_phi + gn.ki_phi * ip
         w = gn.w_phi
-        l_des = self._ixx * (w**2 * e_phi - 2 * gn.z_phi * w * (p - p_ref))
+        l_des = self._ixx * (w * w * e_phi - 2 * gn.z_phi * w * (p - p_ref))
         # yaw
         n_des = -self._izz * 2 * gn.w_r * (r - r_ref) + gn.k_beta * qbar * S * b * self._cn_beta * beta
         # moment demands -> deflections, rad
