@@ -1,54 +1,90 @@
 """Work-energy bookkeeping of the glider's centre-of-gravity motion in JSBSim: the change of its
 translational kinetic and potential energy against the work of each force JSBSim reports
-(:mod:`fdm_awe.sim.flight` describes the flight's energy ledger)."""
+(:mod:`fdm_awe.sim.flight` describes the flight's energy ledger).
+
+One step of it is :func:`ledger_step`, a plain function on arrays that :class:`GliderLedger`
+runs in Python and a compiled loop can compile (the same source either way). Its inputs are the
+JSBSim properties of :data:`LEDGER_PROPERTIES`, read after the step, in that order.
+"""
 
 from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from ..units import FT, LBF, SLUG
+
+#: the forces booked, in the order of the work array (then the paper plant's ideal thrust)
+FORCES = ("aero", "prop", "external", "gear", "weight")
+(W_AERO, W_PROP, W_EXTERNAL, W_GEAR, W_WEIGHT, W_IDEAL) = range(6)
+N_WORK = 6
+#: the properties one step reads: each force's body components (lbf), the body velocity (ft/s),
+#: the mass (slug); the ideal thrust (lbf) is read only for the paper plant (else 0)
+LEDGER_PROPERTIES = tuple(f"forces/fb{a}-{k}-lbs" for k in FORCES for a in "xyz") + (
+    "velocities/u-fps", "velocities/v-fps", "velocities/w-fps", "inertia/mass-slugs")
+IDEAL_THRUST_PROPERTY = "external_reactions/ideal-thrust/magnitude"
+(L_U, L_V, L_W, L_MASS) = range(15, 19)
+N_LEDGER = 19
+
+
+def ledger_step(vals, ideal_thrust, work, v_prev, dt, ft, lbf):
+    """Add each force's work over the step of ``dt`` [s] just flown to ``work`` [J] (trapezoidal
+    rule on the velocity at its two ends): ``vals`` the step's :data:`LEDGER_PROPERTIES` (JSBSim
+    units), ``ideal_thrust`` the paper plant's ideal thrust [lbf] (0 without), ``v_prev`` the
+    body velocity [m/s] at the step's start (replaced by the end's), ``ft`` m per ft, ``lbf``
+    N per lbf."""
+    u, v, w = vals[L_U] * ft, vals[L_V] * ft, vals[L_W] * ft
+    m0, m1, m2 = (u + v_prev[0]) * 0.5, (v + v_prev[1]) * 0.5, (w + v_prev[2]) * 0.5
+    for j in range(5):
+        work[j] += (vals[3 * j] * m0 + vals[3 * j + 1] * m1 + vals[3 * j + 2] * m2) * lbf * dt
+    work[W_IDEAL] += ideal_thrust * m0 * lbf * dt
+    v_prev[0], v_prev[1], v_prev[2] = u, v, w
+
+
+def kinetic_energy(v, mass_slug, slug):
+    """Translational kinetic energy [J] of body velocity ``v`` [m/s] and mass ``mass_slug`` [slug]
+    (``slug`` kg per slug)."""
+    return 0.5 * mass_slug * slug * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
 
 
 class GliderLedger:
     """Work-energy bookkeeping of the glider's CG motion from JSBSim's force breakdown."""
 
-    _FORCES = ("aero", "prop", "external", "gear", "weight")
+    _FORCES = FORCES
 
     def __init__(self, glider: Any, ideal_thrust: bool = False) -> None:
         """``ideal_thrust``: the paper plant's body-x force is among JSBSim's external forces;
         its work is booked as thrust work, not tether work."""
         pm = glider.fdm.get_property_manager()
-        node = lambda n: pm.get_node(n, False).get_double_value  # noqa: E731
-        self._f = {k: [node(f"forces/fb{a}-{k}-lbs") for a in "xyz"] for k in self._FORCES}
-        self._v = [node(f"velocities/{a}-fps") for a in "uvw"]
-        self._mass = node("inertia/mass-slugs")
-        self.work = {k: 0.0 for k in self._FORCES}
-        self.work["ideal_thrust"] = 0.0
-        self._ti = node("external_reactions/ideal-thrust/magnitude") if ideal_thrust else None
-        self._v_prev = self._vel()
-        self.ke0 = self._ke()
-        self.ke = self.ke0
+        self._get = [pm.get_node(n, False).get_double_value for n in LEDGER_PROPERTIES]
+        self._ti = pm.get_node(IDEAL_THRUST_PROPERTY, False).get_double_value if ideal_thrust else None
+        #: works [J] (:data:`FORCES`, then the ideal thrust), updated by every step
+        self.work_array = np.zeros(N_WORK)
+        vals = self._read()
+        self.v_prev = np.array((vals[L_U] * FT, vals[L_V] * FT, vals[L_W] * FT))  #: body velocity [m/s]
+        self._mass = vals[L_MASS]
+        self.ke0 = kinetic_energy(self.v_prev, self._mass, SLUG)
 
-    def _vel(self) -> tuple[float, float, float]:
-        """Body-axis velocity u, v, w [m/s]."""
-        return (self._v[0]() * FT, self._v[1]() * FT, self._v[2]() * FT)
-
-    def _ke(self) -> float:
-        """Translational kinetic energy [J]."""
-        v = self._vel()
-        return 0.5 * self._mass() * SLUG * (v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+    def _read(self) -> list[float]:
+        return [g() for g in self._get]
 
     def step(self, dt: float) -> None:
-        """Add each force's work over the step of ``dt`` [s] just flown (trapezoidal rule on the
-        velocity at its two ends)."""
-        v = self._vel()
-        vm = [(a + b) * 0.5 for a, b in zip(v, self._v_prev)]
-        for k, fs in self._f.items():
-            self.work[k] += (fs[0]() * vm[0] + fs[1]() * vm[1] + fs[2]() * vm[2]) * LBF * dt
-        if self._ti is not None:
-            self.work["ideal_thrust"] += self._ti() * vm[0] * LBF * dt
-        self._v_prev = v
-        self.ke = self._ke()
+        """Add each force's work over the step of ``dt`` [s] just flown (:func:`ledger_step`)."""
+        vals = self._read()
+        self._mass = vals[L_MASS]
+        ledger_step(vals, 0.0 if self._ti is None else self._ti(), self.work_array, self.v_prev, dt, FT, LBF)
+
+    @property
+    def ke(self) -> float:
+        """Translational kinetic energy after the last step [J]."""
+        return kinetic_energy(self.v_prev, self._mass, SLUG)
+
+    @property
+    def work(self) -> dict[str, float]:
+        """The works [J] by force name (and ``ideal_thrust``)."""
+        w = self.work_array.tolist()
+        return dict(zip(FORCES + ("ideal_thrust",), w))
 
     def terms(self) -> dict[str, float]:
         """J: kinetic change, potential change (= -weight work), works of the other forces."""
