@@ -79,56 +79,64 @@ station, lumped_station, native_run, native_get, native_set = _globals()
 N_STATION = len(_STATION_CONSTANTS)
 
 
-def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
-    f_run, f_get, f_set, fdm = h[H_RUN], h[H_GET], h[H_SET], h[H_FDM]
-    nget = h.shape[0] - H_GETTERS
+def cosim_step(h, p, lim, log, s_gs, c_gs, k):
+    """One step from row ``k`` to row ``k + 1`` of ``log`` (the arguments as :func:`cosim_steps`
+    takes them): the event code of the step, or of the step that was not done (a rejected hook,
+    a non-finite force: ``log[k + 1]`` is then not written)."""
+    x, y, z = p[P_HX], p[P_HY], p[P_HZ]
+    vx, vy, vz = p[P_HVX], p[P_HVY], p[P_HVZ]
+    if not (math.isfinite(x + y + z) and math.isfinite(vx + vy + vz)):
+        return E_HOOK
     dt = p[P_DT]
     nsub = int(p[P_NSUB])
-    lbf = p[P_LBF]
     motor = p[P_MOTOR] != 0.0
-    lat0, m0, n0cos, ft = p[P_LAT0], p[P_M0], p[P_N0COS], p[P_FT]
-    ox, oy, oz = p[P_OX], p[P_OY], p[P_OZ]
+    if c_gs.shape[0] > N_STATION:  # the lumped-mass line (fdm_awe.groundstation.lumped)
+        (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = lumped_station(
+            s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
+    else:
+        (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station(
+            s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
+    p[P_FX], p[P_FY], p[P_FZ] = fx, fy, fz
+    if not math.isfinite(fx + fy + fz):
+        return E_FORCE
+    lbf = p[P_LBF]
+    f_set = h[H_SET]
+    native_set(f_set, h[H_TX], fx / lbf)
+    native_set(f_set, h[H_TY], fy / lbf)
+    native_set(f_set, h[H_TZ], fz / lbf)
+    native_run(h[H_RUN], h[H_FDM])
+    r = log[k + 1]
+    f_get = h[H_GET]
+    nget = h.shape[0] - H_GETTERS
+    for j in range(nget):
+        a = h[H_GETTERS + j]
+        r[j] = native_get(f_get, a) if a != 0 else 0.0
     g = nget  # first ground-station column
     e = nget + N_GS  # first tail column
+    rr = c_gs[0] * w
+    r[g + G_TENSION], r[g + G_LENGTH], r[g + G_REEL_SPEED], r[g + G_OMEGA] = tmean, length, rr, w
+    r[g + G_CURRENT], r[g + G_DUTY], r[g + G_P_EL] = i, duty, p_el
+    r[g + G_FX], r[g + G_FY], r[g + G_FZ], r[g + G_U_LINK], r[g + G_EVENT], r[g + G_MACHINE_MODE] = (
+        fx, fy, fz, u_link, ev, mm)
+    r[g + G_P_MECH], r[g + G_DISTANCE] = tmean * c_gs[0] * w, d
+    r[g + G_SLACK], r[g + G_BROKEN] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
+    (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, p[P_LAT0], p[P_M0], p[P_N0COS], p[P_FT], p[P_OX], p[P_OY],
+                                                    p[P_OZ])
+    p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY], p[P_HVZ] = hx, hy, hz, hvx, hvy, hvz
+    r[e + K_HX], r[e + K_HY], r[e + K_HZ], r[e + K_HVX], r[e + K_HVY], r[e + K_HVZ] = hx, hy, hz, hvx, hvy, hvz
+    r[e + K_FX], r[e + K_FY], r[e + K_FZ] = fx, fy, fz
+    return step_event(r, tmean, ev != 0, lim)  # the events, as CoSim.run checks them
+
+
+def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
+    """``n`` steps of :func:`cosim_step` from row ``k0``: (steps done, event code)."""
     k = k0
     code = E_NONE
     while k < k0 + n:
-        x, y, z = p[P_HX], p[P_HY], p[P_HZ]
-        vx, vy, vz = p[P_HVX], p[P_HVY], p[P_HVZ]
-        if not (math.isfinite(x + y + z) and math.isfinite(vx + vy + vz)):
-            code = E_HOOK
+        code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
+        if code == E_HOOK or code == E_FORCE:
             break
-        if c_gs.shape[0] > N_STATION:  # the lumped-mass line (fdm_awe.groundstation.lumped)
-            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = lumped_station(
-                s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
-        else:
-            (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station(
-                s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
-        p[P_FX], p[P_FY], p[P_FZ] = fx, fy, fz
-        if not math.isfinite(fx + fy + fz):
-            code = E_FORCE
-            break
-        native_set(f_set, h[H_TX], fx / lbf)
-        native_set(f_set, h[H_TY], fy / lbf)
-        native_set(f_set, h[H_TZ], fz / lbf)
-        native_run(f_run, fdm)
         k += 1
-        r = log[k]
-        for j in range(nget):
-            a = h[H_GETTERS + j]
-            r[j] = native_get(f_get, a) if a != 0 else 0.0
-        rr = c_gs[0] * w
-        r[g + G_TENSION], r[g + G_LENGTH], r[g + G_REEL_SPEED], r[g + G_OMEGA] = tmean, length, rr, w
-        r[g + G_CURRENT], r[g + G_DUTY], r[g + G_P_EL] = i, duty, p_el
-        r[g + G_FX], r[g + G_FY], r[g + G_FZ], r[g + G_U_LINK], r[g + G_EVENT], r[g + G_MACHINE_MODE] = (
-            fx, fy, fz, u_link, ev, mm)
-        r[g + G_P_MECH], r[g + G_DISTANCE] = tmean * c_gs[0] * w, d
-        r[g + G_SLACK], r[g + G_BROKEN] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
-        (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, lat0, m0, n0cos, ft, ox, oy, oz)
-        p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY], p[P_HVZ] = hx, hy, hz, hvx, hvy, hvz
-        r[e + K_HX], r[e + K_HY], r[e + K_HZ], r[e + K_HVX], r[e + K_HVY], r[e + K_HVZ] = hx, hy, hz, hvx, hvy, hvz
-        r[e + K_FX], r[e + K_FY], r[e + K_FZ] = fx, fy, fz
-        code = step_event(r, tmean, ev != 0, lim)  # the events, as CoSim.run checks them
         if code != E_NONE:
             break
     return k - k0, code
@@ -152,7 +160,7 @@ def compiled_kernel() -> Callable | None:
     # tied to the source files of the functions compiled into it (numba's cache checks only
     # this file): an edit of the event check, the row's relations, the ground station's step,
     # the lumped line or the wind profile compiles the kernel anew
-    return compile_cached(cosim_steps, signature, (hook_kinematics, step_event),
+    return compile_cached(cosim_steps, signature, (hook_kinematics, step_event, cosim_step),
                           (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps,
                            winch, lumped, lumped_state, native, wind), "fdm_awe.sim.kernel")
 
