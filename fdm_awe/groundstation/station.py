@@ -52,6 +52,23 @@ def _finite(name: str, v: float, lo: float | None = None, hi: float | None = Non
     return f
 
 
+def command_values(motor, reel_speed_ref, load_resistance, boost_duty, duty, r_drum, boost_duty_default,
+                   load_resistance_default):
+    """A winch command given as numbers (``motor`` 1.0 motor mode, 0.0 generator; NaN for
+    ``load_resistance``, ``boost_duty``, ``duty``: the field left at its default, as None in a
+    :class:`WinchCommand`) turned into the terms of :func:`.substeps.station_step`:
+    ``(ok, motor, drum speed reference rad/s, duty (NaN: PI), boost duty, load resistance ohm)``
+    on a drum of radius ``r_drum`` [m] with the definition's defaults. ``ok`` is whether
+    :class:`WinchCommand` accepts the values (a plain function: compiled loops use it too)."""
+    ok = (isfinite(reel_speed_ref)
+          and (load_resistance != load_resistance or (isfinite(load_resistance) and load_resistance > 0.0))
+          and (boost_duty != boost_duty or 0.0 <= boost_duty <= 1.0)
+          and (duty != duty or 0.0 <= duty <= 1.0))
+    return (ok, motor != 0.0, reel_speed_ref / r_drum, duty,
+            boost_duty_default if boost_duty != boost_duty else boost_duty,
+            load_resistance_default if load_resistance != load_resistance else load_resistance)
+
+
 @dataclass(frozen=True)
 class WinchCommand:
     """Ground-station command for one flight step.
@@ -404,10 +421,12 @@ class GroundStation:
         self._last_cmd = cmd
         # the command's terms of the step (a WinchCommand is immutable): converter mode,
         # motor flag, drum speed reference, open-loop duty (NaN: PI), boost duty, load resistance
-        self._cmd_terms = (cmd.mode, cmd.mode == MOTOR, cmd.reel_speed_ref / self._r,
-                           _NAN if cmd.duty is None else cmd.duty,
-                           self._d2 if cmd.boost_duty is None else cmd.boost_duty,
-                           self._RL if cmd.load_resistance is None else cmd.load_resistance)
+        _, motor, omega_ref, duty, d2, rl = command_values(
+            1.0 if cmd.mode == MOTOR else 0.0, cmd.reel_speed_ref,
+            _NAN if cmd.load_resistance is None else cmd.load_resistance,
+            _NAN if cmd.boost_duty is None else cmd.boost_duty, _NAN if cmd.duty is None else cmd.duty,
+            self._r, self._d2, self._RL)
+        self._cmd_terms = (cmd.mode, motor, omega_ref, duty, d2, rl)
 
     def compiled_step_args(self, dt: float) -> tuple[np.ndarray, np.ndarray, int] | None:
         """For a compiled loop that calls :func:`.substeps.station_step` itself (the
