@@ -253,7 +253,7 @@ def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
         a_p = a_n - _dot(a_n, t_now) * t_now
         n_p, n_n = norm3(a_p), norm3(a_n)
         if n_p > 1e-9:
-            scale = 1.0 if k.curv_scale_max is None else min(max((v0 / v_ref) ** 2, 1.0), k.curv_scale_max)
+            scale = 1.0 if k.curv_scale_max is None else min(max((v0 / v_ref) * (v0 / v_ref), 1.0), k.curv_scale_max)
             a_p = a_p * (n_n / n_p * scale)
         a_ff = a_t * t_now + a_p
     F = gd.m * ((a_ff + corr) - g_vec) - tf
@@ -270,7 +270,7 @@ def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
     F_perp = F - F_par * e1
     cl0, cla, clmax, cd0, cd1, cd2 = blended_polar(gd.aero_u, gd.aero_f, fold)
     q = 0.5 * gd.rho * V * V
-    horiz = math.hypot(e1[0], e1[1])
+    horiz = math.sqrt(e1[0] * e1[0] + e1[1] * e1[1])
     right0 = np.array([-e1[1], e1[0], 0.0]) / horiz if horiz > 1e-6 else np.array([0.0, 1.0, 0.0])
     up0 = cross(right0, e1)
     a_stall = (clmax - cl0) / cla

@@ -10,6 +10,10 @@ rest (:attr:`GuidanceGains.thrust_on_body_axis`). The wing's lift gives the lift
 coefficient and so the angle of attack; the direction of the force across the air velocity
 gives the wind-axis bank. The desired body attitude follows from the
 air velocity, alpha and bank (no sideslip), and the inner loops fly it.
+
+The arithmetic is one step as pure functions of floats and float64 arrays
+(:func:`guidance_step`, :func:`polar_at`): numba compiles them into a compiled loop, or they run
+as plain Python (:class:`Guidance` holds the state and calls them), with the same results.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..pointmass.aero import fold_blend
+from ..pointmass.aero import POLAR_FIELDS, blend_coefficient
 from ..definitions.aircraft import AeroParams
 from .tracking import RefPoint
 
@@ -27,6 +31,20 @@ from .tracking import RefPoint
 Vec3 = tuple[float, float, float]
 #: a wing polar as ``S*coefficient`` values (:func:`blended_polar`)
 Polar = tuple[float, float, float, float, float, float]
+#: a float64 array of the pure functions' arguments (the Python step may pass the same floats as
+#: a list or tuple: the same arithmetic)
+Floats = np.ndarray | list[float] | tuple[float, ...]
+
+#: layout of the gains vector (:meth:`GuidanceGains.vector`): the fields of :class:`GuidanceGains`
+#: in their order; ``GK_CURVMAX`` and ``GK_PHI_MAX_VERT`` NaN for None, ``GK_NEGLIFT`` and
+#: ``GK_BODY_AXIS`` 0.0/1.0
+(GK_KP, GK_KD, GK_KI, GK_AMAX, GK_IMAX, GK_ALPHA_MIN, GK_ALPHA_MAX, GK_PHI_MAX, GK_THRUST_MAX,
+ GK_ETRADE, GK_NEGLIFT, GK_CURVMAX, GK_VTENS, GK_VMARGIN, GK_PHI_MAX_VERT, GK_BODY_AXIS) = range(16)
+#: layout of the position-error integral (NED, m s) that :func:`guidance_step` advances in place
+(I_X, I_Y, I_Z) = range(3)
+#: layout of a polar (:func:`polar_at`) and of the coefficients it blends (:func:`polar_coefficients`,
+#: :data:`fdm_awe.pointmass.aero.POLAR_FIELDS`): CL0, CLalpha, CLmax, CD0, CDalpha1, CDalpha2
+(P_CL0, P_CLA, P_CLMAX, P_CD0, P_CDA1, P_CDA2) = range(6)
 
 
 @dataclass(frozen=True)
@@ -53,6 +71,16 @@ class GuidanceGains:
     #: velocity, the point-mass model's thrust)
     thrust_on_body_axis: bool = True
 
+    def vector(self) -> np.ndarray:
+        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_BODY_AXIS`` (the field
+        order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`guidance_step`."""
+        nan = math.nan
+        return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
+                         self.phi_max, self.thrust_max, self.energy_trade, float(self.negative_lift),
+                         nan if self.curv_scale_max is None else self.curv_scale_max, self.overspeed_tension,
+                         self.overspeed_margin, nan if self.phi_max_vertical is None else self.phi_max_vertical,
+                         float(self.thrust_on_body_axis)), dtype=np.float64)
+
 
 @dataclass(frozen=True)
 class GuidanceCommand:
@@ -66,14 +94,41 @@ class GuidanceCommand:
     pos_error: float  #: |p_ref - p| [m]
 
 
-def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> tuple[float, float, float, float, float, float]:
+def polar_coefficients(aero: AeroParams) -> np.ndarray:
+    """The polar coefficients of one form of the wing as a float64 array in the layout of
+    :data:`POLAR_FIELDS` (``P_CL0`` .. ``P_CDA2``: CL0 [-], CLalpha [1/rad], CLmax [-], CD0 [-],
+    CDalpha1 [1/rad], CDalpha2 [1/rad^2]): the ``cu``, ``cf`` of :func:`polar_at`."""
+    return np.array([getattr(aero, k) for k in POLAR_FIELDS], dtype=np.float64)
+
+
+def polar_arguments(aero_u: AeroParams, aero_f: AeroParams) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """``(cu, cf, ratio, S)`` of :func:`polar_at` for the morphing wing's unfolded and folded
+    forms: their coefficients (:func:`polar_coefficients`), the area ratio S_folded / S_unfolded
+    [-] and the unfolded reference area [m^2]."""
+    return polar_coefficients(aero_u), polar_coefficients(aero_f), aero_f.S / aero_u.S, aero_u.S
+
+
+def polar_at(cu: Floats, cf: Floats, ratio: float, S: float, fold: float) -> Polar:
+    """The polar at fold state ``fold`` (0 unfolded .. 1 folded) as ``S*coefficient`` values,
+    (S_CL0, S_CLa, S_CLmax, S_CD0, S_CDa1, S_CDa2) [m^2, m^2/rad, m^2, m^2, m^2/rad, m^2/rad^2],
+    layout ``P_CL0`` .. ``P_CDA2``: each coefficient blended by
+    :func:`fdm_awe.pointmass.aero.blend_coefficient` (the relation of ``fold_blend``) from the
+    unfolded and folded coefficients ``cu``, ``cf`` (:func:`polar_coefficients`), area ratio
+    ``ratio`` [-], times the unfolded reference area ``S`` [m^2]."""
+    return (S * blend_coefficient(cu[P_CL0], cf[P_CL0], ratio, fold),
+            S * blend_coefficient(cu[P_CLA], cf[P_CLA], ratio, fold),
+            S * blend_coefficient(cu[P_CLMAX], cf[P_CLMAX], ratio, fold),
+            S * blend_coefficient(cu[P_CD0], cf[P_CD0], ratio, fold),
+            S * blend_coefficient(cu[P_CDA1], cf[P_CDA1], ratio, fold),
+            S * blend_coefficient(cu[P_CDA2], cf[P_CDA2], ratio, fold))
+
+
+def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> Polar:
     """Polar of the morphing wing at fold state ``fold`` (0 unfolded .. 1 folded) as
-    ``S*coefficient`` values on its reference area, (S_CL0, S_CLa, S_CLmax, S_CD0, S_CDa1,
-    S_CDa2) [m^2, m^2/rad, m^2, m^2, m^2/rad, m^2/rad^2]: the blend of the 6-DOF model
-    (:func:`fdm_awe.pointmass.aero.fold_blend`, the one source of it)."""
-    a = fold_blend(aero_u, aero_f, fold)
-    S = a.S
-    return (S * a.CL0, S * a.CLalpha, S * a.CLmax, S * a.CD0, S * a.CDalpha1, S * a.CDalpha2)
+    ``S*coefficient`` values on its reference area (:func:`polar_at`; the blend of the 6-DOF
+    model, :func:`fdm_awe.pointmass.aero.fold_blend`), as Python floats."""
+    p = polar_at(*polar_arguments(aero_u, aero_f), fold)
+    return float(p[0]), float(p[1]), float(p[2]), float(p[3]), float(p[4]), float(p[5])
 
 
 def norm3(a: np.ndarray) -> float:
@@ -98,25 +153,36 @@ def _norm(x: float, y: float, z: float) -> float:
 
 
 class Guidance:
-    """Stateful outer loop (holds the position-error integral)."""
+    """Stateful outer loop (holds the position-error integral); its arithmetic is
+    :func:`guidance_step`."""
 
     def __init__(self, gains: GuidanceGains, mass: float, aero_u: AeroParams, aero_f: AeroParams, rho: float = 1.225, g: float = 9.81) -> None:
-        self.k = gains
+        self.k = gains  #: the gains (may be replaced by new ones between steps)
         self.m = mass
         self.aero_u, self.aero_f = aero_u, aero_f
         self.rho, self.g = rho, g
-        self.integral = [0.0, 0.0, 0.0]  #: position-error integral, NED [m s]
-        self._polar: tuple[float, tuple[float, ...]] | None = None  # (fold state, blended_polar) of the last step
+        #: position-error integral, NED [m s], layout ``I_X``, ``I_Y``, ``I_Z`` (updated in place)
+        self.integral = np.zeros(3)
+        self._polar: tuple[float, Polar] | None = None  # (fold state, blended_polar) of the last step
+        self._gk: tuple[GuidanceGains, list[float]] | None = None  # (gains, their vector as floats)
 
-    def polar(self, fold: float) -> tuple[float, float, float, float, float, float]:
+    def polar(self, fold: float) -> Polar:
         """:func:`blended_polar` at fold state ``fold``, kept while the fold state does not move."""
         c = self._polar
         if c is None or c[0] != fold:
             c = self._polar = (fold, blended_polar(self.aero_u, self.aero_f, fold))
-        return c[1]  # type: ignore[return-value]
+        return c[1]
+
+    def gains_vector(self) -> list[float]:
+        """:meth:`GuidanceGains.vector` of the current gains :attr:`k` as Python floats (the
+        Python step's arithmetic stays on floats), rebuilt when :attr:`k` is replaced."""
+        c = self._gk
+        if c is None or c[0] is not self.k:
+            c = self._gk = (self.k, self.k.vector().tolist())
+        return c[1]
 
     def reset(self) -> None:
-        self.integral = [0.0, 0.0, 0.0]
+        self.integral[:] = 0.0
 
     def update(
         self,
@@ -136,148 +202,173 @@ class Guidance:
         the line: more pull -> more tension -> more pull). ``thrust_max`` [N]: the thrust
         available this step (None: the gains' ``thrust_max``; 0 with the motor stopped, so an
         along-path force the glider lacks is traded through the flight path)."""
-        # written on scalars and 3-tuples of floats (numpy on 3-vectors cost ~100 us a call):
-        # every operation as in the vector formulas of the comments, in the same order, so the
-        # results are those of the numpy form (tests/test_autopilot_guidance.py)
-        k = self.k
+        gk = self.gains_vector()
+        rpx, rpy, rpz = _xyz(ref.pos)
+        rvx, rvy, rvz = _xyz(ref.vel)
+        rax, ray, raz = _xyz(ref.acc)
         px, py, pz = _xyz(pos)
         vx, vy, vz = _xyz(vel)
         wx, wy, wz = _xyz(wind)
-        rp = _xyz(ref.pos)
-        rvx, rvy, rvz = _xyz(ref.vel)
-        # e_p = p_ref - p, e_v = v_ref - v
-        epx, epy, epz = rp[0] - px, rp[1] - py, rp[2] - pz
-        evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
-        e_r = None
-        if taut:
-            # position loop on the sphere's tangent plane: e -= (e . e_r) e_r
-            dn = max(_norm(px, py, pz), 1e-6)
-            erx, ery, erz = e_r = (px / dn, py / dn, pz / dn)
-            c = epx * erx + epy * ery + epz * erz
-            epx, epy, epz = epx - c * erx, epy - c * ery, epz - c * erz
-            c = evx * erx + evy * ery + evz * erz
-            evx, evy, evz = evx - c * erx, evy - c * ery, evz - c * erz
-        corr = self._correction(epx, epy, epz, evx, evy, evz, dt)
-        va_ref = (rvx - wx, rvy - wy, rvz - wz)  # reference air velocity
-        va = (vx - wx, vy - wy, vz - wz)  # air velocity
-        v_ref, v0 = _norm(va_ref[0], va_ref[1], va_ref[2]), _norm(va[0], va[1], va[2])
-        ra = _xyz(ref.acc)
-        a_ff = _path_feed_forward(ra, va_ref, v_ref, va, v0, k.curv_scale_max)
-        F = self._air_force(a_ff, corr, _xyz(tether_force), rp, ra, ref.tension, e_r, v_ref, v0)
-        return self._command(F, va, fold, k.thrust_max if thrust_max is None else thrust_max, _norm(epx, epy, epz))
-
-    def _correction(self, epx: float, epy: float, epz: float, evx: float, evy: float, evz: float,
-                    dt: float) -> Vec3:
-        """The feedback acceleration [m/s^2] ``kp e_p + kd e_v + ki int(e_p)``, saturated at
-        ``a_max``, for position error ``e_p`` [m] and velocity error ``e_v`` [m/s]; the integral
-        [m s] advances by ``e_p dt`` (``dt`` [s]), clipped to +-``int_max``."""
-        k = self.k
-        im = k.int_max
-        ix, iy, iz = self.integral
-        self.integral = [min(max(ix + epx * dt, -im), im), min(max(iy + epy * dt, -im), im),
-                         min(max(iz + epz * dt, -im), im)]
-        ix, iy, iz = self.integral
-        kp, kd, ki = k.kp, k.kd, k.ki
-        cx = kp * epx + kd * evx + ki * ix
-        cy = kp * epy + kd * evy + ki * iy
-        cz = kp * epz + kd * evz + ki * iz
-        n = _norm(cx, cy, cz)
-        if n > k.a_max:
-            c = k.a_max / n
-            cx, cy, cz = cx * c, cy * c, cz * c
-        return cx, cy, cz
-
-    def _air_force(self, a_ff: Vec3, corr: Vec3, tether: Vec3, rp: Vec3, ra: Vec3, tension: float,
-                   e_r: Vec3 | None, v_ref: float, v0: float) -> Vec3:
-        """The force [N] the air (and the propeller) must provide, ``F = m (a_cmd - g) - F_tether``
-        with ``a_cmd = a_ff + corr`` [m/s^2] and the measured line force ``tether`` [N]; on a taut
-        line (``e_r``: the glider's radial unit vector) its radial part is the reference's (from
-        its position ``rp`` [m], acceleration ``ra`` [m/s^2] and ``tension`` [N], plus the
-        overspeed term; airspeeds ``v_ref``, ``v0`` [m/s] of reference and glider)."""
-        k, m, g = self.k, self.m, self.g
-        afx, afy, afz = a_ff
-        cx, cy, cz = corr
-        tx, ty, tz = tether
-        Fx = m * ((afx + cx) - 0.0) - tx
-        Fy = m * ((afy + cy) - 0.0) - ty
-        Fz = m * ((afz + cz) - g) - tz
-        if e_r is None:
-            return Fx, Fy, Fz
-        rpx, rpy, rpz = rp
-        rax, ray, raz = ra
-        dn = max(_norm(rpx, rpy, rpz), 1e-6)
-        F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
-                   + m * (raz - g) * (rpz / dn)) + tension
-        if k.overspeed_tension > 0.0 and v_ref > 1.0:
-            # overspeed protection: on a taut line the glider sheds speed through the line,
-            # not through its drag: pull harder than the reference (more lift, more induced
-            # drag) and the winch pays out faster, taking the excess energy at the drum
-            F_r_ref += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
-        # radial component replaced by the reference's: F - (F . e_r) e_r + F_r_ref e_r
-        erx, ery, erz = e_r
-        c = Fx * erx + Fy * ery + Fz * erz
-        return (Fx - c * erx + F_r_ref * erx, Fy - c * ery + F_r_ref * ery, Fz - c * erz + F_r_ref * erz)
-
-    def _command(self, F: Vec3, va: Vec3, fold: float, t_max: float, pos_error: float) -> GuidanceCommand:
-        """The command flying force ``F`` [N]: split along the air velocity ``va`` [m/s] (thrust
-        minus drag, at most ``t_max`` [N] of thrust) and across it (lift), at fold state
-        ``fold``; the attitude follows from the air velocity, alpha and bank (no sideslip).
-        ``pos_error`` [m]: the position error it carries."""
-        k = self.k
-        V = max(_norm(va[0], va[1], va[2]), 1.0)
-        e1x, e1y, e1z = e1 = (va[0] / V, va[1] / V, va[2] / V)
-        Fx, Fy, Fz = F
-        F_par = Fx * e1x + Fy * e1y + Fz * e1z
-        polar = self.polar(fold)
-        q = 0.5 * self.rho * V * V
-        horiz = math.sqrt(e1x * e1x + e1y * e1y)
-        if horiz > 1e-6:
-            r0x, r0y, r0z = -e1y / horiz, e1x / horiz, 0.0 / horiz
-        else:  # vertical flight: any horizontal axis
-            r0x, r0y, r0z = 0.0, 1.0, 0.0
-        right0 = (r0x, r0y, r0z)
-        # up0 = right0 x e1 (= -c3 at zero bank: points up in level flight)
-        up0 = (r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x)
-        alpha_stall = (polar[2] - polar[0]) / polar[1]
-        Q = _traded_lift(F, F_par, e1, up0, q, polar, t_max, k, alpha_stall)
-        L = _norm(Q[0], Q[1], Q[2])
-        # bank about the air velocity: lift direction relative to the unbanked "up"
-        if L > 1e-6:
-            eLx, eLy, eLz = Q[0] / L, Q[1] / L, Q[2] / L
-            mu = math.atan2(eLx * r0x + eLy * r0y + eLz * r0z, eLx * up0[0] + eLy * up0[1] + eLz * up0[2])
-        else:
-            mu = 0.0
-        if k.negative_lift and abs(mu) > math.pi - k.phi_max:
-            # the force points below the horizon, further than the bank limit reaches: push
-            # over (negative lift, wings banked the other way) instead of banking past it
-            mu -= math.copysign(math.pi, mu)
-            L = -L
-        alpha, thrust = _alpha_and_thrust(L, F_par, q, polar, t_max, k, min(k.alpha_max, alpha_stall))
-        # the bank limit keeps the lift above the horizon in level flight; climbing or diving
-        # steeply the wind-axis bank no longer says where the lift points relative to gravity
-        # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical
-        phi_lim = k.phi_max
-        if k.phi_max_vertical is not None and k.phi_max_vertical > k.phi_max:
-            phi_lim += (k.phi_max_vertical - k.phi_max) * (1.0 - horiz * horiz)
-        mu = min(max(mu, -phi_lim), phi_lim)
-        roll, pitch, yaw = _body_euler(e1, right0, up0, mu, alpha)
-        cl = (polar[0] + polar[1] * alpha) / ((1 - fold) * self.aero_u.S + fold * self.aero_f.S)
-        return GuidanceCommand(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)
+        tx, ty, tz = _xyz(tether_force)
+        t_max = gk[GK_THRUST_MAX] if thrust_max is None else thrust_max
+        return GuidanceCommand(*guidance_step(
+            gk, self.integral, self.polar(fold), self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S,
+            rpx, rpy, rpz, rvx, rvy, rvz, rax, ray, raz, ref.tension, px, py, pz, vx, vy, vz, wx, wy, wz,
+            tx, ty, tz, fold, dt, taut, t_max))
 
 
-def _path_feed_forward(a_ref: Vec3, va_ref: Vec3, v_ref: float, va: Vec3, v0: float,
-                       curv_scale_max: float | None) -> Vec3:
+# ------------------------------------------------------------------ the step as pure functions
+# Floats, bools and float64 arrays (:data:`Floats`) only: numba compiles them, the Python path
+# runs the same code. Written on scalars, every operation as in the vector formulas of the
+# comments, in the same order (tests/test_autopilot_guidance.py checks them against the numpy
+# form, tests/test_autopilot_guidance_core.py compiled against Python).
+def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho: float, g: float,
+                  s_u: float, s_f: float, rpx: float, rpy: float, rpz: float, rvx: float, rvy: float, rvz: float,
+                  rax: float, ray: float, raz: float, tension: float, px: float, py: float, pz: float,
+                  vx: float, vy: float, vz: float, wx: float, wy: float, wz: float, tx: float, ty: float, tz: float,
+                  fold: float, dt: float, taut: bool, t_max: float) -> tuple[float, ...]:
+    """One guidance step: the command ``(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)``
+    [rad, rad, N, rad, rad, rad, -, m] (the fields of :class:`GuidanceCommand`).
+
+    ``gk``: the gains (:meth:`GuidanceGains.vector`, layout ``GK_*``); ``integral``: the
+    position-error integral [m s] (layout ``I_*``), advanced in place; ``polar``: the polar at
+    ``fold`` (:func:`polar_at`, layout ``P_*``; a float64 array or a 6-tuple); ``m`` [kg],
+    ``rho`` [kg/m^3], ``g`` [m/s^2]; ``s_u``, ``s_f``: unfolded and folded reference areas
+    [m^2]; the reference's position ``rp*`` [m], velocity ``rv*`` [m/s], acceleration ``ra*``
+    [m/s^2] and line tension ``tension`` [N]; the glider's position ``p*`` [m] and velocity
+    ``v*`` [m/s], the wind ``w*`` [m/s] and the measured line force ``t*`` [N] on the glider,
+    all NED; fold state ``fold`` [-], step ``dt`` [s]; ``taut``: the line is taut (see
+    :meth:`Guidance.update`); ``t_max``: the thrust available this step [N]."""
+    # e_p = p_ref - p, e_v = v_ref - v
+    epx, epy, epz = rpx - px, rpy - py, rpz - pz
+    evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
+    erx, ery, erz = 0.0, 0.0, 0.0
+    if taut:
+        # position loop on the sphere's tangent plane: e -= (e . e_r) e_r
+        dn = max(_norm(px, py, pz), 1e-6)
+        erx, ery, erz = px / dn, py / dn, pz / dn
+        c = epx * erx + epy * ery + epz * erz
+        epx, epy, epz = epx - c * erx, epy - c * ery, epz - c * erz
+        c = evx * erx + evy * ery + evz * erz
+        evx, evy, evz = evx - c * erx, evy - c * ery, evz - c * erz
+    cx, cy, cz = _correction(gk, integral, epx, epy, epz, evx, evy, evz, dt)
+    vrx, vry, vrz = rvx - wx, rvy - wy, rvz - wz  # reference air velocity
+    vax, vay, vaz = vx - wx, vy - wy, vz - wz  # air velocity
+    v_ref, v0 = _norm(vrx, vry, vrz), _norm(vax, vay, vaz)
+    afx, afy, afz = _path_feed_forward(rax, ray, raz, vrx, vry, vrz, v_ref, vax, vay, vaz, v0, gk[GK_CURVMAX])
+    Fx, Fy, Fz = _air_force(gk, m, g, afx, afy, afz, cx, cy, cz, tx, ty, tz, taut, erx, ery, erz,
+                            rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0)
+    alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max)
+    return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
+
+
+def _correction(gk: Floats, integral: np.ndarray, epx: float, epy: float, epz: float, evx: float, evy: float,
+                evz: float, dt: float) -> Vec3:
+    """The feedback acceleration [m/s^2] ``kp e_p + kd e_v + ki int(e_p)``, saturated at
+    ``a_max``, for position error ``e_p`` [m] and velocity error ``e_v`` [m/s]; the integral
+    [m s] advances in place by ``e_p dt`` (``dt`` [s]), clipped to +-``int_max``."""
+    im = gk[GK_IMAX]
+    ix = min(max(float(integral[I_X]) + epx * dt, -im), im)
+    iy = min(max(float(integral[I_Y]) + epy * dt, -im), im)
+    iz = min(max(float(integral[I_Z]) + epz * dt, -im), im)
+    integral[I_X], integral[I_Y], integral[I_Z] = ix, iy, iz
+    kp, kd, ki = gk[GK_KP], gk[GK_KD], gk[GK_KI]
+    cx = kp * epx + kd * evx + ki * ix
+    cy = kp * epy + kd * evy + ki * iy
+    cz = kp * epz + kd * evz + ki * iz
+    n = _norm(cx, cy, cz)
+    if n > gk[GK_AMAX]:
+        c = gk[GK_AMAX] / n
+        cx, cy, cz = cx * c, cy * c, cz * c
+    return cx, cy, cz
+
+
+def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: float, cx: float, cy: float,
+               cz: float, tx: float, ty: float, tz: float, taut: bool, erx: float, ery: float, erz: float,
+               rpx: float, rpy: float, rpz: float, rax: float, ray: float, raz: float, tension: float,
+               v_ref: float, v0: float) -> Vec3:
+    """The force [N] the air (and the propeller) must provide, ``F = m (a_cmd - g) - F_tether``
+    with ``a_cmd = a_ff + corr`` [m/s^2] and the measured line force ``t*`` [N] (mass ``m``
+    [kg], gravity ``g`` [m/s^2]); on a taut line (``taut``, ``e_r``: the glider's radial unit
+    vector) its radial part is the reference's (from its position ``rp*`` [m], acceleration
+    ``ra*`` [m/s^2] and ``tension`` [N], plus the overspeed term; airspeeds ``v_ref``, ``v0``
+    [m/s] of reference and glider)."""
+    Fx = m * ((afx + cx) - 0.0) - tx
+    Fy = m * ((afy + cy) - 0.0) - ty
+    Fz = m * ((afz + cz) - g) - tz
+    if not taut:
+        return Fx, Fy, Fz
+    dn = max(_norm(rpx, rpy, rpz), 1e-6)
+    F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
+               + m * (raz - g) * (rpz / dn)) + tension
+    if gk[GK_VTENS] > 0.0 and v_ref > 1.0:
+        # overspeed protection: on a taut line the glider sheds speed through the line,
+        # not through its drag: pull harder than the reference (more lift, more induced
+        # drag) and the winch pays out faster, taking the excess energy at the drum
+        F_r_ref += gk[GK_VTENS] * max(v0 - v_ref - gk[GK_VMARGIN], 0.0)
+    # radial component replaced by the reference's: F - (F . e_r) e_r + F_r_ref e_r
+    c = Fx * erx + Fy * ery + Fz * erz
+    return (Fx - c * erx + F_r_ref * erx, Fy - c * ery + F_r_ref * ery, Fz - c * erz + F_r_ref * erz)
+
+
+def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: float, vax: float,
+             vay: float, vaz: float, fold: float, s_u: float, s_f: float,
+             t_max: float) -> tuple[float, float, float, float, float, float, float]:
+    """The command ``(alpha, mu, thrust, roll, pitch, yaw, cl)`` flying force ``F`` [N]: split
+    along the air velocity ``va`` [m/s] (thrust minus drag, at most ``t_max`` [N] of thrust) and
+    across it (lift), with ``polar`` (:func:`polar_at` at fold state ``fold``) and air density
+    ``rho`` [kg/m^3]; the attitude follows from the air velocity, alpha and bank (no sideslip);
+    ``cl`` on the blended reference area of ``s_u``, ``s_f`` [m^2]."""
+    V = max(_norm(vax, vay, vaz), 1.0)
+    e1x, e1y, e1z = vax / V, vay / V, vaz / V
+    F_par = Fx * e1x + Fy * e1y + Fz * e1z
+    q = 0.5 * rho * V * V
+    horiz = math.sqrt(e1x * e1x + e1y * e1y)
+    if horiz > 1e-6:
+        r0x, r0y, r0z = -e1y / horiz, e1x / horiz, 0.0 / horiz
+    else:  # vertical flight: any horizontal axis
+        r0x, r0y, r0z = 0.0, 1.0, 0.0
+    # up0 = right0 x e1 (= -c3 at zero bank: points up in level flight)
+    u0x, u0y, u0z = r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x
+    alpha_stall = (polar[P_CLMAX] - polar[P_CL0]) / polar[P_CLA]
+    Qx, Qy, Qz = _traded_lift(gk, Fx, Fy, Fz, F_par, e1x, e1y, e1z, u0x, u0y, u0z, q, polar, t_max, alpha_stall)
+    L = _norm(Qx, Qy, Qz)
+    # bank about the air velocity: lift direction relative to the unbanked "up"
+    if L > 1e-6:
+        eLx, eLy, eLz = Qx / L, Qy / L, Qz / L
+        mu = math.atan2(eLx * r0x + eLy * r0y + eLz * r0z, eLx * u0x + eLy * u0y + eLz * u0z)
+    else:
+        mu = 0.0
+    if gk[GK_NEGLIFT] != 0.0 and abs(mu) > math.pi - gk[GK_PHI_MAX]:
+        # the force points below the horizon, further than the bank limit reaches: push
+        # over (negative lift, wings banked the other way) instead of banking past it
+        mu -= math.copysign(math.pi, mu)
+        L = -L
+    alpha, thrust = _alpha_and_thrust(gk, L, F_par, q, polar, t_max, min(gk[GK_ALPHA_MAX], alpha_stall))
+    # the bank limit keeps the lift above the horizon in level flight; climbing or diving
+    # steeply the wind-axis bank no longer says where the lift points relative to gravity
+    # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical (NaN: off)
+    phi_lim = gk[GK_PHI_MAX]
+    if not math.isnan(gk[GK_PHI_MAX_VERT]) and gk[GK_PHI_MAX_VERT] > gk[GK_PHI_MAX]:
+        phi_lim += (gk[GK_PHI_MAX_VERT] - gk[GK_PHI_MAX]) * (1.0 - horiz * horiz)
+    mu = min(max(mu, -phi_lim), phi_lim)
+    roll, pitch, yaw = _body_euler(e1x, e1y, e1z, r0x, r0y, r0z, u0x, u0y, u0z, mu, alpha)
+    cl = (polar[P_CL0] + polar[P_CLA] * alpha) / ((1 - fold) * s_u + fold * s_f)
+    return alpha, mu, thrust, roll, pitch, yaw, cl
+
+
+def _path_feed_forward(afx: float, afy: float, afz: float, vrx: float, vry: float, vrz: float, v_ref: float,
+                       vax: float, vay: float, vaz: float, v0: float, curv_scale_max: float) -> Vec3:
     """Feed-forward of the reference acceleration ``a_ref`` [m/s^2] in the path's own axes: its
-    tangential part (along the reference air velocity ``va_ref``, of size ``v_ref`` [m/s]) along
+    tangential part (along the reference air velocity ``vr``, of size ``v_ref`` [m/s]) along
     the glider's air velocity ``va`` (size ``v0``), its normal (turning) part, same size, across
     it. Taken in NED as it stands, a heading error would turn the reference's centripetal
     acceleration (up to 3 g on a pumping loop) into a demand to brake or to accelerate (thrust
     cut, lift raised by the energy trade, the glider slows and falls behind)."""
-    afx, afy, afz = a_ref
     if not (v_ref > 1.0 and v0 > 1.0):
-        return a_ref
-    trx, try_, trz = va_ref[0] / v_ref, va_ref[1] / v_ref, va_ref[2] / v_ref
-    tnx, tny, tnz = va[0] / v0, va[1] / v0, va[2] / v0
+        return afx, afy, afz
+    trx, try_, trz = vrx / v_ref, vry / v_ref, vrz / v_ref
+    tnx, tny, tnz = vax / v0, vay / v0, vaz / v0
     a_t = afx * trx + afy * try_ + afz * trz
     anx, any_, anz = afx - a_t * trx, afy - a_t * try_, afz - a_t * trz
     c = anx * tnx + any_ * tny + anz * tnz
@@ -287,38 +378,36 @@ def _path_feed_forward(a_ref: Vec3, va_ref: Vec3, v_ref: float, va: Vec3, v0: fl
         # the turn keeps the path's curvature: the glider follows the reference path
         # (its point moves with the glider), so a faster glider needs (v/v_ref)^2 of the
         # reference's centripetal acceleration to fly the same radius (bounded by
-        # curv_scale_max; None: the reference's acceleration as it stands). Only scaled
+        # curv_scale_max; NaN: the reference's acceleration as it stands). Only scaled
         # up: a slower glider keeps the reference's turn (scaling it down weakened the
         # turn of a glider lagging on a slack line in turbulence)
-        scale = 1.0 if curv_scale_max is None else min(max((v0 / v_ref) * (v0 / v_ref), 1.0), curv_scale_max)
+        scale = 1.0 if math.isnan(curv_scale_max) else min(max((v0 / v_ref) * (v0 / v_ref), 1.0), curv_scale_max)
         c = n_n / n_p * scale
         apx, apy, apz = apx * c, apy * c, apz * c
     return a_t * tnx + apx, a_t * tny + apy, a_t * tnz + apz
 
 
-def _traded_lift(F: Vec3, F_par: float, e1: Vec3, up0: Vec3, q: float, polar: Polar, t_max: float,
-                 k: GuidanceGains, alpha_stall: float) -> Vec3:
+def _traded_lift(gk: Floats, Fx: float, Fy: float, Fz: float, F_par: float, e1x: float, e1y: float,
+                 e1z: float, u0x: float, u0y: float, u0z: float, q: float, polar: Floats, t_max: float,
+                 alpha_stall: float) -> Vec3:
     """The force across the air velocity (the lift's share of ``F`` [N], ``F_par`` [N] of it along
     ``e1``) after the energy exchange (TECS-like): an along-path force the propeller cannot give
     (braking beyond the drag, or more than the ``t_max`` [N] of thrust) is traded through the
     flight path: pull up (along ``up0``) to bleed speed into height, push over to gain speed
-    from height. ``q`` [Pa]: dynamic pressure; ``polar``: :func:`blended_polar`."""
-    Fx, Fy, Fz = F
-    e1x, e1y, e1z = e1
-    u0x, u0y, u0z = up0
-    qS_cl0, qS_cla, _, qS_cd0, qS_cd1, qS_cd2 = polar
+    from height. ``q`` [Pa]: dynamic pressure; ``polar``: :func:`polar_at`."""
+    qS_cl0, qS_cla, qS_cd0, qS_cd1, qS_cd2 = polar[P_CL0], polar[P_CLA], polar[P_CD0], polar[P_CDA1], polar[P_CDA2]
     Qx, Qy, Qz = Fx - F_par * e1x, Fy - F_par * e1y, Fz - F_par * e1z  # F_perp
     for _ in range(2):
         L = _norm(Qx, Qy, Qz)
-        alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), min(k.alpha_max, alpha_stall))
+        alpha = min(max((L / q - qS_cl0) / qS_cla, gk[GK_ALPHA_MIN]), min(gk[GK_ALPHA_MAX], alpha_stall))
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
         excess = F_par + drag
         # the propeller pushes along the body x-axis: at most t_max cos(alpha) along the path
-        t_par = t_max * math.cos(alpha) if k.thrust_on_body_axis else t_max
+        t_par = t_max * math.cos(alpha) if gk[GK_BODY_AXIS] != 0.0 else t_max
         if excess < 0.0:
-            c = k.energy_trade * excess
+            c = gk[GK_ETRADE] * excess
         elif excess > t_par:
-            c = k.energy_trade * (excess - t_par)
+            c = gk[GK_ETRADE] * (excess - t_par)
         else:
             break
         # F_perp = F - F_par e1 - c up0
@@ -326,7 +415,7 @@ def _traded_lift(F: Vec3, F_par: float, e1: Vec3, up0: Vec3, q: float, polar: Po
     return Qx, Qy, Qz
 
 
-def _alpha_and_thrust(L: float, F_par: float, q: float, polar: Polar, t_max: float, k: GuidanceGains,
+def _alpha_and_thrust(gk: Floats, L: float, F_par: float, q: float, polar: Floats, t_max: float,
                       a_hi: float) -> tuple[float, float]:
     """Angle of attack [rad] for lift ``L`` [N] (linear lift, between ``alpha_min`` and ``a_hi``)
     and the thrust [N] (0 .. ``t_max``) for the along-path force ``F_par`` [N] against the drag at
@@ -334,26 +423,24 @@ def _alpha_and_thrust(L: float, F_par: float, q: float, polar: Polar, t_max: flo
     ``T cos(alpha)`` acts along the path (against the drag) and ``T sin(alpha)`` along the lift,
     so the wing lifts only ``L - T sin(alpha)`` (fixed-point passes: ``T sin(alpha)`` is a few
     percent of L, each pass shrinks the error by about that share)."""
-    qS_cl0, qS_cla, _, qS_cd0, qS_cd1, qS_cd2 = polar
-    alpha = min(max((L / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
+    qS_cl0, qS_cla, qS_cd0, qS_cd1, qS_cd2 = polar[P_CL0], polar[P_CLA], polar[P_CD0], polar[P_CDA1], polar[P_CDA2]
+    alpha = min(max((L / q - qS_cl0) / qS_cla, gk[GK_ALPHA_MIN]), a_hi)
     drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-    if not k.thrust_on_body_axis:
+    if gk[GK_BODY_AXIS] == 0.0:
         return alpha, min(max(F_par + drag, 0.0), t_max)
     for _ in range(3):
         thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
-        alpha = min(max(((L - thrust * math.sin(alpha)) / q - qS_cl0) / qS_cla, k.alpha_min), a_hi)
+        alpha = min(max(((L - thrust * math.sin(alpha)) / q - qS_cl0) / qS_cla, gk[GK_ALPHA_MIN]), a_hi)
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
     return alpha, min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
 
 
-def _body_euler(e1: Vec3, right0: Vec3, up0: Vec3, mu: float, alpha: float) -> tuple[float, float, float]:
+def _body_euler(e1x: float, e1y: float, e1z: float, r0x: float, r0y: float, r0z: float, u0x: float, u0y: float,
+                u0z: float, mu: float, alpha: float) -> tuple[float, float, float]:
     """Body roll, pitch, yaw (Euler angles, rad) of the attitude with the air velocity along
     ``e1``, wind-axis bank ``mu`` from the unbanked axes ``right0``, ``up0``, angle of attack
     ``alpha`` and no sideslip: x_b = cos a e1 + sin a eL, z_b = sin a e1 - cos a eL,
     y_b = z_b x x_b (eL the banked lift direction)."""
-    e1x, e1y, e1z = e1
-    r0x, r0y, r0z = right0
-    u0x, u0y, u0z = up0
     cm, sm = math.cos(mu), math.sin(mu)
     eLx, eLy, eLz = cm * u0x + sm * r0x, cm * u0y + sm * r0y, cm * u0z + sm * r0z
     ca, sa = math.cos(alpha), math.sin(alpha)
@@ -364,3 +451,9 @@ def _body_euler(e1: Vec3, right0: Vec3, up0: Vec3, mu: float, alpha: float) -> t
     roll = math.atan2(ybz, zbz)
     yaw = math.atan2(xby, xbx)
     return roll, pitch, yaw
+
+
+#: the functions :func:`guidance_step` and :func:`polar_at` call (register them with numba's
+#: ``register_jitable`` before compiling either, e.g. through :func:`fdm_awe.jitcache.compile_cached`)
+CALLED = (blend_coefficient, _norm, _correction, _air_force, _path_feed_forward, _traded_lift, _alpha_and_thrust,
+          _body_euler, _command)

@@ -36,6 +36,14 @@ def lift_drag(V: Any, alpha: Any, aero: AeroParams, rho: float, cd_extra: Any = 
     return q_s * lift_coefficient(alpha, aero), q_s * (drag_coefficient(alpha, aero) + cd_extra)
 
 
+def blend_coefficient(unfolded: Any, folded: Any, ratio: Any, fold: Any) -> Any:
+    """One coefficient of the morphing wing at fold state ``fold`` (0 unfolded .. 1 folded) on
+    the unfolded reference area: ``(1 - f) C_unfolded + f C_folded S_ratio`` (``ratio`` the
+    area ratio S_folded / S_unfolded [-]), the relation of :func:`fold_blend`. Plain arithmetic:
+    works on floats, CasADi symbols and inside code compiled by numba."""
+    return (1 - fold) * unfolded + fold * folded * ratio
+
+
 def fold_blend(unfolded: AeroParams, folded: AeroParams, fold: Any) -> AeroParams:
     """The morphing wing at fold state ``fold`` (0 unfolded .. 1 folded) as the 6-DOF model
     flies it (``aircraft/glider_foldable``: ``C = (1 - f) C_unfolded + f C_folded S_ratio`` on
@@ -47,7 +55,7 @@ def fold_blend(unfolded: AeroParams, folded: AeroParams, fold: Any) -> AeroParam
     At ``fold`` 1 the forces equal the folded form's (the same products ``C S``).
     """
     ratio = folded.S / unfolded.S
-    vals = {k: (1 - fold) * getattr(unfolded, k) + fold * getattr(folded, k) * ratio for k in POLAR_FIELDS}
+    vals = {k: blend_coefficient(getattr(unfolded, k), getattr(folded, k), ratio, fold) for k in POLAR_FIELDS}
     return AeroParams(S=unfolded.S, b=unfolded.b, c=unfolded.c, **vals)
 
 
