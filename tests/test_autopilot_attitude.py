@@ -10,9 +10,9 @@ import random
 import numpy as np
 import pytest
 
-from fdm_awe.autopilot.attitude import AttitudeLoops, attitude_commands, path_rate, wrap_angle
+from fdm_awe.autopilot.attitude import CALLED, AttitudeLoops, attitude_commands, path_rate
 from fdm_awe.sixdof import row as R
-from fdm_awe.sixdof.attitude_law import StabilizerGains, law_commands
+from fdm_awe.sixdof.attitude_law import StabilizerGains, wrap_angle
 
 from attitude_helpers import Glider, random_coef, state
 
@@ -46,7 +46,7 @@ def test_attitude_commands_compiled_equals_python():
     numba = _numba()
     from numba.extending import register_jitable
 
-    for f in (path_rate, wrap_angle, law_commands):
+    for f in CALLED:
         register_jitable(f)
     jit = numba.njit(attitude_commands)
     rnd = random.Random(6)

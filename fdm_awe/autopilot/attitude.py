@@ -12,9 +12,10 @@ that rate, and damping the raw rates would fight it (a steady error of several d
 alpha). ``a`` is the measured specific force plus gravity, in body axes.
 
 The arithmetic is pure functions of floats and float64 vectors (numba compiles them for the
-co-simulation kernel, Python runs the same source): :func:`path_rate`, :func:`wrap_angle` and
-:func:`attitude_commands`, which composes them with the law
-(:func:`fdm_awe.sixdof.attitude_law.law_commands`) as :meth:`AttitudeLoops.update` does.
+co-simulation kernel, Python runs the same source): :func:`path_rate` and
+:func:`attitude_commands`, which composes it with the bank error's wrap and the law
+(:func:`fdm_awe.sixdof.attitude_law.wrap_angle`, :func:`~fdm_awe.sixdof.attitude_law.law_commands`)
+as :meth:`AttitudeLoops.update` does.
 """
 
 from __future__ import annotations
@@ -23,13 +24,8 @@ import math
 from typing import Any
 
 from ..sixdof.adapter import JSBSimGlider
-from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands
+from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, wrap_angle
 from ..sixdof.state import SixDofState
-
-
-def wrap_angle(e: float) -> float:
-    """The angle ``e`` (rad) wrapped to [-pi, pi]."""
-    return math.atan2(math.sin(e), math.cos(e))
 
 
 def path_rate(g: float, phi: float, theta: float, fx: float, fy: float, fz: float, V: float, alpha: float,
@@ -62,6 +58,11 @@ def attitude_commands(c: Any, gains: Any, g: float, qbar: float, vt: float, phi:
     wp, wq, wr = path_rate(g, phi, theta, fx, fy, fz, vt, alpha, beta)
     return law_commands(c, gains, qbar, vt, alpha, beta, p, q, r, alpha_cmd, wrap_angle(roll_cmd - phi), wp, wq, wr,
                         dt, integ, True, False)
+
+
+#: the pure functions :func:`attitude_commands` calls (a compiled caller registers them with
+#: ``numba.extending.register_jitable``)
+CALLED = (path_rate, wrap_angle, law_commands)
 
 
 class AttitudeLoops:

@@ -26,13 +26,15 @@ rotation of the air-velocity vector on its curved path). The bank error is the c
 Derivatives and inertia are re-read when the fold state moves by 1e-3 or more, cached otherwise.
 
 The arithmetic is one pure function, :func:`law_commands` (floats and float64 vectors: numba
-compiles it for the co-simulation kernel, Python runs the same source); :class:`AttitudeLaw`
+compiles it for the co-simulation kernel, Python runs the same source; so is the angle wrap
+of the callers' bank and heading errors, :func:`wrap_angle`); :class:`AttitudeLaw`
 holds its coefficient vector (layout ``C_*``), reads the state and keeps the integrators
 (layout ``I_*``); :meth:`StabilizerGains.vector` gives the gain vector (layout ``G_*``).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -82,6 +84,11 @@ class StabilizerGains:
     def vector(self) -> np.ndarray:
         """The attitude law's gains as a float64 vector (``G_*`` layout) for compiled callers."""
         return np.array(self.law_gains(), dtype=np.float64)
+
+
+def wrap_angle(e: float) -> float:
+    """The angle ``e`` (rad) wrapped to [-pi, pi]."""
+    return math.atan2(math.sin(e), math.cos(e))
 
 
 def law_commands(c: Any, gains: Any, qbar: float, vt: float, alpha: float, beta: float, p: float, q: float,
