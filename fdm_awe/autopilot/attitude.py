@@ -10,16 +10,59 @@ air-velocity vector*. On a curved path (loops at 3 g, a tether pulling) the velo
 turns at ``omega_path = v x a / |v|^2``; holding alpha and sideslip means rotating the body at
 that rate, and damping the raw rates would fight it (a steady error of several degrees of
 alpha). ``a`` is the measured specific force plus gravity, in body axes.
+
+The arithmetic is pure functions of floats and float64 vectors (numba compiles them for the
+co-simulation kernel, Python runs the same source): :func:`path_rate` and
+:func:`attitude_commands`, which composes it with the bank error's wrap and the law
+(:func:`fdm_awe.sixdof.attitude_law.wrap_angle`, :func:`~fdm_awe.sixdof.attitude_law.law_commands`)
+as :meth:`AttitudeLoops.update` does.
 """
 
 from __future__ import annotations
 
 import math
-
+from typing import Any
 
 from ..sixdof.adapter import JSBSimGlider
-from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains
+from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, wrap_angle
 from ..sixdof.state import SixDofState
+
+
+def path_rate(g: float, phi: float, theta: float, fx: float, fy: float, fz: float, V: float, alpha: float,
+              beta: float) -> tuple[float, float, float]:
+    """Rotation rate (rad/s, body axes) of the air-velocity vector on its path,
+    ``omega_path = v_b x a_b / V^2`` with ``a_b`` the specific force ``fx, fy, fz`` (m/s^2, body
+    axes) plus gravity ``g`` (m/s^2) at bank ``phi`` and pitch ``theta`` (rad); ``V`` the
+    airspeed (m/s, limited to >= 1 here), ``alpha``, ``beta`` rad."""
+    gbx, gby, gbz = g * -math.sin(theta), g * (math.sin(phi) * math.cos(theta)), g * (math.cos(phi) * math.cos(theta))
+    ax, ay, az = fx + gbx, fy + gby, fz + gbz
+    if 1.0 > V:
+        V = 1.0
+    ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
+    vx, vy, vz = V * (ca * cb), V * sb, V * (sa * cb)
+    V2 = V * V
+    return (vy * az - vz * ay) / V2, (vz * ax - vx * az) / V2, (vx * ay - vy * ax) / V2
+
+
+def attitude_commands(c: Any, gains: Any, g: float, qbar: float, vt: float, phi: float, theta: float, alpha: float,
+                      beta: float, p: float, q: float, r: float, fx: float, fy: float, fz: float, alpha_cmd: float,
+                      roll_cmd: float, dt: float, integ: Any) -> tuple[float, float, float]:
+    """The autopilot's attitude loops: ``(aileron, elevator, rudder)`` normalised, for angle of
+    attack ``alpha_cmd`` and bank ``roll_cmd`` (rad), the rate damping relative to
+    :func:`path_rate`, the bank error wrapped (:func:`wrap_angle`), the law with the free moments
+    inverted and no bank integral. ``c``, ``gains``, ``integ``: the law's coefficient vector,
+    gain vector and integrators (layouts ``C_*``, ``G_*``, ``I_*`` of
+    :mod:`fdm_awe.sixdof.attitude_law`; ``integ`` updated in place); ``g`` m/s^2; ``qbar`` Pa;
+    ``vt`` airspeed m/s; angles rad; ``p, q, r`` rad/s; ``fx, fy, fz`` the specific force
+    (m/s^2, body axes); ``dt`` s since the last update."""
+    wp, wq, wr = path_rate(g, phi, theta, fx, fy, fz, vt, alpha, beta)
+    return law_commands(c, gains, qbar, vt, alpha, beta, p, q, r, alpha_cmd, wrap_angle(roll_cmd - phi), wp, wq, wr,
+                        dt, integ, True, False)
+
+
+#: the pure functions :func:`attitude_commands` calls (a compiled caller registers them with
+#: ``numba.extending.register_jitable``)
+CALLED = (path_rate, wrap_angle, law_commands)
 
 
 class AttitudeLoops:
@@ -39,23 +82,11 @@ class AttitudeLoops:
         """Zero the integrator."""
         self.law.reset()
 
-    def _path_rate(self, s: SixDofState) -> tuple[float, float, float]:
-        # omega_path = v_b x a_b / V^2, a_b = specific force + gravity (body axes), on scalars
-        phi, theta = s.phi, s.theta
-        g = self.g
-        gbx, gby, gbz = g * -math.sin(theta), g * (math.sin(phi) * math.cos(theta)), g * (math.cos(phi) * math.cos(theta))
-        ax, ay, az = s.accel_body.tolist()
-        ax, ay, az = ax + gbx, ay + gby, az + gbz
-        V = max(s.airspeed, 1.0)
-        alpha, beta = s.alpha, s.beta
-        ca, sa, cb, sb = math.cos(alpha), math.sin(alpha), math.cos(beta), math.sin(beta)
-        vx, vy, vz = V * (ca * cb), V * sb, V * (sa * cb)
-        V2 = V * V
-        return (vy * az - vz * ay) / V2, (vz * ax - vx * az) / V2, (vx * ay - vy * ax) / V2
-
     def update(self, s: SixDofState, alpha_cmd: float, roll_cmd: float, dt: float) -> tuple[float, float, float]:
         """Surface commands for angle of attack ``alpha_cmd`` and bank ``roll_cmd`` (rad), ``dt``
         (s) since the last update; damping relative to the path's rotation."""
-        wp, wq, wr = self._path_rate(s)
-        e_phi = roll_cmd - s.phi
-        return self.law.commands(s, alpha_cmd, math.atan2(math.sin(e_phi), math.cos(e_phi)), wp, wq, wr, dt)
+        law = self.law
+        fx, fy, fz = s.accel_body.tolist()
+        return attitude_commands(law.coefficients(s.fold, alpha_cmd), law.gains.law_gains(), self.g, s.qbar,
+                                 s.airspeed, s.phi, s.theta, s.alpha, s.beta, s.p, s.q, s.r, fx, fy, fz, alpha_cmd,
+                                 roll_cmd, dt, law.integ)

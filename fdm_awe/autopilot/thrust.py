@@ -1,5 +1,8 @@
 """The thrust loop: the throttle that gives the guidance's thrust (feed-forward plus PI on the
-measured thrust), or the paper plant's ideal thruster taking the thrust command itself."""
+measured thrust), or the paper plant's ideal thruster taking the thrust command itself.
+
+The arithmetic is one pure function, :func:`throttle_step` (floats and a float64 integrator
+array: numba compiles it for the co-simulation kernel, Python runs the same source)."""
 
 from __future__ import annotations
 
@@ -8,6 +11,42 @@ from typing import Any
 
 from ..sixdof.state import SixDofState
 from .params import ParamStore
+
+#: layout of the thrust loop's state array: the PI integral (throttle fraction)
+(T_INTEGRAL,) = range(1)
+N_THRUST_STATE = 1
+
+
+def throttle_step(thrust_cmd: float, thrust: float, airspeed: float, dt: float, armed: bool, u_max: float,
+                  kp: float, ki: float, v_zero: float, thrust_max_static: float, integ: Any) -> float:
+    """Throttle in [0, ``u_max``]: feed-forward plus PI on the measured ``thrust`` [N] for
+    ``thrust_cmd`` [N] at ``airspeed`` [m/s], step ``dt`` [s]; ``kp`` [1/N], ``ki`` [1/(N s)]
+    the PI gains, ``v_zero`` [m/s] the airspeed of zero thrust at full throttle,
+    ``thrust_max_static`` [N] the static thrust at full throttle. ``integ``: the state
+    (``T_INTEGRAL``; a float64 array, or run by Python any mutable sequence), updated in place:
+    the integral limited to +-1, the last integration undone when the throttle saturates
+    (anti-windup); disarmed: 0 and the integral reset."""
+    # max/min spelled out as Python's max(a, b) / min(a, b) evaluate them (the same compiled)
+    if not armed:
+        integ[T_INTEGRAL] = 0.0
+        return 0.0
+    e = thrust_cmd - thrust
+    v0 = airspeed / v_zero
+    v0 = 0.0 if 0.0 > v0 else v0
+    v0 = 1.0 if 1.0 < v0 else v0
+    tc = 0.0 if 0.0 > thrust_cmd else thrust_cmd
+    tc = tc / thrust_max_static
+    tc = 1.0 if 1.0 < tc else tc
+    ff = v0 + (1.0 - v0) * math.sqrt(tc)
+    i = integ[T_INTEGRAL] + ki * e * dt
+    i = -1.0 if -1.0 > i else i
+    i = 1.0 if 1.0 < i else i
+    u = ff + kp * e + i
+    if u > u_max or u < 0.0:  # anti-windup: undo the last integration when saturated
+        i -= ki * e * dt
+    integ[T_INTEGRAL] = i
+    u = 0.0 if 0.0 > u else u
+    return u_max if u_max < u else u
 
 
 class ThrustLoop:
@@ -21,7 +60,7 @@ class ThrustLoop:
     def __init__(self, params: ParamStore, thrust_max_static: float, thruster: Any = None) -> None:
         self.params = params
         self.thruster = thruster
-        self._integral = 0.0
+        self._state = [0.0] * N_THRUST_STATE  # T_* layout
         self._thrust_max_static = thrust_max_static
         self._v_zero_thrust = params["THR_VZERO"]
 
@@ -33,17 +72,8 @@ class ThrustLoop:
         the motor switch's decision. ``u_max``: the throttle's ceiling (the soft start after a
         motor start); disarmed: 0, the integral reset."""
         p = self.params
-        if not armed:
-            self._integral = 0.0
-            return 0.0
-        e = thrust_cmd - thrust
-        v0 = min(max(airspeed / self._v_zero_thrust, 0.0), 1.0)
-        ff = v0 + (1.0 - v0) * math.sqrt(min(max(thrust_cmd, 0.0) / self._thrust_max_static, 1.0))
-        self._integral = min(max(self._integral + p["THR_KI"] * e * dt, -1.0), 1.0)
-        u = ff + p["THR_KP"] * e + self._integral
-        if u > u_max or u < 0.0:  # anti-windup: undo the last integration when saturated
-            self._integral -= p["THR_KI"] * e * dt
-        return min(max(u, 0.0), u_max)
+        return throttle_step(thrust_cmd, thrust, airspeed, dt, armed, u_max, p["THR_KP"], p["THR_KI"],
+                             self._v_zero_thrust, self._thrust_max_static, self._state)
 
     def propulsion(self, thrust_cmd: float, s: SixDofState, dt: float, armed: bool, u_max: float = 1.0) -> float:
         """Throttle for ``thrust_cmd`` [N] at glider state ``s`` (at most ``u_max``); with an ideal

@@ -24,15 +24,40 @@ The reference rates ``p_ref, q_ref, r_ref`` (rad/s, body axes) are what the rate
 relative to: the caller's (the stabiliser: the coordinated-turn yaw rate; the autopilot: the
 rotation of the air-velocity vector on its curved path). The bank error is the caller's too.
 Derivatives and inertia are re-read when the fold state moves by 1e-3 or more, cached otherwise.
+
+The arithmetic is one pure function, :func:`law_commands` (floats and float64 vectors: numba
+compiles it for the co-simulation kernel, Python runs the same source; so is the angle wrap
+of the callers' bank and heading errors, :func:`wrap_angle`); :class:`AttitudeLaw`
+holds its coefficient vector (layout ``C_*``), reads the state and keeps the integrators
+(layout ``I_*``); :meth:`StabilizerGains.vector` gives the gain vector (layout ``G_*``).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from .adapter import JSBSimGlider
 from .row import ALPHA, BETA, FOLD, P_RATE, Q_RATE, QBAR, R_RATE, VT
 from .state import SixDofState
+
+#: layout of the coefficient vector ``c`` of :func:`law_commands`: control derivatives (1/rad),
+#: weathercock stiffness Cn_beta (1/rad), the free moments' derivatives (Cm0; Cm_alpha, Cl_beta
+#: 1/rad; Cm_q, Cl_p, Cl_r per normalised rate), the elevator's trim (rad), the inertia about the
+#: body axes (kg m^2), wing area (m^2), span and chord (m), the surfaces' full deflections (rad).
+#: Without the inversion Cm0 .. Cl_r are unused (NaN); with it the trim is (NaN).
+(C_CM_DE, C_CL_DA, C_CN_DR, C_CN_BETA, C_CM0, C_CM_ALPHA, C_CM_Q, C_CL_BETA, C_CL_P, C_CL_R, C_DE_TRIM,
+ C_IXX, C_IYY, C_IZZ, C_S, C_B, C_C, C_LIM_E, C_LIM_A, C_LIM_R) = range(20)
+N_COEF = 20
+#: layout of the gain vector (:meth:`StabilizerGains.vector`)
+(G_W_ALPHA, G_Z_ALPHA, G_KI_ALPHA, G_W_PHI, G_Z_PHI, G_KI_PHI, G_W_R, G_K_BETA) = range(8)
+N_GAINS = 8
+#: layout of the integrator array (rad s): the alpha error's, the bank error's
+(I_ALPHA, I_PHI) = range(2)
+N_INTEG = 2
 
 
 @dataclass
@@ -50,10 +75,79 @@ class StabilizerGains:
     k_psi: float = 1.0  #: bank command per heading error, rad/rad
     phi_max: float = 0.6  #: rad, bank command limit
 
+    def law_gains(self) -> tuple[float, ...]:
+        """The attitude law's gains in the order of the ``G_*`` layout (the fields as they are:
+        what the Python execution of :func:`law_commands` takes)."""
+        return (self.w_alpha, self.z_alpha, self.ki_alpha, self.w_phi, self.z_phi, self.ki_phi, self.w_r,
+                self.k_beta)
+
+    def vector(self) -> np.ndarray:
+        """The attitude law's gains as a float64 vector (``G_*`` layout) for compiled callers."""
+        return np.array(self.law_gains(), dtype=np.float64)
+
+
+def wrap_angle(e: float) -> float:
+    """The angle ``e`` (rad) wrapped to [-pi, pi]."""
+    return math.atan2(math.sin(e), math.cos(e))
+
+
+def law_commands(c: Any, gains: Any, qbar: float, vt: float, alpha: float, beta: float, p: float, q: float,
+                 r: float, alpha_cmd: float, e_phi: float, p_ref: float, q_ref: float, r_ref: float, dt: float,
+                 integ: Any, invert: bool, bank_integral: bool) -> tuple[float, float, float]:
+    """Surface commands ``(aileron, elevator, rudder)`` normalised to [-1, 1] (NaN gives 0).
+
+    ``c``: coefficient vector (``C_*`` layout), ``gains``: gain vector (``G_*``), both float64
+    vectors (or, run by Python, any sequences of floats); ``qbar`` Pa and ``vt`` m/s the dynamic
+    pressure and airspeed (each limited to >= 1 here); ``alpha``, ``beta`` rad; ``p, q, r`` body
+    rates rad/s; ``alpha_cmd`` rad; ``e_phi`` the bank error rad; ``p_ref, q_ref, r_ref`` rad/s
+    the rates the damping acts relative to; ``dt`` s since the last call (0: no integration);
+    ``integ`` the integrators (``I_*`` layout, rad s), updated in place (the bank's only with
+    ``bank_integral``); ``invert``: subtract the free moments (else add the elevator's trim)."""
+    # max/min and clipping spelled out: the same operations run by Python and compiled by numba
+    if 1.0 > qbar:
+        qbar = 1.0
+    S, b, cc = c[C_S], c[C_B], c[C_C]
+    # pitch
+    e_a = alpha_cmd - alpha
+    ia = integ[I_ALPHA] + e_a * dt
+    ia = (ia if ia > -0.2 else -0.2) if ia < 0.2 else 0.2
+    integ[I_ALPHA] = ia
+    w = gains[G_W_ALPHA]
+    m_des = c[C_IYY] * (w * w * (e_a + gains[G_KI_ALPHA] * ia) - 2 * gains[G_Z_ALPHA] * w * (q - q_ref))
+    # roll
+    if bank_integral:
+        ip = integ[I_PHI] + e_phi * dt
+        ip = (ip if ip > -0.5 else -0.5) if ip < 0.5 else 0.5
+        integ[I_PHI] = ip
+        e_phi = e_phi + gains[G_KI_PHI] * ip
+    w = gains[G_W_PHI]
+    l_des = c[C_IXX] * (w * w * e_phi - 2 * gains[G_Z_PHI] * w * (p - p_ref))
+    # yaw
+    n_des = -c[C_IZZ] * 2 * gains[G_W_R] * (r - r_ref) + gains[G_K_BETA] * qbar * S * b * c[C_CN_BETA] * beta
+    # moment demands -> deflections, rad
+    qSb = qbar * S * b
+    if invert:
+        v = vt
+        if 1.0 > v:
+            v = 1.0
+        cm_free = c[C_CM0] + c[C_CM_ALPHA] * alpha + c[C_CM_Q] * q * cc / (2 * v)
+        de = (m_des / (qbar * S * cc) - cm_free) / c[C_CM_DE]
+        cl_free = c[C_CL_BETA] * beta + (c[C_CL_P] * p + c[C_CL_R] * r) * b / (2 * v)
+        da = (l_des / qSb - cl_free) / c[C_CL_DA]
+    else:
+        de = c[C_DE_TRIM] + m_des / (qbar * S * cc * c[C_CM_DE])
+        da = l_des / (qSb * c[C_CL_DA])
+    dr = n_des / (qSb * c[C_CN_DR])
+    a, e, rr = da / c[C_LIM_A], de / c[C_LIM_E], dr / c[C_LIM_R]
+    return (-1.0 if a < -1.0 else 1.0 if a > 1.0 else (a if a == a else 0.0),
+            -1.0 if e < -1.0 else 1.0 if e > 1.0 else (e if e == e else 0.0),
+            -1.0 if rr < -1.0 else 1.0 if rr > 1.0 else (rr if rr == rr else 0.0))
+
 
 class AttitudeLaw:
     """``commands(s, alpha_cmd, e_phi, p_ref, q_ref, r_ref, dt) -> (aileron, elevator, rudder)``,
-    normalised to [-1, 1]; holds the integrators and the derivative cache."""
+    normalised to [-1, 1]; holds the integrators ``integ`` (``I_*`` layout, Python floats) and
+    the coefficient vector ``coef`` (``C_*`` layout, float64, refreshed with the fold state)."""
 
     def __init__(self, glider: JSBSimGlider, gains: StabilizerGains, *, invert_free_moments: bool,
                  bank_integral: bool) -> None:
@@ -61,16 +155,17 @@ class AttitudeLaw:
         self.gains = gains
         self.invert_free_moments = invert_free_moments
         self.bank_integral = bank_integral
-        self._S, self._b, self._c = glider.reference_geometry()
+        self.coef = np.full(N_COEF, np.nan)  #: the coefficient vector (C_* layout)
         lim = glider.surface_limits_rad
-        self._lim_e, self._lim_a, self._lim_r = lim["elevator"], lim["aileron"], lim["rudder"]
+        self.coef[C_S], self.coef[C_B], self.coef[C_C] = glider.reference_geometry()
+        self.coef[C_LIM_E], self.coef[C_LIM_A], self.coef[C_LIM_R] = lim["elevator"], lim["aileron"], lim["rudder"]
+        self._c = self.coef.tolist()  # the same numbers as Python floats (the Python execution's)
         self._coef_fold = -1.0
-        self.reset()
+        self.integ = [0.0] * N_INTEG  #: the integrators (I_* layout), rad s
 
     def reset(self) -> None:
         """Zero the integrators (alpha, bank)."""
-        self._int = 0.0  # rad s
-        self._int_phi = 0.0  # rad s
+        self.integ[I_ALPHA] = self.integ[I_PHI] = 0.0
 
     def invalidate(self) -> None:
         """Re-read derivatives, inertia and trim at the next command (e.g. a new alpha command
@@ -79,22 +174,32 @@ class AttitudeLaw:
 
     def _refresh(self, fold: float, alpha_cmd: float) -> None:
         """Read derivatives and inertia at fold state ``fold`` and, without the inversion, the
-        elevator's trim (rad) at ``alpha_cmd`` (rad)."""
+        elevator's trim (rad) at ``alpha_cmd`` (rad), into :attr:`coef`."""
         g = self.glider
         self._coef_fold = fold
+        c = self.coef
 
         def coef(name: str) -> float:
             return float(g.coefficient("aero/coef/" + name))
 
-        self._cm_de, self._cl_da, self._cn_dr = coef("Cm_de"), coef("Cl_da"), coef("Cn_dr")
-        self._cn_beta = coef("Cn_beta")
+        c[C_CM_DE], c[C_CL_DA], c[C_CN_DR] = coef("Cm_de"), coef("Cl_da"), coef("Cn_dr")
+        c[C_CN_BETA] = coef("Cn_beta")
         if self.invert_free_moments:  # the free moments' derivatives
-            self._cm0, self._cm_a, self._cm_q = coef("Cm0"), coef("Cm_alpha"), coef("Cm_q")
-            self._cl_b, self._cl_p, self._cl_r = coef("Cl_beta"), coef("Cl_p"), coef("Cl_r")
+            c[C_CM0], c[C_CM_ALPHA], c[C_CM_Q] = coef("Cm0"), coef("Cm_alpha"), coef("Cm_q")
+            c[C_CL_BETA], c[C_CL_P], c[C_CL_R] = coef("Cl_beta"), coef("Cl_p"), coef("Cl_r")
         else:
-            self._de_trim = g.trim_elevator(alpha_cmd) * self._lim_e
+            c[C_DE_TRIM] = g.trim_elevator(alpha_cmd) * self._c[C_LIM_E]
         J = g.inertia()
-        self._ixx, self._iyy, self._izz = float(J[0, 0]), float(J[1, 1]), float(J[2, 2])
+        c[C_IXX], c[C_IYY], c[C_IZZ] = float(J[0, 0]), float(J[1, 1]), float(J[2, 2])
+        self._c = c.tolist()
+
+    def coefficients(self, fold: float, alpha_cmd: float) -> list[float]:
+        """The coefficient vector (``C_*`` layout) as Python floats at fold state ``fold``,
+        re-read when the fold state moved by 1e-3 or more since the last reading (or after
+        :meth:`invalidate`; the trim at ``alpha_cmd``, rad)."""
+        if not abs(fold - self._coef_fold) < 1e-3:
+            self._refresh(fold, alpha_cmd)
+        return self._c
 
     def commands(self, s: SixDofState, alpha_cmd: float, e_phi: float, p_ref: float, q_ref: float,
                  r_ref: float, dt: float) -> tuple[float, float, float]:
@@ -102,48 +207,8 @@ class AttitudeLaw:
         (rad), damping relative to body rates ``p_ref, q_ref, r_ref`` (rad/s); ``dt`` (s) the
         time since the last call (0: no integration). NaN deflections give 0."""
         # the co-simulation's hot path: the state's values straight from its raw row (the same
-        # numbers as SixDofState's properties without a call each), max/min and clipping spelled out
-        gn = self.gains
+        # numbers as SixDofState's properties without a call each)
         rw, kk = s._r, s._k
-        fold = rw[FOLD]
-        if not abs(fold - self._coef_fold) < 1e-3:
-            self._refresh(fold, alpha_cmd)
-        qbar = rw[QBAR] * kk[QBAR]
-        if 1.0 > qbar:
-            qbar = 1.0
-        alpha, beta = rw[ALPHA], rw[BETA]
-        p, q, r = rw[P_RATE], rw[Q_RATE], rw[R_RATE]
-        S, b, c = self._S, self._b, self._c
-        # pitch
-        e_a = alpha_cmd - alpha
-        ia = self._int + e_a * dt
-        self._int = ia = (ia if ia > -0.2 else -0.2) if ia < 0.2 else 0.2
-        w = gn.w_alpha
-        m_des = self._iyy * (w * w * (e_a + gn.ki_alpha * ia) - 2 * gn.z_alpha * w * (q - q_ref))
-        # roll
-        if self.bank_integral:
-            ip = self._int_phi + e_phi * dt
-            self._int_phi = ip = (ip if ip > -0.5 else -0.5) if ip < 0.5 else 0.5
-            e_phi = e_phi + gn.ki_phi * ip
-        w = gn.w_phi
-        l_des = self._ixx * (w * w * e_phi - 2 * gn.z_phi * w * (p - p_ref))
-        # yaw
-        n_des = -self._izz * 2 * gn.w_r * (r - r_ref) + gn.k_beta * qbar * S * b * self._cn_beta * beta
-        # moment demands -> deflections, rad
-        qSb = qbar * S * b
-        if self.invert_free_moments:
-            v = rw[VT] * kk[VT]
-            if 1.0 > v:
-                v = 1.0
-            cm_free = self._cm0 + self._cm_a * alpha + self._cm_q * q * c / (2 * v)
-            de = (m_des / (qbar * S * c) - cm_free) / self._cm_de
-            cl_free = self._cl_b * beta + (self._cl_p * p + self._cl_r * r) * b / (2 * v)
-            da = (l_des / qSb - cl_free) / self._cl_da
-        else:
-            de = self._de_trim + m_des / (qbar * S * c * self._cm_de)
-            da = l_des / (qSb * self._cl_da)
-        dr = n_des / (qSb * self._cn_dr)
-        a, e, rr = da / self._lim_a, de / self._lim_e, dr / self._lim_r
-        return (-1.0 if a < -1.0 else 1.0 if a > 1.0 else (a if a == a else 0.0),
-                -1.0 if e < -1.0 else 1.0 if e > 1.0 else (e if e == e else 0.0),
-                -1.0 if rr < -1.0 else 1.0 if rr > 1.0 else (rr if rr == rr else 0.0))
+        return law_commands(self.coefficients(rw[FOLD], alpha_cmd), self.gains.law_gains(), rw[QBAR] * kk[QBAR],
+                            rw[VT] * kk[VT], rw[ALPHA], rw[BETA], rw[P_RATE], rw[Q_RATE], rw[R_RATE], alpha_cmd,
+                            e_phi, p_ref, q_ref, r_ref, dt, self.integ, self.invert_free_moments, self.bank_integral)

@@ -17,11 +17,11 @@ pass None (for stand-in ground stations that ignore it).
 
 from __future__ import annotations
 
-from math import atan2, cos, sin
+from math import cos, sin
 from typing import Any
 
 from .adapter import JSBSimGlider
-from .attitude_law import AttitudeLaw, StabilizerGains
+from .attitude_law import AttitudeLaw, StabilizerGains, wrap_angle
 from .row import PHI, PSI, THETA, VT
 from .state import SixDofState, Surfaces
 
@@ -76,8 +76,7 @@ class Stabilizer:
         psi_cmd = self.psi_cmd
         if psi_cmd is not None:
             gn = self.law.gains
-            e_psi = psi_cmd - rw[PSI]
-            e_psi = atan2(sin(e_psi), cos(e_psi))
+            e_psi = wrap_angle(psi_cmd - rw[PSI])
             pm = gn.phi_max
             phi_c = gn.k_psi * e_psi
             phi_c = phi_c if phi_c < pm else pm
