@@ -11,6 +11,7 @@ import numpy as np
 from fdm_awe.sixdof import attitude_law as L
 from fdm_awe.sixdof import row as R
 from fdm_awe.sixdof.state import SixDofState
+from fdm_awe.units import SLUG_FT2
 
 
 def random_coef(rnd: random.Random, invert: bool) -> list[float]:
@@ -42,7 +43,11 @@ class Glider:
         return 0.35, 1.8, 0.2
 
     def coefficient(self, name: str) -> float:
+        """A property of :data:`fdm_awe.sixdof.attitude_law.LAW_PROPERTIES` (the inertia in slug ft^2)."""
         self.reads += 1
+        if name.startswith("inertia/"):
+            i = "xyz".index(name[9])
+            return float(self.inertia()[i, i]) / SLUG_FT2
         base = {"Cm_de": -1.1, "Cl_da": 0.25, "Cn_dr": -0.06, "Cn_beta": 0.05, "Cm0": 0.03, "Cm_alpha": -1.2,
                 "Cm_q": -12.0, "Cl_beta": -0.04, "Cl_p": -0.45, "Cl_r": 0.1}[name.rsplit("/", 1)[1]]
         return base * (1.0 + 0.3 * self.fold)

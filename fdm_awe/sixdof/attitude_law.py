@@ -40,6 +40,7 @@ from typing import Any
 
 import numpy as np
 
+from ..units import SLUG_FT2
 from .adapter import JSBSimGlider
 from .row import ALPHA, BETA, FOLD, P_RATE, Q_RATE, QBAR, R_RATE, VT
 from .state import SixDofState
@@ -58,6 +59,26 @@ N_GAINS = 8
 #: layout of the integrator array (rad s): the alpha error's, the bank error's
 (I_ALPHA, I_PHI) = range(2)
 N_INTEG = 2
+#: the JSBSim properties a refresh reads (:func:`law_refresh`): the derivatives of the control law
+#: (blended with the fold state on the foldable aircraft), then the inertia's diagonal (slug ft^2)
+LAW_PROPERTIES = tuple("aero/coef/" + n for n in ("Cm_de", "Cl_da", "Cn_dr", "Cn_beta", "Cm0", "Cm_alpha", "Cm_q",
+                                                  "Cl_beta", "Cl_p", "Cl_r")) + (
+    "inertia/ixx-slugs_ft2", "inertia/iyy-slugs_ft2", "inertia/izz-slugs_ft2")
+N_LAW_PROPERTIES = len(LAW_PROPERTIES)
+#: where each value of :data:`LAW_PROPERTIES` goes in the coefficient vector
+_LAW_SLOTS = (C_CM_DE, C_CL_DA, C_CN_DR, C_CN_BETA, C_CM0, C_CM_ALPHA, C_CM_Q, C_CL_BETA, C_CL_P, C_CL_R, C_IXX, C_IYY,
+              C_IZZ)
+
+
+def law_refresh(vals, c, slug_ft2, invert):
+    """The coefficient vector ``c`` (``C_*`` layout) from the values ``vals`` of
+    :data:`LAW_PROPERTIES` (JSBSim units; the inertia times ``slug_ft2``, kg m^2 per slug ft^2);
+    the free moments' derivatives only with ``invert`` (else they stay as they are)."""
+    for j in range(10):
+        if invert or j < 4:
+            c[_LAW_SLOTS[j]] = vals[j]
+    for j in range(10, 13):
+        c[_LAW_SLOTS[j]] = vals[j] * slug_ft2
 
 
 @dataclass
@@ -146,7 +167,7 @@ def law_commands(c: Any, gains: Any, qbar: float, vt: float, alpha: float, beta:
 
 class AttitudeLaw:
     """``commands(s, alpha_cmd, e_phi, p_ref, q_ref, r_ref, dt) -> (aileron, elevator, rudder)``,
-    normalised to [-1, 1]; holds the integrators ``integ`` (``I_*`` layout, Python floats) and
+    normalised to [-1, 1]; holds the integrators ``integ`` (``I_*`` layout, float64) and
     the coefficient vector ``coef`` (``C_*`` layout, float64, refreshed with the fold state)."""
 
     def __init__(self, glider: JSBSimGlider, gains: StabilizerGains, *, invert_free_moments: bool,
@@ -159,9 +180,9 @@ class AttitudeLaw:
         lim = glider.surface_limits_rad
         self.coef[C_S], self.coef[C_B], self.coef[C_C] = glider.reference_geometry()
         self.coef[C_LIM_E], self.coef[C_LIM_A], self.coef[C_LIM_R] = lim["elevator"], lim["aileron"], lim["rudder"]
-        self._c = self.coef.tolist()  # the same numbers as Python floats (the Python execution's)
-        self._coef_fold = -1.0
-        self.integ = [0.0] * N_INTEG  #: the integrators (I_* layout), rad s
+        #: the fold state of the last reading of the derivatives (-1: none yet)
+        self.fold_at = np.array([-1.0])
+        self.integ = np.zeros(N_INTEG)  #: the integrators (I_* layout), rad s
 
     def reset(self) -> None:
         """Zero the integrators (alpha, bank)."""
@@ -170,36 +191,25 @@ class AttitudeLaw:
     def invalidate(self) -> None:
         """Re-read derivatives, inertia and trim at the next command (e.g. a new alpha command
         for the trim feed-forward)."""
-        self._coef_fold = -1.0
+        self.fold_at[0] = -1.0
 
     def _refresh(self, fold: float, alpha_cmd: float) -> None:
-        """Read derivatives and inertia at fold state ``fold`` and, without the inversion, the
-        elevator's trim (rad) at ``alpha_cmd`` (rad), into :attr:`coef`."""
+        """Read derivatives and inertia at fold state ``fold`` (:func:`law_refresh`) and, without
+        the inversion, the elevator's trim (rad) at ``alpha_cmd`` (rad), into :attr:`coef`."""
         g = self.glider
-        self._coef_fold = fold
+        self.fold_at[0] = fold
         c = self.coef
+        law_refresh([float(g.coefficient(n)) for n in LAW_PROPERTIES], c, SLUG_FT2, self.invert_free_moments)
+        if not self.invert_free_moments:
+            c[C_DE_TRIM] = g.trim_elevator(alpha_cmd) * c[C_LIM_E]
 
-        def coef(name: str) -> float:
-            return float(g.coefficient("aero/coef/" + name))
-
-        c[C_CM_DE], c[C_CL_DA], c[C_CN_DR] = coef("Cm_de"), coef("Cl_da"), coef("Cn_dr")
-        c[C_CN_BETA] = coef("Cn_beta")
-        if self.invert_free_moments:  # the free moments' derivatives
-            c[C_CM0], c[C_CM_ALPHA], c[C_CM_Q] = coef("Cm0"), coef("Cm_alpha"), coef("Cm_q")
-            c[C_CL_BETA], c[C_CL_P], c[C_CL_R] = coef("Cl_beta"), coef("Cl_p"), coef("Cl_r")
-        else:
-            c[C_DE_TRIM] = g.trim_elevator(alpha_cmd) * self._c[C_LIM_E]
-        J = g.inertia()
-        c[C_IXX], c[C_IYY], c[C_IZZ] = float(J[0, 0]), float(J[1, 1]), float(J[2, 2])
-        self._c = c.tolist()
-
-    def coefficients(self, fold: float, alpha_cmd: float) -> list[float]:
-        """The coefficient vector (``C_*`` layout) as Python floats at fold state ``fold``,
-        re-read when the fold state moved by 1e-3 or more since the last reading (or after
+    def coefficients(self, fold: float, alpha_cmd: float) -> np.ndarray:
+        """The coefficient vector (``C_*`` layout) at fold state ``fold``, re-read when the fold
+        state moved by 1e-3 or more since the last reading (:attr:`fold_at`; or after
         :meth:`invalidate`; the trim at ``alpha_cmd``, rad)."""
-        if not abs(fold - self._coef_fold) < 1e-3:
+        if not abs(fold - self.fold_at[0]) < 1e-3:
             self._refresh(fold, alpha_cmd)
-        return self._c
+        return self.coef
 
     def commands(self, s: SixDofState, alpha_cmd: float, e_phi: float, p_ref: float, q_ref: float,
                  r_ref: float, dt: float) -> tuple[float, float, float]:
