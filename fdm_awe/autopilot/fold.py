@@ -1,11 +1,13 @@
 """The wing's fold in AUTO: the fold time a reference is flown with (:func:`reference_fold_time`)
-and the fold command over a pumping cycle (:func:`fold_command`)."""
+and the fold command over a pumping cycle (:func:`fold_command`, a pure function of floats that
+numba compiles with the same bits as the Python call)."""
 
 from __future__ import annotations
 
 import math
 
 from ..errors import InputError
+from ..pointmass.fold import fold_fraction
 
 #: slack on the fold-time comparison [s] (the reference's and the aircraft's are one number)
 FOLD_TIME_TOL_S = 1e-6
@@ -34,17 +36,13 @@ def fold_command(t_cycle: float, T1: float, period: float, fold_time_s: float, f
     [s] whose recovery starts at ``T1`` [s].
 
     With the reference's fold time ``fold_time_s`` > 0 the command is the optimiser's fold law
-    (:func:`fdm_awe.ocp.model.fold_fraction`: folding from the start of recovery, unfolding over
-    its last ``fold_time_s``), a ramp the rate-limited actuator follows (at its own full rate
+    (:func:`fdm_awe.pointmass.fold.fold_fraction`: folding from the start of recovery, unfolding
+    over its last ``fold_time_s``), a ramp the rate-limited actuator follows (at its own full rate
     when it is the aircraft's fold time). A reference optimised with an instantaneous fold
     (``fold_time_s`` 0) is flown as such references always were: folded from ``fold_lead_s``
     (FOLD_LEAD) before the recovery to ``unfold_lead_s`` (UNFOLD_LEAD) before its end."""
     if fold_time_s > 0.0:
         if t_cycle < T1:
             return 0.0
-        # the optimiser's model module, imported here: with the energy and propeller models it
-        # pulls in, it would add ~55 ms to every flight's start for the references with a fold time
-        from ..ocp.model import fold_fraction
-
         return fold_fraction(t_cycle - T1, period - T1, fold_time_s)
     return 1.0 if (T1 - fold_lead_s) <= t_cycle < (period - unfold_lead_s) else 0.0

@@ -1,6 +1,12 @@
 """When the autopilot runs the glider's motor in AUTO: the gate's rules (:class:`MotorGate`),
 its plan for a reference (:meth:`MotorGate.plan`) and the switch that follows the plan step by
-step (:class:`MotorSwitch`: dwell time, the rescue for a lost path, the soft start)."""
+step (:class:`MotorSwitch`: dwell time, the rescue for a lost path, the soft start).
+
+The switch's arithmetic is the pure functions :func:`motor_update` and :func:`motor_ceiling`
+(numba compiles them with the same bits as the Python call): the gate as a float64 vector
+(:meth:`MotorGate.vector`, layout ``G_*``), its plan as floats per segment
+(:meth:`MotorGate.plan_vector`), the switch's state in a caller-owned float64 array (layout
+``M_*``, :func:`motor_memory`)."""
 
 from __future__ import annotations
 
@@ -11,6 +17,15 @@ from typing import Any
 import numpy as np
 
 from .tracking import TrackingReference
+
+#: layout of :meth:`MotorGate.vector`: off_below [-], min_off_s, min_on_s, min_dwell_s,
+#: soft_start_s [s], rescue_error_m [m]
+(G_OFF_BELOW, G_MIN_OFF_S, G_MIN_ON_S, G_MIN_DWELL_S, G_SOFT_START_S, G_RESCUE_ERROR_M) = range(6)
+N_GATE = 6
+#: layout of the switch's state (:func:`motor_memory`): running (1.0 / 0.0), time of the last
+#: switch [s] (-inf before the first), switches so far, rescue (1.0 / 0.0)
+(M_RUNNING, M_SWITCH_T, M_SWITCHES, M_RESCUE) = range(4)
+N_MEMORY = 4
 
 
 @dataclass(frozen=True)
@@ -77,6 +92,21 @@ class MotorGate:
         run = _flip_short(run, dur, False, self.min_off_s)
         return _flip_short(run, dur, True, self.min_on_s)
 
+    def plan_vector(self, ref: TrackingReference) -> np.ndarray:
+        """:meth:`plan` as float64 per segment (1.0 run, 0.0 stop): the ``plan`` of :func:`motor_update`."""
+        return self.plan(ref).astype(float)
+
+    def vector(self) -> np.ndarray:
+        """The gate as the float64 vector of :func:`motor_update` (layout ``G_*``)."""
+        v = np.empty(N_GATE)
+        v[G_OFF_BELOW] = self.off_below
+        v[G_MIN_OFF_S] = self.min_off_s
+        v[G_MIN_ON_S] = self.min_on_s
+        v[G_MIN_DWELL_S] = self.min_dwell_s
+        v[G_SOFT_START_S] = self.soft_start_s
+        v[G_RESCUE_ERROR_M] = self.rescue_error_m
+        return v
+
 
 def _flip_short(flags: np.ndarray, dur: np.ndarray, value: bool, limit: float) -> np.ndarray:
     """``flags`` with every cyclic run of ``value`` lasting less than ``limit`` [s] (segment
@@ -100,44 +130,91 @@ def _flip_short(flags: np.ndarray, dur: np.ndarray, value: bool, limit: float) -
     return out
 
 
+def motor_memory() -> np.ndarray:
+    """A switch's state before its first step (layout ``M_*``): running, no switch yet, no rescue."""
+    mem = np.zeros(N_MEMORY)
+    mem[M_RUNNING] = 1.0
+    mem[M_SWITCH_T] = -math.inf
+    return mem
+
+
+def motor_update(plan: np.ndarray, seg: int, t: float, track_error: float, gate: np.ndarray,
+                 mem: np.ndarray) -> float:
+    """Whether the motor runs this step (1.0, else 0.0) on segment ``seg`` of a reference whose
+    plan is ``plan`` (:meth:`MotorGate.plan_vector`), at time ``t`` [s]: as the plan says, or for
+    a position error ``track_error`` [m] (the last step's; NaN: none yet) beyond the gate's
+    ``rescue_error_m`` (until it is back below half of that); a switch at least ``min_dwell_s``
+    after the last. ``gate``: :meth:`MotorGate.vector`; ``mem``: the switch's state (layout
+    ``M_*``, :func:`motor_memory`), updated in place."""
+    want = plan[seg] != 0.0
+    if not want:
+        e = track_error
+        if e > gate[G_RESCUE_ERROR_M]:
+            mem[M_RESCUE] = 1.0
+        elif not e > 0.5 * gate[G_RESCUE_ERROR_M]:  # below half of it, or no error yet (NaN)
+            mem[M_RESCUE] = 0.0
+        want = mem[M_RESCUE] != 0.0
+    if want != (mem[M_RUNNING] != 0.0) and t - mem[M_SWITCH_T] >= gate[G_MIN_DWELL_S]:
+        mem[M_RUNNING] = 1.0 if want else 0.0
+        mem[M_SWITCH_T] = t
+        mem[M_SWITCHES] += 1.0
+    return mem[M_RUNNING]
+
+
+def motor_ceiling(t: float, gate: np.ndarray, mem: np.ndarray) -> float:
+    """The throttle's ceiling at time ``t`` [s] (0 .. 1) under ``gate`` (:meth:`MotorGate.vector`)
+    for the switch's state ``mem`` (layout ``M_*``): rising from 0 to 1 over the gate's
+    ``soft_start_s`` after a start (the propeller spins up from rest), else 1."""
+    if mem[M_SWITCHES] != 0.0 and t - mem[M_SWITCH_T] < gate[G_SOFT_START_S]:
+        return (t - mem[M_SWITCH_T]) / gate[G_SOFT_START_S]
+    return 1.0
+
+
 class MotorSwitch:
-    """Whether AUTO runs the motor, step by step, under ``gate`` (:class:`MotorGate`)."""
+    """Whether AUTO runs the motor, step by step, under ``gate`` (:class:`MotorGate`): the state
+    in :attr:`mem` (layout ``M_*``), the steps by :func:`motor_update` and :func:`motor_ceiling`."""
 
     def __init__(self, gate: MotorGate) -> None:
         self.gate = gate
-        #: AUTO runs the motor (False: stopped where the reference's motor is off)
-        self.running = True
-        self.switches = 0  #: motor stops and starts in AUTO so far
-        self.rescue = False  #: the motor runs for a position error beyond MotorGate.rescue_error_m
-        self.switch_t = -math.inf  #: time of the last switch [s]
-        self._plan: tuple[Any, MotorGate, np.ndarray] | None = None  # (reference, gate, gate.plan(reference))
+        self.mem = motor_memory()  #: the switch's state (layout ``M_*``)
+        # (reference, gate, gate.plan_vector(reference), gate.vector())
+        self._plan: tuple[Any, MotorGate, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def running(self) -> bool:
+        """AUTO runs the motor (False: stopped where the reference's motor is off)."""
+        return bool(self.mem[M_RUNNING])
+
+    @property
+    def switches(self) -> int:
+        """Motor stops and starts in AUTO so far."""
+        return int(self.mem[M_SWITCHES])
+
+    @property
+    def rescue(self) -> bool:
+        """The motor runs for a position error beyond MotorGate.rescue_error_m."""
+        return bool(self.mem[M_RESCUE])
+
+    @property
+    def switch_t(self) -> float:
+        """Time of the last switch [s] (-inf before the first)."""
+        return float(self.mem[M_SWITCH_T])
 
     def update(self, ref: TrackingReference, t_cycle: float, t: float, track_error: float) -> bool:
         """Whether the motor runs this step at cycle time ``t_cycle`` [s] of ``ref``, time ``t``
         [s]: as :meth:`MotorGate.plan` says, or for a position error ``track_error`` [m] (the
         last step's) beyond the gate's ``rescue_error_m``; a switch at least ``min_dwell_s``
-        after the last."""
+        after the last (:func:`motor_update`)."""
         gate = self.gate
         plan = self._plan
         if plan is None or plan[0] is not ref or plan[1] is not gate:
-            plan = self._plan = (ref, gate, gate.plan(ref))
-        want = bool(plan[2][ref.segment_index(t_cycle)])
-        if not want:
-            e = track_error
-            if e > gate.rescue_error_m:
-                self.rescue = True
-            elif not e > 0.5 * gate.rescue_error_m:  # below half of it, or no error yet (NaN)
-                self.rescue = False
-            want = self.rescue
-        if want != self.running and t - self.switch_t >= gate.min_dwell_s:
-            self.running = want
-            self.switch_t = t
-            self.switches += 1
-        return self.running
+            plan = self._plan = (ref, gate, gate.plan_vector(ref), gate.vector())
+        return bool(motor_update(plan[2], ref.segment_index(t_cycle), t, track_error, plan[3], self.mem))
 
     def ceiling(self, t: float) -> float:
         """The throttle's ceiling at time ``t`` [s] (0 .. 1): rising from 0 to 1 over the gate's
-        ``soft_start_s`` after a start (the propeller spins up from rest), else 1."""
-        if self.switches and t - self.switch_t < self.gate.soft_start_s:
-            return (t - self.switch_t) / self.gate.soft_start_s
-        return 1.0
+        ``soft_start_s`` after a start (the propeller spins up from rest), else 1
+        (:func:`motor_ceiling`)."""
+        plan = self._plan
+        gate = plan[3] if plan is not None and plan[1] is self.gate else self.gate.vector()
+        return float(motor_ceiling(t, gate, self.mem))

@@ -46,6 +46,7 @@ from typing import Any, Sequence
 
 from ..pointmass import mathops as mo
 from ..pointmass.aero import fold_blend, tether_drag_coefficient
+from ..pointmass.fold import fold_fraction  # the fold law, one source with the autopilot
 from ..definitions.aircraft import FOLD_TIME_MAX_S, AeroParams, Airframe, Glider, aircraft_path
 from ..definitions.xmlutil import XmlDoc
 from ..pointmass.model import Environment, PointMassModel
@@ -79,16 +80,6 @@ def definition_fold_time(root: Path | None = None) -> float:
     check does (DefinitionError naming file, property and range)."""
     doc = XmlDoc.load(aircraft_path(FOLDABLE_AIRCRAFT, root))
     return doc.property_value("fcs/wing-fold-time-s", lo=0.0, hi=FOLD_TIME_MAX_S, lo_open=True, unit="s")
-
-
-def fold_fraction(t: float, T2: float, fold_time: float) -> float:
-    """Fold state (0 unfolded .. 1 folded) at time ``t`` [s] into a recovery of ``T2`` [s]: the
-    rate-limited actuator (full travel in ``fold_time`` [s]) commanded folded at ``t = 0`` and
-    open at ``t = T2 - fold_time``; ``T2 >= 2 fold_time`` (the optimiser's bound), so it is
-    ``min(1, t / fold_time, (T2 - t) / fold_time)``. ``fold_time`` 0: folded throughout."""
-    if fold_time <= 0.0:
-        return 1.0
-    return float(min(1.0, max(0.0, min(t, T2 - t) / fold_time)))
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,10 @@
 """Sampling one periodic cycle of rows at any time, with a named rule per column
 (:data:`LINEAR`, :data:`HELD`; the rules are described in :mod:`fdm_awe.trajectory`): one
-implementation for the reference file and the autopilot's tracking reference."""
+implementation for the reference file and the autopilot's tracking reference.
+
+The sampling's arithmetic is the pure :func:`cycle_evaluate` (with :func:`cycle_time` and
+:func:`segment_of`): arrays and floats in, numbers out, compiled by numba with the same bits as
+the Python call; :meth:`CycleSampler.evaluate` wraps it."""
 
 from __future__ import annotations
 
@@ -95,15 +99,13 @@ class CycleSampler:
         self._table = np.column_stack(lin) if lin else np.zeros((n, 0))
 
     def cycle_time(self, t: float) -> tuple[int, float]:
-        """(cycle index, cycle time [s]) of time ``t`` [s]: ``k = floor(t / period)``, ``t - k period``."""
-        k = int(t // self.period)
-        return k, t - k * self.period
+        """(cycle index, cycle time [s]) of time ``t`` [s] (:func:`cycle_time`)."""
+        return cycle_time(t, self.period)
 
     def segment_index(self, t_cycle: float) -> int:
         """Index of the segment ``[t_i, t_i+1)`` holding cycle time ``t_cycle`` [s] (the first one
-        before the first row, the last one at or beyond the last row)."""
-        i = int(np.searchsorted(self.t, t_cycle, side="right")) - 1
-        return min(max(i, 0), len(self.t) - 2)
+        before the first row, the last one at or beyond the last row; :func:`segment_of`)."""
+        return segment_of(self.t, t_cycle)
 
     def segments(self, name: str) -> np.ndarray:
         """The value of held column ``name`` on each of the ``n - 1`` segments."""
@@ -113,19 +115,67 @@ class CycleSampler:
         """Position of linear column ``name`` in the row :meth:`evaluate` returns."""
         return self._where[name]
 
+    @property
+    def table(self) -> np.ndarray:
+        """The linear columns' values per row, ``(n, m)`` float64 (column offsets :meth:`where`):
+        the table :func:`cycle_evaluate` interpolates."""
+        return self._table
+
     def evaluate(self, t: float) -> tuple[int, float, int, int, float, np.ndarray]:
-        """``(cycle, t_cycle, phase, segment, weight, row)`` at time ``t`` [s]: ``row`` holds every
-        linear column (at :meth:`where`), ``segments(name)[segment]`` a held one. The fast form of
-        :meth:`sample`, for a caller sampling every step."""
-        k, tc = self.cycle_time(t)
-        ts = self.t
-        i = int(np.searchsorted(ts, tc, side="right")) - 1
-        i = min(max(i, 0), len(ts) - 2)
-        w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
-        tab = self._table
-        return k, tc, GENERATION if tc < self.T1 else RECOVERY, i, w, tab[i] * (1.0 - w) + tab[i + 1] * w
+        """``(cycle, t_cycle, phase, segment, weight, row)`` at time ``t`` [s]: ``row`` (a new
+        array) holds every linear column (at :meth:`where`), ``segments(name)[segment]`` a held
+        one (:func:`cycle_evaluate`). The fast form of :meth:`sample`, for a caller sampling every
+        step."""
+        row = np.empty(self._table.shape[1])
+        k, tc, phase, i, w = cycle_evaluate(self.t, self._table, self.T1, self.period, t, row)
+        return k, tc, phase, i, w, row
 
     def sample(self, t: float) -> CycleSample:
         """Every column at time ``t`` [s] (the cycle repeated periodically)."""
         k, tc, phase, i, w, row = self.evaluate(t)
         return CycleSample(self, k, tc, phase, i, w, row)
+
+
+def cycle_time(t: float, period: float) -> tuple[int, float]:
+    """(cycle index, cycle time [s]) of time ``t`` [s] on a cycle of ``period`` [s]:
+    ``k = floor(t / period)``, ``t - k period``."""
+    k = int(t // period)
+    return k, t - k * period
+
+
+def segment_of(ts: np.ndarray, t_cycle: float) -> int:
+    """Index ``i`` of the segment ``[ts[i], ts[i+1])`` of the row times ``ts`` [s]
+    (non-decreasing, at least 2) holding cycle time ``t_cycle`` [s]: the last row at or before
+    it (``np.searchsorted(ts, t_cycle, side="right") - 1``, by bisection here so that numba and
+    Python run one source), clipped to the first segment before the first row and to the last
+    one at or beyond the last row."""
+    lo, hi = 0, len(ts)  # the first row after t_cycle lies in lo .. hi (NumPy's bisection)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if t_cycle < ts[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return min(max(lo - 1, 0), len(ts) - 2)
+
+
+def cycle_evaluate(ts: np.ndarray, table: np.ndarray, T1: float, period: float, t: float,
+                   row: np.ndarray) -> tuple[int, float, int, int, float]:
+    """One sample of a periodic cycle at time ``t`` [s]: ``(cycle, t_cycle, phase, segment,
+    weight)`` with the linear columns written into ``row``.
+
+    ``ts`` the row times [s] (``(n,)``, non-decreasing from the cycle start, a time repeated only
+    at a phase switch); ``table`` the linear columns' values per row (``(n, m)`` float64,
+    :attr:`CycleSampler.table`); ``T1`` the cycle time of the phase switch [s]; ``period`` the
+    cycle period [s]; ``row`` the caller's ``(m,)`` float64 array, set to the interpolation
+    across the segment. ``cycle`` = ``floor(t / period)``, ``t_cycle`` [s] the time into it,
+    ``phase`` :data:`GENERATION` below ``T1`` else :data:`RECOVERY`, ``segment`` its index
+    (:func:`segment_of`), ``weight`` 0 .. 1 across it. A pure function (numba compiles it with
+    the same bits as the Python call)."""
+    k, tc = cycle_time(t, period)
+    i = segment_of(ts, tc)
+    w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
+    a, b, u = table[i], table[i + 1], 1.0 - w
+    for j in range(len(row)):  # element by element: no temporary array in the compiled code
+        row[j] = a[j] * u + b[j] * w
+    return k, tc, GENERATION if tc < T1 else RECOVERY, i, w
