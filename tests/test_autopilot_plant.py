@@ -152,7 +152,7 @@ def test_motor_switches_keep_the_dwell_time(autopilot_parts):
     switches, dt = [], 1.0 / 120.0
     for k in range(int(20.0 / dt)):
         before = ap.motor_running
-        ap._motor_update(ref, k * dt, k * dt)
+        ap.motor.update(ref, k * dt, k * dt, ap.track_error)
         if ap.motor_running != before:
             switches.append(k * dt)
     assert len(switches) >= 10
@@ -168,7 +168,7 @@ def test_motor_is_the_reserve_when_the_glider_loses_its_path(autopilot_parts):
     runs = []
     for k, err in enumerate([float("nan"), 3.0, 9.0, 11.0, 11.0, 8.0, 6.0, 4.0, 4.0]):
         ap.track_error = err
-        runs.append(ap._motor_update(ref, 1.0 + k, 1.0 + k))
+        runs.append(ap.motor.update(ref, 1.0 + k, 1.0 + k, ap.track_error))
     assert runs == [False, False, False, True, True, True, True, False, False]
     assert ap.motor_switches == 3  # stopped at the start, started for the error, stopped again
 

@@ -67,8 +67,8 @@ def test_the_loop_delegates_and_reads_its_gains_at_each_call():
         u = loop.throttle(cmd, thrust, v, 1 / 120, k % 10 != 9, u_max)
         assert u == throttle_step(cmd, thrust, v, 1 / 120, k % 10 != 9, u_max, params["THR_KP"], params["THR_KI"],
                                   32.0, 30.0, integ)
-        assert loop._state == integ
-    assert loop.throttle(10.0, 0.0, 20.0, 1 / 120, False) == 0.0 and loop._state == [0.0]
+        assert loop.state.tolist() == integ
+    assert loop.throttle(10.0, 0.0, 20.0, 1 / 120, False) == 0.0 and loop.state.tolist() == [0.0]
     # the feed-forward alone: zero thrust at the zero-thrust airspeed, full throttle when static
     params["THR_KP"] = params["THR_KI"] = 0.0
     assert loop.throttle(0.0, 0.0, 32.0, 0.0, True) == 1.0

@@ -234,7 +234,8 @@ def test_ctrl_c_between_a_compiled_step_and_its_bookkeeping_books_nothing_twice(
 
         sim.glider.make_state = interrupting
 
-    rep = fly(reference, config="nominal", cycles=1, setup=setup)
+    # a per-step hook: the compiled loop with the autopilot called from Python every step
+    rep = fly(reference, config="nominal", cycles=1, setup=setup, on_step=lambda k, s, o: None)
     if holder["sim"].loop != "compiled":
         pytest.skip(f"compiled loop not available here: {holder['sim'].loop_reason}")
     assert rep.status == "interrupted", rep.message
@@ -247,16 +248,18 @@ def test_time_cap_with_an_unfinished_cycle_is_incomplete_not_ok(reference):
     falling behind its path) cannot finish its cycle in the time cap of twice the period plus
     10 s: the cap ends the flight with its one cycle unfinished (reported ``ok`` before)."""
 
+    held = {"ap": None, "s": None}
+
     def setup(ap, sim):
-        advance = ap._advance
+        held["ap"] = ap
 
-        def held_back(ref, s_par, s, dt):
-            r, _, _ = advance(ref, s_par, s, dt)
-            return r, 0.4, s_par + 0.4 * dt
+    def held_back(k, s, o):  # after each step: the path parameter 0.4 step lengths on
+        ap = held["ap"]
+        if held["s"] is not None:
+            ap.s_ref = held["s"] + 0.4 * DT
+        held["s"] = ap.s_ref
 
-        ap._advance = held_back
-
-    rep = fly(reference, config="nominal", cycles=1, setup=setup)
+    rep = fly(reference, config="nominal", cycles=1, setup=setup, on_step=held_back)
     assert rep.status == "incomplete", rep.message
     assert "time cap" in rep.message and "0 of 1" in rep.message
     assert rep.sim_time_s == pytest.approx(2.0 * reference.period + 10.0, abs=DT)

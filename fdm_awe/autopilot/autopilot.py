@@ -48,22 +48,24 @@ import numpy as np
 from ..definitions.aircraft import Glider
 from ..groundstation import WinchCommand
 from ..sixdof.adapter import JSBSimGlider
+from ..sixdof.row import WOW
 from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
+from .auto_mode import AutoStep
+from .auto_step import M_ERR, M_SREF, M_TLAST
 from .fold import fold_command, reference_fold_time
-from .guidance import Guidance, GuidanceGains, norm3
+from .guidance import Guidance, GuidanceCommand, GuidanceGains, norm3
 from .modes import MODE_NUMBERS
 from .motor import MotorGate, MotorSwitch
 from .params import ParamStore
 from .recovery import Recovery
-from .rejoin import Rejoin
 from .thrust import ThrustLoop
-from .tracking import GENERATION, PHASE_NAMES, RefPoint, TrackingReference
+from .tracking import PHASE_NAMES, RefPoint, TrackingReference
 from .vehicle import Waypoint
-from .winch import cycle_winch
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
+
 CONFIGS = ("foldable", "nominal")
 
 _STAB_PARAMS = {"W_ALPHA": "w_alpha", "Z_ALPHA": "z_alpha", "KI_ALPHA": "ki_alpha", "W_PHI": "w_phi",
@@ -120,13 +122,9 @@ class Autopilot:
         self.mode = "AUTO" if reference is not None else "FBWA"
         self.armed = True
         self.cycling = reference is not None
-        #: path parameter: reference time flown so far [s] (cycle k spans k P .. (k+1) P). It
-        #: advances with flight time, faster when the glider is ahead of its reference point
-        #: and slower when behind, so the loops act on the distance to the path rather than on
-        #: a schedule (path following; the cycle's period is the glider's own).
-        self.s_ref = 0.0
+        #: AUTO's step: its state (path parameter, time, position error, phase, rejoin) and arrays
+        self.auto = AutoStep()
         self.path_rate = 1.0
-        self._rejoin: Rejoin | None = None  # AUTO's rejoin segment under way
         self._rejoin_pending = False
         self.airborne = True  #: no contact touched the ground at the last step
         #: ground-station link: (up now, was up once, time it was lost [s])
@@ -134,16 +132,16 @@ class Autopilot:
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
-        self.ref_point = None
-        self.last_guidance = None
-        self.track_error = float("nan")
+        self._ref_point: RefPoint | None = None
+        self._last_guidance: GuidanceCommand | None = None
+        # ref_point and last_guidance are the last AUTO step's, built from its arrays when read
+        self._auto_point = self._auto_guidance = False
         af = airframes.unfolded
         self.guidance = Guidance(self._guidance_gains(), af.mass.mass, af.aero, airframes.folded.aero, rho, g)
         self.att = AttitudeLoops(glider, StabilizerGains(**{v: params[k] for k, v in _STAB_PARAMS.items()}))
-        self._t_last: float | None = None
         self._t_now = 0.0
         self.thrust_loop = ThrustLoop(params, af.propulsion.T_max, thruster)  #: throttle for the thrust command
-        self._line_EA = line_EA
+        self.line_EA = line_EA  #: the line's axial stiffness EA [N] (the kinematic winch's length)
         #: whether AUTO runs the motor (:class:`MotorSwitch` under the gate ``motor``)
         self.motor = MotorSwitch(motor if motor is not None else MotorGate())
         #: RECOVER's path and winch (:class:`~fdm_awe.autopilot.recovery.Recovery`)
@@ -163,6 +161,7 @@ class Autopilot:
         )
 
     def _on_param(self, name: str, value: float) -> None:
+        self.auto.invalidate()
         if name in _STAB_PARAMS:
             setattr(self.att.gains, _STAB_PARAMS[name], float(value))
         else:
@@ -170,6 +169,53 @@ class Autopilot:
 
     def _note(self, text: str) -> None:
         self.log.append((self._t_now, text))
+
+    @property
+    def s_ref(self) -> float:
+        """Path parameter: reference time flown so far [s] (cycle k spans k P .. (k+1) P). It
+        advances with flight time, faster when the glider is ahead of its reference point and
+        slower when behind, so the loops act on the distance to the path rather than on a
+        schedule (path following; the cycle's period is the glider's own)."""
+        return float(self.auto.mem[M_SREF])
+
+    @s_ref.setter
+    def s_ref(self, value: float) -> None:
+        self.auto.mem[M_SREF] = value
+
+    @property
+    def track_error(self) -> float:
+        """Position error of the last guided step [m] (NaN before the first)."""
+        return float(self.auto.mem[M_ERR])
+
+    @track_error.setter
+    def track_error(self, value: float) -> None:
+        self.auto.mem[M_ERR] = value
+
+    @property
+    def ref_point(self) -> RefPoint | None:
+        """The reference point the last step flew (None: none, e.g. RECOVER's flare)."""
+        if self._auto_point:
+            self._ref_point = self.auto.ref_point(self.reference)  # type: ignore[arg-type]
+            self._auto_point = False
+        return self._ref_point
+
+    @ref_point.setter
+    def ref_point(self, r: RefPoint | None) -> None:
+        self._auto_point = False
+        self._ref_point = r
+
+    @property
+    def last_guidance(self) -> GuidanceCommand | None:
+        """The guidance's command of the last guided step."""
+        if self._auto_guidance:
+            self._last_guidance = self.auto.command()
+            self._auto_guidance = False
+        return self._last_guidance
+
+    @last_guidance.setter
+    def last_guidance(self, cmd: GuidanceCommand | None) -> None:
+        self._auto_guidance = False
+        self._last_guidance = cmd
 
     @property
     def rec_stage(self) -> str | None:
@@ -323,11 +369,6 @@ class Autopilot:
         i = int(np.argmin(np.linalg.norm(ref.pos - s.pos_ned, axis=1)))
         return float(ref.t[i])
 
-    def _motor_update(self, ref: TrackingReference, t_cycle: float, t: float) -> bool:
-        """Whether the motor runs this step in AUTO at cycle time ``t_cycle`` [s] of ``ref``, time
-        ``t`` [s] (:meth:`MotorSwitch.update`, on the last step's position error)."""
-        return self.motor.update(ref, t_cycle, t, self.track_error)
-
     def fold_command(self, t_cycle: float, T1: float, period: float) -> float:
         """Fold command (0 open .. 1 folded) at cycle time ``t_cycle`` [s] of a cycle of
         ``period`` [s] whose recovery starts at ``T1`` [s]: :func:`~fdm_awe.autopilot.fold.fold_command`
@@ -344,10 +385,14 @@ class Autopilot:
 
     # ------------------------------------------------------------------ controller
     def update(self, t: float, s: SixDofState, gs: Any) -> tuple[Surfaces, WinchCommand]:
-        dt = 0.0 if self._t_last is None else max(0.0, t - self._t_last)
-        self._t_last = t
+        mem = self.auto.mem
+        tl = mem[M_TLAST]
+        dt = 0.0 if tl != tl else max(0.0, t - float(tl))
         self._t_now = t
         self.airborne = not s.on_ground
+        if self.mode == "AUTO" and self.cycling and self.reference is not None:
+            return self._auto(t, s, gs)  # the AUTO step keeps its own time (auto_guide)
+        mem[M_TLAST] = t
         if self.mode == "MANUAL":
             self.phase = "ground" if s.on_ground else self.phase
             if self.thruster is not None:
@@ -355,89 +400,58 @@ class Autopilot:
             return self.manual, WinchCommand(mode="generator", load_resistance=self.R_L)
         if self.mode == "RECOVER":
             return self._recover(s, gs, dt)
-        if self.mode == "AUTO" and self.cycling and self.reference is not None:
-            return self._auto(t, s, gs, dt)
         # FBWA (or AUTO without a path): wings level, trim alpha, no thrust
         alpha = self.glider.trim_alpha(max(s.airspeed, 8.0))
         self.thrust_loop.propulsion(0.0, s, dt, self.armed)
         return self._hold(s, min(alpha, self.params["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), WinchCommand(mode="generator", load_resistance=self.R_L)
 
-    def _advance(self, ref: TrackingReference, s_par: float, s: SixDofState, dt: float):
-        """Reference point at path parameter ``s_par`` and the parameter one step later: it moves
-        with the along-path error over the reference speed, relaxed in PATH_TAU seconds and
-        bounded to 0 .. 3x real time. Returns (point, rate, new parameter)."""
-        r = ref.sample(s_par)
-        vr = norm3(r.vel)
-        if vr > 0.5:
-            e_at = float((s.pos_ned - r.pos) @ r.vel) / vr
-            rate = min(max(1.0 + e_at / (vr * self.params["PATH_TAU"]), 0.0), 3.0)
-        else:
-            rate = 1.0
-        return r, rate, s_par + rate * dt
-
     def _rejoin_start(self, ref: TrackingReference, s: SixDofState, t: float) -> None:
         """Begin a rejoin segment: the path parameter moves to the reference point nearest the
         glider's position and velocity (velocity error weighted by 2 s), and the offset
-        between them decays over RJ_TIME (:class:`~fdm_awe.autopilot.rejoin.Rejoin`)."""
+        between them decays over RJ_TIME (:func:`~fdm_awe.autopilot.rejoin.rejoin_weights`)."""
         self._rejoin_pending = False
         T = self.params["RJ_TIME"]
         cost = (np.sum((ref.pos - s.pos_ned) ** 2, axis=1) + 4.0 * np.sum((ref.vel - s.vel_ned) ** 2, axis=1))
         i = int(np.argmin(cost))
         self.s_ref = self._cycle_start() + float(ref.t[i])
         self.guidance.reset()
+        self.auto.end_rejoin()
         if T <= 0.0:
-            self._rejoin = None
             return
         r0 = ref.sample(self.s_ref)
-        self._rejoin = Rejoin(t, np.asarray(s.pos_ned - r0.pos, float), np.asarray(s.vel_ned - r0.vel, float))
-        self._note(f"rejoin: {norm3(self._rejoin.dp):.1f} m, {norm3(self._rejoin.dv):.1f} m/s from the path "
+        dp, dv = np.asarray(s.pos_ned - r0.pos, float), np.asarray(s.vel_ned - r0.vel, float)
+        self.auto.begin_rejoin(t, dp, dv)
+        self._note(f"rejoin: {norm3(dp):.1f} m, {norm3(dv):.1f} m/s from the path "
                    f"at t_cycle {r0.t_cycle:.2f} s, over {T:g} s")
 
-    def _rejoin_point(self, ref: TrackingReference, t: float) -> tuple[RefPoint, float]:
-        """The reference point on the rejoin segment at time ``t`` [s] (the path's point once it
-        is over) and the path rate (1)."""
-        r = ref.sample(self.s_ref)
-        point = self._rejoin.point(r, t, self.params["RJ_TIME"])  # type: ignore[union-attr]
-        if point is None:
-            self._rejoin = None
-            self._note("rejoin: on the path")
-            return r, 1.0
-        return point, 1.0
-
-    def _auto(self, t: float, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
-        ref_traj = self.reference
-        assert ref_traj is not None
+    def _auto(self, t: float, s: SixDofState, gs: Any) -> tuple[Surfaces, WinchCommand]:
+        """One AUTO step (:meth:`~fdm_awe.autopilot.auto_mode.AutoStep.step`)."""
         if self._rejoin_pending:
-            self._rejoin_start(ref_traj, s, t)
-        if self._rejoin is not None:
-            r, rate = self._rejoin_point(ref_traj, t)
-            self.s_ref += dt
-        else:
-            r, rate, self.s_ref = self._advance(ref_traj, self.s_ref, s, dt)
-        self.ref_point = r
-        self.path_rate = rate
-        wind = s.vel_ned - s.vel_air_ned
-        f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
-        taut = gs is not None and not gs.slack and r.phase == GENERATION
-        # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
-        motor = self._motor_update(ref_traj, r.t_cycle, t)
-        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt, taut=taut,
-                                   thrust_max=None if motor else 0.0)
-        self.track_error = cmd.pos_error
-        self.last_guidance = cmd
-        tc, T1, T = r.t_cycle, ref_traj.T1, ref_traj.period
-        fold_cmd = self.fold_command(tc, T1, T)
-        phase = "generation" if r.phase == GENERATION else "recovery"
-        if phase != self.phase:
-            self._note(f"phase {self.phase} -> {phase} (cycle {r.cycle}, t_cycle {tc:.2f} s)")
-            self.phase = phase
-        wcmd = cycle_winch(r, rate, gs, self.params, self.winch, self.R_L, self._line_EA)
-        if motor:
-            # after a start the propeller spins up from rest under a rising throttle ceiling
-            thr = self.thrust_loop.propulsion(cmd.thrust, s, dt, self.armed, self.motor.ceiling(t))
-        else:
-            thr = self.thrust_loop.stop()
-        return self._hold(s, cmd.alpha, cmd.roll, fold_cmd, dt, thr), wcmd
+            self._rejoin_start(self.reference, s, t)  # type: ignore[arg-type]
+        self._auto_point = self._auto_guidance = True
+        surf, wcmd, notes = self.auto.step(self, s, gs)
+        for text in notes:
+            self._note(text)
+        self.path_rate = self.auto.path_rate
+        return surf, wcmd
+
+    def kernel_arrays(self) -> tuple | None:
+        """The arrays of a compiled block (:func:`fdm_awe.sim.autopilot_kernel.autopilot_steps`)
+        when the next steps are plain AUTO steps (cycling on a reference, no rejoin to begin, the
+        physical plant), else None (the Python autopilot flies the next step)."""
+        if not (self.mode == "AUTO" and self.cycling and self.reference is not None) or self._rejoin_pending:
+            return None
+        if self.thruster is not None:
+            return None
+        return self.auto.kernel_arrays(self)
+
+    def after_block(self, raw: Any) -> None:
+        """After a compiled block of AUTO steps ending in the raw row ``raw``: the step's time,
+        the ground contact, the last step's reference point and command (built when read)."""
+        self._t_now = self.auto.t_last
+        self.airborne = not raw[WOW] > 0.5
+        self._auto_point = self._auto_guidance = True
+        self.path_rate = self.auto.path_rate
 
     # ------------------------------------------------------------------ RECOVER
     @property

@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from ..sixdof.state import SixDofState
 from .params import ParamStore
 
@@ -60,9 +62,19 @@ class ThrustLoop:
     def __init__(self, params: ParamStore, thrust_max_static: float, thruster: Any = None) -> None:
         self.params = params
         self.thruster = thruster
-        self._state = [0.0] * N_THRUST_STATE  # T_* layout
+        self.state = np.zeros(N_THRUST_STATE)  #: the loop's state (T_* layout), updated in place
         self._thrust_max_static = thrust_max_static
         self._v_zero_thrust = params["THR_VZERO"]
+
+    @property
+    def v_zero(self) -> float:
+        """THR_VZERO as the loop was built with [m/s]."""
+        return self._v_zero_thrust
+
+    @property
+    def thrust_max_static(self) -> float:
+        """Static thrust at full throttle [N]."""
+        return self._thrust_max_static
 
     def throttle(self, thrust_cmd: float, thrust: float, airspeed: float, dt: float, armed: bool,
                  u_max: float = 1.0) -> float:
@@ -73,7 +85,7 @@ class ThrustLoop:
         motor start); disarmed: 0, the integral reset."""
         p = self.params
         return throttle_step(thrust_cmd, thrust, airspeed, dt, armed, u_max, p["THR_KP"], p["THR_KI"],
-                             self._v_zero_thrust, self._thrust_max_static, self._state)
+                             self._v_zero_thrust, self._thrust_max_static, self.state)
 
     def propulsion(self, thrust_cmd: float, s: SixDofState, dt: float, armed: bool, u_max: float = 1.0) -> float:
         """Throttle for ``thrust_cmd`` [N] at glider state ``s`` (at most ``u_max``); with an ideal

@@ -365,6 +365,13 @@ class _FlightHooks:
             self._hooks.append(self.live)
         print(f"flying: {args.cycles} cycle(s), mode {ap.mode}", file=sys.stderr, flush=True)  # set up, the loop starts
 
+    @property
+    def per_step(self) -> bool:
+        """Whether the flight has work for every step (progress bar, MAVLink, pacing, live
+        viewer); without, it passes no ``on_step`` and the autopilot may fly compiled blocks."""
+        a = self.args
+        return bool(self._hooks) or bool(a.mavlink) or bool(a.realtime) or self.live is not None
+
     def on_step(self, k: int, s: Any, o: Any) -> None:
         """The flight's ``on_step``: every hook in turn."""
         for h in self._hooks:
@@ -390,8 +397,8 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
     t0 = time.perf_counter()
     try:
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                            on_step=hooks.on_step, params=params, setup=hooks.setup, plant=plant,
-                            tether_drag_scale=scale, tether=args.tether)
+                            on_step=hooks.on_step if hooks.per_step else None, params=params, setup=hooks.setup,
+                            plant=plant, tether_drag_scale=scale, tether=args.tether)
         if hooks.endpoint is not None:
             hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
         if live is not None:

@@ -441,6 +441,16 @@ class GroundStation:
             return None
         return self._s_all, self._sc, self._substeps(dt)
 
+    def command_defaults(self) -> tuple[float, float, float]:
+        """What :func:`command_values` needs of this station: drum radius [m], the definition's
+        T2 duty and load resistance [ohm] (a command's defaults)."""
+        return self._r, self._d2, self._RL
+
+    def ledger_offset(self) -> int:
+        """Position of the ledger's first term (:data:`.ledger.FIELDS`) in the compiled step's
+        state array (:meth:`compiled_step_args`)."""
+        return int((self.ledger.buffer.ctypes.data - self._s_all.ctypes.data) // self._s_all.itemsize)
+
     def command_terms(self, cmd: WinchCommand) -> tuple[str, bool, float, float, float, float]:
         """The terms of :func:`.substeps.station_step` for ``cmd``: converter mode, motor flag,
         drum speed reference rad/s, open-loop duty (NaN: PI), boost duty, load resistance ohm

@@ -292,6 +292,24 @@ class _FlightLog:
             self.shape_nodes.append(self.gs.line_nodes())
             self.shape_tension.append(self.gs.line_tensions())
 
+    def book_block(self, k0: int, k1: int, alog: np.ndarray) -> None:
+        """Book steps ``k0 + 1 .. k1`` flown in one compiled block
+        (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`: the autopilot in AUTO cycling, its
+        phase that of every step; the glider's ledger advanced by the block itself) from its
+        rows ``alog`` (:data:`fdm_awe.sim.autopilot_kernel.ALOG_COLUMNS`)."""
+        from .autopilot_kernel import AL_CYCLE, AL_ERR, AL_LOAD, AL_MASS, AL_RX, AL_RZ, AL_SUPPLY
+
+        rows = alog[k0 + 1: k1 + 1]
+        sl = slice(k0 + 1, k1 + 1)
+        self.refpos[sl] = rows[:, AL_RX:AL_RZ + 1]
+        self.err[sl] = rows[:, AL_ERR]
+        self.cycle[sl] = rows[:, AL_CYCLE].astype(np.int64)
+        self.phase[sl] = PHASE_CODES.get(self.ap.phase, OTHER_PHASE)
+        self.e_load[sl] = rows[:, AL_LOAD]
+        self.e_supply[sl] = rows[:, AL_SUPPLY]
+        self.glider_ledger.set_mass(float(alog[k1, AL_MASS]))
+        self.booked = k1
+
     def line_shape(self) -> dict[str, np.ndarray] | None:
         """The lumped line's sampled shape (:attr:`FlightReport.line_shape`), None without one."""
         if not self._shape:
@@ -354,6 +372,9 @@ def fly(
     flown = [False]  # whether every requested cycle was flown
     hook = _step_hook(rig, wind, log, stop, flown, on_step, None if t_end is not None else cycles * reference.period,
                       gust_on_line=turbulence is not None and not paper and bool(rig.gs.tether_segments))
+    if on_step is None and not paper and not nseg and wind.profile.uniform:
+        # no per-step work in Python: the autopilot may fly whole blocks compiled
+        rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, None if t_end is not None else cycles * reference.period)
     res, wall, interrupted = _run(rig.sim, T_total, hook, stop, log)
     k_end = res.steps
     e_thrust = _thrust_energy(res, log, rig, paper, dt)
@@ -407,6 +428,27 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: _FlightLog, stop: _StopRequest
         return stop.requested
 
     return hook
+
+
+def _blocks(rig: _Rig, gl: GliderLedger, log: _FlightLog, stop: _StopRequest, flown: list[bool],
+            s_end: float | None) -> Any:
+    """The co-simulation's block runner of a flight (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`:
+    the autopilot's AUTO steps and their bookkeeping compiled), or None where it cannot run
+    (no numba, no native JSBSim calls, ``FDM_AWE_JIT=0``, the Python loop chosen). A block's
+    rows are booked as :func:`_step_hook` books a step, and the flight ends as it does there."""
+    from .autopilot_kernel import AutopilotBlocks
+
+    ap = rig.ap
+
+    def after(k0: int, k1: int, s: Any, o: Any) -> bool:
+        log.book_block(k0, k1, runner.alog)
+        if s_end is not None and ap.mode == "AUTO" and ap.s_ref >= s_end:
+            flown[0] = True
+            return True
+        return stop.requested
+
+    runner = AutopilotBlocks.create(rig.sim, ap, gl, after, math.inf if s_end is None else s_end)
+    return runner
 
 
 def _run(sim: CoSim, T_total: float, hook: Callable[[int, Any, Any], bool], stop: _StopRequest,

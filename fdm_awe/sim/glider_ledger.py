@@ -59,6 +59,7 @@ class GliderLedger:
         pm = glider.fdm.get_property_manager()
         self._get = [pm.get_node(n, False).get_double_value for n in LEDGER_PROPERTIES]
         self._ti = pm.get_node(IDEAL_THRUST_PROPERTY, False).get_double_value if ideal_thrust else None
+        self.ideal_thrust = bool(ideal_thrust)  #: the paper plant's ideal thrust is booked apart
         #: works [J] (:data:`FORCES`, then the ideal thrust), updated by every step
         self.work_array = np.zeros(N_WORK)
         vals = self._read()
@@ -74,6 +75,11 @@ class GliderLedger:
         vals = self._read()
         self._mass = vals[L_MASS]
         ledger_step(vals, 0.0 if self._ti is None else self._ti(), self.work_array, self.v_prev, dt, FT, LBF)
+
+    def set_mass(self, mass_slug: float) -> None:
+        """The mass [slug] read by the last step when a compiled loop ran the steps
+        (:func:`ledger_step` on :attr:`work_array` and :attr:`v_prev`)."""
+        self._mass = mass_slug
 
     @property
     def ke(self) -> float:

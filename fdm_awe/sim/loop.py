@@ -151,6 +151,14 @@ class CoSim:
         #: which loop the last :meth:`run` used: "compiled" or "python", and why not compiled
         self.loop = ""
         self.loop_reason = ""
+        #: runs blocks of steps with the controller compiled in (the compiled loop only; e.g.
+        #: :class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`): ``run(k, m, log, p, lim, s_gs,
+        #: c_gs, h, gs_ready)`` -> None (the controller steps in Python now) or ``(steps done,
+        #: event code, python_next)``, ``commands(k0, k1)`` (each row's five commands, lists) and
+        #: ``after(k0, k1, state, gs_output)`` (the rows' bookkeeping; true ends the run)
+        self.block_runner: Any = None
+        #: steps of one such block at most
+        self.block_steps = 1 << 12
 
     def _compiled_loop(self) -> tuple[Any, Any, Any] | str:
         """(kernel, handles, ground-station arrays) of the compiled loop, or why it can't run."""
@@ -317,8 +325,43 @@ class CoSim:
         k = 0
         t = s.t
         wall0 = time.perf_counter()
+        runner, python_next = self.block_runner, False
         try:
             while k < n:
+                if runner is not None and not python_next:
+                    m = self.block_steps if n - k > self.block_steps else n - k
+                    if k + m >= len(log):
+                        log = np.concatenate((log, np.full((min(n + 1, 2 * len(log) + m) - len(log), width), math.nan)))
+                    res = runner.run(k, m, log, p, lim_v, s_gs, c_gs, h, gs_out is not None)
+                    if res is not None:
+                        done, code, python_next = res
+                        if done:
+                            ctl.extend(runner.commands(k, k + done))
+                            if has_phase:
+                                ph = ctrl.phase
+                                if ph is not last_phase:
+                                    last_phase = ph
+                                    last_code = cmds.code(ph)
+                                phases.extend([last_code] * done)
+                            k0, k = k, k + done
+                            row = log[k].tolist()
+                            r = row[:nr]
+                            hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL_COLUMNS
+                            hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
+                            s = make_state(r, hook, force)
+                            sync(r, hook, force, s)
+                            t = r[T]
+                            mode = "motor" if p[i_motor] != 0.0 else "generator"
+                            gs_out = output_from_row(row[nr:ng], mode)
+                            last_wcmd = None
+                            if runner.after(k0, k, s, gs_out):
+                                code = E_NONE
+                                break  # the runner's end condition: status "ok"
+                        if code != E_NONE:
+                            event = self._compiled_event(code, s, gs_out, p)
+                            break
+                        continue
+                python_next = False
                 surf, wcmd = update(t, s, gs_out)
                 set_controls(surf)
                 if wcmd is not last_wcmd:

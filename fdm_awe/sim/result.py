@@ -101,7 +101,8 @@ def log_table(convert_raw: Callable[[np.ndarray], dict[str, np.ndarray]], raws: 
               ctl: list, phases: list | None) -> np.ndarray:
     """The logged columns (:data:`COLUMNS`) of a run's rows: the glider's raw JSBSim rows ``raws``
     converted to SI by ``convert_raw`` (:meth:`JSBSimGlider.convert_raw`), the ground station's
-    records ``gsrec`` (:data:`STATION_COLUMNS`), the commands ``ctl`` (surfaces) and the phase
+    records ``gsrec`` (:data:`STATION_COLUMNS`), the commands ``ctl`` (:class:`Surfaces`, or the
+    five values as a list) and the phase
     codes ``phases`` (None: no phase; a negative code: NaN)."""
     n = len(raws)
     data = np.full((n, len(COLUMNS)), np.nan)
@@ -117,7 +118,9 @@ def log_table(convert_raw: Callable[[np.ndarray], dict[str, np.ndarray]], raws: 
     i, j = _GS_SPAN
     data[:, i:j] = gsrec
     i, j = _SPANS["controls"]
-    data[:, i:j] = np.array([(c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd) for c in ctl])
+    # a row's commands: a Surfaces, or the five values as a list (the rows of a compiled block)
+    data[:, i:j] = np.array([c if type(c) is list else (c.aileron, c.elevator, c.rudder, c.throttle, c.fold_cmd)
+                             for c in ctl])
     if phases is not None:
         ph = np.array(phases[:n], dtype=float)
         ph[ph < 0] = np.nan

@@ -207,6 +207,11 @@ class JSBSimGlider:
         self._force = force
         self._state = state
 
+    def si_factors(self) -> tuple[list[float], list[float]]:
+        """Scale and offset of each position of the raw row: SI value = raw * scale + offset (as
+        :class:`SixDofState` converts it)."""
+        return list(self._scale_l), list(self._offset_l)
+
     def make_state(self, raw: list[float], hook: tuple, force: tuple[float, float, float]) -> SixDofState:
         """A :class:`SixDofState` of this glider from a raw row, hook kinematics and force."""
         return SixDofState(raw, self._scale_l, self._offset_l, hook, force, self._maxvolts)

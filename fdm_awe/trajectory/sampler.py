@@ -175,7 +175,6 @@ def cycle_evaluate(ts: np.ndarray, table: np.ndarray, T1: float, period: float, 
     k, tc = cycle_time(t, period)
     i = segment_of(ts, tc)
     w = min(max((tc - ts[i]) / (ts[i + 1] - ts[i]), 0.0), 1.0)
-    a, b, u = table[i], table[i + 1], 1.0 - w
-    for j in range(len(row)):  # element by element: no temporary array in the compiled code
-        row[j] = a[j] * u + b[j] * w
+    # one array expression (the Python call's cost; compiled, a temporary array of a few values)
+    row[:] = table[i] * (1.0 - w) + table[i + 1] * w
     return k, tc, GENERATION if tc < T1 else RECOVERY, i, w

@@ -1,0 +1,197 @@
+"""The autopilot's AUTO step on arrays: one source, run compiled by numba or as plain Python.
+
+:meth:`fdm_awe.autopilot.autopilot.Autopilot.update` in AUTO, cycling on its reference and not
+rejoining, is :func:`auto_guide` followed by the attitude loops: the reference point at the path
+parameter and the path rate (path following), the motor switch, the guidance's force inversion,
+the fold command, the winch command and the thrust loop, in the order the autopilot has always
+run them. Every relation is the pure function of its own module (the sampler of
+:mod:`fdm_awe.trajectory.sampler`, :func:`.guidance.guidance_step`, :func:`.motor.motor_update`,
+:func:`.fold.fold_command`, :func:`.winch.cycle_winch_values`, :func:`.thrust.throttle_step`);
+this module only wires them on the arrays below, so that the same function runs in the Python
+autopilot and compiled (:func:`compiled_auto_guide`), bit for bit the same.
+
+Arrays (float64; offsets are the module's ``*_`` constants):
+
+- ``row``, ``scale``, ``offset``: the glider's raw JSBSim row (:mod:`fdm_awe.sixdof.row`) and its
+  SI factors and offsets (SI value = raw * scale + offset, as :class:`~fdm_awe.sixdof.state.SixDofState`);
+- ``gso``: the ground station's last output (``GS_*``: tension N, line length m, slack flag,
+  line force on the glider N, NED; ``GS_VALID`` 0 before the station's first step);
+- ``ref_t``, ``ref_table``: the cycle's sample times [s] and its linear columns
+  (:data:`REF_COLUMNS` at the ``R_*`` offsets), ``segs``: per segment the motor plan (1 run, 0
+  stop; :meth:`.motor.MotorGate.plan`) and the generator's T2 duty (rows ``SEG_RUN``, ``SEG_D2``);
+- ``gk``: the guidance gains (:meth:`.guidance.GuidanceGains.vector`); ``cu``, ``cf``: the
+  unfolded and folded polars (:func:`.guidance.polar_coefficients`); ``gate``: the motor gate
+  (:meth:`.motor.MotorGate.vector`); ``par``: the rest (``A_*``);
+- ``mem``: the step's state between calls (``M_*``), updated in place;
+- ``out``: the step's results (``O_*``).
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..pointmass.fold import fold_fraction
+from ..sixdof.row import (ALPHA, BETA, FBX, FBY, FBZ, FOLD, H_SL, LAT, LON, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE,
+                          THETA, THRUST, V_DOWN, V_EAST, V_NORTH, VT, WIND_DOWN, WIND_EAST, WIND_NORTH)
+from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
+from .attitude import CALLED as ATTITUDE_CALLED, attitude_commands
+from .fold import fold_command
+from .guidance import CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, guidance_step, polar_at
+from .motor import motor_ceiling, motor_update
+from .rejoin import rejoin_weights
+from .thrust import throttle_step
+from .winch import cycle_winch_values
+
+#: the reference's linear columns in the order of the table (:data:`.tracking.TRACKING_RULES`)
+REF_COLUMNS = ("pos", "vel", "acc", "airspeed", "alpha", "phi", "thrust", "tension", "length", "reel_speed")
+(R_PX, R_PY, R_PZ, R_VX, R_VY, R_VZ, R_AX, R_AY, R_AZ, R_AIRSPEED, R_ALPHA, R_PHI, R_THRUST, R_TENSION, R_LENGTH,
+ R_REEL_SPEED) = range(16)
+N_REF = 16
+#: where the sampler of :data:`.tracking.TRACKING_RULES` puts :data:`REF_COLUMNS` (checked)
+REF_WHERE = (slice(0, 3), slice(3, 6), slice(6, 9), 9, 10, 11, 12, 13, 14, 15)
+#: rows of ``segs``
+SEG_RUN, SEG_D2 = 0, 1
+#: ``gso``
+GS_VALID, GS_TENSION, GS_LENGTH, GS_SLACK, GS_FX, GS_FY, GS_FZ = range(7)
+N_GSO = 7
+#: ``par``: the cycle, the aircraft, the winch and the thrust loop
+(A_T1, A_PERIOD, A_FOLDABLE, A_FOLD_TIME, A_FOLD_LEAD, A_UNFOLD_LEAD, A_PATH_TAU, A_MASS, A_RHO, A_G, A_S_U, A_S_F,
+ A_RATIO, A_IDEAL_WINCH, A_RL, A_LINE_EA, A_GEN_RL_KP, A_REC_TENSION, A_WINCH_KL, A_WINCH_KT, A_ARMED, A_THR_KP,
+ A_THR_KI, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_G_ATT, A_RJ_TIME) = range(28)
+N_PAR = 28
+#: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
+#: of the last step [m] (NaN before the first), phase of the last step (0 generation, 1
+#: recovery, -1 another mode), the last step's length [s]; the guidance's integral, the thrust
+#: loop's and the motor switch's states are their own arrays (``integral``, ``thr``, ``motor``)
+M_SREF, M_TLAST, M_ERR, M_PHASE, M_DT = range(5)
+#: then the rejoin segment under way (:mod:`.rejoin`): 1.0 while it lasts, its start time [s] and
+#: the glider's offsets from the path at the start (position m, velocity m/s, NED)
+M_RJ, M_RJ_T0, M_RJ_DP, M_RJ_DV = 5, 6, 7, 10
+N_MEM = 13
+#: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step
+PHASE_CHANGED, REJOINED = 1, 2
+#: ``out``: the step's reference point (cycle, cycle time, phase, position, motor-on fraction,
+#: path rate), the guidance's command, the motor, fold, throttle and winch commands
+(O_CYCLE, O_TC, O_PHASE, O_SEG, O_RX, O_RY, O_RZ, O_RATE, O_ALPHA, O_MU, O_THRUST, O_ROLL, O_PITCH, O_YAW, O_CL,
+ O_ERR, O_MOTOR, O_FOLD, O_THROTTLE, O_IDEAL_THRUST, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_W_D2) = range(24)
+N_OUT = 24
+
+
+def auto_guide(row, scale, offset, gso, ref_t, ref_table, segs, gk, cu, cf, gate, par, mem, integral, thr_state,
+               motor_mem, rrow, out):
+    """One AUTO step up to the attitude loops, at the glider's raw row ``row`` (time ``row[T]``):
+    writes ``out`` and advances ``mem``, the guidance's position-error ``integral``
+    (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
+    ``motor_mem`` (:mod:`.motor`); ``rrow`` receives the reference's row (:data:`N_REF` values).
+    Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`; 0: none)."""
+    t = row[0]
+    t_last = mem[M_TLAST]
+    dt = 0.0 if t_last != t_last else max(0.0, t - t_last)
+    mem[M_TLAST] = t
+    mem[M_DT] = dt
+    # the glider's state, SI (SixDofState's relations: raw * scale + offset)
+    px = row[LAT] * scale[LAT] + offset[LAT]
+    py = row[LON] * scale[LON]
+    pz = row[H_SL] * scale[H_SL]
+    kv = scale[V_NORTH]
+    vx, vy, vz = row[V_NORTH] * kv, row[V_EAST] * kv, row[V_DOWN] * kv
+    kw = scale[WIND_NORTH]
+    # wind = vel - vel_air = vel - (vel - total wind), as the autopilot forms it
+    wx = vx - (vx - row[WIND_NORTH] * kw)
+    wy = vy - (vy - row[WIND_EAST] * kw)
+    wz = vz - (vz - row[WIND_DOWN] * kw)
+    # the reference point at the path parameter, and the parameter one step later
+    s_par = mem[M_SREF]
+    k, tc, phase, seg, _ = cycle_evaluate(ref_t, ref_table, par[A_T1], par[A_PERIOD], s_par, rrow)
+    flags = 0
+    if mem[M_RJ] != 0.0:
+        # the rejoin segment: the path's point plus a vanishing offset, the parameter at flight time
+        done, w, w1, w2, e, e1, e2 = rejoin_weights(t, mem[M_RJ_T0], par[A_RJ_TIME])
+        if done != 0.0:
+            mem[M_RJ] = 0.0
+            flags = REJOINED
+        else:
+            for j in range(3):
+                dp, dv = mem[M_RJ_DP + j], mem[M_RJ_DV + j]
+                rrow[R_PX + j] = rrow[R_PX + j] + (1.0 - w) * dp + e * dv
+                rrow[R_VX + j] = rrow[R_VX + j] - w1 * dp + e1 * dv
+                rrow[R_AX + j] = rrow[R_AX + j] - w2 * dp + e2 * dv
+        rate = 1.0
+        mem[M_SREF] = s_par + dt
+    else:
+        rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
+        vr = math.sqrt(rvx * rvx + rvy * rvy + rvz * rvz)
+        if vr > 0.5:
+            e_at = ((px - rrow[R_PX]) * rvx + (py - rrow[R_PY]) * rvy + (pz - rrow[R_PZ]) * rvz) / vr
+            rate = min(max(1.0 + e_at / (vr * par[A_PATH_TAU]), 0.0), 3.0)
+        else:
+            rate = 1.0
+        mem[M_SREF] = s_par + rate * dt
+    rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
+    valid = gso[GS_VALID] != 0.0
+    taut = valid and gso[GS_SLACK] == 0.0 and phase == 0
+    if valid:
+        tx, ty, tz = gso[GS_FX], gso[GS_FY], gso[GS_FZ]
+    else:
+        tx, ty, tz = 0.0, 0.0, 0.0
+    # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
+    motor = motor_update(segs[SEG_RUN], seg, t, mem[M_ERR], gate, motor_mem) != 0.0
+    fold = row[FOLD]
+    polar = polar_at(cu, cf, par[A_RATIO], par[A_S_U], fold)
+    t_max = gk[GK_THRUST_MAX] if motor else 0.0
+    alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(
+        gk, integral, polar, par[A_MASS], par[A_RHO], par[A_G], par[A_S_U], par[A_S_F],
+        rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, rrow[R_AX], rrow[R_AY], rrow[R_AZ], rrow[R_TENSION],
+        px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max)
+    mem[M_ERR] = err
+    if par[A_FOLDABLE] != 0.0:
+        fold_cmd = fold_command(tc, par[A_T1], par[A_PERIOD], par[A_FOLD_TIME], par[A_FOLD_LEAD], par[A_UNFOLD_LEAD])
+    else:
+        fold_cmd = 0.0
+    if phase != mem[M_PHASE]:
+        flags |= PHASE_CHANGED
+    mem[M_PHASE] = phase
+    ideal_winch = par[A_IDEAL_WINCH] != 0.0
+    w_motor, w_speed, w_rl, w_d2 = cycle_winch_values(
+        phase, ideal_winch, rate, rrow[R_REEL_SPEED], rrow[R_LENGTH], rrow[R_TENSION], segs[SEG_D2, seg],
+        valid, gso[GS_LENGTH], gso[GS_TENSION], par[A_RL], par[A_LINE_EA], par[A_GEN_RL_KP], par[A_REC_TENSION],
+        par[A_WINCH_KL], par[A_WINCH_KT])
+    ideal = 0.0
+    if not motor:
+        thr = 0.0  # stopped: the ESC brakes the propeller, the thrust loop's integral is held
+    elif par[A_THRUSTER] != 0.0:
+        thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
+        ideal = thrust if par[A_ARMED] != 0.0 else 0.0
+    else:
+        # after a start the propeller spins up from rest under a rising throttle ceiling
+        armed = par[A_ARMED] != 0.0
+        ceiling = motor_ceiling(t, gate, motor_mem)
+        thr = throttle_step(thrust, row[THRUST] * scale[THRUST], row[VT] * scale[VT], dt, armed, ceiling,
+                            par[A_THR_KP], par[A_THR_KI],
+                            par[A_THR_VZERO], par[A_THRUST_MAX_STATIC], thr_state)
+    out[O_CYCLE], out[O_TC], out[O_PHASE], out[O_SEG] = k, tc, phase, seg
+    out[O_RX], out[O_RY], out[O_RZ], out[O_RATE] = rrow[R_PX], rrow[R_PY], rrow[R_PZ], rate
+    out[O_ALPHA], out[O_MU], out[O_THRUST], out[O_ROLL], out[O_PITCH], out[O_YAW] = alpha, mu, thrust, roll, pitch, yaw
+    out[O_CL], out[O_ERR], out[O_MOTOR], out[O_FOLD] = cl, err, 1.0 if motor else 0.0, fold_cmd
+    out[O_THROTTLE], out[O_IDEAL_THRUST] = thr, ideal
+    out[O_W_MOTOR], out[O_W_REEL_SPEED], out[O_W_RL], out[O_W_D2] = w_motor, w_speed, w_rl, w_d2
+    return flags
+
+
+def attitude_step(row, scale, alpha_cmd, roll_cmd, dt, law_c, law_g, g, integ):
+    """The attitude loops of an AUTO step (:func:`.attitude.attitude_commands`) at the glider's raw
+    ``row`` (SI by ``scale``, as :class:`~fdm_awe.sixdof.state.SixDofState` converts it): surface
+    commands for angle of attack ``alpha_cmd`` and bank ``roll_cmd`` [rad] after a step of ``dt``
+    [s]; ``law_c``, ``law_g``, ``integ`` the attitude law's coefficient vector (current for the
+    fold state), gains and integrators (updated), ``g`` [m/s^2] the loops' gravity."""
+    m = row[MASS] * scale[MASS]
+    return attitude_commands(law_c, law_g, g, row[QBAR] * scale[QBAR], row[VT] * scale[VT], row[PHI], row[THETA],
+                             row[ALPHA], row[BETA], row[P_RATE], row[Q_RATE], row[R_RATE], row[FBX] * scale[FBX] / m,
+                             row[FBY] * scale[FBY] / m, row[FBZ] * scale[FBZ] / m, alpha_cmd, roll_cmd, dt, integ)
+
+
+#: the plain functions the AUTO step calls, for a compiled caller to register
+#: (``numba.extending.register_jitable``), then the two steps themselves
+CALLED = (cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update, motor_ceiling, fold_fraction, fold_command,
+          throttle_step, cycle_winch_values, attitude_commands) + GUIDANCE_CALLED + ATTITUDE_CALLED + (
+    polar_at, guidance_step, auto_guide, attitude_step)

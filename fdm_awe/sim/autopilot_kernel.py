@@ -1,0 +1,276 @@
+"""The co-simulation step with the autopilot's AUTO step compiled in: whole blocks of an
+autopilot flight without Python in between.
+
+:func:`autopilot_steps` runs, per step, what :meth:`fdm_awe.sim.loop.CoSim.run` does with the
+autopilot as its controller and a flight's bookkeeping as its ``on_step``:
+
+1. the autopilot's AUTO step on the current row (:func:`fdm_awe.autopilot.auto_step.auto_guide`:
+   reference point, path rate, motor, guidance, fold, winch, thrust), then its attitude loops
+   (:func:`fdm_awe.autopilot.attitude.attitude_step` on the attitude law's coefficients, re-read
+   from JSBSim when the fold state moves as :class:`~fdm_awe.sixdof.attitude_law.AttitudeLaw`
+   re-reads them);
+2. the commands into JSBSim's flight controls and the ground station's command terms
+   (:func:`fdm_awe.groundstation.station.command_values`);
+3. the co-simulation step (:func:`fdm_awe.sim.kernel.cosim_step`);
+4. the flight's bookkeeping of the step (:func:`fdm_awe.sim.glider_ledger.ledger_step`, the
+   reference point flown, the tracking error, the station's energies) into ``alog``.
+
+Everything the autopilot must do in Python ends a block *before* the step, with the autopilot's
+state as it was (``mem`` restored): a phase change (the autopilot notes it), a winch command the
+ground station would refuse; the caller then runs that step through the Python autopilot, which
+calls the same functions. A block also ends after the step whose path parameter reaches
+``s_end`` (the flight's last cycle flown), and at an event. The same functions in the same order
+give the Python loop's results bit for bit (tested).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import Any, Callable
+
+import numpy as np
+
+from .events import E_FORCE, E_HOOK, E_NONE
+from .glider_ledger import L_MASS, N_LEDGER, ledger_step
+from .kernel import G_FX, G_FY, G_FZ, G_LENGTH, G_SLACK, G_TENSION, P_D2, P_DT, P_DUTY, P_MOTOR, P_RL, P_WREF
+from .kernel import H_GET, H_GETTERS, H_SET, cosim_step, native_get, native_set
+from ..autopilot.auto_step import (A_G_ATT, GS_FX, GS_FY, GS_FZ, GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT,
+                                   M_SREF, N_GSO, O_ALPHA, O_CYCLE, O_FOLD, O_ROLL, O_RX, O_RY, O_RZ, O_THROTTLE, O_W_D2,
+                                   O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, attitude_step, auto_guide)
+from ..groundstation.station import command_values
+from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh
+from ..sixdof.row import FOLD, H_SL, LAT, LON
+
+#: ``ha`` (int64): the flight controls' setters (aileron, elevator, rudder, throttle, fold; 0: the
+#: aircraft has none), the attitude law's getters (:data:`fdm_awe.sixdof.attitude_law.LAW_PROPERTIES`),
+#: the ledger's (:data:`fdm_awe.sim.glider_ledger.LEDGER_PROPERTIES`), the ideal thrust's (0: none)
+HA_AIL, HA_ELE, HA_RUD, HA_THR, HA_FOLD = range(5)
+HA_LAW = 5
+HA_LEDGER = HA_LAW + N_LAW_PROPERTIES
+HA_IDEAL = HA_LEDGER + N_LEDGER
+N_HA = HA_IDEAL + 1
+#: ``q`` (float64): the flight's constants and the block's outcome
+(Q_NRAW, Q_R_DRUM, Q_D2_DEFAULT, Q_RL_DEFAULT, Q_S_END, Q_LEDGER_LOAD, Q_LEDGER_SUPPLY, Q_SLUG_FT2, Q_FT, Q_LBF,
+ Q_GS_VALID, Q_PHASE_CODE, Q_WHY) = range(13)
+N_Q = 13
+#: why a block ended (``q[Q_WHY]``): its steps done (or an event), the next step is the Python
+#: autopilot's, the path parameter reached ``s_end``
+WHY_DONE, WHY_PYTHON, WHY_END = 0, 1, 2
+#: ``alog`` columns per row (row k: the step into row k): the commands of the step, the reference
+#: point flown (position m, cycle), the tracking error after the step [m], the station's energies
+#: into the load and from the supply [J], the glider's mass [slug] (the ledger's kinetic energy)
+ALOG_COLUMNS = ("aileron", "elevator", "rudder", "throttle", "fold_cmd", "ref_x", "ref_y", "ref_z", "cycle",
+                "track_error", "e_load", "e_supply", "mass_slug")
+(AL_AIL, AL_ELE, AL_RUD, AL_THR, AL_FOLD, AL_RX, AL_RY, AL_RZ, AL_CYCLE, AL_ERR, AL_LOAD, AL_SUPPLY,
+ AL_MASS) = range(13)
+N_ALOG = 13
+
+
+# over 80 lines: one flight step written out in the order of the Python loop (module doc), with
+# the block's exits between its parts
+def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref_t, table, segs, gk, cu, cf, gate, par,
+                    mem, integral, thr_state, motor_mem, rrow, out, law_c, law_g, law_fold_at, law_integ, work, v_prev,
+                    alog):
+    """Up to ``n`` steps from row ``k0`` (the arguments of :func:`fdm_awe.sim.kernel.cosim_steps`,
+    then the handles ``ha``, the constants ``q``, the raw row's SI ``scale`` and ``offset``, the
+    arrays of :meth:`fdm_awe.autopilot.autopilot.Autopilot.kernel_arrays` and the glider's ledger
+    ``work`` and ``v_prev``, the bookkeeping rows ``alog``): (steps done, event code);
+    ``q[Q_WHY]`` says why the block ended."""
+    nraw = int(q[Q_NRAW])
+    g0 = h.shape[0] - H_GETTERS  # first ground-station column of a log row
+    f_get, f_set = h[H_GET], h[H_SET]
+    gso = np.empty(N_GSO)
+    saved = np.empty(mem.shape[0] + 3 + thr_state.shape[0] + motor_mem.shape[0])
+    lvals = np.empty(N_LEDGER)
+    cvals = np.empty(N_LAW_PROPERTIES)
+    n_m, n_t = mem.shape[0], thr_state.shape[0]
+    k = k0
+    code = E_NONE
+    q[Q_WHY] = WHY_DONE
+    while k < k0 + n:
+        lr = log[k]
+        row = lr[:nraw]
+        gso[GS_VALID] = q[Q_GS_VALID]
+        gso[GS_TENSION], gso[GS_LENGTH], gso[GS_SLACK] = lr[g0 + G_TENSION], lr[g0 + G_LENGTH], lr[g0 + G_SLACK]
+        gso[GS_FX], gso[GS_FY], gso[GS_FZ] = lr[g0 + G_FX], lr[g0 + G_FY], lr[g0 + G_FZ]
+        # the step's state, to be restored when the Python autopilot must fly it
+        saved[:n_m] = mem
+        saved[n_m:n_m + 3] = integral
+        saved[n_m + 3:n_m + 3 + n_t] = thr_state
+        saved[n_m + 3 + n_t:] = motor_mem
+        flags = auto_guide(row, scale, offset, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem, integral,
+                           thr_state, motor_mem, rrow, out)
+        ok, motor, omega_ref, duty, d2, rl = command_values(out[O_W_MOTOR], out[O_W_REEL_SPEED], out[O_W_RL],
+                                                            out[O_W_D2], math.nan, q[Q_R_DRUM], q[Q_D2_DEFAULT],
+                                                            q[Q_RL_DEFAULT])
+        if flags != 0 or not ok:
+            # a phase change or a rejoin's end (the autopilot notes them), a command the ground
+            # station refuses (the Python path raises its error): the Python autopilot flies it
+            mem[:] = saved[:n_m]
+            integral[:] = saved[n_m:n_m + 3]
+            thr_state[:] = saved[n_m + 3:n_m + 3 + n_t]
+            motor_mem[:] = saved[n_m + 3 + n_t:]
+            q[Q_WHY] = WHY_PYTHON
+            break
+        fold = row[FOLD]
+        if not abs(fold - law_fold_at[0]) < 1e-3:  # the law's derivatives at the new fold state
+            for j in range(N_LAW_PROPERTIES):
+                cvals[j] = native_get(f_get, ha[HA_LAW + j])
+            law_refresh(cvals, law_c, q[Q_SLUG_FT2], True)
+            law_fold_at[0] = fold
+        a, e, r = attitude_step(row, scale, out[O_ALPHA], out[O_ROLL], mem[M_DT], law_c, law_g, par[A_G_ATT],
+                                law_integ)
+        thr, fc = out[O_THROTTLE], out[O_FOLD]
+        native_set(f_set, ha[HA_AIL], a)
+        native_set(f_set, ha[HA_ELE], e)
+        native_set(f_set, ha[HA_RUD], r)
+        native_set(f_set, ha[HA_THR], thr)
+        if ha[HA_FOLD] != 0:
+            native_set(f_set, ha[HA_FOLD], fc)
+        p[P_MOTOR], p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL] = 1.0 if motor else 0.0, omega_ref, duty, d2, rl
+        code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
+        if code == E_HOOK or code == E_FORCE:
+            break  # the step was not done
+        k += 1
+        q[Q_GS_VALID] = 1.0
+        nr = log[k]
+        for j in range(N_LEDGER):
+            lvals[j] = native_get(f_get, ha[HA_LEDGER + j])
+        ideal = native_get(f_get, ha[HA_IDEAL]) if ha[HA_IDEAL] != 0 else 0.0
+        ledger_step(lvals, ideal, work, v_prev, p[P_DT], q[Q_FT], q[Q_LBF])
+        al = alog[k]
+        al[AL_AIL], al[AL_ELE], al[AL_RUD], al[AL_THR], al[AL_FOLD] = a, e, r, thr, fc
+        rx, ry, rz = out[O_RX], out[O_RY], out[O_RZ]
+        dx = rx - (nr[LAT] * scale[LAT] + offset[LAT])
+        dy = ry - nr[LON] * scale[LON]
+        dz = rz - nr[H_SL] * scale[H_SL]
+        al[AL_RX], al[AL_RY], al[AL_RZ], al[AL_CYCLE] = rx, ry, rz, out[O_CYCLE]
+        al[AL_ERR] = math.sqrt(dx * dx + dy * dy + dz * dz)
+        al[AL_LOAD], al[AL_SUPPLY] = s_gs[int(q[Q_LEDGER_LOAD])], s_gs[int(q[Q_LEDGER_SUPPLY])]
+        al[AL_MASS] = lvals[L_MASS]
+        if code != E_NONE:
+            break
+        if mem[M_SREF] >= q[Q_S_END]:
+            q[Q_WHY] = WHY_END
+            break
+    return k - k0, code
+
+
+@functools.lru_cache(maxsize=None)
+def compiled_autopilot_kernel() -> Callable | None:
+    """:func:`autopilot_steps` compiled by numba, or None (numba or the compiled co-simulation
+    step missing, ``FDM_AWE_JIT=0``)."""
+    from .kernel import compiled_kernel
+
+    if compiled_kernel() is None:
+        return None
+    from .. import wind
+    from ..autopilot import attitude, auto_step, fold, guidance, motor, rejoin, thrust, winch
+    from ..groundstation import lumped, lumped_state, station, substeps
+    from ..groundstation import winch as gs_winch
+    from ..jitcache import compile_cached
+    from ..pointmass import aero
+    from ..pointmass import fold as pm_fold
+    from ..sixdof import attitude_law, native, row
+    from ..trajectory import sampler
+    from . import events, glider_ledger, kernel
+
+    def signature(nb: Any) -> Any:
+        f8, i8 = nb.float64, nb.int64
+        a1, a2, i1 = f8[::1], f8[:, ::1], i8[::1]
+        return nb.types.UniTuple(i8, 2)(i1, a1, a1, a2, a1, a1, i8, i8, i1, a1, a1, a1, a1, a2, a2, a1, a1, a1, a1, a1,
+                                        a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
+
+    helpers = auto_step.CALLED + (kernel.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step,
+                                  law_refresh, command_values)
+    # tied to the source files of everything compiled into it (numba's cache checks only this file)
+    modules = (events, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust, winch, lumped,
+               lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler, wind)
+    return compile_cached(autopilot_steps, signature, helpers, modules, "fdm_awe.sim.autopilot_kernel")
+
+#: the flight controls the autopilot sets (the fold's only on the foldable aircraft)
+FCS_SETTERS = ("fcs/aileron-cmd-norm", "fcs/elevator-cmd-norm", "fcs/rudder-cmd-norm", "fcs/throttle-cmd-norm[0]",
+               "fcs/wing-fold-cmd-norm")
+
+
+class AutopilotBlocks:
+    """The block runner of :class:`fdm_awe.sim.loop.CoSim` (its ``block_runner``) for a flight
+    with the autopilot: blocks of :func:`autopilot_steps` whenever the autopilot can fly
+    compiled (:meth:`fdm_awe.autopilot.autopilot.Autopilot.kernel_arrays`), the glider's ledger
+    ``ledger`` advanced in place, ``after(k0, k1, state, gs_output)`` the flight's bookkeeping of
+    the block's rows (:attr:`alog`; true ends the flight). Build it with :meth:`create`."""
+
+    def __init__(self, call: Callable, ap: Any, ha: np.ndarray, q: np.ndarray, ledger: Any,
+                 after: Callable[[int, int, Any, Any], bool]) -> None:
+        self._call, self.ap, self.ha, self.q, self.ledger, self._after = call, ap, ha, q, ledger, after
+        scale, offset = ap.glider.si_factors()
+        self.scale, self.offset = np.array(scale, float), np.array(offset, float)
+        #: the bookkeeping rows of the flight (:data:`ALOG_COLUMNS`), grown with the log
+        self.alog = np.full((1, N_ALOG), math.nan)
+        self.steps = 0  #: steps flown in compiled blocks so far
+
+    @classmethod
+    def create(cls, sim: Any, ap: Any, ledger: Any, after: Callable[[int, int, Any, Any], bool],
+               s_end: float) -> "AutopilotBlocks | None":
+        """The runner of ``sim`` flown by ``ap`` up to path parameter ``s_end`` [s] (inf: no
+        end), or None where it cannot run (the Python loop chosen, numba or the native JSBSim
+        calls missing, a ground station without the compiled step)."""
+        if sim.compiled is False:
+            return None
+        glider, gs = sim.glider, sim.gs
+        if not (hasattr(gs, "command_defaults") and hasattr(glider, "native_handles")):
+            return None
+        if glider.native_handles()[0] is None:
+            return None
+        kern = compiled_autopilot_kernel()
+        if kern is None:
+            return None
+        from ..groundstation.ledger import FIELDS
+        from ..sixdof.attitude_law import LAW_PROPERTIES
+        from ..sixdof.native import native_jsbsim
+        from ..units import FT, LBF, SLUG_FT2
+        from .glider_ledger import IDEAL_THRUST_PROPERTY, LEDGER_PROPERTIES
+
+        setters = list(FCS_SETTERS if glider.foldable else FCS_SETTERS[:4])
+        getters = list(LAW_PROPERTIES) + list(LEDGER_PROPERTIES) + [IDEAL_THRUST_PROPERTY if ledger.ideal_thrust else None]
+        hn, _ = native_jsbsim(glider.fdm, getters, setters)
+        if hn is None:
+            return None
+        ha = np.zeros(N_HA, np.int64)
+        ha[:len(setters)] = hn.setters
+        ha[HA_LAW:] = hn.getters
+        r_drum, d2, rl = gs.command_defaults()
+        base = gs.ledger_offset()
+        q = np.zeros(N_Q)
+        q[Q_NRAW], q[Q_R_DRUM], q[Q_D2_DEFAULT], q[Q_RL_DEFAULT], q[Q_S_END] = len(glider.raw()), r_drum, d2, rl, s_end
+        q[Q_LEDGER_LOAD], q[Q_LEDGER_SUPPLY] = base + FIELDS.index("load"), base + FIELDS.index("supply")
+        q[Q_SLUG_FT2], q[Q_FT], q[Q_LBF] = SLUG_FT2, FT, LBF
+        # the compiled function without numba's argument-type dispatch (its one signature)
+        call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
+        return cls(call, ap, ha, q, ledger, after)
+
+    def run(self, k: int, m: int, log: np.ndarray, p: np.ndarray, lim: np.ndarray, s_gs: np.ndarray,
+            c_gs: np.ndarray, h: np.ndarray, gs_ready: bool) -> tuple[int, int, bool] | None:
+        """Up to ``m`` steps from row ``k`` of ``log`` (the compiled loop's arrays); None when the
+        autopilot steps in Python now (before the ground station's first step too)."""
+        arrays = self.ap.kernel_arrays() if gs_ready else None
+        if arrays is None:
+            return None
+        if len(self.alog) < len(log):
+            self.alog = np.concatenate((self.alog, np.full((len(log) - len(self.alog), N_ALOG), math.nan)))
+        self.q[Q_GS_VALID] = 1.0
+        done, code = self._call(h, p, lim, log, s_gs, c_gs, k, m, self.ha, self.q, self.scale, self.offset, *arrays,
+                                self.ledger.work_array, self.ledger.v_prev, self.alog)
+        if done:
+            self.steps += done
+            self.ap.after_block(log[k + done, :int(self.q[Q_NRAW])])
+        return done, code, self.q[Q_WHY] == WHY_PYTHON
+
+    def commands(self, k0: int, k1: int) -> list:
+        """The five commands of rows ``k0 + 1 .. k1`` (lists)."""
+        return self.alog[k0 + 1: k1 + 1, :5].tolist()
+
+    def after(self, k0: int, k1: int, s: Any, gs_out: Any) -> bool:
+        """The flight's bookkeeping of rows ``k0 + 1 .. k1``; true ends the flight."""
+        return self._after(k0, k1, s, gs_out)
