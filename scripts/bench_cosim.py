@@ -10,8 +10,9 @@
 - real-time factor of a 30 s flight at 120 Hz (a kite hovering on 50 m of line in 14 m/s wind,
   winch held by the PI speed loop at zero reel speed);
 - for scale, one pumping cycle flown by the autopilot (``fdm_awe.sim.flight.fly`` on the stored
-  physical nominal 8 m/s reference of the tests, no recording), compiled and Python loop: the
-  share of a step that is the autopilot's (docs/design.md section 9 counts it in the step).
+  physical nominal 8 m/s reference of the tests, no recording): compiled (the AUTO steps in the
+  kernel, in blocks) and with the Python loop (the autopilot in Python every step);
+  ``scripts/bench_autopilot.py`` is the benchmark of the autopilot flight.
 
 Step timings are the best of ``--repeat`` interleaved short rounds, the real-time factors the best
 of ``--flights`` whole flights (the machine is shared; the 1-minute load average is printed and
