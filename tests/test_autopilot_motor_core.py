@@ -11,10 +11,11 @@ import random
 from pathlib import Path
 
 import numpy as np
+import pytest
 from jit_helpers import compiled, same_bits
 
 from fdm_awe.autopilot.motor import (G_MIN_DWELL_S, G_RESCUE_ERROR_M, G_SOFT_START_S, M_RESCUE, M_RUNNING, M_SWITCH_T,
-                                     M_SWITCHES, N_GATE, N_MEMORY, MotorGate, MotorSwitch, motor_ceiling, motor_memory,
+                                     M_SWITCHES, N_GATE, N_MEMORY, MotorGate, MotorSwitch, motor_ceiling, motor_memory, motor_spin_down,
                                      motor_update)
 from fdm_awe.autopilot.tracking import TrackingReference
 
@@ -44,7 +45,7 @@ def _errors(rnd: random.Random, rescue: float):
 
 
 def test_motor_update_and_ceiling_compiled_equal_python_over_sequences():
-    j_update, j_ceiling = compiled(motor_update), compiled(motor_ceiling)
+    j_update, j_ceiling, j_spin = compiled(motor_update), compiled(motor_ceiling), compiled(motor_spin_down)
     rnd = random.Random(31)
     switches = rescues = dwell_held = 0
     for case in range(12):
@@ -62,6 +63,8 @@ def test_motor_update_and_ceiling_compiled_equal_python_over_sequences():
             assert np.array_equal(mem_py, mem_jit), (case, t, mem_py, mem_jit)
             tc = t + rnd.choice((0.0, 0.1 * gate[G_SOFT_START_S], rnd.uniform(0.0, 2.0)))
             assert same_bits(j_ceiling(tc, gate, mem_jit), motor_ceiling(tc, gate, mem_py)), (case, tc)
+            u = rnd.uniform(0.0, 1.0)
+            assert same_bits(j_spin(tc, gate, mem_jit, u), motor_spin_down(tc, gate, mem_py, u)), (case, tc)
             switches += mem_py[M_SWITCHES] != before[M_SWITCHES]
             rescues += mem_py[M_RESCUE] != before[M_RESCUE]
             want = plan[seg] != 0.0 or mem_py[M_RESCUE] != 0.0
@@ -120,6 +123,20 @@ def test_motor_switch_gives_what_the_boolean_form_gave():
 
 
 def test_gate_vector_layout():
-    gate = MotorGate(off_below=0.3, min_off_s=2.0, min_on_s=1.5, min_dwell_s=0.25, soft_start_s=0.75, rescue_error_m=7.0)
-    assert gate.vector().tolist() == [0.3, 2.0, 1.5, 0.25, 0.75, 7.0]
+    gate = MotorGate(off_below=0.3, min_off_s=2.0, min_on_s=1.5, min_dwell_s=0.25, soft_start_s=0.75, rescue_error_m=7.0,
+                     soft_stop_s=0.6)
+    assert gate.vector().tolist() == [0.3, 2.0, 1.5, 0.25, 0.75, 7.0, 0.6]
     assert gate.vector()[G_MIN_DWELL_S] == 0.25 and gate.vector()[G_SOFT_START_S] == 0.75
+
+
+def test_spin_down_falls_linearly_from_the_last_throttle():
+    """After a stop the throttle falls from its last value to 0 over soft_stop_s; 0 without a
+    switch yet, after the soft stop, and at once with soft_stop_s 0."""
+    mem = motor_memory()
+    gate = MotorGate(soft_stop_s=0.8).vector()
+    assert motor_spin_down(5.0, gate, mem, 0.6) == 0.0  # no switch yet
+    mem[M_RUNNING], mem[M_SWITCH_T], mem[M_SWITCHES] = 0.0, 10.0, 1.0
+    assert motor_spin_down(10.0, gate, mem, 0.6) == 0.6
+    assert motor_spin_down(10.4, gate, mem, 0.6) == pytest.approx(0.3, abs=1e-12)
+    assert motor_spin_down(10.8, gate, mem, 0.6) == 0.0 and motor_spin_down(12.0, gate, mem, 0.6) == 0.0
+    assert motor_spin_down(10.1, MotorGate(soft_stop_s=0.0).vector(), mem, 0.6) == 0.0

@@ -308,3 +308,27 @@ def test_flown_fold_follows_the_references_fold_time():
     mid = (tc > ref.T1 + 3.5) & (tc < ref.period - 3.5)
     assert mid.sum() > 300 and np.all(fold[mid] == 1.0)
     assert np.all(fold[tc < ref.T1] == 0.0)
+
+
+def test_a_soft_stop_spares_the_folded_glider_the_roll_kick():
+    """The foldable glider stops its motor folded (the stored physical 8 m/s cycle, about 52 s
+    in). Cut at once, the drive brakes the propeller through its coil and the reaction rolls
+    the folded glider by about 1 rad with the ailerons at their stop for over a second; the
+    soft stop (throttle to 0 over soft_stop_s) keeps the roll rate and the bank's excursion
+    below half of that."""
+    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_8mps_sized.json")
+    out = {}
+    for soft in (1.0, 0.0):
+        def setup(ap, sim, soft=soft):
+            ap.motor_gate = MotorGate(soft_stop_s=soft)
+
+        rep = fly(ref, config="foldable", cycles=1, setup=setup, t_end=56.0)
+        d = rep.result.data
+        col = {n: d[:, COLUMNS.index(n)] for n in ("t", "fold", "p", "phi", "aileron")}
+        k = int(np.flatnonzero((col["t"] > 40.0) & (col["fold"] > 0.99))[0])  # folded: the motor stops
+        w = (col["t"] > col["t"][k] - 0.2) & (col["t"] < col["t"][k] + 2.0)
+        out[soft] = (np.max(np.abs(col["p"][w])), np.max(np.abs(col["phi"][w] - col["phi"][k])),
+                     np.sum(np.abs(col["aileron"][w]) >= 0.999))
+    (p_soft, phi_soft, sat_soft), (p_cut, phi_cut, sat_cut) = out[1.0], out[0.0]
+    assert p_cut > 2.0 and phi_cut > 0.6  # the kick is there without the soft stop
+    assert p_soft < 0.5 * p_cut and phi_soft < 0.5 * phi_cut and sat_soft < 0.5 * sat_cut

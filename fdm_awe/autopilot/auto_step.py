@@ -37,9 +37,9 @@ from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
 from .attitude import CALLED as ATTITUDE_CALLED, attitude_commands
 from .fold import fold_command
 from .guidance import CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, guidance_step, polar_at
-from .motor import motor_ceiling, motor_update
+from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import rejoin_weights
-from .thrust import throttle_step
+from .thrust import T_LAST, throttle_step
 from .winch import cycle_winch_values
 
 #: the reference's linear columns in the order of the table (:data:`.tracking.TRACKING_RULES`)
@@ -157,11 +157,13 @@ def auto_guide(row, scale, offset, gso, ref_t, ref_table, segs, gk, cu, cf, gate
         valid, gso[GS_LENGTH], gso[GS_TENSION], par[A_RL], par[A_LINE_EA], par[A_GEN_RL_KP], par[A_REC_TENSION],
         par[A_WINCH_KL], par[A_WINCH_KT])
     ideal = 0.0
-    if not motor:
-        thr = 0.0  # stopped: the ESC brakes the propeller, the thrust loop's integral is held
-    elif par[A_THRUSTER] != 0.0:
+    if par[A_THRUSTER] != 0.0:
         thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
-        ideal = thrust if par[A_ARMED] != 0.0 else 0.0
+        if motor and par[A_ARMED] != 0.0:
+            ideal = thrust
+    elif not motor:
+        # stopped: the throttle falls to 0 (a soft stop), the thrust loop's integral is held
+        thr = motor_spin_down(t, gate, motor_mem, thr_state[T_LAST])
     else:
         # after a start the propeller spins up from rest under a rising throttle ceiling
         armed = par[A_ARMED] != 0.0
@@ -169,6 +171,7 @@ def auto_guide(row, scale, offset, gso, ref_t, ref_table, segs, gk, cu, cf, gate
         thr = throttle_step(thrust, row[THRUST] * scale[THRUST], row[VT] * scale[VT], dt, armed, ceiling,
                             par[A_THR_KP], par[A_THR_KI],
                             par[A_THR_VZERO], par[A_THRUST_MAX_STATIC], thr_state)
+        thr_state[T_LAST] = thr
     out[O_CYCLE], out[O_TC], out[O_PHASE], out[O_SEG] = k, tc, phase, seg
     out[O_RX], out[O_RY], out[O_RZ], out[O_RATE] = rrow[R_PX], rrow[R_PY], rrow[R_PZ], rate
     out[O_ALPHA], out[O_MU], out[O_THRUST], out[O_ROLL], out[O_PITCH], out[O_YAW] = alpha, mu, thrust, roll, pitch, yaw
@@ -192,6 +195,6 @@ def attitude_step(row, scale, alpha_cmd, roll_cmd, dt, law_c, law_g, g, integ):
 
 #: the plain functions the AUTO step calls, for a compiled caller to register
 #: (``numba.extending.register_jitable``), then the two steps themselves
-CALLED = (cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update, motor_ceiling, fold_fraction, fold_command,
+CALLED = (cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update, motor_ceiling, motor_spin_down, fold_fraction, fold_command,
           throttle_step, cycle_winch_values, attitude_commands) + GUIDANCE_CALLED + ATTITUDE_CALLED + (
     polar_at, guidance_step, auto_guide, attitude_step)

@@ -19,9 +19,9 @@ import numpy as np
 from .tracking import TrackingReference
 
 #: layout of :meth:`MotorGate.vector`: off_below [-], min_off_s, min_on_s, min_dwell_s,
-#: soft_start_s [s], rescue_error_m [m]
-(G_OFF_BELOW, G_MIN_OFF_S, G_MIN_ON_S, G_MIN_DWELL_S, G_SOFT_START_S, G_RESCUE_ERROR_M) = range(6)
-N_GATE = 6
+#: soft_start_s [s], rescue_error_m [m], soft_stop_s [s]
+(G_OFF_BELOW, G_MIN_OFF_S, G_MIN_ON_S, G_MIN_DWELL_S, G_SOFT_START_S, G_RESCUE_ERROR_M, G_SOFT_STOP_S) = range(7)
+N_GATE = 7
 #: layout of the switch's state (:func:`motor_memory`): running (1.0 / 0.0), time of the last
 #: switch [s] (-inf before the first), switches so far, rescue (1.0 / 0.0)
 (M_RUNNING, M_SWITCH_T, M_SWITCHES, M_RESCUE) = range(4)
@@ -48,6 +48,13 @@ class MotorGate:
     - the motor starts soft: the throttle's ceiling rises from 0 to 1 over ``soft_start_s``
       after a start, which limits the inrush current as an ESC's soft start does (1 s halves
       the start's cost on that cycle, to about 50 J);
+    - and it stops soft: the throttle falls from its last value to 0 over ``soft_stop_s``
+      (:func:`motor_spin_down`). At throttle 0 the drive brakes the propeller through the coil
+      (the current ``-rpm / (Kv R)``, about 35 A from 6000 rpm): its angular momentum (about
+      0.06 N m s) leaves in 0.2 s as a roll torque of about 0.3 N m, which the folded wing's
+      ailerons cannot hold (full aileron for over a second, the bank swinging by 1 rad). Over
+      1 s the rotor follows the falling throttle (electrical time constant ``J R Kv^2`` 0.19 s)
+      and the torque is a fifth of that;
     - it does not pulse within an interval (each pulse would cost a start, more than the duty
       cycle saves, 2-8 W);
     - it does not follow every switch of the reference (:meth:`plan`): a pause shorter than
@@ -68,13 +75,15 @@ class MotorGate:
     min_dwell_s: float = 0.5  #: least time between two motor switches [s]
     #: soft start: after a start the throttle may rise from 0 to 1 only over this time [s]
     soft_start_s: float = 1.0
+    #: soft stop: after a stop the throttle falls from its last value to 0 over this time [s]
+    soft_stop_s: float = 1.0
     #: position error above which the motor runs whatever the plan says [m]
     rescue_error_m: float = 10.0
 
     def __post_init__(self) -> None:
         if not (0.0 <= self.off_below <= 1.0):
             raise ValueError(f"MotorGate.off_below: {self.off_below!r} out of range (allowed 0 .. 1)")
-        for name in ("min_off_s", "min_on_s", "min_dwell_s", "soft_start_s"):
+        for name in ("min_off_s", "min_on_s", "min_dwell_s", "soft_start_s", "soft_stop_s"):
             v = getattr(self, name)
             if not (0.0 <= v <= 60.0):
                 raise ValueError(f"MotorGate.{name}: {v!r} s out of range (allowed 0 .. 60 s)")
@@ -105,6 +114,7 @@ class MotorGate:
         v[G_MIN_DWELL_S] = self.min_dwell_s
         v[G_SOFT_START_S] = self.soft_start_s
         v[G_RESCUE_ERROR_M] = self.rescue_error_m
+        v[G_SOFT_STOP_S] = self.soft_stop_s
         return v
 
 
@@ -168,6 +178,17 @@ def motor_ceiling(t: float, gate: np.ndarray, mem: np.ndarray) -> float:
     if mem[M_SWITCHES] != 0.0 and t - mem[M_SWITCH_T] < gate[G_SOFT_START_S]:
         return (t - mem[M_SWITCH_T]) / gate[G_SOFT_START_S]
     return 1.0
+
+
+def motor_spin_down(t: float, gate: np.ndarray, mem: np.ndarray, u_last: float) -> float:
+    """The throttle of a stopped motor at time ``t`` [s]: falling linearly from ``u_last`` (its
+    last value while running) to 0 over the gate's ``soft_stop_s`` after the stop (0 at once
+    when that is 0), for the switch's state ``mem`` (layout ``M_*``)."""
+    ts = gate[G_SOFT_STOP_S]
+    dt = t - mem[M_SWITCH_T]
+    if mem[M_SWITCHES] != 0.0 and ts > 0.0 and dt < ts:
+        return u_last * (1.0 - dt / ts)
+    return 0.0
 
 
 class MotorSwitch:

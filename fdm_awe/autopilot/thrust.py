@@ -14,9 +14,10 @@ import numpy as np
 from ..sixdof.state import SixDofState
 from .params import ParamStore
 
-#: layout of the thrust loop's state array: the PI integral (throttle fraction)
-(T_INTEGRAL,) = range(1)
-N_THRUST_STATE = 1
+#: layout of the thrust loop's state array: the PI integral (throttle fraction), the last
+#: throttle of the running motor (the start of a soft stop, :func:`.motor.motor_spin_down`)
+(T_INTEGRAL, T_LAST) = range(2)
+N_THRUST_STATE = 2
 
 
 def throttle_step(thrust_cmd: float, thrust: float, airspeed: float, dt: float, armed: bool, u_max: float,
