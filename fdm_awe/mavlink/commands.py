@@ -71,14 +71,14 @@ class CommandHandler:
             result = self._set_mode_number(m.custom_mode)
         else:
             result = mav.MAV_RESULT_DENIED
-        ep._send("COMMAND_ACK", ep._mav.command_ack_send, mav.MAVLINK_MSG_ID_SET_MODE, result,
+        ep.send("COMMAND_ACK", ep.mav.command_ack_send, mav.MAVLINK_MSG_ID_SET_MODE, result,
                  0, 0, m.get_srcSystem(), m.get_srcComponent())
 
     def _dispatch(self, m: Any, p: tuple[float, ...]) -> None:
         ep = self._ep
         if m.target_system == ep.sysid and m.target_component == WINCH_COMPID:
             ep.winch.on_command(ep, m, p)
-        elif ep._for_me(m):
+        elif ep.for_me(m):
             self._run(m, p)
 
     def _run(self, m: Any, p: tuple[float, ...]) -> None:
@@ -92,9 +92,9 @@ class CommandHandler:
                 result, after = handler(self, p)
             except Exception as e:  # noqa: BLE001 - a failing vehicle call is answered FAILED
                 ep.stats["handler_errors"] += 1
-                ep._warn(f"MAVLink command {m.command} failed: {type(e).__name__}: {e}")
+                ep.warn(f"MAVLink command {m.command} failed: {type(e).__name__}: {e}")
                 result, after = mav.MAV_RESULT_FAILED, None
-        ep._send("COMMAND_ACK", ep._mav.command_ack_send, m.command, result, 0, 0,
+        ep.send("COMMAND_ACK", ep.mav.command_ack_send, m.command, result, 0, 0,
                  m.get_srcSystem(), m.get_srcComponent())
         if after is not None and result == mav.MAV_RESULT_ACCEPTED:
             after()
@@ -108,7 +108,7 @@ class CommandHandler:
             return mav.MAV_RESULT_FAILED, None
         force = p[1] == ARM_DISARM_FORCE
         ok = bool(vehicle.arm(p[0] == 1.0, force=True) if force else vehicle.arm(p[0] == 1.0))
-        self._ep._info(f"MAVLink: {'arm' if p[0] == 1.0 else 'disarm'}{' (forced)' if force else ''} "
+        self._ep.info(f"MAVLink: {'arm' if p[0] == 1.0 else 'disarm'}{' (forced)' if force else ''} "
                        f"{'accepted' if ok else 'refused'}")
         return _result(ok), None
 
@@ -126,7 +126,7 @@ class CommandHandler:
         if name not in vehicle.modes:
             return mav.MAV_RESULT_DENIED
         ok = bool(vehicle.set_mode(name))
-        self._ep._info(f"MAVLink: mode {name} {'accepted' if ok else 'refused'}")
+        self._ep.info(f"MAVLink: mode {name} {'accepted' if ok else 'refused'}")
         return _result(ok)
 
     def _set_mode(self, p: tuple[float, ...]) -> Outcome:
@@ -140,7 +140,7 @@ class CommandHandler:
         if vehicle is None:
             return mav.MAV_RESULT_FAILED, None
         ok = bool(vehicle.start_cycling())
-        self._ep._info(f"MAVLink: start cycling {'accepted' if ok else 'refused'}")
+        self._ep.info(f"MAVLink: start cycling {'accepted' if ok else 'refused'}")
         return _result(ok), None
 
     def _pause_continue(self, p: tuple[float, ...]) -> Outcome:
@@ -152,7 +152,7 @@ class CommandHandler:
         if p[0] == 1.0:
             return self._mission_start(p)
         ok = bool(vehicle.stop_cycling())
-        self._ep._info(f"MAVLink: stop cycling {'accepted' if ok else 'refused'}")
+        self._ep.info(f"MAVLink: stop cycling {'accepted' if ok else 'refused'}")
         return _result(ok), None
 
     def _rtl(self, p: tuple[float, ...]) -> Outcome:
@@ -161,7 +161,7 @@ class CommandHandler:
     # ------------------------------------------------------------------ messages on request
     def _get_home(self, p: tuple[float, ...]) -> Outcome:
         ep = self._ep
-        return mav.MAV_RESULT_ACCEPTED, lambda: ep._streams.send_now(ep, "HOME_POSITION")
+        return mav.MAV_RESULT_ACCEPTED, lambda: ep.streams.send_now(ep, "HOME_POSITION")
 
     def _capabilities(self, p: tuple[float, ...]) -> Outcome:
         ep = self._ep
@@ -175,7 +175,7 @@ class CommandHandler:
         name = stream_of_message(mid)
         if name is None:
             return mav.MAV_RESULT_UNSUPPORTED, None
-        return mav.MAV_RESULT_ACCEPTED, lambda: ep._streams.send_now(ep, name)
+        return mav.MAV_RESULT_ACCEPTED, lambda: ep.streams.send_now(ep, name)
 
     def _set_interval(self, p: tuple[float, ...]) -> Outcome:
         ep = self._ep
@@ -188,13 +188,13 @@ class CommandHandler:
         if us == -1:
             hz = 0.0
         elif us == 0:
-            hz = ep._streams.default_rate(name)
+            hz = ep.streams.default_rate(name)
         else:
             hz = 1e6 / us
             if hz > MAX_RATE_HZ:
                 return mav.MAV_RESULT_DENIED, None
         ep.set_rate(name, hz)
-        ep._info(f"MAVLink: {name} rate set to {hz:g} Hz")
+        ep.info(f"MAVLink: {name} rate set to {hz:g} Hz")
         return mav.MAV_RESULT_ACCEPTED, None
 
     def _get_interval(self, p: tuple[float, ...]) -> Outcome:
@@ -203,9 +203,9 @@ class CommandHandler:
         name = stream_of_message(mid)
         if name is None:
             return mav.MAV_RESULT_UNSUPPORTED, None
-        us = ep._streams.interval_us(name)
-        return mav.MAV_RESULT_ACCEPTED, lambda: ep._send(
-            "MESSAGE_INTERVAL", ep._mav.message_interval_send, int(mid), us)
+        us = ep.streams.interval_us(name)
+        return mav.MAV_RESULT_ACCEPTED, lambda: ep.send(
+            "MESSAGE_INTERVAL", ep.mav.message_interval_send, int(mid), us)
 
     _table: dict[int, Callable[["CommandHandler", tuple[float, ...]], Outcome]] = {
         mav.MAV_CMD_COMPONENT_ARM_DISARM: _arm,

@@ -161,8 +161,8 @@ class MavlinkEndpoint:
         self.max_range_m = float(max_range_m)
         self.max_rx_per_poll = max_rx_per_poll
         self.param_burst = param_burst
-        self._clock = clock
-        self._streams = StreamSchedule(rates)
+        self.clock = clock  #: the wall clock of the timeouts (monotonic seconds)
+        self.streams = StreamSchedule(rates)  #: the telemetry streams' rates and schedule
         self._open(url, signing_key, signing_link_id)
         self.signing_key_file = signing_key_file
         self._reporter = ChangeReporter()
@@ -171,7 +171,7 @@ class MavlinkEndpoint:
         self._t_prev = -math.inf
         self._next_due = -math.inf
         self._next_rx = -math.inf
-        self._t_now = 0.0
+        self.t_now = 0.0  #: simulation time of the last update [s]
         self._tel_src: Telemetry | Callable[[], Telemetry] | None = None
         self._tel: Telemetry | None = None
         # link (wall clock)
@@ -187,7 +187,7 @@ class MavlinkEndpoint:
         self._params = ParamProtocol(self)
         self._mission = MissionProtocol(self)
         self._handlers = self._handler_table()
-        self._info(f"MAVLink endpoint on {url} as system {sysid} component {self.compid} (winch component "
+        self.info(f"MAVLink endpoint on {url} as system {sysid} component {self.compid} (winch component "
                    f"{WINCH_COMPID}); signing {'on' if self.signer.on else 'off'}")
 
     def _open(self, url: str, signing_key: bytes | None, signing_link_id: int) -> None:
@@ -199,12 +199,14 @@ class MavlinkEndpoint:
             raise InputError(f"--mavlink {url!r}: cannot open ({type(e).__name__}: {e})") from None
         # Our own MAVLink 2 codec on pymavlink's transport: independent of mavutil's
         # process-wide dialect/protocol-version switch.
-        self._mav = _signing.Codec(self._conn, srcSystem=self.sysid, srcComponent=self.compid)
-        self._mav.robust_parsing = True
+        #: the vehicle's MAVLink encoder (signed once a key is set); the protocol modules send through
+        #: :meth:`send` with its ``*_send`` methods
+        self.mav = _signing.Codec(self._conn, srcSystem=self.sysid, srcComponent=self.compid)
+        self.mav.robust_parsing = True
         #: the winch, its own component (MAV_COMP_ID_WINCH) on this connection
         self.winch = WinchComponent(self._conn, self.sysid)
         #: MAVLink 2 signing of both components (off without a key)
-        self.signer = _signing.Signer([self._mav, self.winch.mav], signing_key, signing_link_id)
+        self.signer = _signing.Signer([self.mav, self.winch.mav], signing_key, signing_link_id)
         #: UDP (one message set per datagram, parsed on its own) or a byte stream (TCP, serial)
         self._datagrams = isinstance(self._conn, DATAGRAM_TRANSPORTS)
 
@@ -240,17 +242,17 @@ class MavlinkEndpoint:
             self._service(t, telemetry)
         except Exception as e:  # noqa: BLE001 - update() must never raise into the flight loop
             self.stats["handler_errors"] += 1
-            self._warn(f"MAVLink update failed: {type(e).__name__}: {e}")
+            self.warn(f"MAVLink update failed: {type(e).__name__}: {e}")
             self._next_due = t + min(self.rx_period, 1.0)
 
     def set_rate(self, stream: str, hz: float) -> None:
         """Set a stream's rate (Hz of simulation time, 0 = off); InputError if invalid."""
-        self._streams.set_rate(stream, hz, self._t_now if math.isfinite(self._t_now) else 0.0)
-        self._wake()
+        self.streams.set_rate(stream, hz, self.t_now if math.isfinite(self.t_now) else 0.0)
+        self.wake()
 
     def rates(self) -> dict[str, float]:
         """Current stream rates, Hz."""
-        return self._streams.rates()
+        return self.streams.rates()
 
     def statustext(self, text: str, severity: int = mav.MAV_SEVERITY_INFO) -> None:
         """Send a STATUSTEXT to the ground station; a text over 50 characters goes out in
@@ -258,7 +260,7 @@ class MavlinkEndpoint:
         if self._closed:
             return
         for tid, seq, data in chunks(text):
-            self._send("STATUSTEXT", self._mav.statustext_send, severity, data, tid, seq)
+            self.send("STATUSTEXT", self.mav.statustext_send, severity, data, tid, seq)
 
     def flight_ended(self, status: str, message: str) -> None:
         """Tell the ground station how the flight ended (STATUSTEXT ``flight STATUS: MESSAGE``;
@@ -288,7 +290,7 @@ class MavlinkEndpoint:
         self.close()
 
     # ------------------------------------------------------------------ scheduling
-    def _wake(self) -> None:
+    def wake(self) -> None:
         """Have the next ``update`` do its work, whatever its time (a rate changed, a list
         to stream)."""
         self._next_due = -math.inf
@@ -301,10 +303,10 @@ class MavlinkEndpoint:
             self.stats["bad_time"] += 1
             return
         if t < self._t_prev:  # simulation restarted: restart the schedule
-            self._streams.restart(t)
+            self.streams.restart(t)
             self._next_rx = t
         self._t_prev = t
-        self._t_now = t
+        self.t_now = t
         self._tel_src = telemetry
         self._tel = None
 
@@ -313,7 +315,7 @@ class MavlinkEndpoint:
             self._poll()
             self._reporter.vehicle(self, self.vehicle)
 
-        nd = self._streams.send_due(self, t, self._next_rx)
+        nd = self.streams.send_due(self, t, self._next_rx)
         params = self._params
         if params.queue:
             params.send_burst()
@@ -322,12 +324,12 @@ class MavlinkEndpoint:
         self._next_due = nd
         self._tel_src = None
 
-    def _telemetry(self) -> Telemetry:
+    def telemetry(self) -> Telemetry:
         """The telemetry of this update (a callable source is called once, when first needed)."""
         if self._tel is None:
             src = self._tel_src
             tel = src() if callable(src) else src
-            self._tel = tel if isinstance(tel, Telemetry) else Telemetry(t=self._t_now)
+            self._tel = tel if isinstance(tel, Telemetry) else Telemetry(t=self.t_now)
             self._reporter.telemetry(self, self._tel)
         return self._tel
 
@@ -336,7 +338,7 @@ class MavlinkEndpoint:
         self.stats["polls"] += 1
         self.signer.tick()
         conn = self._conn
-        parse = self._mav.parse_buffer
+        parse = self.mav.parse_buffer
         datagrams = self._datagrams
         for _ in range(self.max_rx_per_poll):
             try:
@@ -348,22 +350,22 @@ class MavlinkEndpoint:
                 break
             self.stats["datagrams"] += 1
             if datagrams:  # one datagram, parsed on its own
-                msgs, bad = parse_datagram(self._mav, data)
+                msgs, bad = parse_datagram(self.mav, data)
                 self.stats["bad_packets"] += bad
             else:  # a byte stream: a message may span reads, the parser keeps its state
                 try:
                     msgs = parse(data) or []
                 except Exception:  # noqa: BLE001 - robust parsing should not raise; be safe anyway
                     self.stats["bad_packets"] += 1
-                    reset_parser(self._mav)
+                    reset_parser(self.mav)
                     continue
             for m in msgs:
                 self._handle(m)
-        now = self._clock()
+        now = self.clock()
         if self.link_up and now - self._last_rx_wall > self.link_timeout_s:
             self.link_up = False
             self.stats["link_losses"] += 1
-            self._warn(f"MAVLink: ground-station link lost (no message for "
+            self.warn(f"MAVLink: ground-station link lost (no message for "
                        f"{now - self._last_rx_wall:.1f} s); flight continues", limit=False)
         if self._mission.upload is not None:
             self._mission.check_timeout(now)
@@ -376,7 +378,7 @@ class MavlinkEndpoint:
                 self.stats["bad_packets"] += 1
             else:
                 self.stats["signing"][f"{refused}_rejected"] += 1
-                self._warn(f"MAVLink: {refused.replace('_', ' ')} message ignored (signing on)")
+                self.warn(f"MAVLink: {refused.replace('_', ' ')} message ignored (signing on)")
             return
         if self.signer.on:
             self.stats["signing"]["accepted"] += 1
@@ -384,12 +386,12 @@ class MavlinkEndpoint:
         if src == (self.sysid, self.compid):
             return  # our own packet echoed back (e.g. broadcast)
         self.stats["received"] += 1
-        now = self._clock()
+        now = self.clock()
         self._last_rx_wall = now
         if not self.link_up:
             self.link_up = True
             self.gcs = src
-            self._info(f"MAVLink: ground-station link {'regained' if self._ever_linked else 'up'} "
+            self.info(f"MAVLink: ground-station link {'regained' if self._ever_linked else 'up'} "
                        f"(system {src[0]} component {src[1]})")
             self._ever_linked = True
         h = self._handlers.get(mtype)
@@ -399,38 +401,40 @@ class MavlinkEndpoint:
             h(m)
         except Exception as e:  # noqa: BLE001 - one bad message must not stop the loop
             self.stats["handler_errors"] += 1
-            self._warn(f"MAVLink {mtype} from {src} not handled: {type(e).__name__}: {e}")
+            self.warn(f"MAVLink {mtype} from {src} not handled: {type(e).__name__}: {e}")
 
-    def _for_me(self, m: Any) -> bool:
+    def for_me(self, m: Any) -> bool:
         """Is ``m`` addressed to this vehicle (or broadcast)?"""
         ts = getattr(m, "target_system", 0)
         tc = getattr(m, "target_component", 0)
         return ts in (0, self.sysid) and tc in (0, self.compid)
 
     # ------------------------------------------------------------------ send and log
-    def _send(self, name: str, fn: Callable[..., None], *args: Any) -> None:
+    def send(self, name: str, fn: Callable[..., None], *args: Any) -> None:
         """Call the encoder ``fn(*args)``, count it under ``name``; a failure is counted and
         warned about, never raised."""
         try:
             fn(*args)
         except Exception as e:  # noqa: BLE001 - a send problem is counted, never raised
             self.stats["send_errors"] += 1
-            self._warn(f"MAVLink {name} not sent: {type(e).__name__}: {e}")
+            self.warn(f"MAVLink {name} not sent: {type(e).__name__}: {e}")
             return
         sent = self.stats["sent"]
         sent[name] = sent.get(name, 0) + 1
 
-    def _info(self, msg: str) -> None:
+    def info(self, msg: str) -> None:
+        """Log ``msg`` (the endpoint's log target: a logger's info, or the callable given)."""
         lt = self._log_target
         if isinstance(lt, logging.Logger):
             lt.info(msg)
         else:
             lt(msg)
 
-    def _warn(self, msg: str, limit: bool = True) -> None:
-        # the same warning at most once per 5 s of wall time (garbage can repeat it fast)
+    def warn(self, msg: str, limit: bool = True) -> None:
+        """Log ``msg`` as a warning; with ``limit`` the same warning at most once per 5 s of wall
+        time (garbage can repeat it fast)."""
         key = msg[:40]
-        now = self._clock()
+        now = self.clock()
         last = self._warned.get(key)
         if limit and last is not None and now - last < 5.0:
             self.stats["warnings_suppressed"] += 1

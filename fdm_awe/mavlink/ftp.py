@@ -37,7 +37,7 @@ def nak_payload(request: Any) -> list[int]:
 
 def on_ftp(ep: "MavlinkEndpoint", m: Any) -> None:
     """FILE_TRANSFER_PROTOCOL addressed to ``ep``: answer with the NAK."""
-    if not ep._for_me(m):
+    if not ep.for_me(m):
         return
-    ep._send("FILE_TRANSFER_PROTOCOL", ep._mav.file_transfer_protocol_send, 0,
+    ep.send("FILE_TRANSFER_PROTOCOL", ep.mav.file_transfer_protocol_send, 0,
              m.get_srcSystem(), m.get_srcComponent(), nak_payload(m.payload))

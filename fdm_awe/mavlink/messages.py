@@ -180,7 +180,7 @@ def send_heartbeat(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
         status = mav.MAV_STATE_CRITICAL
     else:
         status = mav.MAV_STATE_ACTIVE if armed else mav.MAV_STATE_STANDBY
-    ep._send("HEARTBEAT", ep._mav.heartbeat_send, mav.MAV_TYPE_FIXED_WING,
+    ep.send("HEARTBEAT", ep.mav.heartbeat_send, mav.MAV_TYPE_FIXED_WING,
              mav.MAV_AUTOPILOT_GENERIC, base, custom, status)
     ep.winch.send_heartbeat(ep, tel)
 
@@ -188,7 +188,7 @@ def send_heartbeat(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
 def send_attitude(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     phi, theta, psi = _vec3(tel.euler)
     p, q, r = _vec3(tel.omega_body)
-    ep._send("ATTITUDE", ep._mav.attitude_send, _ms(t), phi, theta, psi, p, q, r)
+    ep.send("ATTITUDE", ep.mav.attitude_send, _ms(t), phi, theta, psi, p, q, r)
 
 
 def send_global_position(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
@@ -196,7 +196,7 @@ def send_global_position(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> Non
     vn, ve, vd = _vec3(tel.vel_ned)
     lat, lon, alt = ep.geo.to_geodetic(n, e, d)
     hdg = math.degrees(_f(_vec3(tel.euler)[2])) % 360.0
-    ep._send("GLOBAL_POSITION_INT", ep._mav.global_position_int_send, _ms(t),
+    ep.send("GLOBAL_POSITION_INT", ep.mav.global_position_int_send, _ms(t),
              _i(lat * 1e7, -900000000, 900000000, 0), _i(lon * 1e7, -1800000000, 1800000000, 0),
              _i(alt * 1000.0, *_I32, 0), _i(-d * 1000.0, *_I32, 0),
              _i(vn * 100.0, -32768, 32767, 0), _i(ve * 100.0, -32768, 32767, 0),
@@ -207,7 +207,7 @@ def send_vfr_hud(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     n, e, d = _vec3(tel.pos_ned)
     vn, ve, vd = _vec3(tel.vel_ned)
     hdg = _i(math.degrees(_vec3(tel.euler)[2]) % 360.0, 0, 359, 0)
-    ep._send("VFR_HUD", ep._mav.vfr_hud_send, _f(tel.airspeed), math.hypot(vn, ve), hdg,
+    ep.send("VFR_HUD", ep.mav.vfr_hud_send, _f(tel.airspeed), math.hypot(vn, ve), hdg,
              _i(_f(tel.throttle) * 100.0, 0, 100, 0), ep.geo.home.alt_m - d, -vd)
 
 
@@ -232,7 +232,7 @@ def send_sys_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     st = ep.stats
     sg = st["signing"]
     refused = sg["unsigned_rejected"] + sg["bad_signature_rejected"]
-    ep._send("SYS_STATUS", ep._mav.sys_status_send, _SENSORS, _SENSORS, health, 0,
+    ep.send("SYS_STATUS", ep.mav.sys_status_send, _SENSORS, _SENSORS, health, 0,
              _millivolts(tel), _centiamps(tel), _remaining_pct(tel), 10000 if ep.link_lost else 0,
              min(st["bad_packets"], 65535), min(st["link_losses"], 65535),
              min(st["handler_errors"], 65535), min(refused, 65535), 0)
@@ -241,13 +241,13 @@ def send_sys_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
 def send_battery(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     volts = [65535] * 10
     volts[0] = _millivolts(tel)
-    ep._send("BATTERY_STATUS", ep._mav.battery_status_send, 0, mav.MAV_BATTERY_FUNCTION_ALL,
+    ep.send("BATTERY_STATUS", ep.mav.battery_status_send, 0, mav.MAV_BATTERY_FUNCTION_ALL,
              mav.MAV_BATTERY_TYPE_LIPO, 32767, volts, _centiamps(tel), -1, -1, _remaining_pct(tel))
 
 
 def send_home(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     h = ep.geo.home
-    ep._send("HOME_POSITION", ep._mav.home_position_send, int(round(h.lat_deg * 1e7)),
+    ep.send("HOME_POSITION", ep.mav.home_position_send, int(round(h.lat_deg * 1e7)),
              int(round(h.lon_deg * 1e7)), int(round(h.alt_m * 1000.0)), 0.0, 0.0, 0.0,
              [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0, _us(t))
 
@@ -257,7 +257,7 @@ def send_named_values(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     for name, value in ((b"tension", tel.tension_N), (b"reel_spd", tel.reel_speed_mps),
                         (b"winch_pwr", tel.winch_power_W), (b"net_energy", tel.net_energy_J),
                         (b"phase", PHASE_CODES.get(tel.phase, -1.0)), (b"fold", tel.fold)):
-        ep._send("NAMED_VALUE_FLOAT", ep._mav.named_value_float_send, ms, name, _f(value, math.nan))
+        ep.send("NAMED_VALUE_FLOAT", ep.mav.named_value_float_send, ms, name, _f(value, math.nan))
 
 
 def send_autopilot_version(ep: "MavlinkEndpoint") -> None:
@@ -265,7 +265,7 @@ def send_autopilot_version(ep: "MavlinkEndpoint") -> None:
     from fdm_awe import __version__
     parts = [int(x) if x.isdigit() else 0 for x in __version__.split(".")[:3]] + [0, 0, 0]
     sw = (parts[0] << 24) | (parts[1] << 16) | (parts[2] << 8) | 255   # 255 = FIRMWARE_VERSION_TYPE_OFFICIAL
-    ep._send("AUTOPILOT_VERSION", ep._mav.autopilot_version_send, _CAPABILITIES, sw, 0, 0, 0,
+    ep.send("AUTOPILOT_VERSION", ep.mav.autopilot_version_send, _CAPABILITIES, sw, 0, 0, 0,
              [0] * 8, [0] * 8, [0] * 8, 0, 0, 0)
 
 
@@ -275,7 +275,7 @@ def send_gps_raw(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     lat, lon, alt = ep.geo.to_geodetic(n, e, d)
     gs = math.hypot(vn, ve)
     cog = math.degrees(math.atan2(ve, vn)) % 360.0 if gs > 0.1 else 0.0
-    ep._send("GPS_RAW_INT", ep._mav.gps_raw_int_send, _us(t), mav.GPS_FIX_TYPE_3D_FIX,
+    ep.send("GPS_RAW_INT", ep.mav.gps_raw_int_send, _us(t), mav.GPS_FIX_TYPE_3D_FIX,
              _i(lat * 1e7, -900000000, 900000000), _i(lon * 1e7, -1800000000, 1800000000),
              _i(alt * 1000.0, *_I32), _HDOP_X100, _HDOP_X100, _i(gs * 100.0, 0, 65534),
              _i(cog * 100.0, 0, 35999), _SATELLITES)
@@ -301,7 +301,7 @@ def send_mission_current(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> Non
     else:
         state = mav.MISSION_STATE_PAUSED
     seq = tel.mission_seq if 0 <= tel.mission_seq < total else 0
-    ep._send("MISSION_CURRENT", ep._mav.mission_current_send, seq, total, state,
+    ep.send("MISSION_CURRENT", ep.mav.mission_current_send, seq, total, state,
              1 if tel.mode == "AUTO" else 0)
 
 
@@ -309,7 +309,7 @@ def send_nav_controller(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None
     nav = tel.nav
     if nav is None:
         return
-    ep._send("NAV_CONTROLLER_OUTPUT", ep._mav.nav_controller_output_send,
+    ep.send("NAV_CONTROLLER_OUTPUT", ep.mav.nav_controller_output_send,
              math.degrees(_f(nav.roll)), math.degrees(_f(nav.pitch)),
              _i(math.degrees(_f(nav.heading)) % 360.0, -32768, 32767),
              _i(math.degrees(_f(nav.target_bearing)) % 360.0, -32768, 32767),
@@ -321,7 +321,7 @@ def send_servo_output(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
         ail, ele, rud, fold = (float(v) for v in tel.surfaces[:4])
     except (TypeError, ValueError):
         ail = ele = rud = fold = 0.0
-    ep._send("SERVO_OUTPUT_RAW", ep._mav.servo_output_raw_send, _i(t * 1e6, 0, 2**32 - 1), 0,
+    ep.send("SERVO_OUTPUT_RAW", ep.mav.servo_output_raw_send, _i(t * 1e6, 0, 2**32 - 1), 0,
              pwm_surface(ail), pwm_surface(ele), pwm_unit(tel.throttle), pwm_surface(rud), pwm_unit(fold),
              0, 0, 0)
 

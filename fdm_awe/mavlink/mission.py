@@ -39,7 +39,7 @@ def _addressed(fn: Callable[[Any, Any, int, tuple[int, int]], None]) -> Callable
 
     @functools.wraps(fn)
     def handler(self: Any, m: Any) -> None:
-        if self._ep._for_me(m):
+        if self._ep.for_me(m):
             fn(self, m, getattr(m, "mission_type", 0), _source(m))
 
     return handler
@@ -76,10 +76,10 @@ class MissionProtocol:
         self._download: list[tuple[int, int, float]] | None = None
 
     def _ack(self, dest: tuple[int, int], result: int, mission_type: int) -> None:
-        self._ep._send("MISSION_ACK", self._ep._mav.mission_ack_send, dest[0], dest[1], result, mission_type)
+        self._ep.send("MISSION_ACK", self._ep.mav.mission_ack_send, dest[0], dest[1], result, mission_type)
 
     def _request_item(self, dest: tuple[int, int], seq: int) -> None:
-        self._ep._send("MISSION_REQUEST_INT", self._ep._mav.mission_request_int_send, dest[0], dest[1],
+        self._ep.send("MISSION_REQUEST_INT", self._ep.mav.mission_request_int_send, dest[0], dest[1],
                        seq, _MISSION)
 
     # ------------------------------------------------------------------ download
@@ -106,7 +106,7 @@ class MissionProtocol:
         else:
             self._ack(src, mav.MAV_MISSION_UNSUPPORTED, mt)
             return
-        ep._send("MISSION_COUNT", ep._mav.mission_count_send, src[0], src[1], n, mt)
+        ep.send("MISSION_COUNT", ep.mav.mission_count_send, src[0], src[1], n, mt)
 
     @_addressed
     def on_request(self, m: Any, mt: int, src: tuple[int, int]) -> None:
@@ -123,11 +123,11 @@ class MissionProtocol:
             return
         x, y, z = items[m.seq]
         if m.get_type() == "MISSION_REQUEST_INT":
-            ep._send("MISSION_ITEM_INT", ep._mav.mission_item_int_send, src[0], src[1], m.seq,
+            ep.send("MISSION_ITEM_INT", ep.mav.mission_item_int_send, src[0], src[1], m.seq,
                      mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
                      0.0, 0.0, 0.0, 0.0, x, y, z, mt)
         else:
-            ep._send("MISSION_ITEM", ep._mav.mission_item_send, src[0], src[1], m.seq,
+            ep.send("MISSION_ITEM", ep.mav.mission_item_send, src[0], src[1], m.seq,
                      mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
                      0.0, 0.0, 0.0, 0.0, x * 1e-7, y * 1e-7, z, mt)
 
@@ -140,7 +140,7 @@ class MissionProtocol:
         up = self.upload
         if up is not None and up.gcs == src:
             self.upload = None
-            self._ep._warn("MAVLink: mission upload cancelled by the ground station")
+            self._ep.warn("MAVLink: mission upload cancelled by the ground station")
 
     @_addressed
     def on_clear_all(self, m: Any, mt: int, src: tuple[int, int]) -> None:
@@ -152,7 +152,7 @@ class MissionProtocol:
                 return
             ep.vehicle.clear_mission()
             self._download = None
-            ep._info("MAVLink: mission cleared")
+            ep.info("MAVLink: mission cleared")
         elif mt not in _EMPTY_TYPES:
             self._ack(src, mav.MAV_MISSION_UNSUPPORTED, mt)
             return
@@ -172,16 +172,16 @@ class MissionProtocol:
             return
         if m.count > ep.max_mission_items:
             self.upload = None
-            ep._warn(f"MAVLink: mission of {m.count} items refused (max {ep.max_mission_items})")
+            ep.warn(f"MAVLink: mission of {m.count} items refused (max {ep.max_mission_items})")
             self._ack(src, mav.MAV_MISSION_NO_SPACE, mt)
             return
         if m.count == 0:
             self.upload = None
             ep.vehicle.clear_mission()
-            ep._info("MAVLink: empty mission uploaded; mission cleared")
+            ep.info("MAVLink: empty mission uploaded; mission cleared")
             self._ack(src, mav.MAV_MISSION_ACCEPTED, mt)
             return
-        self.upload = _Upload(src, m.count, ep._clock())
+        self.upload = _Upload(src, m.count, ep.clock())
         self._request_item(src, 0)
 
     def check_timeout(self, now: float) -> None:
@@ -193,7 +193,7 @@ class MissionProtocol:
             return
         if up.retries >= ep.mission_retries:
             self.upload = None
-            ep._warn(f"MAVLink: mission upload timed out waiting for item {up.expected}")
+            ep.warn(f"MAVLink: mission upload timed out waiting for item {up.expected}")
             self._ack(up.gcs, mav.MAV_MISSION_OPERATION_CANCELLED, _MISSION)
             return
         up.retries += 1
@@ -237,19 +237,19 @@ class MissionProtocol:
             return  # not part of an upload we run: ignore
         if m.seq != up.expected:
             if m.seq > up.expected:  # we missed one: ask again for the one we need
-                up.last_req = ep._clock()
+                up.last_req = ep.clock()
                 self._request_item(src, up.expected)
             return
         result, wp = self._item_to_waypoint(m)
         if wp is None:
             self.upload = None
-            ep._warn(f"MAVLink: mission item {m.seq} rejected (MAV_MISSION_RESULT {result})")
+            ep.warn(f"MAVLink: mission item {m.seq} rejected (MAV_MISSION_RESULT {result})")
             self._ack(src, result, _MISSION)
             return
         up.items.append(wp)
         up.expected += 1
         up.retries = 0
-        up.last_req = ep._clock()
+        up.last_req = ep.clock()
         if up.expected < up.count:
             self._request_item(src, up.expected)
             return
@@ -257,9 +257,9 @@ class MissionProtocol:
         ok, why = ep.vehicle.set_mission(list(up.items))
         if ok:
             self._download = None
-            ep._info(f"MAVLink: mission of {len(up.items)} waypoints accepted")
+            ep.info(f"MAVLink: mission of {len(up.items)} waypoints accepted")
             self._ack(src, mav.MAV_MISSION_ACCEPTED, _MISSION)
         else:
-            ep._warn(f"MAVLink: mission refused by the vehicle: {why}")
+            ep.warn(f"MAVLink: mission refused by the vehicle: {why}")
             ep.statustext(f"mission refused: {why}", mav.MAV_SEVERITY_WARNING)
             self._ack(src, mav.MAV_MISSION_INVALID, _MISSION)

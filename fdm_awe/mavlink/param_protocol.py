@@ -45,13 +45,13 @@ class ParamProtocol:
     def on_request_list(self, m: Any) -> None:
         """PARAM_REQUEST_LIST: queue the whole list (:meth:`send_burst` sends it, a burst per update)."""
         ep = self._ep
-        if not ep._for_me(m):
+        if not ep.for_me(m):
             return
         ps = self._store()
         if ps is None:
             return
         self.queue = list(range(len(ps)))   # PARAM_VALUE is broadcast: no target to keep
-        ep._wake()
+        ep.wake()
 
     def send_burst(self) -> None:
         """Send the next ``param_burst`` parameters of the queued list."""
@@ -66,12 +66,12 @@ class ParamProtocol:
         name = ps.name_at(index)
         if name is None:
             return
-        self._ep._send("PARAM_VALUE", self._ep._mav.param_value_send, name.encode("ascii"),
+        self._ep.send("PARAM_VALUE", self._ep.mav.param_value_send, name.encode("ascii"),
                        float(ps[name]), mav.MAV_PARAM_TYPE_REAL32, len(ps), index)
 
     def on_request_read(self, m: Any) -> None:
         """PARAM_REQUEST_READ: one parameter, by index (>= 0) or else by name."""
-        if not self._ep._for_me(m):
+        if not self._ep.for_me(m):
             return
         ps = self._store()
         if ps is None:
@@ -87,7 +87,7 @@ class ParamProtocol:
     def on_set(self, m: Any) -> None:
         """PARAM_SET: set the value as typed, answer with the parameter's value now."""
         ep = self._ep
-        if not ep._for_me(m):
+        if not ep.for_me(m):
             return
         ps = self._store()
         name = param_id(m.param_id)
@@ -96,11 +96,11 @@ class ParamProtocol:
             return
         ok, why = ps.try_set(name, from_wire(m.param_value))   # the value as typed, not float32's
         if ok:
-            ep._info(f"MAVLink: parameter {name} = {param_text(ps[name])}"
+            ep.info(f"MAVLink: parameter {name} = {param_text(ps[name])}"
                      + ("" if why == "ok" else f" ({why})"))
             if why != "ok":
                 ep.statustext(why, mav.MAV_SEVERITY_WARNING)
         else:
-            ep._warn(f"MAVLink: PARAM_SET refused: {why}")
+            ep.warn(f"MAVLink: PARAM_SET refused: {why}")
             ep.statustext(why, mav.MAV_SEVERITY_WARNING)
         self._send(ps, ps.index(name))

@@ -219,5 +219,5 @@ def on_setup_signing(ep: Any, m: Any) -> None:
             return
     ep.signer.set_key(key, int(m.initial_timestamp))
     text = "signing key changed" if any(key) else "signing off until restart"
-    ep._info(f"MAVLink: {text} (SETUP_SIGNING from {m.get_srcSystem()}:{m.get_srcComponent()})")
+    ep.info(f"MAVLink: {text} (SETUP_SIGNING from {m.get_srcSystem()}:{m.get_srcComponent()})")
     ep.statustext(text, mav.MAV_SEVERITY_NOTICE)

@@ -96,12 +96,12 @@ class StreamSchedule:
                 s.next_t += s.period
                 if s.next_t <= t:        # fell behind (or first call): no burst, restart phase
                     s.next_t = t + s.period
-                tel = ep._telemetry()
+                tel = ep.telemetry()
                 try:
                     s.send(ep, tel, t)
                 except Exception as e:  # noqa: BLE001 - bad telemetry must not stop the stream loop
                     ep.stats["send_errors"] += 1
-                    ep._warn(f"MAVLink {s.name} not sent: {type(e).__name__}: {e}")
+                    ep.warn(f"MAVLink {s.name} not sent: {type(e).__name__}: {e}")
         nd = next_rx
         for s in self._streams:
             if s.next_t < nd:
@@ -110,7 +110,7 @@ class StreamSchedule:
 
     def send_now(self, ep: "MavlinkEndpoint", stream: str) -> None:
         """Send one message of ``stream`` now (a ground station's request), off the schedule."""
-        self._by_name[stream].send(ep, ep._telemetry(), ep._t_now)
+        self._by_name[stream].send(ep, ep.telemetry(), ep.t_now)
 
     def set_rate(self, stream: str, hz: float, t: float) -> None:
         """Set a stream's rate (Hz, 0 = off; :func:`check_rate`), due first at ``t`` (s)."""

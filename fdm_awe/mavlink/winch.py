@@ -93,13 +93,13 @@ class WinchComponent:
 
     def send_heartbeat(self, ep: "MavlinkEndpoint", tel: Telemetry) -> None:
         status = mav.MAV_STATE_ACTIVE if tel.winch_ok else mav.MAV_STATE_CRITICAL
-        ep._send("HEARTBEAT_WINCH", self.mav.heartbeat_send, mav.MAV_TYPE_WINCH,
+        ep.send("HEARTBEAT_WINCH", self.mav.heartbeat_send, mav.MAV_TYPE_WINCH,
                  mav.MAV_AUTOPILOT_INVALID, 0, 0, status)
 
     def send_status(self, ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
         us = int(min(max(_num(t), 0.0) * 1e6, 2.0**63)) if math.isfinite(_num(t)) else 0
         tension = _num(tel.tension_N)
-        ep._send("WINCH_STATUS", self.mav.winch_status_send, us, _num(tel.line_length_m),
+        ep.send("WINCH_STATUS", self.mav.winch_status_send, us, _num(tel.line_length_m),
                  _num(tel.reel_speed_mps), tension / G0 if math.isfinite(tension) else math.nan,
                  _num(tel.winch_voltage_V), _num(tel.winch_current_A), _INT16_MAX, winch_flags(tel))
 
@@ -111,11 +111,11 @@ class WinchComponent:
             mid = _num(p[0])
             if mid == mav.MAVLINK_MSG_ID_WINCH_STATUS:
                 result = mav.MAV_RESULT_ACCEPTED
-                after = lambda: self.send_status(ep, ep._telemetry(), ep._t_now)  # noqa: E731
+                after = lambda: self.send_status(ep, ep.telemetry(), ep.t_now)  # noqa: E731
             elif mid == mav.MAVLINK_MSG_ID_HEARTBEAT:
                 result = mav.MAV_RESULT_ACCEPTED
-                after = lambda: self.send_heartbeat(ep, ep._telemetry())  # noqa: E731
-        ep._send("COMMAND_ACK", self.mav.command_ack_send, m.command, result, 0, 0,
+                after = lambda: self.send_heartbeat(ep, ep.telemetry())  # noqa: E731
+        ep.send("COMMAND_ACK", self.mav.command_ack_send, m.command, result, 0, 0,
                  m.get_srcSystem(), m.get_srcComponent())
         if after is not None:
             after()
