@@ -35,7 +35,7 @@ def _flight(config: str, per_step: bool, t_end: float | None = None, setup=None)
               on_step=(lambda k, s, o: None) if per_step else None)
     out = {"data": rep.result.data, "track_error": rep.track_error, "reference_pos": rep.reference_pos,
            "ledger": rep.ledger, "cycles": [c.E_net_J for c in rep.cycles], "log": rep.autopilot_log,
-           "status": rep.status, "steps": rep.result.steps}
+           "status": rep.status, "steps": rep.result.steps, "loop": rep.as_json()["loop"]}
     return out, held["sim"]
 
 
@@ -62,6 +62,10 @@ def test_compiled_blocks_fly_the_python_autopilots_bits(config):
     n = _compiled_blocks(sim)
     per_step, _ = _flight(config, per_step=True)
     assert blocks["status"] == "ok" and n >= blocks["steps"] - 10
+    # the flight's JSON says how its steps ran
+    assert blocks["loop"]["autopilot_compiled_steps"] == n
+    assert blocks["loop"]["autopilot_python_steps"] == blocks["steps"] - n
+    assert per_step["loop"]["autopilot_compiled_steps"] == 0
     _assert_same(blocks, per_step)
 
 

@@ -68,7 +68,6 @@ import numpy as np
 
 from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
-from ..autopilot.guidance import norm3
 from ..autopilot.shaping import flyable_reference
 from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
@@ -82,14 +81,13 @@ from ..wind import WindProfile, line_height
 from .activity import control_activity
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
 from .events import machine_current
+from .flight_log import LINE_SHAPE_HZ, FlightLog
 from .glider_ledger import GliderLedger
 from .loop import COLUMNS, CoSim, FlightResult, Limits
 from .propulsion import logged_propulsion
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
 from .report import FLIGHT_STATUSES, PLANT_NOTES, CycleMetrics, FlightReport
 
-#: samples per second of the lumped line's shape in a flight report
-LINE_SHAPE_HZ = 10.0
 
 #: largest touchdown sink rate [m/s] of a landing (ground contact in RECOVER)
 LAND_SINK_MAX = 1.5
@@ -239,84 +237,6 @@ def _start_on_reference(glider: JSBSimGlider, gs: Any, r0: Any, wind: tuple[floa
         gs.reset(tether_length=l_start, reel_speed=max(r0.reel_speed, 0.0), mode="generator")
 
 
-class _FlightLog:
-    """The per-step bookkeeping of a flight of at most ``n`` steps of ``dt`` [s] (row 0 the
-    initial state, row k after step k): the glider's ledger, the reference point flown in AUTO
-    cycling (position m NED, tracking error m, cycle label), the autopilot's phase code, the
-    station's cumulative energies into the load and from the supply [J], the paper plant's
-    ideal thrust [N] and its energy [J], and (``line_shape``) the lumped line's shape sampled
-    at :data:`LINE_SHAPE_HZ`."""
-
-    def __init__(self, n: int, dt: float, rig: _Rig, ledger: GliderLedger, line_shape: bool) -> None:
-        self.dt = dt
-        self.ap, self.gs, self.thruster, self.glider_ledger = rig.ap, rig.gs, rig.thruster, ledger
-        self.station_ledger = rig.gs.ledger
-        self.err = np.full(n + 1, np.nan)
-        self.refpos = np.full((n + 1, 3), np.nan)
-        self.e_load = np.zeros(n + 1)
-        self.e_supply = np.zeros(n + 1)
-        self.e_ideal = np.zeros(n + 1)  # paper plant: P(T) of the ideal thrust, J
-        self.t_ideal = np.zeros(n + 1)  # paper plant: ideal thrust, N
-        self._e_ideal = 0.0
-        self.cycle = np.full(n + 1, NO_CYCLE, dtype=np.int64)  # per step: cycle of the reference point flown
-        self.phase = np.full(n + 1, OTHER_PHASE, dtype=np.int64)  # per step: the autopilot's phase
-        self.booked = 0  #: the last step whose bookkeeping is complete
-        self._shape = line_shape
-        self._every = max(1, int(round(1.0 / (LINE_SHAPE_HZ * dt))))  # steps between shape samples
-        self.shape_t: list[float] = []
-        self.shape_nodes: list[np.ndarray] = []
-        self.shape_tension: list[np.ndarray] = []
-
-    def book(self, k: int, s: Any) -> None:
-        """Book step ``k``, which ended in glider state ``s``."""
-        dt = self.dt
-        self.glider_ledger.step(dt)
-        ap = self.ap
-        rp = ap.ref_point
-        if rp is not None and ap.mode == "AUTO" and ap.cycling:
-            self.refpos[k] = rp.pos
-            self.err[k] = norm3(rp.pos - s.pos_ned)
-            self.cycle[k] = rp.cycle
-        self.phase[k] = PHASE_CODES.get(ap.phase, OTHER_PHASE)
-        led = self.station_ledger
-        self.e_load[k] = led.load
-        self.e_supply[k] = led.supply
-        thruster = self.thruster
-        if thruster is not None:
-            self._e_ideal += thruster.power() * dt  # the thrust commanded for the step just flown
-            self.e_ideal[k] = self._e_ideal
-            self.t_ideal[k] = thruster.thrust
-        self.booked = k
-        if self._shape and k % self._every == 0:
-            self.shape_t.append(k * dt)
-            self.shape_nodes.append(self.gs.line_nodes())
-            self.shape_tension.append(self.gs.line_tensions())
-
-    def book_block(self, k0: int, k1: int, alog: np.ndarray) -> None:
-        """Book steps ``k0 + 1 .. k1`` flown in one compiled block
-        (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`: the autopilot in AUTO cycling, its
-        phase that of every step; the glider's ledger advanced by the block itself) from its
-        rows ``alog`` (:data:`fdm_awe.sim.autopilot_kernel.ALOG_COLUMNS`)."""
-        from .autopilot_kernel import AL_CYCLE, AL_ERR, AL_LOAD, AL_MASS, AL_RX, AL_RZ, AL_SUPPLY
-
-        rows = alog[k0 + 1: k1 + 1]
-        sl = slice(k0 + 1, k1 + 1)
-        self.refpos[sl] = rows[:, AL_RX:AL_RZ + 1]
-        self.err[sl] = rows[:, AL_ERR]
-        self.cycle[sl] = rows[:, AL_CYCLE].astype(np.int64)
-        self.phase[sl] = PHASE_CODES.get(self.ap.phase, OTHER_PHASE)
-        self.e_load[sl] = rows[:, AL_LOAD]
-        self.e_supply[sl] = rows[:, AL_SUPPLY]
-        self.glider_ledger.set_mass(float(alog[k1, AL_MASS]))
-        self.booked = k1
-
-    def line_shape(self) -> dict[str, np.ndarray] | None:
-        """The lumped line's sampled shape (:attr:`FlightReport.line_shape`), None without one."""
-        if not self._shape:
-            return None
-        return {"t": np.array(self.shape_t), "nodes": np.array(self.shape_nodes), "tension": np.array(self.shape_tension)}
-
-
 def fly(
     reference: Any,
     config: str = "foldable",
@@ -367,7 +287,7 @@ def fly(
     # cycles are counted by the autopilot's path parameter (the glider's own period); the
     # flight ends when the last cycle is flown, or at a generous time cap
     T_total = t_end if t_end is not None else cycles * reference.period * 2.0 + 10.0
-    log = _FlightLog(int(round(T_total / dt)), dt, rig, gl, bool(nseg))
+    log = FlightLog(int(round(T_total / dt)), dt, rig, gl, bool(nseg))
     stop = _StopRequest()
     flown = [False]  # whether every requested cycle was flown
     hook = _step_hook(rig, wind, log, stop, flown, on_step, None if t_end is not None else cycles * reference.period,
@@ -397,11 +317,19 @@ def fly(
         autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
-        control_activity=control_activity(*res.controls[:, :3].T, dt),
+        control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
     )
 
 
-def _step_hook(rig: _Rig, wind: _FlightWind, log: _FlightLog, stop: _StopRequest, flown: list[bool],
+def _loop_facts(sim: CoSim, steps: int) -> dict[str, Any]:
+    """How a flight's steps ran (:attr:`FlightReport.loop`)."""
+    runner = sim.block_runner
+    compiled = 0 if runner is None else int(runner.steps)
+    return {"loop": sim.loop, "reason": sim.loop_reason, "autopilot_compiled_steps": compiled,
+            "autopilot_python_steps": int(steps) - compiled}
+
+
+def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest, flown: list[bool],
                on_step: Callable[[int, Any, Any], bool | None] | None, s_end: float | None,
                gust_on_line: bool) -> Callable[[int, Any, Any], bool]:
     """The co-simulation's ``on_step`` of a flight: the next step's wind at the glider's (and
@@ -430,7 +358,7 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: _FlightLog, stop: _StopRequest
     return hook
 
 
-def _blocks(rig: _Rig, gl: GliderLedger, log: _FlightLog, stop: _StopRequest, flown: list[bool],
+def _blocks(rig: _Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flown: list[bool],
             s_end: float | None) -> Any:
     """The co-simulation's block runner of a flight (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`:
     the autopilot's AUTO steps and their bookkeeping compiled), or None where it cannot run
@@ -452,7 +380,7 @@ def _blocks(rig: _Rig, gl: GliderLedger, log: _FlightLog, stop: _StopRequest, fl
 
 
 def _run(sim: CoSim, T_total: float, hook: Callable[[int, Any, Any], bool], stop: _StopRequest,
-         log: _FlightLog) -> tuple[FlightResult, float, bool]:
+         log: FlightLog) -> tuple[FlightResult, float, bool]:
     """Run ``sim`` for ``T_total`` [s] with ``hook`` after every step, Ctrl-C taken at a step
     boundary (``stop``); returns the result cut at the last step ``log`` booked whole, the wall
     time [s] and whether Ctrl-C ended the flight."""
@@ -469,7 +397,7 @@ def _run(sim: CoSim, T_total: float, hook: Callable[[int, Any, Any], bool], stop
     return res, wall, interrupted
 
 
-def _thrust_energy(res: FlightResult, log: _FlightLog, rig: _Rig, paper: bool, dt: float) -> np.ndarray:
+def _thrust_energy(res: FlightResult, log: FlightLog, rig: _Rig, paper: bool, dt: float) -> np.ndarray:
     """The cumulative energy [J] of the glider's propulsion per log row of ``res`` (whose
     propulsion columns it completes: the paper plant's ideal thruster, the motor's constant
     draw P0)."""

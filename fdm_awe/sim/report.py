@@ -89,6 +89,10 @@ class FlightReport:
     time_above_rated_current_s: float | None = None
     #: surface motion above 0.5 Hz (:class:`fdm_awe.sim.activity.ControlActivity`), None before a run
     control_activity: Any = None
+    #: how the steps ran: ``loop`` "compiled" or "python" (and why not compiled), the steps the
+    #: autopilot flew compiled in blocks (:mod:`fdm_awe.sim.autopilot_kernel`), the rest with the
+    #: autopilot in Python
+    loop: dict[str, Any] = field(default_factory=dict)
 
     @property
     def realtime_factor(self) -> float:
@@ -117,4 +121,5 @@ class FlightReport:
             "cycles": [c.as_dict() for c in self.cycles],
             "control_activity": None if self.control_activity is None else
             {k: _json_float(v) for k, v in self.control_activity.as_dict().items()},
+            "loop": dict(self.loop),
         }
