@@ -29,6 +29,9 @@ Arrays (float64; offsets are the module's ``*_`` constants):
 from __future__ import annotations
 
 import math
+from typing import Any
+
+import numpy as np
 
 from ..pointmass.fold import fold_fraction
 from ..sixdof.row import (ALPHA, BETA, FBX, FBY, FBZ, FOLD, H_SL, LAT, LON, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE,
@@ -41,6 +44,9 @@ from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import rejoin_weights
 from .thrust import T_LAST, throttle_step
 from .winch import cycle_winch_values
+
+#: a float64 array (the compiled step's one array type)
+Arr = np.ndarray
 
 #: the reference's linear columns in the order of the table (:data:`.tracking.TRACKING_RULES`)
 REF_COLUMNS = ("pos", "vel", "acc", "airspeed", "alpha", "phi", "thrust", "tension", "length", "reel_speed")
@@ -77,8 +83,9 @@ PHASE_CHANGED, REJOINED = 1, 2
 N_OUT = 24
 
 
-def auto_guide(row, scale, offset, gso, ref_t, ref_table, segs, gk, cu, cf, gate, par, mem, integral, thr_state,
-               motor_mem, rrow, out):
+def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_table: Arr, segs: Arr, gk: Arr, cu: Arr,
+               cf: Arr, gate: Arr, par: Arr, mem: Arr, integral: Arr, thr_state: Arr, motor_mem: Arr, rrow: Arr,
+               out: Arr) -> int:
     """One AUTO step up to the attitude loops, at the glider's raw row ``row`` (time ``row[T]``):
     writes ``out`` and advances ``mem``, the guidance's position-error ``integral``
     (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
@@ -181,7 +188,8 @@ def auto_guide(row, scale, offset, gso, ref_t, ref_table, segs, gk, cu, cf, gate
     return flags
 
 
-def attitude_step(row, scale, alpha_cmd, roll_cmd, dt, law_c, law_g, g, integ):
+def attitude_step(row: Any, scale: Any, alpha_cmd: float, roll_cmd: float, dt: float, law_c: Arr, law_g: Arr, g: float,
+                  integ: Arr) -> tuple[float, float, float]:
     """The attitude loops of an AUTO step (:func:`.attitude.attitude_commands`) at the glider's raw
     ``row`` (SI by ``scale``, as :class:`~fdm_awe.sixdof.state.SixDofState` converts it): surface
     commands for angle of attack ``alpha_cmd`` and bank ``roll_cmd`` [rad] after a step of ``dt``

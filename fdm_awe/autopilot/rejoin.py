@@ -5,7 +5,7 @@ returns to its path over RJ_TIME along a reference that starts at its own positi
 from __future__ import annotations
 
 
-def rejoin_weights(t, t0, T):
+def rejoin_weights(t: float, t0: float, T: float) -> tuple[float, float, float, float, float, float, float]:
     """The offset of a rejoin segment begun at ``t0`` [s] and lasting ``T`` [s], at time ``t``
     [s]: ``(done, w, w1, w2, e, e1, e2)`` such that the reference is the path's point plus
     ``(1 - w) dp + e dv`` (position), ``-w1 dp + e1 dv`` (velocity), ``-w2 dp + e2 dv``

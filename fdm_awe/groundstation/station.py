@@ -52,8 +52,9 @@ def _finite(name: str, v: float, lo: float | None = None, hi: float | None = Non
     return f
 
 
-def command_values(motor, reel_speed_ref, load_resistance, boost_duty, duty, r_drum, boost_duty_default,
-                   load_resistance_default):
+def command_values(motor: float, reel_speed_ref: float, load_resistance: float, boost_duty: float, duty: float,
+                   r_drum: float, boost_duty_default: float,
+                   load_resistance_default: float) -> tuple[bool, bool, float, float, float, float]:
     """A winch command given as numbers (``motor`` 1.0 motor mode, 0.0 generator; NaN for
     ``load_resistance``, ``boost_duty``, ``duty``: the field left at its default, as None in a
     :class:`WinchCommand`) turned into the terms of :func:`.substeps.station_step`:

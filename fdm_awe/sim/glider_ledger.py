@@ -28,7 +28,8 @@ IDEAL_THRUST_PROPERTY = "external_reactions/ideal-thrust/magnitude"
 N_LEDGER = 19
 
 
-def ledger_step(vals, ideal_thrust, work, v_prev, dt, ft, lbf):
+def ledger_step(vals: Any, ideal_thrust: float, work: np.ndarray, v_prev: np.ndarray, dt: float, ft: float,
+                lbf: float) -> None:
     """Add each force's work over the step of ``dt`` [s] just flown to ``work`` [J] (trapezoidal
     rule on the velocity at its two ends): ``vals`` the step's :data:`LEDGER_PROPERTIES` (JSBSim
     units), ``ideal_thrust`` the paper plant's ideal thrust [lbf] (0 without), ``v_prev`` the
@@ -42,7 +43,7 @@ def ledger_step(vals, ideal_thrust, work, v_prev, dt, ft, lbf):
     v_prev[0], v_prev[1], v_prev[2] = u, v, w
 
 
-def kinetic_energy(v, mass_slug, slug):
+def kinetic_energy(v: Any, mass_slug: float, slug: float) -> float:
     """Translational kinetic energy [J] of body velocity ``v`` [m/s] and mass ``mass_slug`` [slug]
     (``slug`` kg per slug)."""
     return 0.5 * mass_slug * slug * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])

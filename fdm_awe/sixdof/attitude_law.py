@@ -70,7 +70,7 @@ _LAW_SLOTS = (C_CM_DE, C_CL_DA, C_CN_DR, C_CN_BETA, C_CM0, C_CM_ALPHA, C_CM_Q, C
               C_IZZ)
 
 
-def law_refresh(vals, c, slug_ft2, invert):
+def law_refresh(vals: Any, c: np.ndarray, slug_ft2: float, invert: bool) -> None:
     """The coefficient vector ``c`` (``C_*`` layout) from the values ``vals`` of
     :data:`LAW_PROPERTIES` (JSBSim units; the inertia times ``slug_ft2``, kg m^2 per slug ft^2);
     the free moments' derivatives only with ``invert`` (else they stay as they are)."""
