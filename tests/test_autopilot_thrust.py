@@ -58,7 +58,7 @@ def test_the_loop_delegates_and_reads_its_gains_at_each_call():
     between calls), THR_VZERO at construction and the static thrust; disarmed resets it."""
     params = {"THR_KP": 0.01, "THR_KI": 0.2, "THR_VZERO": 32.0}
     loop = ThrustLoop(params, 30.0)
-    integ = [0.0, 0.0]  # the integral (the thrust loop's only state throttle_step touches), T_LAST
+    integ = [0.0, 0.0, 0.0]  # the integral (the thrust loop's only state throttle_step touches), T_LAST, T_THRUST
     rnd = random.Random(1)
     for k in range(60):
         params["THR_KP"], params["THR_KI"] = rnd.uniform(0.0, 0.05), rnd.uniform(0.0, 0.5)
@@ -68,7 +68,7 @@ def test_the_loop_delegates_and_reads_its_gains_at_each_call():
         assert u == throttle_step(cmd, thrust, v, 1 / 120, k % 10 != 9, u_max, params["THR_KP"], params["THR_KI"],
                                   32.0, 30.0, integ)
         assert loop.state.tolist() == integ
-    assert loop.throttle(10.0, 0.0, 20.0, 1 / 120, False) == 0.0 and loop.state.tolist() == [0.0, 0.0]
+    assert loop.throttle(10.0, 0.0, 20.0, 1 / 120, False) == 0.0 and loop.state.tolist() == [0.0, 0.0, 0.0]
     # the feed-forward alone: zero thrust at the zero-thrust airspeed, full throttle when static
     params["THR_KP"] = params["THR_KI"] = 0.0
     assert loop.throttle(0.0, 0.0, 32.0, 0.0, True) == 1.0

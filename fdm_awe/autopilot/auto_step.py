@@ -42,7 +42,7 @@ from .fold import fold_command
 from .guidance import CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, guidance_step, polar_at
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import rejoin_weights
-from .thrust import T_LAST, throttle_step
+from .thrust import T_LAST, T_THRUST, throttle_step
 from .winch import cycle_winch_values
 
 #: a float64 array (the compiled step's one array type)
@@ -145,7 +145,12 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     motor = motor_update(segs[SEG_RUN], seg, t, mem[M_ERR], gate, motor_mem) != 0.0
     fold = row[FOLD]
     polar = polar_at(cu, cf, par[A_RATIO], par[A_S_U], fold)
-    t_max = gk[GK_THRUST_MAX] if motor else 0.0
+    if motor:
+        t_max = gk[GK_THRUST_MAX]
+    elif par[A_THRUSTER] != 0.0:
+        t_max = 0.0
+    else:  # a soft stop: the thrust the guidance may count on falls with the throttle
+        t_max = motor_spin_down(t, gate, motor_mem, thr_state[T_THRUST])
     alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(
         gk, integral, polar, par[A_MASS], par[A_RHO], par[A_G], par[A_S_U], par[A_S_F],
         rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, rrow[R_AX], rrow[R_AY], rrow[R_AZ], rrow[R_TENSION],
@@ -178,7 +183,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         thr = throttle_step(thrust, row[THRUST] * scale[THRUST], row[VT] * scale[VT], dt, armed, ceiling,
                             par[A_THR_KP], par[A_THR_KI],
                             par[A_THR_VZERO], par[A_THRUST_MAX_STATIC], thr_state)
-        thr_state[T_LAST] = thr
+        thr_state[T_LAST], thr_state[T_THRUST] = thr, thrust
     out[O_CYCLE], out[O_TC], out[O_PHASE], out[O_SEG] = k, tc, phase, seg
     out[O_RX], out[O_RY], out[O_RZ], out[O_RATE] = rrow[R_PX], rrow[R_PY], rrow[R_PZ], rate
     out[O_ALPHA], out[O_MU], out[O_THRUST], out[O_ROLL], out[O_PITCH], out[O_YAW] = alpha, mu, thrust, roll, pitch, yaw

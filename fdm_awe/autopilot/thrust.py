@@ -15,9 +15,10 @@ from ..sixdof.state import SixDofState
 from .params import ParamStore
 
 #: layout of the thrust loop's state array: the PI integral (throttle fraction), the last
-#: throttle of the running motor (the start of a soft stop, :func:`.motor.motor_spin_down`)
-(T_INTEGRAL, T_LAST) = range(2)
-N_THRUST_STATE = 2
+#: throttle and the last thrust command [N] of the running motor (where a soft stop starts
+#: from, :func:`.motor.motor_spin_down`)
+(T_INTEGRAL, T_LAST, T_THRUST) = range(3)
+N_THRUST_STATE = 3
 
 
 def throttle_step(thrust_cmd: float, thrust: float, airspeed: float, dt: float, armed: bool, u_max: float,
