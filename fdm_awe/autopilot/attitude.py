@@ -25,6 +25,7 @@ from typing import Any
 
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, wrap_angle
+from ..sixdof.row import ALPHA, BETA, FBX, FBY, FBZ, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE, THETA, VT
 from ..sixdof.state import SixDofState
 
 
@@ -60,9 +61,22 @@ def attitude_commands(c: Any, gains: Any, g: float, qbar: float, vt: float, phi:
                         dt, integ, True, False)
 
 
-#: the pure functions :func:`attitude_commands` calls (a compiled caller registers them with
-#: ``numba.extending.register_jitable``)
-CALLED = (path_rate, wrap_angle, law_commands)
+def attitude_from_row(row: Any, scale: Any, alpha_cmd: float, roll_cmd: float, dt: float, c: Any, gains: Any,
+                      g: float, integ: Any) -> tuple[float, float, float]:
+    """:func:`attitude_commands` at the glider's raw JSBSim row ``row`` (SI by ``scale``, as
+    :class:`~fdm_awe.sixdof.state.SixDofState` converts it: dynamic pressure, airspeed, the
+    specific force from the body forces over the mass), for angle of attack ``alpha_cmd`` and bank
+    ``roll_cmd`` [rad] after ``dt`` [s]; ``c``, ``gains``, ``integ`` the law's vectors (``integ``
+    updated), ``g`` [m/s^2] the loops' gravity."""
+    m = row[MASS] * scale[MASS]
+    return attitude_commands(c, gains, g, row[QBAR] * scale[QBAR], row[VT] * scale[VT], row[PHI], row[THETA],
+                             row[ALPHA], row[BETA], row[P_RATE], row[Q_RATE], row[R_RATE], row[FBX] * scale[FBX] / m,
+                             row[FBY] * scale[FBY] / m, row[FBZ] * scale[FBZ] / m, alpha_cmd, roll_cmd, dt, integ)
+
+
+#: the pure functions :func:`attitude_commands` and :func:`attitude_from_row` call (a compiled
+#: caller registers them with ``numba.extending.register_jitable``)
+CALLED = (path_rate, wrap_angle, law_commands, attitude_commands)
 
 
 class AttitudeLoops:
@@ -86,7 +100,5 @@ class AttitudeLoops:
         """Surface commands for angle of attack ``alpha_cmd`` and bank ``roll_cmd`` (rad), ``dt``
         (s) since the last update; damping relative to the path's rotation."""
         law = self.law
-        fx, fy, fz = s.accel_body.tolist()
-        return attitude_commands(law.coefficients(s.fold, alpha_cmd), law.gains.law_gains(), self.g, s.qbar,
-                                 s.airspeed, s.phi, s.theta, s.alpha, s.beta, s.p, s.q, s.r, fx, fy, fz, alpha_cmd,
-                                 roll_cmd, dt, law.integ)
+        return attitude_from_row(s._r, s._k, alpha_cmd, roll_cmd, dt, law.coefficients(s.fold, alpha_cmd),
+                                 law.gains.law_gains(), self.g, law.integ)

@@ -26,7 +26,8 @@ from .auto_step import (A_ARMED, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_G, A_G_
                         O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD, O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL,
                         O_SEG, O_TC, O_THROTTLE, O_THRUST, O_W_D2, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_YAW,
                         PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX, R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED,
-                        R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS, REF_WHERE, REJOINED, attitude_step, auto_guide)
+                        R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS, REF_WHERE, REJOINED, auto_guide)
+from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
 from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
 from .winch import winch_command
@@ -89,7 +90,7 @@ class AutoStep:
         cu, cf, ratio, S_u = polar_arguments(g.aero_u, g.aero_f)
         par = np.zeros(N_PAR)
         par[A_T1], par[A_PERIOD], par[A_FOLDABLE] = ref.T1, ref.period, 1.0 if ap.config == "foldable" else 0.0
-        par[A_FOLD_TIME] = float(ref.meta.get("fold_time_s") or 0.0)
+        par[A_FOLD_TIME] = reference_fold_time(ref.meta, ap.glider.fold_time_s) if ap.config == "foldable" else 0.0
         par[A_FOLD_LEAD], par[A_UNFOLD_LEAD], par[A_PATH_TAU] = p["FOLD_LEAD"], p["UNFOLD_LEAD"], p["PATH_TAU"]
         par[A_MASS], par[A_RHO], par[A_G] = g.m, g.rho, g.g
         par[A_S_U], par[A_S_F], par[A_RATIO] = S_u, g.aero_f.S, ratio
@@ -108,7 +109,7 @@ class AutoStep:
     def step(self, ap: Any, s: SixDofState, gs: Any) -> tuple[Surfaces, Any, list[str]]:
         """One AUTO step of ``ap`` at glider state ``s`` with the ground station's last output
         ``gs`` (None before its first step): (surfaces, winch command, the notes of the step)."""
-        ref_t, table, segs, gk, cu, cf, gate, par, law_g = self.arrays(ap)
+        ref_t, table, segs, gk, cu, cf, gate, par, _ = self.arrays(ap)
         par[A_ARMED] = 1.0 if ap.armed else 0.0
         gso = self._gso
         if gs is not None:
@@ -129,9 +130,8 @@ class AutoStep:
             ap.phase = phase
         if ap.thruster is not None:
             ap.thruster.command(float(out[O_IDEAL_THRUST]))
-        law = ap.att.law
-        a, e, r = attitude_step(s._r, s._k, out[O_ALPHA], out[O_ROLL], mem[M_DT], law.coefficients(s.fold, out[O_ALPHA]),
-                                law_g, par[A_G_ATT], law.integ)
+        # the attitude loops (attitude.attitude_from_row, as the compiled block runs them)
+        a, e, r = ap.att.update(s, out[O_ALPHA], out[O_ROLL], mem[M_DT])
         surf = Surfaces(a, e, r, float(out[O_THROTTLE]), float(out[O_FOLD]))
         return surf, winch_command(out[O_W_MOTOR], out[O_W_REEL_SPEED], out[O_W_RL], out[O_W_D2]), notes
 

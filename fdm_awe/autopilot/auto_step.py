@@ -1,14 +1,16 @@
 """The autopilot's AUTO step on arrays: one source, run compiled by numba or as plain Python.
 
-:meth:`fdm_awe.autopilot.autopilot.Autopilot.update` in AUTO, cycling on its reference and not
-rejoining, is :func:`auto_guide` followed by the attitude loops: the reference point at the path
-parameter and the path rate (path following), the motor switch, the guidance's force inversion,
-the fold command, the winch command and the thrust loop, in the order the autopilot has always
-run them. Every relation is the pure function of its own module (the sampler of
-:mod:`fdm_awe.trajectory.sampler`, :func:`.guidance.guidance_step`, :func:`.motor.motor_update`,
+:meth:`fdm_awe.autopilot.autopilot.Autopilot.update` in AUTO, cycling on its reference, is
+:func:`auto_guide` followed by the attitude loops (:func:`.attitude.attitude_from_row`): the
+reference point at the path parameter and the path rate (path following) or the rejoin segment,
+the motor switch, the guidance's force inversion, the fold command, the winch command and the
+thrust loop, in the order the autopilot has always run them. Every relation is the pure
+function of its own module (the sampler of :mod:`fdm_awe.trajectory.sampler`,
+:func:`.rejoin.rejoin_weights`, :func:`.guidance.guidance_step`, :func:`.motor.motor_update`,
 :func:`.fold.fold_command`, :func:`.winch.cycle_winch_values`, :func:`.thrust.throttle_step`);
 this module only wires them on the arrays below, so that the same function runs in the Python
-autopilot and compiled (:func:`compiled_auto_guide`), bit for bit the same.
+autopilot (:mod:`.auto_mode`) and compiled (:mod:`fdm_awe.sim.autopilot_kernel`), bit for bit
+the same.
 
 Arrays (float64; offsets are the module's ``*_`` constants):
 
@@ -34,10 +36,8 @@ from typing import Any
 import numpy as np
 
 from ..pointmass.fold import fold_fraction
-from ..sixdof.row import (ALPHA, BETA, FBX, FBY, FBZ, FOLD, H_SL, LAT, LON, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE,
-                          THETA, THRUST, V_DOWN, V_EAST, V_NORTH, VT, WIND_DOWN, WIND_EAST, WIND_NORTH)
+from ..sixdof.row import FOLD, THRUST, VT, WIND_DOWN, WIND_EAST, WIND_NORTH, si_position, si_velocity
 from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
-from .attitude import CALLED as ATTITUDE_CALLED, attitude_commands
 from .fold import fold_command
 from .guidance import CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, guidance_step, polar_at
 from .motor import motor_ceiling, motor_spin_down, motor_update
@@ -97,11 +97,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     mem[M_TLAST] = t
     mem[M_DT] = dt
     # the glider's state, SI (SixDofState's relations: raw * scale + offset)
-    px = row[LAT] * scale[LAT] + offset[LAT]
-    py = row[LON] * scale[LON]
-    pz = row[H_SL] * scale[H_SL]
-    kv = scale[V_NORTH]
-    vx, vy, vz = row[V_NORTH] * kv, row[V_EAST] * kv, row[V_DOWN] * kv
+    px, py, pz = si_position(row, scale, offset)
+    vx, vy, vz = si_velocity(row, scale)
     kw = scale[WIND_NORTH]
     # wind = vel - vel_air = vel - (vel - total wind), as the autopilot forms it
     wx = vx - (vx - row[WIND_NORTH] * kw)
@@ -193,21 +190,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     return flags
 
 
-def attitude_step(row: Any, scale: Any, alpha_cmd: float, roll_cmd: float, dt: float, law_c: Arr, law_g: Arr, g: float,
-                  integ: Arr) -> tuple[float, float, float]:
-    """The attitude loops of an AUTO step (:func:`.attitude.attitude_commands`) at the glider's raw
-    ``row`` (SI by ``scale``, as :class:`~fdm_awe.sixdof.state.SixDofState` converts it): surface
-    commands for angle of attack ``alpha_cmd`` and bank ``roll_cmd`` [rad] after a step of ``dt``
-    [s]; ``law_c``, ``law_g``, ``integ`` the attitude law's coefficient vector (current for the
-    fold state), gains and integrators (updated), ``g`` [m/s^2] the loops' gravity."""
-    m = row[MASS] * scale[MASS]
-    return attitude_commands(law_c, law_g, g, row[QBAR] * scale[QBAR], row[VT] * scale[VT], row[PHI], row[THETA],
-                             row[ALPHA], row[BETA], row[P_RATE], row[Q_RATE], row[R_RATE], row[FBX] * scale[FBX] / m,
-                             row[FBY] * scale[FBY] / m, row[FBZ] * scale[FBZ] / m, alpha_cmd, roll_cmd, dt, integ)
-
-
 #: the plain functions the AUTO step calls, for a compiled caller to register
-#: (``numba.extending.register_jitable``), then the two steps themselves
-CALLED = (cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update, motor_ceiling, motor_spin_down, fold_fraction, fold_command,
-          throttle_step, cycle_winch_values, attitude_commands) + GUIDANCE_CALLED + ATTITUDE_CALLED + (
-    polar_at, guidance_step, auto_guide, attitude_step)
+#: (``numba.extending.register_jitable``), then the step itself
+CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update, motor_ceiling, motor_spin_down,
+          fold_fraction, fold_command, throttle_step, cycle_winch_values) + GUIDANCE_CALLED + (
+    polar_at, guidance_step, auto_guide)

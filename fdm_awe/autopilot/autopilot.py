@@ -65,7 +65,6 @@ from .tracking import PHASE_NAMES, RefPoint, TrackingReference
 from .vehicle import Waypoint
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
-
 CONFIGS = ("foldable", "nominal")
 
 _STAB_PARAMS = {"W_ALPHA": "w_alpha", "Z_ALPHA": "z_alpha", "KI_ALPHA": "ki_alpha", "W_PHI": "w_phi",
@@ -376,7 +375,7 @@ class Autopilot:
         UNFOLD_LEAD; 0 for the nominal configuration."""
         if self.config != "foldable":
             return 0.0
-        ft = float(self.reference.meta.get("fold_time_s") or 0.0) if self.reference is not None else 0.0
+        ft = reference_fold_time(self.reference.meta, self.glider.fold_time_s) if self.reference is not None else 0.0
         return fold_command(t_cycle, T1, period, ft, self.params["FOLD_LEAD"], self.params["UNFOLD_LEAD"])
 
     def _hold(self, s: SixDofState, alpha: float, roll: float, fold: float, dt: float, throttle: float = 0.0) -> Surfaces:

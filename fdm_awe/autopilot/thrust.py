@@ -96,10 +96,3 @@ class ThrustLoop:
             self.thruster.command(thrust_cmd if armed else 0.0)
             return 0.0
         return self.throttle(thrust_cmd, s.thrust_N, s.airspeed, dt, armed, u_max)
-
-    def stop(self) -> float:
-        """Throttle 0 with the motor stopped (the ESC brakes the propeller; the integral is held
-        for the restart); an ideal thruster takes zero thrust."""
-        if self.thruster is not None:
-            self.thruster.command(0.0)
-        return 0.0

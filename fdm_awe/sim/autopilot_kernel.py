@@ -6,7 +6,7 @@ autopilot as its controller and a flight's bookkeeping as its ``on_step``:
 
 1. the autopilot's AUTO step on the current row (:func:`fdm_awe.autopilot.auto_step.auto_guide`:
    reference point, path rate, motor, guidance, fold, winch, thrust), then its attitude loops
-   (:func:`fdm_awe.autopilot.attitude.attitude_step` on the attitude law's coefficients, re-read
+   (:func:`fdm_awe.autopilot.attitude.attitude_from_row` on the attitude law's coefficients, re-read
    from JSBSim when the fold state moves as :class:`~fdm_awe.sixdof.attitude_law.AttitudeLaw`
    re-reads them);
 2. the commands into JSBSim's flight controls and the ground station's command terms
@@ -37,10 +37,11 @@ from .kernel import G_FX, G_FY, G_FZ, G_LENGTH, G_SLACK, G_TENSION, P_D2, P_DT, 
 from .kernel import H_GET, H_GETTERS, H_SET, cosim_step, native_get, native_set
 from ..autopilot.auto_step import (A_G_ATT, GS_FX, GS_FY, GS_FZ, GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT,
                                    M_SREF, N_GSO, O_ALPHA, O_CYCLE, O_FOLD, O_ROLL, O_RX, O_RY, O_RZ, O_THROTTLE, O_W_D2,
-                                   O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, attitude_step, auto_guide)
+                                   O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, auto_guide)
+from ..autopilot.attitude import attitude_from_row
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh
-from ..sixdof.row import FOLD, H_SL, LAT, LON
+from ..sixdof.row import FOLD, si_position
 
 #: ``ha`` (int64): the flight controls' setters (aileron, elevator, rudder, throttle, fold; 0: the
 #: aircraft has none), the attitude law's getters (:data:`fdm_awe.sixdof.attitude_law.LAW_PROPERTIES`),
@@ -52,8 +53,8 @@ HA_IDEAL = HA_LEDGER + N_LEDGER
 N_HA = HA_IDEAL + 1
 #: ``q`` (float64): the flight's constants and the block's outcome
 (Q_NRAW, Q_R_DRUM, Q_D2_DEFAULT, Q_RL_DEFAULT, Q_S_END, Q_LEDGER_LOAD, Q_LEDGER_SUPPLY, Q_SLUG_FT2, Q_FT, Q_LBF,
- Q_GS_VALID, Q_PHASE_CODE, Q_WHY) = range(13)
-N_Q = 13
+ Q_GS_VALID, Q_WHY) = range(12)
+N_Q = 12
 #: why a block ended (``q[Q_WHY]``): its steps done (or an event), the next step is the Python
 #: autopilot's, the path parameter reached ``s_end``
 WHY_DONE, WHY_PYTHON, WHY_END = 0, 1, 2
@@ -65,6 +66,8 @@ ALOG_COLUMNS = ("aileron", "elevator", "rudder", "throttle", "fold_cmd", "ref_x"
 (AL_AIL, AL_ELE, AL_RUD, AL_THR, AL_FOLD, AL_RX, AL_RY, AL_RZ, AL_CYCLE, AL_ERR, AL_LOAD, AL_SUPPLY,
  AL_MASS) = range(13)
 N_ALOG = 13
+if len(ALOG_COLUMNS) != N_ALOG:  # pragma: no cover - a definition error in this module
+    raise RuntimeError("fdm_awe.sim.autopilot_kernel: bookkeeping column names and offsets disagree")
 
 
 # over 80 lines: one flight step written out in the order of the Python loop (module doc), with
@@ -119,7 +122,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
                 cvals[j] = native_get(f_get, ha[HA_LAW + j])
             law_refresh(cvals, law_c, q[Q_SLUG_FT2], True)
             law_fold_at[0] = fold
-        a, e, r = attitude_step(row, scale, out[O_ALPHA], out[O_ROLL], mem[M_DT], law_c, law_g, par[A_G_ATT],
+        a, e, r = attitude_from_row(row, scale, out[O_ALPHA], out[O_ROLL], mem[M_DT], law_c, law_g, par[A_G_ATT],
                                 law_integ)
         thr, fc = out[O_THROTTLE], out[O_FOLD]
         native_set(f_set, ha[HA_AIL], a)
@@ -142,9 +145,8 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
         al = alog[k]
         al[AL_AIL], al[AL_ELE], al[AL_RUD], al[AL_THR], al[AL_FOLD] = a, e, r, thr, fc
         rx, ry, rz = out[O_RX], out[O_RY], out[O_RZ]
-        dx = rx - (nr[LAT] * scale[LAT] + offset[LAT])
-        dy = ry - nr[LON] * scale[LON]
-        dz = rz - nr[H_SL] * scale[H_SL]
+        x, y, z = si_position(nr, scale, offset)
+        dx, dy, dz = rx - x, ry - y, rz - z
         al[AL_RX], al[AL_RY], al[AL_RZ], al[AL_CYCLE] = rx, ry, rz, out[O_CYCLE]
         al[AL_ERR] = math.sqrt(dx * dx + dy * dy + dz * dz)
         al[AL_LOAD], al[AL_SUPPLY] = s_gs[int(q[Q_LEDGER_LOAD])], s_gs[int(q[Q_LEDGER_SUPPLY])]
@@ -182,8 +184,8 @@ def compiled_autopilot_kernel() -> Callable | None:
         return nb.types.UniTuple(i8, 2)(i1, a1, a1, a2, a1, a1, i8, i8, i1, a1, a1, a1, a1, a2, a2, a1, a1, a1, a1, a1,
                                         a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
 
-    helpers = auto_step.CALLED + (kernel.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step,
-                                  law_refresh, command_values)
+    helpers = auto_step.CALLED + attitude.CALLED + (attitude_from_row, kernel.hook_kinematics, events.step_event,
+                                                    kernel.cosim_step, ledger_step, law_refresh, command_values)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
     modules = (events, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust, winch, lumped,
                lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler, wind)

@@ -291,7 +291,8 @@ class CoSim:
         """:meth:`run` with the loop body compiled (:mod:`.kernel`): the same steps, the
         same order, identical results. The controller is called every step from Python, unless
         it declares ``constant_commands = True`` (fixed commands, no ``phase`` changes) and no
-        ``on_step`` is given: then blocks of up to one simulated second run in one call."""
+        ``on_step`` is given: then blocks of up to one simulated second run in one call; or a
+        :attr:`block_runner` flies blocks with the controller compiled in, whenever it can."""
         from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
         g, gs, ctrl, dt = self.glider, self.gs, self.controller, self.dt
@@ -328,57 +329,40 @@ class CoSim:
         runner, python_next = self.block_runner, False
         try:
             while k < n:
+                # the next steps: a block with the controller compiled in (the runner's), or the
+                # controller called here and a block of the kernel (one step, or up to a second
+                # of constant commands)
+                res = None
                 if runner is not None and not python_next:
                     m = self.block_steps if n - k > self.block_steps else n - k
                     if k + m >= len(log):
                         log = np.concatenate((log, np.full((min(n + 1, 2 * len(log) + m) - len(log), width), math.nan)))
                     res = runner.run(k, m, log, p, lim_v, s_gs, c_gs, h, gs_out is not None)
-                    if res is not None:
-                        done, code, python_next = res
-                        if done:
-                            ctl.extend(runner.commands(k, k + done))
-                            if has_phase:
-                                ph = ctrl.phase
-                                if ph is not last_phase:
-                                    last_phase = ph
-                                    last_code = cmds.code(ph)
-                                phases.extend([last_code] * done)
-                            k0, k = k, k + done
-                            row = log[k].tolist()
-                            r = row[:nr]
-                            hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL_COLUMNS
-                            hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
-                            s = make_state(r, hook, force)
-                            sync(r, hook, force, s)
-                            t = r[T]
-                            mode = "motor" if p[i_motor] != 0.0 else "generator"
-                            gs_out = output_from_row(row[nr:ng], mode)
-                            last_wcmd = None
-                            if runner.after(k0, k, s, gs_out):
-                                code = E_NONE
-                                break  # the runner's end condition: status "ok"
-                        if code != E_NONE:
-                            event = self._compiled_event(code, s, gs_out, p)
+                if res is not None:
+                    done, code, python_next = res
+                    mode = "motor" if p[i_motor] != 0.0 else "generator"
+                    last_wcmd = None
+                else:
+                    python_next = False
+                    surf, wcmd = update(t, s, gs_out)
+                    set_controls(surf)
+                    if wcmd is not last_wcmd:
+                        try:
+                            mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
+                        except InputError as exc:  # as GroundStation.step in the Python loop
+                            event = self._event(E_HOOK, s, gs_out, error=str(exc))
                             break
-                        continue
-                python_next = False
-                surf, wcmd = update(t, s, gs_out)
-                set_controls(surf)
-                if wcmd is not last_wcmd:
-                    try:
-                        mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
-                    except InputError as exc:  # as GroundStation.step in the Python loop
-                        event = self._event(E_HOOK, s, gs_out, error=str(exc))
-                        break
-                    p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
-                    last_wcmd = wcmd
-                m = block if n - k > block else n - k
-                if k + m >= len(log):
-                    log = np.concatenate((log, np.full((min(n + 1, 2 * len(log)) - len(log), width), math.nan)))
-                done, code = call(h, p, lim_v, log, s_gs, c_gs, k, m)
+                        p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
+                        last_wcmd = wcmd
+                    m = block if n - k > block else n - k
+                    if k + m >= len(log):
+                        log = np.concatenate((log, np.full((min(n + 1, 2 * len(log)) - len(log), width), math.nan)))
+                    done, code = call(h, p, lim_v, log, s_gs, c_gs, k, m)
                 if done:
-                    k += done
-                    if done == 1:
+                    k0, k = k, k + done
+                    if res is not None:
+                        ctl.extend(runner.commands(k0, k))
+                    elif done == 1:
                         ctl.append(surf)
                     else:
                         ctl.extend([surf] * done)
@@ -399,9 +383,12 @@ class CoSim:
                     sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
                     t = r[T]
                     gs_out = output_from_row(row[nr:ng], mode)
-                    if on_step is not None and on_step(k, s, gs_out):
+                    # the block's bookkeeping (the runner's) or the caller's step; true: the
+                    # end condition, status "ok"
+                    if runner.after(k0, k, s, gs_out) if res is not None else (on_step is not None
+                                                                               and on_step(k, s, gs_out)):
                         code = E_NONE
-                        break  # the caller's end condition: status "ok"
+                        break
                 if code != E_NONE:
                     event = self._compiled_event(code, s, gs_out, p)
                     break

@@ -48,6 +48,18 @@ if sorted(PROPERTIES) != list(range(N_ROW)):  # pragma: no cover - a definition 
     raise RuntimeError("fdm_awe.sixdof.row: PROPERTIES must name every position 0 .. N_ROW-1 once")
 
 
+def si_position(r, scale, offset):
+    """The CG position ``(x, y, z)`` [m, NED, winch origin] of a row ``r`` with the adapter's
+    per-position SI ``scale`` and ``offset`` (SI value = raw * scale + offset)."""
+    return r[LAT] * scale[LAT] + offset[LAT], r[LON] * scale[LON], r[H_SL] * scale[H_SL]
+
+
+def si_velocity(r, scale):
+    """The ground velocity ``(vn, ve, vd)`` [m/s] of a row ``r`` (``scale`` as :func:`si_position`)."""
+    k = scale[V_NORTH]
+    return r[V_NORTH] * k, r[V_EAST] * k, r[V_DOWN] * k
+
+
 def hook_kinematics(r, lat0, m0, n0cos, ft, ox, oy, oz):
     """Tether attachment point from a row ``r``: ``((x, y, z), (vx, vy, vz))``, NED m and m/s,
     winch origin. ``lat0`` home latitude rad, ``m0`` meridian radius m, ``n0cos`` N0 cos(lat0) m
@@ -74,4 +86,5 @@ def hook_kinematics(r, lat0, m0, n0cos, ft, ox, oy, oz):
              vz + m20 * wx + m21 * wy + m22 * wz))
 
 
-__all__ = ["FINITE_END", "FINITE_FIRST", "FOLD_PROPERTY", "N_ROW", "PROPERTIES", "hook_kinematics"]
+__all__ = ["FINITE_END", "FINITE_FIRST", "FOLD_PROPERTY", "N_ROW", "PROPERTIES", "hook_kinematics", "si_position",
+           "si_velocity"]

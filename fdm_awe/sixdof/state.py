@@ -8,9 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .row import (ALPHA, BETA, CURRENT, FBX, FBY, FBZ, FINITE_END, FINITE_FIRST, FOLD, H_SL, LAT, LON, MASS, P_RATE, PHI,
-                  PSI, Q_RATE, QBAR, R_RATE, RHO, SHAFT_HP, T, THETA, THROTTLE, THRUST, V_DOWN, V_EAST, V_NORTH, VT,
-                  WIND_DOWN, WIND_EAST, WIND_NORTH, WOW)
+from .row import (ALPHA, BETA, CURRENT, FBX, FBY, FBZ, FINITE_END, FINITE_FIRST, FOLD, MASS, P_RATE, PHI,
+                  PSI, Q_RATE, QBAR, R_RATE, RHO, SHAFT_HP, T, THETA, THROTTLE, THRUST, VT,
+                  WIND_DOWN, WIND_EAST, WIND_NORTH, WOW, si_position, si_velocity)
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,20 +104,20 @@ class SixDofState:
 
     @property
     def x(self) -> float:
-        return self._r[LAT] * self._k[LAT] + self._o[LAT]
+        return si_position(self._r, self._k, self._o)[0]
 
     @property
     def y(self) -> float:
-        return self._r[LON] * self._k[LON]
+        return si_position(self._r, self._k, self._o)[1]
 
     @property
     def z(self) -> float:
-        return self._r[H_SL] * self._k[H_SL]
+        return si_position(self._r, self._k, self._o)[2]
 
     @property
     def altitude(self) -> float:
         """Height of the CG above the winch, m."""
-        return -self._r[H_SL] * self._k[H_SL]
+        return -si_position(self._r, self._k, self._o)[2]
 
     @property
     def phi(self) -> float:
@@ -198,13 +198,11 @@ class SixDofState:
     # vectors -------------------------------------------------------------------------------
     @property
     def pos_ned(self) -> np.ndarray:
-        return np.array((self.x, self.y, self.z))
+        return np.array(si_position(self._r, self._k, self._o))
 
     @property
     def vel_ned(self) -> np.ndarray:
-        k = self._k[V_NORTH]
-        r = self._r
-        return np.array((r[V_NORTH] * k, r[V_EAST] * k, r[V_DOWN] * k))
+        return np.array(si_velocity(self._r, self._k))
 
     @property
     def wind_ned(self) -> np.ndarray:
