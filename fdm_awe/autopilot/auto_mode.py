@@ -162,4 +162,5 @@ class AutoStep:
                         vel=r[R_VX:R_VZ + 1].copy(), acc=r[R_AX:R_AZ + 1].copy(), airspeed=float(r[R_AIRSPEED]),
                         alpha=float(r[R_ALPHA]), phi=float(r[R_PHI]), thrust=float(r[R_THRUST]),
                         tension=float(r[R_TENSION]), length=float(r[R_LENGTH]), reel_speed=float(r[R_REEL_SPEED]),
-                        motor_on=float(smp.segments("motor_on")[seg]), boost_duty=float(smp.segments("boost_duty")[seg]))
+                        motor_on=float(smp.segments("motor_on")[seg]),
+                        boost_duty=float(smp.segments("boost_duty")[seg]))

@@ -192,6 +192,6 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 
 #: the plain functions the AUTO step calls, for a compiled caller to register
 #: (``numba.extending.register_jitable``), then the step itself
-CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update, motor_ceiling, motor_spin_down,
-          fold_fraction, fold_command, throttle_step, cycle_winch_values) + GUIDANCE_CALLED + (
-    polar_at, guidance_step, auto_guide)
+CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
+          motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
+          cycle_winch_values) + GUIDANCE_CALLED + (polar_at, guidance_step, auto_guide)

@@ -32,6 +32,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .events import E_FORCE, E_HOOK, E_NONE
+from .flight_log import track_error
 from .glider_ledger import L_MASS, N_LEDGER, ledger_step
 from .kernel import G_FX, G_FY, G_FZ, G_LENGTH, G_SLACK, G_TENSION, P_D2, P_DT, P_DUTY, P_MOTOR, P_RL, P_WREF
 from .kernel import H_GET, H_GETTERS, H_SET, cosim_step, native_get, native_set
@@ -40,7 +41,7 @@ from ..autopilot.auto_step import (A_G_ATT, GS_FX, GS_FY, GS_FZ, GS_LENGTH, GS_S
                                    O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, auto_guide)
 from ..autopilot.attitude import attitude_from_row
 from ..groundstation.station import command_values
-from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh
+from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
 from ..sixdof.row import FOLD, si_position
 
 #: ``ha`` (int64): the flight controls' setters (aileron, elevator, rudder, throttle, fold; 0: the
@@ -117,7 +118,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
             q[Q_WHY] = WHY_PYTHON
             break
         fold = row[FOLD]
-        if not abs(fold - law_fold_at[0]) < 1e-3:  # the law's derivatives at the new fold state
+        if law_stale(fold, law_fold_at[0]):  # the law's derivatives at the new fold state
             for j in range(N_LAW_PROPERTIES):
                 cvals[j] = native_get(f_get, ha[HA_LAW + j])
             law_refresh(cvals, law_c, q[Q_SLUG_FT2], True)
@@ -146,9 +147,8 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
         al[AL_AIL], al[AL_ELE], al[AL_RUD], al[AL_THR], al[AL_FOLD] = a, e, r, thr, fc
         rx, ry, rz = out[O_RX], out[O_RY], out[O_RZ]
         x, y, z = si_position(nr, scale, offset)
-        dx, dy, dz = rx - x, ry - y, rz - z
         al[AL_RX], al[AL_RY], al[AL_RZ], al[AL_CYCLE] = rx, ry, rz, out[O_CYCLE]
-        al[AL_ERR] = math.sqrt(dx * dx + dy * dy + dz * dz)
+        al[AL_ERR] = track_error(rx, ry, rz, x, y, z)
         al[AL_LOAD], al[AL_SUPPLY] = s_gs[int(q[Q_LEDGER_LOAD])], s_gs[int(q[Q_LEDGER_SUPPLY])]
         al[AL_MASS] = lvals[L_MASS]
         if code != E_NONE:
@@ -176,7 +176,7 @@ def compiled_autopilot_kernel() -> Callable | None:
     from ..pointmass import fold as pm_fold
     from ..sixdof import attitude_law, native, row
     from ..trajectory import sampler
-    from . import events, glider_ledger, kernel
+    from . import events, flight_log, glider_ledger, kernel
 
     def signature(nb: Any) -> Any:
         f8, i8 = nb.float64, nb.int64
@@ -184,11 +184,13 @@ def compiled_autopilot_kernel() -> Callable | None:
         return nb.types.UniTuple(i8, 2)(i1, a1, a1, a2, a1, a1, i8, i8, i1, a1, a1, a1, a1, a2, a2, a1, a1, a1, a1, a1,
                                         a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
 
-    helpers = auto_step.CALLED + attitude.CALLED + (attitude_from_row, kernel.hook_kinematics, events.step_event,
-                                                    kernel.cosim_step, ledger_step, law_refresh, command_values)
+    helpers = auto_step.CALLED + attitude.CALLED + (
+        attitude_from_row, kernel.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
+        law_stale, command_values, track_error)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
-    modules = (events, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust, winch, lumped,
-               lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler, wind)
+    modules = (events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust,
+               winch, lumped, lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler,
+               wind)
     return compile_cached(autopilot_steps, signature, helpers, modules, "fdm_awe.sim.autopilot_kernel")
 
 #: the flight controls the autopilot sets (the fold's only on the foldable aircraft)

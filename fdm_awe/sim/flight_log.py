@@ -5,13 +5,21 @@ block of autopilot steps, from the block's rows."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
-from ..autopilot.guidance import norm3
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES
 from .glider_ledger import GliderLedger
+
+def track_error(rx: float, ry: float, rz: float, x: float, y: float, z: float) -> float:
+    """The tracking error [m]: the distance from the glider's position ``(x, y, z)`` to the
+    reference point ``(rx, ry, rz)`` flown (NED, m). A plain function: the compiled block books
+    it too."""
+    dx, dy, dz = rx - x, ry - y, rz - z
+    return math.sqrt(dx * dx + dy * dy + dz * dz)
+
 
 #: samples per second of the lumped line's shape in a flight report
 LINE_SHAPE_HZ = 10.0
@@ -53,7 +61,7 @@ class FlightLog:
         rp = ap.ref_point
         if rp is not None and ap.mode == "AUTO" and ap.cycling:
             self.refpos[k] = rp.pos
-            self.err[k] = norm3(rp.pos - s.pos_ned)
+            self.err[k] = track_error(*rp.pos.tolist(), *s.pos_ned.tolist())
             self.cycle[k] = rp.cycle
         self.phase[k] = PHASE_CODES.get(ap.phase, OTHER_PHASE)
         led = self.station_ledger

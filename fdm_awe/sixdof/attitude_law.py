@@ -70,6 +70,12 @@ _LAW_SLOTS = (C_CM_DE, C_CL_DA, C_CN_DR, C_CN_BETA, C_CM0, C_CM_ALPHA, C_CM_Q, C
               C_IZZ)
 
 
+def law_stale(fold: float, fold_at: float) -> bool:
+    """Whether the law's derivatives read at fold state ``fold_at`` must be read again at
+    ``fold``: the fold state moved by 1e-3 or more (or ``fold_at`` is -1: never read)."""
+    return not abs(fold - fold_at) < 1e-3
+
+
 def law_refresh(vals: Any, c: np.ndarray, slug_ft2: float, invert: bool) -> None:
     """The coefficient vector ``c`` (``C_*`` layout) from the values ``vals`` of
     :data:`LAW_PROPERTIES` (JSBSim units; the inertia times ``slug_ft2``, kg m^2 per slug ft^2);
@@ -207,7 +213,7 @@ class AttitudeLaw:
         """The coefficient vector (``C_*`` layout) at fold state ``fold``, re-read when the fold
         state moved by 1e-3 or more since the last reading (:attr:`fold_at`; or after
         :meth:`invalidate`; the trim at ``alpha_cmd``, rad)."""
-        if not abs(fold - self.fold_at[0]) < 1e-3:
+        if law_stale(fold, self.fold_at[0]):
             self._refresh(fold, alpha_cmd)
         return self.coef
 
