@@ -350,12 +350,18 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest,
         log.book(k, s)
         if on_step is not None and on_step(k, s, o):
             return True  # the caller ends the flight here
-        if s_end is not None and ap.mode == "AUTO" and ap.s_ref >= s_end:
-            flown[0] = True
-            return True
-        return stop.requested
+        return _flight_ends(ap, s_end, flown, stop)
 
     return hook
+
+
+def _flight_ends(ap: Autopilot, s_end: float | None, flown: list[bool], stop: _StopRequest) -> bool:
+    """Whether the flight ends after the step just booked: the path parameter at ``s_end`` [s]
+    in AUTO (every cycle flown: sets ``flown[0]``), or a stop request."""
+    if s_end is not None and ap.mode == "AUTO" and ap.s_ref >= s_end:
+        flown[0] = True
+        return True
+    return stop.requested
 
 
 def _blocks(rig: _Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flown: list[bool],
@@ -370,10 +376,7 @@ def _blocks(rig: _Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flo
 
     def after(k0: int, k1: int, s: Any, o: Any) -> bool:
         log.book_block(k0, k1, runner.alog)
-        if s_end is not None and ap.mode == "AUTO" and ap.s_ref >= s_end:
-            flown[0] = True
-            return True
-        return stop.requested
+        return _flight_ends(ap, s_end, flown, stop)
 
     runner = AutopilotBlocks.create(rig.sim, ap, gl, after, math.inf if s_end is None else s_end)
     return runner
