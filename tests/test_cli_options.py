@@ -65,6 +65,11 @@ NUMERIC = [
     (["fly", "--wind", "30"], ("--wind", "0..25")),
     (["fly", "--wind-from", "nan"], ("--wind-from", "-360..360")),
     (["fly", "--gamma-max", "0"], ("--gamma-max", "0.1..1.5")),
+    (["fly", "--bank-rate-max", "0"], ("--bank-rate-max", "0.01..10 rad/s")),
+    (["fly", "--alpha-rate-max", "inf"], ("--alpha-rate-max", "0.01..10 rad/s")),
+    (["fly", "--catch-speed-max", "-1"], ("--catch-speed-max", "0..30 m/s")),
+    (["optimize", "--bank-rate-max", "11"], ("--bank-rate-max", "0.01..10 rad/s")),
+    (["optimize", "--catch-speed-max", "nan"], ("--catch-speed-max", "0..30 m/s")),
     # sweep
     (["sweep", "--out", "{tmp}", "--max-iter", "5"], ("--max-iter", "10..100000")),
     (["sweep", "--out", "{tmp}", "--max-iter-total", "0"], ("--max-iter-total", "10..1000000")),
@@ -164,7 +169,9 @@ def test_options_a_reference_fixes_are_refused(tmp_path, no_work, capsys):
     for extra, option in [(["--wind", "5"], "--wind"), (["--wind-from", "90"], "--wind-from"),
                           (["--gamma-max", "0.7"], "--gamma-max"), (["--propeller", "engine"], "--propeller"),
                           (["--line-weight"], "--line-weight"), (["--no-line-weight"], "--no-line-weight"),
-                          (["--line", "paper"], "--line"), (["--line", "sized"], "--line")]:
+                          (["--line", "paper"], "--line"), (["--line", "sized"], "--line"),
+                          (["--bank-rate-max", "0.5"], "--bank-rate-max"), (["--alpha-rate-max", "0.2"], "--alpha-rate-max"),
+                          (["--catch-speed-max", "1"], "--catch-speed-max")]:
         _refused(["fly", "--reference", str(REF), *extra], capsys, option, "fixes")
     _refused(["fly", "--allow-mismatch"], capsys, "--allow-mismatch", "--reference")
 
@@ -243,3 +250,21 @@ def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():
     for name in ("optimize", "compare", "fly", "sweep"):
         text = " ".join(sub[name].format_help().split())
         assert "--no-line-weight" in text and "--line" in text and "engine" in text, name
+
+
+def test_smoothness_options_reach_the_problem_and_default_to_off():
+    """--bank-rate-max, --alpha-rate-max and --catch-speed-max become the problem's bounds in
+    optimize and in the reference fly optimises (next to its flyable margins); unset, none."""
+    from fdm_awe.commands.fly import reference_problem
+    from fdm_awe.commands.optimize import problem_from_args
+
+    sub = build_parser()._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor
+    plain = problem_from_args(sub["optimize"].parse_args([])).bounds
+    assert (plain.bank_rate_max, plain.alpha_rate_max, plain.catch_speed_max) == (None, None, None)
+    given = ["--bank-rate-max", "0.5", "--alpha-rate-max", "0.2", "--catch-speed-max", "1.5"]
+    b = problem_from_args(sub["optimize"].parse_args(given)).bounds
+    assert (b.bank_rate_max, b.alpha_rate_max, b.catch_speed_max) == (0.5, 0.2, 1.5)
+    fly_args = sub["fly"].parse_args(given)
+    fly_args.scenario, fly_args.config = "physical", "nominal"
+    b = reference_problem(fly_args).bounds
+    assert (b.bank_rate_max, b.alpha_rate_max, b.catch_speed_max, b.cl_margin, b.phi_max) == (0.5, 0.2, 1.5, 0.85, 0.8)

@@ -45,8 +45,8 @@ from typing import Any, Callable
 from ..errors import EXIT_INTERRUPTED, InputError
 from ..fileio import write_json
 from . import _checks as chk
-from .optimize import (NOMINAL_DEFAULT_WHY, add_plant_model_args, add_wind_profile_args, check_plant_args,
-                       wind_profile_from_args)
+from .optimize import (NOMINAL_DEFAULT_WHY, add_plant_model_args, add_smoothness_args, add_wind_profile_args,
+                       check_plant_args, smoothness_bounds, wind_profile_from_args)
 
 # The modules of the work (the optimiser, JSBSim, numba, the recordings, MAVLink) are imported in
 # the functions that use them: the command line imports every command module at its start.
@@ -64,10 +64,11 @@ DEFAULT_SCENARIO = "physical"
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
                    "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight",
                    "generator": "--generator", "wind_profile": "--wind-profile",
-                   "wind_ref_height": "--wind-ref-height"}
+                   "wind_ref_height": "--wind-ref-height", "bank_rate_max": "--bank-rate-max",
+                   "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max"}
 
 
-def _flyable_bounds(gamma_max: float | None = None):
+def _flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None):
     from ..ocp.problem import Bounds
 
     # A reference to be flown keeps margins the optimiser's own optimum does not: C_L at most
@@ -75,8 +76,10 @@ def _flyable_bounds(gamma_max: float | None = None):
     # autopilot room to correct. ``gamma_max`` [rad] (--gamma-max) bounds the flight-path angle
     # below Table 3's 1 rad: the paper nominal cycle at 3 m/s dives at -1 rad and climbs at +1 rad
     # within its 9.8 s recovery, which the 6-DOF glider does not follow (it stalls in the
-    # climb); with 0.7 rad it is flown within 2 m RMS.
-    return Bounds(cl_margin=0.85, phi_max=0.8, **({} if gamma_max is None else {"gamma_max": gamma_max}))
+    # climb); with 0.7 rad it is flown within 2 m RMS. ``smoothness``: the reference's rate and
+    # catch bounds given (--bank-rate-max, --alpha-rate-max, --catch-speed-max; none by default).
+    return Bounds(cl_margin=0.85, phi_max=0.8, **({} if gamma_max is None else {"gamma_max": gamma_max}),
+                  **(smoothness or {}))
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -109,6 +112,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                          generators=FLYABLE_GENERATORS)
     add_wind_profile_args(p, prefix="when it optimises the reference (not with --reference; a reference flies its own "
                                     "profile, JSBSim's wind set every step from the glider's altitude): ")
+    add_smoothness_args(p, prefix="when it optimises the reference (not with --reference): ")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
@@ -148,6 +152,7 @@ def _check(args: argparse.Namespace) -> None:
     chk.number(args.realtime, "--realtime", 0.0, 1000.0, lo_open=True, what="pacing factor")
     chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
     chk.number(args.gamma_max, "--gamma-max", 0.1, 1.5, unit="rad", what="flight-path angle bound")
+    smoothness_bounds(args)
     args.turbulence = chk.turbulence(args.turbulence)
     from ..groundstation.lumped import parse_tether
 
@@ -198,7 +203,7 @@ def reference_problem(args: argparse.Namespace):
     return CycleProblem(scenario=args.scenario, config=args.config,
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
-                        bounds=_flyable_bounds(args.gamma_max),
+                        bounds=_flyable_bounds(args.gamma_max, smoothness_bounds(args)),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
                         generator=args.generator,
@@ -212,12 +217,20 @@ def optimise_reference(problem):
     b = problem.bounds
     print(f"optimising a {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s (flyable bounds: "
           f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad; "
-          f"line drag x {problem.tether_drag_scale:g}) ...", file=sys.stderr)
+          f"line drag x {problem.tether_drag_scale:g}{_smoothness_text(b)}) ...", file=sys.stderr)
     res = solve_cycle(problem)
     if not res.ok:
         raise InputError(f"the optimiser found no {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s: "
                          f"{res.status} ({getattr(res, 'reason', '')})")
     return res
+
+
+def _smoothness_text(b) -> str:
+    """The smoothness bounds of ``b`` that are set, for the progress line ('' when none)."""
+    parts = [f"{name} {v:g} {unit}" for name, v, unit in (("bank rate <=", b.bank_rate_max, "rad/s"),
+                                                         ("alpha rate <=", b.alpha_rate_max, "rad/s"),
+                                                         ("catch <=", b.catch_speed_max, "m/s")) if v is not None]
+    return "".join(f"; {p}" for p in parts)
 
 
 def reference_file_name(args: argparse.Namespace) -> str:

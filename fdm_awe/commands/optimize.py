@@ -37,6 +37,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
     add_plant_model_args(p)
     add_wind_profile_args(p)
+    add_smoothness_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help=f"successful starts to compare, 1..{MAX_STARTS} (default 1), on meshes solved "
@@ -100,6 +101,41 @@ def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis
                    help=prefix + "physical scenario: the glider carries its share of the line's weight, as the 6-DOF "
                                  "plant's ground station applies it (default on in the physical scenario; "
                                  "--no-line-weight: a massless line, as the earlier published numbers)")
+
+
+#: the reference-smoothness options: Bounds field -> (option, lower, upper, unit, what)
+SMOOTHNESS_OPTIONS = {
+    "bank_rate_max": ("--bank-rate-max", 0.01, 10.0, "rad/s", "the reference's bank rate bound"),
+    "alpha_rate_max": ("--alpha-rate-max", 0.01, 10.0, "rad/s", "the reference's angle-of-attack rate bound"),
+    "catch_speed_max": ("--catch-speed-max", 0.0, 30.0, "m/s", "the line's closing speed bound at the catch"),
+}
+
+
+def add_smoothness_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
+    """``--bank-rate-max``, ``--alpha-rate-max``, ``--catch-speed-max``: the reference's
+    smoothness bounds (:class:`fdm_awe.ocp.problem.Bounds`), each None (off) unless given;
+    ``prefix`` opens the help texts."""
+    p.add_argument("--bank-rate-max", type=float, default=None, metavar="RAD_S",
+                   help=prefix + "bound the bank's change between neighbouring control intervals, across the phase "
+                                 "switches too, to this rate, 0.01..10 rad/s (default: unbounded). Smoother to fly, "
+                                 "at a cost in power")
+    p.add_argument("--alpha-rate-max", type=float, default=None, metavar="RAD_S",
+                   help=prefix + "the same for the angle of attack, 0.01..10 rad/s (default: unbounded)")
+    p.add_argument("--catch-speed-max", type=float, default=None, metavar="M_S",
+                   help=prefix + "bound the speed at which the slack line goes taut at the end of recovery (the "
+                                 "glider's distance rate minus the reel speed), 0..30 m/s (default: any)")
+
+
+def smoothness_bounds(args: argparse.Namespace) -> dict[str, float]:
+    """The smoothness bounds given on the command line (checked), as ``Bounds`` fields."""
+    from . import _checks as chk
+
+    out = {}
+    for attr, (opt, lo, hi, unit, what) in SMOOTHNESS_OPTIONS.items():
+        v = chk.number(getattr(args, attr, None), opt, lo, hi, unit=unit, what=what)
+        if v is not None:
+            out[attr] = v
+    return out
 
 
 def add_wind_profile_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
@@ -208,7 +244,7 @@ def problem_from_args(args: argparse.Namespace):
     chk.number(args.h_min, "--h-min", 0.0, None, unit="m", what="ground clearance")
     chk.number(args.t_max, "--t-max", 0.0, None, lo_open=True, unit="s", what="longest cycle")
     mesh = parse_mesh(args.mesh)
-    bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max)
+    bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args))
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),

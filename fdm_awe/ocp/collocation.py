@@ -34,8 +34,8 @@ from typing import Any, Callable
 import casadi as ca
 import numpy as np
 
-from .constraints import (Constraints, add_boundaries, add_path, control_bounds, fold_alpha_bounds, point_path,
-                          state_bounds)
+from .constraints import (Constraints, add_boundaries, add_catch, add_path, add_smoothness, control_bounds,
+                          fold_alpha_bounds, point_path, state_bounds)
 from .layout import (CONTROL_SCALE, SLACK_SCALE, STATE_SCALE, TIME_SCALE, PhaseLayout, Variables, fold_intervals,
                      radau_coefficients)
 from .model import GEN_STATES, ON_FRACTION, REC_STATES, CycleModel
@@ -143,6 +143,8 @@ class CycleNLP:
             self._transcribe_phase(ip, ph, vs, cs, p_sym, x_bounds, control_bounds(m, bnd, ip, T_max, v_in), sums)
         gen, rec = self.phases
         add_boundaries(cs, pr, gen, rec, self.d, p_sym[3])
+        add_smoothness(cs, pr.bounds, gen, rec)
+        add_catch(cs, m, pr.bounds, rec, self.d, (p_sym[0], p_sym[1]))
         P_avg = (sums.E_gen - sums.E_thr - sums.E_rw) / (gen.T + rec.T)
         J = -P_avg / P_SCALE + REG_WEIGHT * sums.reg + p_sym[5] * sums.slack / max(1, len(rec.U))
         self.nlp = {"x": ca.vertcat(*vs.parts), "p": p_sym, "f": J, "g": ca.vertcat(*cs.g)}

@@ -12,7 +12,11 @@
 - boundaries (:func:`add_boundaries`): start position fixed, ``d(T_1) = d_tf``, continuity
   between the phases (position, airspeed, angles; tether length ``l = d_tf``), periodicity
   back to the start (airspeed, flight-path angle, heading + ``2 pi k``; ``l = d0``),
-  ``T_1 + T_2 <= t_max``.
+  ``T_1 + T_2 <= t_max``;
+- a reference's smoothness, where its bounds ask for it (:func:`add_smoothness`): the bank's
+  and the angle of attack's change between neighbouring intervals, around the whole cycle,
+  within a rate; the slack line's catch at the end of recovery (:func:`add_catch`) within a
+  closing speed.
 
 Every row is scaled (divided by a typical size) and named (``CycleNLP.g_names``).
 """
@@ -26,7 +30,7 @@ from typing import Any
 import casadi as ca
 
 from .energy import ideal_generator_current
-from .layout import STATE_SCALE, TIME_SCALE, PhaseLayout
+from .layout import CONTROL_SCALE, STATE_SCALE, TIME_SCALE, PhaseLayout
 from .model import GEN_STATES, CycleModel
 from .problem import Bounds, CycleProblem
 
@@ -135,3 +139,37 @@ def add_boundaries(cs: Constraints, problem: CycleProblem, gen: PhaseLayout, rec
     cs.add(xe2[5] - x0[5] - 2 * math.pi * kwrap, 0.0, 0.0, "periodic_psi")
     cs.add((xe2[6] - problem.d0) / 100.0, 0.0, 0.0, "periodic_l")
     cs.add((gen.T + rec.T) / TIME_SCALE, 0.0, problem.bounds.t_max / TIME_SCALE, "t_max")
+
+
+def add_smoothness(cs: Constraints, bnd: Bounds, gen: PhaseLayout, rec: PhaseLayout) -> None:
+    """The rows of the reference's rate bounds (:attr:`Bounds.bank_rate_max`,
+    :attr:`Bounds.alpha_rate_max`): between neighbouring intervals ``a`` and ``b`` of the cycle
+    (generation, recovery, and from the recovery's last back to the generation's first, as the
+    cycles follow each other) ``|u_b - u_a| <= rate (h_a + h_b) / 2`` with ``h`` the intervals'
+    lengths [s]."""
+    for name, rate in (("phi", bnd.bank_rate_max), ("alpha", bnd.alpha_rate_max)):
+        if rate is None:
+            continue
+        seq = []
+        for ip, ph in enumerate((gen, rec)):
+            i = ph.controls.index(name)
+            hs = ph.lengths(ph.T)
+            seq += [(ph.U[k][i], hs[k], f"p{ip}_{k}") for k in range(ph.n)]
+        sc = CONTROL_SCALE[name]
+        for a in range(len(seq)):
+            (ua, ha, tag), (ub, hb, _) = seq[a], seq[(a + 1) % len(seq)]
+            step, reach = (ub - ua) / sc, rate * 0.5 * (ha + hb) / sc
+            cs.add(step - reach, -ca.inf, 0.0, f"rate_{name}_up_{tag}")
+            cs.add(step + reach, 0.0, ca.inf, f"rate_{name}_down_{tag}")
+
+
+def add_catch(cs: Constraints, model: CycleModel, bnd: Bounds, rec: PhaseLayout, d: int, wind: Any) -> None:
+    """The row of the line's catch (:attr:`Bounds.catch_speed_max`): at the end of recovery
+    the glider's distance rate minus the reel speed of the last interval [m/s] (the speed at
+    which the slack closes as the line goes taut) at most the bound; ``wind`` the NLP's wind
+    parameters (north, east) [m/s]."""
+    if bnd.catch_speed_max is None:
+        return
+    xe = rec.X[-1][d]
+    closing = model.distance_rate(xe[:6], wind) - rec.U[-1][rec.controls.index("v_reel")]
+    cs.add(closing / 5.0, -ca.inf, bnd.catch_speed_max / 5.0, "catch")

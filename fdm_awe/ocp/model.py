@@ -168,6 +168,11 @@ class CycleModel:
         reference height's ``wind`` (the same objects for the uniform profile)."""
         return self.wind_profile.wind_at((wind[0], wind[1]), -z)
 
+    def distance_rate(self, x: Sequence[Any], wind: Sequence[Any]) -> Any:
+        """The glider's distance rate ``ddot`` [m/s] at state ``x`` (its first six entries) in the
+        reference height's ``wind`` (north, east) [m/s], met at the glider's height."""
+        return self._pm(self.gen_airframe, self.wind_at(wind, x[2])).distance_rate(x)
+
     def _line_wind_offset(self, wind: Sequence[Any], z: Any) -> tuple[Any, Any] | None:
         """The glider's wind minus the line's (:func:`fdm_awe.wind.line_height`) [m/s], north and
         east, at NED height ``z`` [m]; None for the uniform profile (no difference)."""

@@ -96,6 +96,17 @@ class Bounds:
     #: be reproduced by integrating its controls)
     gamma_max: float = 1.0
     cl_margin: float = 1.0  #: usable share of C_Lmax (1 = up to stall); < 1 keeps a margin for a reference to be flown
+    #: how fast the reference may change its bank [rad/s] and its angle of attack [rad/s]: each
+    #: control's change between neighbouring intervals, across both phase switches too, at most
+    #: the rate times the mean of the two intervals' lengths (None: unbounded, the optimiser's
+    #: own answer). A smoothness bound for a reference to be flown: the 6-DOF glider follows a
+    #: held-control step only with its surfaces' fast motion
+    bank_rate_max: float | None = None
+    alpha_rate_max: float | None = None
+    #: how fast the slack line may go taut at the end of recovery [m/s]: the glider's distance
+    #: rate minus the reel speed of the last interval (None: any speed; the point mass switches
+    #: to the generator's tension at once, the elastic line of the 6-DOF plant snaps taut)
+    catch_speed_max: float | None = None
 
     def validate(self) -> None:
         def pos(name: str, v: float) -> None:
@@ -122,8 +133,11 @@ class Bounds:
             raise InputError(f"h_min = {self.h_min!r} m out of range (allowed >= 0)")
         if 2 * self.T_phase_min > self.t_max:
             raise InputError(f"t_max = {self.t_max:g} s leaves no room for two phases of at least {self.T_phase_min:g} s")
-        if self.reel_in_speed_max is not None:
-            pos("reel_in_speed_max", self.reel_in_speed_max)
+        for n in ("reel_in_speed_max", "bank_rate_max", "alpha_rate_max"):
+            if getattr(self, n) is not None:
+                pos(n, getattr(self, n))
+        if self.catch_speed_max is not None and not (math.isfinite(self.catch_speed_max) and self.catch_speed_max >= 0):
+            raise InputError(f"catch_speed_max = {self.catch_speed_max!r} m/s out of range (allowed >= 0)")
 
 
 @dataclass(frozen=True)
