@@ -66,6 +66,7 @@ NUMERIC = [
     (["fly", "--wind-from", "nan"], ("--wind-from", "-360..360")),
     (["fly", "--gamma-max", "0"], ("--gamma-max", "0.1..1.5")),
     (["fly", "--bank-rate-max", "0"], ("--bank-rate-max", "0.01..10 rad/s")),
+    (["fly", "--v-min", "0.5"], ("--v-min", "1..20 m/s")),
     (["fly", "--alpha-rate-max", "inf"], ("--alpha-rate-max", "0.01..10 rad/s")),
     (["fly", "--catch-speed-max", "-1"], ("--catch-speed-max", "0..30 m/s")),
     (["optimize", "--bank-rate-max", "11"], ("--bank-rate-max", "0.01..10 rad/s")),
@@ -171,7 +172,7 @@ def test_options_a_reference_fixes_are_refused(tmp_path, no_work, capsys):
                           (["--line-weight"], "--line-weight"), (["--no-line-weight"], "--no-line-weight"),
                           (["--line", "paper"], "--line"), (["--line", "sized"], "--line"),
                           (["--bank-rate-max", "0.5"], "--bank-rate-max"), (["--alpha-rate-max", "0.2"], "--alpha-rate-max"),
-                          (["--catch-speed-max", "1"], "--catch-speed-max")]:
+                          (["--catch-speed-max", "1"], "--catch-speed-max"), (["--v-min", "10"], "--v-min")]:
         _refused(["fly", "--reference", str(REF), *extra], capsys, option, "fixes")
     _refused(["fly", "--allow-mismatch"], capsys, "--allow-mismatch", "--reference")
 
@@ -264,7 +265,11 @@ def test_smoothness_options_reach_the_problem_and_default_to_off():
     given = ["--bank-rate-max", "0.5", "--alpha-rate-max", "0.2", "--catch-speed-max", "1.5"]
     b = problem_from_args(sub["optimize"].parse_args(given)).bounds
     assert (b.bank_rate_max, b.alpha_rate_max, b.catch_speed_max) == (0.5, 0.2, 1.5)
-    fly_args = sub["fly"].parse_args(given)
+    fly_args = sub["fly"].parse_args(given + ["--v-min", "10"])
     fly_args.scenario, fly_args.config = "physical", "nominal"
     b = reference_problem(fly_args).bounds
     assert (b.bank_rate_max, b.alpha_rate_max, b.catch_speed_max, b.cl_margin, b.phi_max) == (0.5, 0.2, 1.5, 0.85, 0.8)
+    assert b.V_min == 10.0
+    fly_args = sub["fly"].parse_args([])
+    fly_args.scenario, fly_args.config = "physical", "nominal"
+    assert reference_problem(fly_args).bounds.V_min == 5.0

@@ -64,11 +64,12 @@ DEFAULT_SCENARIO = "physical"
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
                    "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight",
                    "generator": "--generator", "wind_profile": "--wind-profile",
-                   "wind_ref_height": "--wind-ref-height", "bank_rate_max": "--bank-rate-max",
+                   "wind_ref_height": "--wind-ref-height", "v_min": "--v-min", "bank_rate_max": "--bank-rate-max",
                    "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max"}
 
 
-def _flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None):
+def _flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
+                    v_min: float | None = None):
     from ..ocp.problem import Bounds
 
     # A reference to be flown keeps margins the optimiser's own optimum does not: C_L at most
@@ -77,9 +78,10 @@ def _flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float]
     # below Table 3's 1 rad: the paper nominal cycle at 3 m/s dives at -1 rad and climbs at +1 rad
     # within its 9.8 s recovery, which the 6-DOF glider does not follow (it stalls in the
     # climb); with 0.7 rad it is flown within 2 m RMS. ``smoothness``: the reference's rate and
-    # catch bounds given (--bank-rate-max, --alpha-rate-max, --catch-speed-max; none by default).
+    # catch bounds given (--bank-rate-max, --alpha-rate-max, --catch-speed-max; none by default);
+    # ``v_min`` [m/s] (--v-min): the airspeed bound, Table 3's 5 m/s when None.
     return Bounds(cl_margin=0.85, phi_max=0.8, **({} if gamma_max is None else {"gamma_max": gamma_max}),
-                  **(smoothness or {}))
+                  **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -112,6 +114,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                          generators=FLYABLE_GENERATORS)
     add_wind_profile_args(p, prefix="when it optimises the reference (not with --reference; a reference flies its own "
                                     "profile, JSBSim's wind set every step from the glider's altitude): ")
+    p.add_argument("--v-min", type=float, default=None, metavar="M_S",
+                   help="minimum airspeed of the optimised reference, 1..20 m/s (default 5, Table 3's; not with "
+                        "--reference): a margin above the wing's stall speed, 8.1 m/s at 1 g unfolded")
     add_smoothness_args(p, prefix="when it optimises the reference (not with --reference): ")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
@@ -152,6 +157,7 @@ def _check(args: argparse.Namespace) -> None:
     chk.number(args.realtime, "--realtime", 0.0, 1000.0, lo_open=True, what="pacing factor")
     chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
     chk.number(args.gamma_max, "--gamma-max", 0.1, 1.5, unit="rad", what="flight-path angle bound")
+    chk.number(args.v_min, "--v-min", 1.0, 20.0, unit="m/s", what="minimum airspeed of the reference")
     smoothness_bounds(args)
     args.turbulence = chk.turbulence(args.turbulence)
     from ..groundstation.lumped import parse_tether
@@ -203,7 +209,7 @@ def reference_problem(args: argparse.Namespace):
     return CycleProblem(scenario=args.scenario, config=args.config,
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
-                        bounds=_flyable_bounds(args.gamma_max, smoothness_bounds(args)),
+                        bounds=_flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
                         generator=args.generator,
@@ -216,7 +222,8 @@ def optimise_reference(problem):
 
     b = problem.bounds
     print(f"optimising a {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s (flyable bounds: "
-          f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad; "
+          f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad, "
+          f"V >= {b.V_min:g} m/s; "
           f"line drag x {problem.tether_drag_scale:g}{_smoothness_text(b)}) ...", file=sys.stderr)
     res = solve_cycle(problem)
     if not res.ok:
