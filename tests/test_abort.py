@@ -226,3 +226,48 @@ def test_fbwa_then_auto_rejoins_within_one_cycle():
     # after the rejoin segment the error is to the path itself
     m2 = (t >= 20.0 + ap.params["RJ_TIME"]) & (t < 20.0 + P) & np.isfinite(e)
     assert float(np.sqrt(np.mean(e[m2] ** 2))) < 5.0 and float(e[m2].max()) < 15.0
+
+
+# ------------------------------------------------------------------ lost-path failsafe
+def _lost_path_flight(params: dict[str, float], on_step=None, **kw):
+    ref = TrackingReference.from_ocp_file(NOMINAL)
+    h: dict = {}
+
+    def setup(ap, sim):
+        h["ap"] = ap
+        for name, value in params.items():
+            assert ap.params.try_set(name, value)[0]
+
+    rep = fly(ref, config="nominal", setup=setup, on_step=on_step, **kw)
+    return rep, h["ap"]
+
+
+def test_lost_path_failsafe_times_alike_in_compiled_blocks_and_python():
+    """A bound the calm flight exceeds (0.3 m) switches AUTO to RECOVER 1 s (FS_TRK_TIME) after
+    the error first rose above it: the compiled blocks hand every such step to the Python
+    autopilot, so the flight with and without a per-step hook switch at the same step."""
+    tight = {"FS_TRK_ERR": 0.3, "FS_TRK_TIME": 1.0}
+    runs = [_lost_path_flight(tight, on_step=hook, cycles=1, t_end=8.0) for hook in (None, lambda k, s, o: None)]
+    (rep_c, ap_c), (rep_p, ap_p) = runs
+    assert rep_c.loop["autopilot_compiled_steps"] > 0 and rep_p.loop["autopilot_compiled_steps"] == 0
+    for ap in (ap_c, ap_p):
+        assert ap.mode == "RECOVER"
+        fs = [(t, m) for t, m in ap.log if m.startswith("failsafe")]
+        assert len(fs) == 1 and "FS_TRK_ERR 0.3 m" in fs[0][1]
+        assert (fs[0][0], "mode AUTO -> RECOVER") in ap.log
+    assert [t for t, m in ap_c.log] == [t for t, m in ap_p.log]
+    off, ap = _lost_path_flight({**tight, "FS_TRK_ERR": 0.0}, cycles=1, t_end=8.0)
+    assert ap.mode == "AUTO" and not [m for _, m in ap.log if m.startswith("failsafe")]
+
+
+def test_moderate_turbulence_the_cycle_cannot_be_flown_in_ends_parked():
+    """Moderate turbulence on the sized line at 8 m/s (seed 1) throws the nominal glider 70 m off
+    its path within 25 s (without the failsafe it wandered at the stall speed with a slack line
+    for 100 s): the default failsafe (50 m for 5 s) takes it to RECOVER, which parks."""
+    rep, ap = _lost_path_flight({}, cycles=1, turbulence=("moderate", 1))
+    assert (ap.params["FS_TRK_ERR"], ap.params["FS_TRK_TIME"]) == (50.0, 5.0)
+    fs = [t for t, m in ap.log if m.startswith("failsafe")]
+    assert len(fs) == 1 and rep.status == "parked", (rep.status, rep.message)
+    err = np.asarray(rep.track_error, float)
+    k = int(round(fs[0] * 120))
+    assert np.all(err[k - 5 * 120 + 1:k + 1] > 50.0)  # above the bound for the whole FS_TRK_TIME

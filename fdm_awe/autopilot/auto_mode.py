@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..sixdof.state import SixDofState, Surfaces
-from .auto_step import (A_ARMED, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_G, A_G_ATT, A_GEN_RL_KP, A_IDEAL_WINCH,
+from .auto_step import (A_ARMED, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT, A_GEN_RL_KP, A_IDEAL_WINCH,
                         A_LINE_EA, A_MASS, A_PATH_TAU, A_PERIOD, A_RATIO, A_REC_TENSION, A_RHO, A_RJ_TIME, A_RL, A_S_F,
                         A_S_U, A_T1, A_THR_KI, A_THR_KP, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD,
                         A_WINCH_KL, A_WINCH_KT, GS_FX, GS_FZ, GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT, M_ERR,
@@ -26,7 +26,8 @@ from .auto_step import (A_ARMED, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_G, A_G_
                         O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD, O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL,
                         O_SEG, O_TC, O_THROTTLE, O_THRUST, O_W_D2, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_YAW,
                         PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX, R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED,
-                        R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS, REF_WHERE, REJOINED, auto_guide)
+                        R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS, REF_WHERE, REJOINED, TRACK_LOST,
+                        auto_guide)
 from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
 from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
@@ -47,6 +48,8 @@ class AutoStep:
         self.out = np.zeros(N_OUT)  #: the last step's results (``O_*``)
         self.rrow = np.zeros(N_REF)  #: the last step's reference row (``R_*``)
         self._gso = np.zeros(N_GSO)
+        #: the last step's position error exceeded FS_TRK_ERR (:data:`~.auto_step.TRACK_LOST`)
+        self.track_lost = False
         self._cache: tuple | None = None  # (reference, gate, arrays)
 
     def invalidate(self) -> None:
@@ -101,6 +104,7 @@ class AutoStep:
             p["THR_KP"], p["THR_KI"], tl.v_zero, tl.thrust_max_static)
         par[A_THRUSTER], par[A_G_ATT], par[A_RJ_TIME] = (1.0 if ap.thruster is not None else 0.0, ap.att.g,
                                                         p["RJ_TIME"])
+        par[A_FS_TRK_ERR] = p["FS_TRK_ERR"]
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,
                   np.asarray(g.k.vector(), float), cu, cf, gate.vector(), par, ap.att.law.gains.vector())
         self._cache = (ref, gate, arrays)
@@ -122,6 +126,7 @@ class AutoStep:
         flags = auto_guide(s._r, s._k, s._o, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem,
                            ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem, self.rrow, out)
         notes = []
+        self.track_lost = bool(flags & TRACK_LOST)
         if flags & REJOINED:
             notes.append("rejoin: on the path")
         if flags & PHASE_CHANGED:

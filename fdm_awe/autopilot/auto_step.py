@@ -63,8 +63,8 @@ N_GSO = 7
 #: ``par``: the cycle, the aircraft, the winch and the thrust loop
 (A_T1, A_PERIOD, A_FOLDABLE, A_FOLD_TIME, A_FOLD_LEAD, A_UNFOLD_LEAD, A_PATH_TAU, A_MASS, A_RHO, A_G, A_S_U, A_S_F,
  A_RATIO, A_IDEAL_WINCH, A_RL, A_LINE_EA, A_GEN_RL_KP, A_REC_TENSION, A_WINCH_KL, A_WINCH_KT, A_ARMED, A_THR_KP,
- A_THR_KI, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_G_ATT, A_RJ_TIME) = range(28)
-N_PAR = 28
+ A_THR_KI, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_G_ATT, A_RJ_TIME, A_FS_TRK_ERR) = range(29)
+N_PAR = 29
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
 #: of the last step [m] (NaN before the first), phase of the last step (0 generation, 1
 #: recovery, -1 another mode), the last step's length [s]; the guidance's integral, the thrust
@@ -74,8 +74,9 @@ M_SREF, M_TLAST, M_ERR, M_PHASE, M_DT = range(5)
 #: the glider's offsets from the path at the start (position m, velocity m/s, NED)
 M_RJ, M_RJ_T0, M_RJ_DP, M_RJ_DV = 5, 6, 7, 10
 N_MEM = 13
-#: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step
-PHASE_CHANGED, REJOINED = 1, 2
+#: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step, the
+#: position error exceeds ``par[A_FS_TRK_ERR]`` (> 0; the autopilot times it, FS_TRK_TIME)
+PHASE_CHANGED, REJOINED, TRACK_LOST = 1, 2, 4
 #: ``out``: the step's reference point (cycle, cycle time, phase, position, motor-on fraction,
 #: path rate), the guidance's command, the motor, fold, throttle and winch commands
 (O_CYCLE, O_TC, O_PHASE, O_SEG, O_RX, O_RY, O_RZ, O_RATE, O_ALPHA, O_MU, O_THRUST, O_ROLL, O_PITCH, O_YAW, O_CL,
@@ -90,7 +91,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     writes ``out`` and advances ``mem``, the guidance's position-error ``integral``
     (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
     ``motor_mem`` (:mod:`.motor`); ``rrow`` receives the reference's row (:data:`N_REF` values).
-    Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`; 0: none)."""
+    Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`, :data:`TRACK_LOST`; 0: none)."""
     t = row[0]
     t_last = mem[M_TLAST]
     dt = 0.0 if t_last != t_last else max(0.0, t - t_last)
@@ -153,6 +154,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, rrow[R_AX], rrow[R_AY], rrow[R_AZ], rrow[R_TENSION],
         px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max)
     mem[M_ERR] = err
+    if par[A_FS_TRK_ERR] > 0.0 and err > par[A_FS_TRK_ERR]:
+        flags |= TRACK_LOST
     if par[A_FOLDABLE] != 0.0:
         fold_cmd = fold_command(tc, par[A_T1], par[A_PERIOD], par[A_FOLD_TIME], par[A_FOLD_LEAD], par[A_UNFOLD_LEAD])
     else:

@@ -128,6 +128,8 @@ class Autopilot:
         self.airborne = True  #: no contact touched the ground at the last step
         #: ground-station link: (up now, was up once, time it was lost [s])
         self._gcs = (False, False, -math.inf)
+        #: when the AUTO steps' position error rose above FS_TRK_ERR [s] (NaN: it is below)
+        self._trk_since = math.nan
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -257,6 +259,7 @@ class Autopilot:
             return False
         if name != self.mode:
             self._note(f"mode {self.mode} -> {name}")
+            self._trk_since = math.nan  # the lost-path failsafe times from the new mode's steps
             if name == "RECOVER":
                 self.phase = "recovery"
                 self.recovery.stage = None  # a new recovery from wherever the glider is
@@ -432,7 +435,24 @@ class Autopilot:
         for text in notes:
             self._note(text)
         self.path_rate = self.auto.path_rate
+        self._track_failsafe(t)
         return surf, wcmd
+
+    def _track_failsafe(self, t: float) -> None:
+        """The lost-path failsafe after an AUTO step at time ``t`` [s]: a position error above
+        FS_TRK_ERR (> 0) for FS_TRK_TIME switches an armed glider in flight to RECOVER. The
+        compiled blocks hand every step with the error above the bound to this Python step
+        (:data:`~fdm_awe.autopilot.auto_step.TRACK_LOST`), so both time it alike."""
+        if not self.auto.track_lost:
+            self._trk_since = math.nan
+            return
+        if self._trk_since != self._trk_since:
+            self._trk_since = t
+        p = self.params
+        if t - self._trk_since >= p["FS_TRK_TIME"] and self.armed and self.airborne:
+            self._note(f"failsafe: {self.track_error:.1f} m from the path for {t - self._trk_since:.1f} s "
+                       f"(FS_TRK_ERR {p['FS_TRK_ERR']:g} m)")
+            self.set_mode("RECOVER")
 
     def kernel_arrays(self) -> tuple | None:
         """The arrays of a compiled block (:func:`fdm_awe.sim.autopilot_kernel.autopilot_steps`)

@@ -25,7 +25,8 @@ Status (``FlightReport.status``, :data:`FLIGHT_STATUSES`):
   at most :data:`LAND_SINK_MAX`, horizontal ground speed at most :data:`LAND_SPEED_MAX`, within
   :data:`LAND_RADIUS_MAX` of the winch); ground contact in RECOVER outside these bounds is a
   ``ground_contact`` (a crash), its message says which bound it broke;
-- ``parked``: the flight reached ``t_end`` in RECOVER holding on a short line (the
+- ``parked``: the flight reached ``t_end`` (or its time cap, e.g. after a failsafe) in RECOVER
+  holding on a short line (the
   autopilot's :attr:`~fdm_awe.autopilot.autopilot.Autopilot.parked`: REC_LAND 0, circling at
   REC_HOLD_ALT about the winch);
 - an event of the co-simulation (:data:`fdm_awe.sim.loop.STATUSES`: ``ground_contact``,
@@ -445,6 +446,11 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
     if interrupted:
         status, msg = "interrupted", (f"interrupted by the user at t = {res.sim_time_s:.2f} s, "
                                       f"{n_done} of {cycles} cycles complete")
+    elif status == "ok" and ap.mode == "RECOVER" and ap.parked:
+        # held in RECOVER at the end, also when a failsafe took the flight out of its cycles
+        d = float(np.linalg.norm(res.pos[-1]))
+        status, msg = "parked", (f"parked in the hold at t = {res.sim_time_s:.1f} s, {d:.0f} m from the winch, "
+                                 f"line {float(res.data[-1, COLUMNS.index('length')]):.0f} m")
     elif status == "ok" and not flown:
         status, msg = "incomplete", (f"time cap of {T_total:.1f} s reached with {n_done} of {cycles} cycles "
                                      f"complete")
@@ -456,10 +462,6 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
             status, msg = "landed", msg.replace("ground contact", "landed") + f", sink {v_down:.1f} m/s"
         else:
             msg += f", sink {v_down:.1f} m/s (a crash, not a landing: {why})"
-    elif status == "ok" and ap.mode == "RECOVER" and ap.parked:
-        d = float(np.linalg.norm(res.pos[-1]))
-        status, msg = "parked", (f"parked in the hold at t = {res.sim_time_s:.1f} s, {d:.0f} m from the winch, "
-                                 f"line {float(res.data[-1, COLUMNS.index('length')]):.0f} m")
     return status, msg
 
 
