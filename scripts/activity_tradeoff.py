@@ -123,33 +123,27 @@ def markdown(rows: list[dict]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from fdm_awe.fileio import atomic_write_text, check_output_file, write_json
+    from fdm_awe.fileio import atomic_write_text, write_json
+    from study_args import add_configs, add_outputs, check_outputs, choice_list, configs
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--config", default="nominal,foldable", help="configurations (default nominal,foldable)")
+    add_configs(ap)
     ap.add_argument("--variant", default=",".join(VARIANTS),
                     help=f"variants, comma list of {', '.join(VARIANTS)} (default all of them)")
     ap.add_argument("--cycles", type=int, default=3, help="cycles flown per run, 2..20 (default 3)")
-    ap.add_argument("--json", default=None, help="write the rows as JSON")
-    ap.add_argument("--report", default=None, help="write the markdown table")
+    add_outputs(ap)
     args = ap.parse_args(argv)
     try:
-        configs = [c.strip() for c in args.config.split(",")]
-        if not configs or any(c not in ("nominal", "foldable") for c in configs):
-            raise InputError(f"--config {args.config}: allowed nominal, foldable (comma list)")
-        variants = [v.strip() for v in args.variant.split(",")]
-        if not variants or any(v not in VARIANTS for v in variants):
-            raise InputError(f"--variant {args.variant}: allowed {', '.join(VARIANTS)} (comma list)")
+        cfgs = configs(args)
+        variants = choice_list(args.variant, "--variant", list(VARIANTS))
         if not 2 <= args.cycles <= 20:
             raise InputError(f"--cycles {args.cycles}: out of range (allowed 2..20)")
-        for opt, path in (("--json", args.json), ("--report", args.report)):
-            if path is not None:
-                check_output_file(path, opt)
+        check_outputs(args)
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     rows = []
-    for cfg in configs:
+    for cfg in cfgs:
         for v in variants:
             r = run(cfg, v, args.cycles)
             rows.append(r)

@@ -86,27 +86,23 @@ def markdown(rows: list[dict]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     from fdm_awe.sweep.spec import parse_floats
-    from fdm_awe.fileio import atomic_write_text, check_output_file, write_json
+    from fdm_awe.fileio import atomic_write_text, write_json
+    from study_args import add_configs, add_outputs, check_outputs, configs
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--wind", default="6,8,10,12", help="winds [m/s], comma list, each 0..25 (default 6,8,10,12)")
-    ap.add_argument("--config", default="nominal,foldable", help="configurations (default nominal,foldable)")
-    ap.add_argument("--json", default=None, help="write the rows as JSON")
-    ap.add_argument("--report", default=None, help="write the markdown table")
+    add_configs(ap)
+    add_outputs(ap)
     args = ap.parse_args(argv)
     try:
         winds = parse_floats(args.wind, "--wind", "m/s", 0.0, 25.0)
-        configs = [c.strip() for c in args.config.split(",")]
-        if not configs or any(c not in ("nominal", "foldable") for c in configs):
-            raise InputError(f"--config {args.config}: allowed nominal, foldable (comma list)")
-        for opt, path in (("--json", args.json), ("--report", args.report)):
-            if path is not None:
-                check_output_file(path, opt)
+        cfgs = configs(args)
+        check_outputs(args)
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     rows = []
-    for cfg in configs:
+    for cfg in cfgs:
         for w in winds:
             r = solve_point(cfg, w)
             rows.append(r)
