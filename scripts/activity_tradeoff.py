@@ -39,7 +39,7 @@ WIND_MPS = 8.0
 #: the variants: name -> extra Bounds fields over the flyable margins
 VARIANTS: dict[str, dict[str, float]] = {
     "optimum": {},
-    "V_min 10": {"V_min": 10.0},
+    "vmin10": {"V_min": 10.0},
     "rates": {"bank_rate_max": 0.3, "alpha_rate_max": 0.1},
     "catch": {"catch_speed_max": 1.0},
     "all": {"V_min": 10.0, "bank_rate_max": 0.3, "alpha_rate_max": 0.1, "catch_speed_max": 1.0},
