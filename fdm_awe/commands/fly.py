@@ -116,7 +116,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                                     "profile, JSBSim's wind set every step from the glider's altitude): ")
     p.add_argument("--v-min", type=float, default=None, metavar="M_S",
                    help="minimum airspeed of the optimised reference, 1..20 m/s (default 5, Table 3's; not with "
-                        "--reference): a margin above the wing's stall speed, 8.1 m/s at 1 g unfolded")
+                        "--reference): a margin above the open wing's stall speed")
     add_smoothness_args(p, prefix="when it optimises the reference (not with --reference): ")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "

@@ -115,15 +115,22 @@ def add_smoothness_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
     """``--bank-rate-max``, ``--alpha-rate-max``, ``--catch-speed-max``: the reference's
     smoothness bounds (:class:`fdm_awe.ocp.problem.Bounds`), each None (off) unless given;
     ``prefix`` opens the help texts."""
+    o = SMOOTHNESS_OPTIONS
     p.add_argument("--bank-rate-max", type=float, default=None, metavar="RAD_S",
                    help=prefix + "bound the bank's change between neighbouring control intervals, across the phase "
-                                 "switches too, to this rate, 0.01..10 rad/s (default: unbounded). Smoother to fly, "
-                                 "at a cost in power")
+                                 f"switches too, to this rate, {_range(o['bank_rate_max'])} (default: unbounded). "
+                                 "Smoother to fly, at a cost in power")
     p.add_argument("--alpha-rate-max", type=float, default=None, metavar="RAD_S",
-                   help=prefix + "the same for the angle of attack, 0.01..10 rad/s (default: unbounded)")
+                   help=prefix + f"the same for the angle of attack, {_range(o['alpha_rate_max'])} (default: unbounded)")
     p.add_argument("--catch-speed-max", type=float, default=None, metavar="M_S",
                    help=prefix + "bound the speed at which the slack line goes taut at the end of recovery (the "
-                                 "glider's distance rate minus the reel speed), 0..30 m/s (default: any)")
+                                 f"glider's distance rate minus the reel speed), {_range(o['catch_speed_max'])} "
+                                 "(default: any)")
+
+
+def _range(spec: tuple) -> str:
+    """``lo..hi unit`` of a :data:`SMOOTHNESS_OPTIONS` entry."""
+    return f"{spec[1]:g}..{spec[2]:g} {spec[3]}"
 
 
 def smoothness_bounds(args: argparse.Namespace) -> dict[str, float]:
