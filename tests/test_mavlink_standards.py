@@ -98,6 +98,24 @@ def test_statustext_on_mode_arm_and_phase_changes(link):
     assert st is not None and st.text == "phase generation -> recovery"
 
 
+def test_statustext_says_why_a_failsafe_changed_the_mode(link):
+    """The vehicle's failsafe notes go out as WARNING before the mode change they cause; its
+    other notes do not."""
+    link.vehicle.log = [(0.5, "rejoin: on the path")]
+    link.tx
+    link.step(2)
+    link.vehicle.log.append((1.0, "failsafe: 68.5 m from the path for 5.0 s (FS_TRK_ERR 50 m)"))
+    link.vehicle.mode = "RECOVER"
+    texts = []
+    st = link.wait_for("STATUSTEXT", lambda m: texts.append((m.text, m.severity)) or m.text.startswith("mode"))
+    assert st is not None
+    # a text over 50 characters arrives in chunks (tested above), the mode change after it
+    warned = "".join(t for t, sev in texts if sev == mav.MAV_SEVERITY_WARNING)
+    assert warned == "failsafe: 68.5 m from the path for 5.0 s (FS_TRK_ERR 50 m)"
+    assert texts[-1] == ("mode MANUAL -> RECOVER", mav.MAV_SEVERITY_NOTICE)
+    assert not [t for t, _ in texts if t.startswith("rejoin")]
+
+
 def test_flight_end_and_long_texts_go_out_in_chunks(link):
     msg = ("ground contact at x=12.3 m, y=-4.5 m, 14.2 m/s, sink 4.8 m/s (a crash, not a landing)")
     link.tx

@@ -10,6 +10,7 @@ length is a multiple of 50), which tells the receiver the text is complete.
 =================================  =================  =============================================
 change                             severity           text
 =================================  =================  =============================================
+failsafe (the autopilot's note)    WARNING            ``failsafe: 68.5 m from the path for 5.0 s ...``
 mode                               NOTICE             ``mode AUTO -> RECOVER``
 armed / disarmed                   NOTICE             ``armed`` / ``disarmed``
 cycling started / stopped          INFO               ``cycling started`` / ``cycling stopped``
@@ -73,11 +74,20 @@ class ChangeReporter:
     def __init__(self) -> None:
         self._vehicle: tuple[str, bool, bool] | None = None
         self._tel: tuple[str, bool, bool, bool] | None = None
+        self._notes_seen = 0  # entries of the vehicle's log already looked at
 
     def vehicle(self, ep: "MavlinkEndpoint", vehicle: Any) -> None:
-        """Compare the vehicle's mode, armed and cycling flags with the last look."""
+        """Compare the vehicle's mode, armed and cycling flags with the last look; before a mode
+        change, the failsafe notes of the vehicle's log (``log``: ``(t, text)`` entries, if it
+        keeps one) since the last look, which say why."""
         if vehicle is None:
             return
+        log = getattr(vehicle, "log", None)
+        if isinstance(log, list):
+            for _, text in log[self._notes_seen:]:
+                if str(text).startswith("failsafe"):
+                    ep.statustext(str(text), mav.MAV_SEVERITY_WARNING)
+            self._notes_seen = len(log)
         try:
             now = (str(vehicle.mode), bool(vehicle.armed), bool(vehicle.cycling))
         except Exception:  # noqa: BLE001 - a failing vehicle property is not a change
