@@ -71,7 +71,7 @@ def switch_share(controls: np.ndarray, phases: list[str], dt: float) -> tuple[fl
 def run(config: str, variant: str, cycles: int) -> dict:
     """Optimise and fly one variant; the row of the table."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.commands.fly import _flyable_bounds
+    from fdm_awe.commands.fly import flyable_bounds
     from fdm_awe.ocp.problem import CycleProblem
     from fdm_awe.ocp.solve import solve_cycle
     from fdm_awe.sim.flight import fly
@@ -79,7 +79,7 @@ def run(config: str, variant: str, cycles: int) -> dict:
 
     extra = dict(VARIANTS[variant])
     v_min = extra.pop("V_min", None)
-    bounds = _flyable_bounds(None, extra, v_min)
+    bounds = flyable_bounds(None, extra, v_min)
     pr = CycleProblem(scenario="physical", config=config, wind_speed=WIND_MPS, bounds=bounds).validate()
     row: dict = {"config": config, "variant": variant, "bounds": VARIANTS[variant]}
     t0 = time.perf_counter()

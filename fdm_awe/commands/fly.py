@@ -68,8 +68,10 @@ REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "-
                    "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max"}
 
 
-def _flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
-                    v_min: float | None = None):
+def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
+                   v_min: float | None = None):
+    """The bounds of a reference that ``fly`` optimises to fly it (below), as a
+    :class:`~fdm_awe.ocp.problem.Bounds`."""
     from ..ocp.problem import Bounds
 
     # A reference to be flown keeps margins the optimiser's own optimum does not: C_L at most
@@ -209,7 +211,7 @@ def reference_problem(args: argparse.Namespace):
     return CycleProblem(scenario=args.scenario, config=args.config,
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
-                        bounds=_flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min),
+                        bounds=flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
                         generator=args.generator,
