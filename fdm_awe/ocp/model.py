@@ -244,7 +244,7 @@ class CycleModel:
         dw = self._line_wind_offset(wind, x[2])
         pm = self._pm(self.gen_airframe, self.wind_at(wind, x[2]))
         d = mo.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
-        ddot = pm.distance_rate(x)
+        ddot = self.distance_rate(x, wind)
         duty = self.boost_duty(u)
         if self.scenario.tension_control:
             G = u[3]
