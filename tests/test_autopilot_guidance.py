@@ -221,12 +221,47 @@ def test_overspeed_on_a_taut_line_pulls_harder():
     assert radial[8.0, 10.0] - radial[0.0, 10.0] == pytest.approx(56.0, rel=1e-6)
 
 
+def test_reference_pull_on_a_slack_line_flies_the_references_radial_force():
+    """GUID_REFPULL, line not taut: the wing's force does not answer the measured radial line
+    pull (0 N or 30 N give the same command) and is the force of the measured-pull inversion
+    with the reference's tension in place of the measured one: the lift vector differs from the
+    plain inversion's (measured 0 N) by exactly the reference tension along the radius. A
+    measured force across the radius still counts."""
+    from fdm_awe.autopilot.tracking import RefPoint
+
+    g = load_glider()
+    m = g.unfolded.mass.mass
+    pos = np.array([80.0, 20.0, -120.0])
+    e_r = pos / np.linalg.norm(pos)
+    V = 14.0
+    vel = np.array([0.0, V, 0.0])
+    gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35,
+                          phi_max=1.1, thrust_max=0.0, energy_trade=0.0)
+    T_ref = 6.0
+    ref = RefPoint(0.0, 1, 0, pos, vel, np.zeros(3), V, 0.0, 0.0, 0.0, T_ref, 150.0, -2.0)
+
+    def lift(tf, pull):
+        gd = Guidance(gains, m, g.unfolded.aero, g.folded.aero)
+        c = gd.update(ref, pos, vel, np.zeros(3), tf, 0.0, 0.0, taut=False, ref_pull=pull)
+        return c, _lift_vector(gd, c, vel)
+
+    c0, l0 = lift(np.zeros(3), True)
+    c30, l30 = lift(-30.0 * e_r, True)
+    assert (c0.alpha, c0.mu) == pytest.approx((c30.alpha, c30.mu), abs=1e-12)
+    _, plain = lift(np.zeros(3), False)
+    e1 = vel / V
+    want = plain + T_ref * (e_r - float(e_r @ e1) * e1)  # the tension's part across the air velocity
+    np.testing.assert_allclose(l0, want, rtol=1e-6, atol=1e-9)
+    _, side = lift(np.array([0.0, 0.0, 5.0]) - float(np.array([0.0, 0.0, 5.0]) @ e_r) * e_r, True)
+    assert float(np.linalg.norm(side - l0)) > 1.0  # a tangential line force is still fed forward
+
+
 # ------------------------------------------------------------------ the scalar form vs the vectors
 def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
+def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut, ref_pull=False):
     """Guidance.update in its vector formulas (numpy on 3-vectors, dots summed left to right):
     the specification the scalar implementation follows operation by operation."""
     from fdm_awe.autopilot.guidance import blended_polar, cross, norm3
@@ -263,6 +298,9 @@ def _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut):
         if k.overspeed_tension > 0.0 and v_ref > 1.0:
             F_r += k.overspeed_tension * max(v0 - v_ref - k.overspeed_margin, 0.0)
         F = F - _dot(F, e_r) * e_r + F_r * e_r
+    elif ref_pull:
+        e_rr = ref.pos / max(norm3(ref.pos), 1e-6)
+        F = F + (ref.tension + _dot(tf, e_rr)) * e_rr
     va = vel - wind
     V = max(norm3(va), 1.0)
     e1 = va / V
@@ -342,9 +380,9 @@ def test_scalar_guidance_is_the_vector_formulas_bit_for_bit(variant):
                        phi=0.0, thrust=1.0, tension=float(rng.uniform(0.0, 60.0)), length=100.0, reel_speed=1.0)
         wind = np.array([rng.uniform(0.0, 12.0), rng.normal(0.0, 1.0), 0.0])
         tf = rng.normal(0.0, 30.0, 3)
-        fold, dt, taut = float(rng.uniform(0.0, 1.0)), 1.0 / 120.0, bool(i % 2)
-        want = _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut)
-        c = gd.update(ref, pos, vel, wind, tf, fold, dt, taut=taut)
+        fold, dt, taut, pull = float(rng.uniform(0.0, 1.0)), 1.0 / 120.0, bool(i % 2), bool(i % 4 in (0, 3))
+        want = _vector_guidance(gd, ref, pos, vel, wind, tf, fold, dt, taut, pull)
+        c = gd.update(ref, pos, vel, wind, tf, fold, dt, taut=taut, ref_pull=pull)
         got = (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error, list(gd.integral))
         assert got == want, (i, got, want)
 

@@ -58,14 +58,14 @@ def _cases(rng, n):
         t_max = (0.0, 3.0, 8.0)[i % 3]
         yield rng.uniform(-2.0, 2.0, 3), (m, 1.225, 9.81, s_u, s_f, *rp, *rv, *ra, float(rng.uniform(0.0, 60.0)), *pos,
                                           *vel, *wind, *tf, float(rng.uniform(0.0, 1.0)) if i % 4 else 0.0,
-                                          float(rng.uniform(0.005, 0.3)), bool(i % 2), t_max)
+                                          float(rng.uniform(0.005, 0.3)), bool(i % 2), t_max, bool(i % 5 in (1, 2)))
     level = (0.0, 0.0, -100.0)
     # F = m (a - g) = 0 along a level air velocity: no lift asked (mu 0)
     yield np.zeros(3), (m, 1.225, 9.81, s_u, s_f, *level, 15.0, 0.0, 0.0, 0.0, 0.0, 9.81, 0.0, *level, 15.0, 0.0, 0.0,
-                        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.01, False, 8.0)
+                        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.01, False, 8.0, False)
     # no airspeed (V held at 1 m/s, any horizontal axis), reference at rest in the air
     yield np.zeros(3), (m, 1.225, 9.81, s_u, s_f, *level, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, *level, 3.0, 0.0, 0.0,
-                        3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.01, True, 8.0)
+                        3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.01, True, 8.0, False)
 
 
 def _lines_run(fn, calls):
@@ -164,7 +164,7 @@ def test_guidance_update_is_the_step_and_follows_new_gains():
         mine = integral.copy()
         want = guidance_step(k.vector().tolist(), mine, gd.polar(0.3), gd.m, gd.rho, gd.g, gd.aero_u.S, gd.aero_f.S,
                              *ref.pos.tolist(), *ref.vel.tolist(), *ref.acc.tolist(), ref.tension, *pos.tolist(),
-                             *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max)
+                             *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max, False)
         c = gd.update(ref, pos, vel, wind, tf, 0.3, 0.01, taut=True)
         assert (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error) == want
         assert gd.integral is integral and integral.tolist() == mine.tolist() and integral[I_X] != 0.0

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..sixdof.state import SixDofState, Surfaces
-from .auto_step import (A_ARMED, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT, A_GEN_RL_KP,
+from .auto_step import (A_ARMED, A_CATCH_TIME, A_REF_PULL, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT, A_GEN_RL_KP,
                         A_IDEAL_WINCH, A_LINE_EA, A_MASS, A_PATH_TAU, A_PERIOD, A_RATIO, A_REC_TENSION, A_RHO,
                         A_RJ_TIME, A_RL, A_S_F, A_S_U, A_T1, A_THR_KI, A_THR_KP, A_THR_VZERO, A_THRUST_MAX_STATIC,
                         A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, GS_FX, GS_FZ, GS_LENGTH, GS_SLACK,
@@ -105,6 +105,7 @@ class AutoStep:
         par[A_THRUSTER], par[A_G_ATT], par[A_RJ_TIME] = (1.0 if ap.thruster is not None else 0.0, ap.att.g,
                                                         p["RJ_TIME"])
         par[A_FS_TRK_ERR] = p["FS_TRK_ERR"]
+        par[A_REF_PULL], par[A_CATCH_TIME] = p["GUID_REFPULL"], p["GUID_CATCH_T"]
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,
                   np.asarray(g.k.vector(), float), cu, cf, gate.vector(), par, ap.att.law.gains.vector())
         self._cache = (ref, gate, arrays)

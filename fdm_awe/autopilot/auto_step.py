@@ -63,8 +63,9 @@ N_GSO = 7
 #: ``par``: the cycle, the aircraft, the winch and the thrust loop
 (A_T1, A_PERIOD, A_FOLDABLE, A_FOLD_TIME, A_FOLD_LEAD, A_UNFOLD_LEAD, A_PATH_TAU, A_MASS, A_RHO, A_G, A_S_U, A_S_F,
  A_RATIO, A_IDEAL_WINCH, A_RL, A_LINE_EA, A_GEN_RL_KP, A_REC_TENSION, A_WINCH_KL, A_WINCH_KT, A_ARMED, A_THR_KP,
- A_THR_KI, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_G_ATT, A_RJ_TIME, A_FS_TRK_ERR) = range(29)
-N_PAR = 29
+ A_THR_KI, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_G_ATT, A_RJ_TIME, A_FS_TRK_ERR, A_REF_PULL,
+ A_CATCH_TIME) = range(31)
+N_PAR = 31
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
 #: of the last step [m] (NaN before the first), phase of the last step (0 generation, 1
 #: recovery, -1 another mode), the last step's length [s]; the guidance's integral, the thrust
@@ -135,6 +136,9 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
     valid = gso[GS_VALID] != 0.0
     taut = valid and gso[GS_SLACK] == 0.0 and phase == 0
+    # the reference's line pull, not the measured one, on a line that is not taut in recovery
+    # and while generation's first GUID_CATCH_T seconds catch it (guidance._air_force)
+    ref_pull = par[A_REF_PULL] != 0.0 and (phase != 0 or tc < par[A_CATCH_TIME])
     if valid:
         tx, ty, tz = gso[GS_FX], gso[GS_FY], gso[GS_FZ]
     else:
@@ -152,7 +156,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(
         gk, integral, polar, par[A_MASS], par[A_RHO], par[A_G], par[A_S_U], par[A_S_F],
         rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, rrow[R_AX], rrow[R_AY], rrow[R_AZ], rrow[R_TENSION],
-        px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max)
+        px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max, ref_pull)
     mem[M_ERR] = err
     if par[A_FS_TRK_ERR] > 0.0 and err > par[A_FS_TRK_ERR]:
         flags |= TRACK_LOST

@@ -195,13 +195,16 @@ class Guidance:
         dt: float,
         taut: bool = False,
         thrust_max: float | None = None,
+        ref_pull: bool = False,
     ) -> GuidanceCommand:
         """``taut``: the line is taut, so the radial motion is the winch's: the position loop
         then acts only on the sphere's tangent plane, and the radial aerodynamic force is the
         reference's (feeding the measured tension back would close a positive loop through
         the line: more pull -> more tension -> more pull). ``thrust_max`` [N]: the thrust
         available this step (None: the gains' ``thrust_max``; 0 with the motor stopped, so an
-        along-path force the glider lacks is traded through the flight path)."""
+        along-path force the glider lacks is traded through the flight path). ``ref_pull``: on a
+        line that is not taut, the line's radial pull in the force balance is the reference's
+        tension, not the measured one (see :func:`guidance_step`)."""
         gk = self.gains_vector()
         rpx, rpy, rpz = _xyz(ref.pos)
         rvx, rvy, rvz = _xyz(ref.vel)
@@ -214,7 +217,7 @@ class Guidance:
         return GuidanceCommand(*guidance_step(
             gk, self.integral, self.polar(fold), self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S,
             rpx, rpy, rpz, rvx, rvy, rvz, rax, ray, raz, ref.tension, px, py, pz, vx, vy, vz, wx, wy, wz,
-            tx, ty, tz, fold, dt, taut, t_max))
+            tx, ty, tz, fold, dt, taut, t_max, ref_pull))
 
 
 # ------------------------------------------------------------------ the step as pure functions
@@ -226,7 +229,7 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
                   s_u: float, s_f: float, rpx: float, rpy: float, rpz: float, rvx: float, rvy: float, rvz: float,
                   rax: float, ray: float, raz: float, tension: float, px: float, py: float, pz: float,
                   vx: float, vy: float, vz: float, wx: float, wy: float, wz: float, tx: float, ty: float, tz: float,
-                  fold: float, dt: float, taut: bool, t_max: float) -> tuple[float, ...]:
+                  fold: float, dt: float, taut: bool, t_max: float, ref_pull: bool) -> tuple[float, ...]:
     """One guidance step: the command ``(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)``
     [rad, rad, N, rad, rad, rad, -, m] (the fields of :class:`GuidanceCommand`).
 
@@ -238,7 +241,10 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     [m/s^2] and line tension ``tension`` [N]; the glider's position ``p*`` [m] and velocity
     ``v*`` [m/s], the wind ``w*`` [m/s] and the measured line force ``t*`` [N] on the glider,
     all NED; fold state ``fold`` [-], step ``dt`` [s]; ``taut``: the line is taut (see
-    :meth:`Guidance.update`); ``t_max``: the thrust available this step [N]."""
+    :meth:`Guidance.update`); ``t_max``: the thrust available this step [N]; ``ref_pull``: on a
+    line that is not taut, the radial part of the measured line force is replaced by the
+    reference's ``tension`` (the wing flies the reference's radial aerodynamic force, see
+    :func:`_air_force`)."""
     # e_p = p_ref - p, e_v = v_ref - v
     epx, epy, epz = rpx - px, rpy - py, rpz - pz
     evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
@@ -257,7 +263,7 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     v_ref, v0 = _norm(vrx, vry, vrz), _norm(vax, vay, vaz)
     afx, afy, afz = _path_feed_forward(rax, ray, raz, vrx, vry, vrz, v_ref, vax, vay, vaz, v0, gk[GK_CURVMAX])
     Fx, Fy, Fz = _air_force(gk, m, g, afx, afy, afz, cx, cy, cz, tx, ty, tz, taut, erx, ery, erz,
-                            rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0)
+                            rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0, ref_pull)
     alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max)
     return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
 
@@ -286,17 +292,34 @@ def _correction(gk: Floats, integral: np.ndarray, epx: float, epy: float, epz: f
 def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: float, cx: float, cy: float,
                cz: float, tx: float, ty: float, tz: float, taut: bool, erx: float, ery: float, erz: float,
                rpx: float, rpy: float, rpz: float, rax: float, ray: float, raz: float, tension: float,
-               v_ref: float, v0: float) -> Vec3:
+               v_ref: float, v0: float, ref_pull: bool) -> Vec3:
     """The force [N] the air (and the propeller) must provide, ``F = m (a_cmd - g) - F_tether``
     with ``a_cmd = a_ff + corr`` [m/s^2] and the measured line force ``t*`` [N] (mass ``m``
     [kg], gravity ``g`` [m/s^2]); on a taut line (``taut``, ``e_r``: the glider's radial unit
     vector) its radial part is the reference's (from its position ``rp*`` [m], acceleration
     ``ra*`` [m/s^2] and ``tension`` [N], plus the overspeed term; airspeeds ``v_ref``, ``v0``
-    [m/s] of reference and glider)."""
+    [m/s] of reference and glider).
+
+    On a line that is not taut with ``ref_pull``, the radial part of the measured line force is
+    replaced by the reference's ``tension`` along the reference's radial direction: the wing
+    flies the reference's radial aerodynamic force whatever the line does, and the position
+    loop (not projected: nothing else holds the radius) corrects the radius. The cycle uses it
+    in recovery, where a line pulled taut by the reel-in would otherwise close the positive
+    loop of the taut line (more pull -> more tension -> more pull) through the winch's speed
+    loop, and while generation's slack line is being caught: the reference's tension, shaped
+    across the phase switch, then rises smoothly where the measured one jumps from nothing to
+    the generator's within a fraction of a second, and the wing's force no longer steps at
+    the catch."""
     Fx = m * ((afx + cx) - 0.0) - tx
     Fy = m * ((afy + cy) - 0.0) - ty
     Fz = m * ((afz + cz) - g) - tz
     if not taut:
+        if ref_pull:
+            # F + (tension + t . e_r) e_r: the measured radial pull out, the reference's in
+            dn = max(_norm(rpx, rpy, rpz), 1e-6)
+            ex, ey, ez = rpx / dn, rpy / dn, rpz / dn
+            c = tension + (tx * ex + ty * ey + tz * ez)
+            return Fx + c * ex, Fy + c * ey, Fz + c * ez
         return Fx, Fy, Fz
     dn = max(_norm(rpx, rpy, rpz), 1e-6)
     F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
