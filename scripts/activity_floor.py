@@ -12,12 +12,13 @@ the second part, a floor no autopilot can go below on this reference:
   reference's own state: no position or velocity error, the line at the reference's tension
   (taut in generation after the catch window, the reference's pull elsewhere); its attitude
   (Euler roll and pitch) and angle of attack are what the glider must fly there;
-- the surfaces follow from the aircraft's derivatives and inertia as the attitude law uses them
-  (read from the JSBSim model at the open and the folded wing, blended linearly in the fold
-  state of the fold law, as the model blends them): aileron for ``I_xx d2(roll)/dt2`` against
-  the roll damping, elevator for ``I_yy d2(pitch)/dt2`` against the static and damping pitching
-  moments, rudder cancelling the aileron's adverse yaw (``Cn_da``), each limited to full
-  deflection;
+- the surfaces follow from the moments ``I_xx d2(roll)/dt2`` and ``I_yy d2(pitch)/dt2``
+  through the attitude law's own inversion (:func:`fdm_awe.sixdof.attitude_law.surface_deflections`:
+  the free roll damping and the static and damping pitching moments subtracted), with the
+  aircraft's derivatives and inertia read from the JSBSim model at the open and the folded
+  wing and blended linearly in the fold state of the fold law, as the model blends them; the
+  rudder cancels the aileron's adverse yaw (``Cn_da``) at the deflection flown; each is limited
+  to full deflection;
 - the activity of these three series, measured as a flight's.
 
 Left out, so the number is a floor: sideslip and its moments, the yaw the path's turn rate
@@ -108,14 +109,20 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
     cn_da = (1.0 - fold) * n0 + fold * n1
     rate = np.gradient(np.unwrap(roll), dt)
     q = np.gradient(pitch, dt)
-    qbar = 0.5 * g.rho * V * V
-    S, b, cc = c[:, L.C_S], c[:, L.C_B], c[:, L.C_C]
-    da = (c[:, L.C_IXX] * np.gradient(rate, dt) / (qbar * S * b) - c[:, L.C_CL_P] * rate * b / (2 * V)) / c[:, L.C_CL_DA]
-    de = (c[:, L.C_IYY] * np.gradient(q, dt) / (qbar * S * cc) - c[:, L.C_CM0] - c[:, L.C_CM_ALPHA] * alpha
-          - c[:, L.C_CM_Q] * q * cc / (2 * V)) / c[:, L.C_CM_DE]
-    dr = -cn_da * da / c[:, L.C_CN_DR]
-    surfaces = [np.clip(x / c[:, lim], -1.0, 1.0) for x, lim in ((da, L.C_LIM_A), (de, L.C_LIM_E), (dr, L.C_LIM_R))]
-    act = control_activity(*surfaces, dt)
+    l_des = c[:, L.C_IXX] * np.gradient(rate, dt)
+    m_des = c[:, L.C_IYY] * np.gradient(q, dt)
+    qbar = np.maximum(0.5 * g.rho * V * V, 1.0)
+    surfaces = np.zeros((n, 3))
+    for k in range(n):
+        ck = c[k]
+        # the attitude law's own inversion (free moments subtracted; no sideslip, no yaw rate),
+        # then the rudder's yaw against the aileron's adverse yaw at the deflection flown
+        a, e, _ = L.surface_deflections(ck, qbar[k], V[k], alpha[k], 0.0, rate[k], q[k], 0.0, m_des[k], l_des[k],
+                                        0.0, True)
+        n_des = -qbar[k] * ck[L.C_S] * ck[L.C_B] * cn_da[k] * a * ck[L.C_LIM_A]
+        surfaces[k] = a, e, L.surface_deflections(ck, qbar[k], V[k], alpha[k], 0.0, rate[k], q[k], 0.0, m_des[k],
+                                                  l_des[k], n_des, True)[2]
+    act = control_activity(*surfaces.T, dt)
     return {"config": config, "cycles": cycles, "period_s": ref.period, **act.as_dict()}
 
 

@@ -45,6 +45,11 @@ def test_law_commands_compiled_equals_python_on_every_branch():
     """Bit for bit on random inputs: commands and the updated integrators; every saturation,
     NaN -> 0, the integrators' limits and both flags reached."""
     numba = pytest.importorskip("numba", reason="numba is not installed: nothing compiled to compare")
+    from numba.extending import register_jitable
+
+    from fdm_awe.sixdof.attitude_law import surface_deflections
+
+    register_jitable(surface_deflections)
     jit = numba.njit(law_commands)
     rnd = random.Random(3)
     seen = set()

@@ -24,7 +24,7 @@ import math
 from typing import Any
 
 from ..sixdof.adapter import JSBSimGlider
-from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, wrap_angle
+from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, surface_deflections, wrap_angle
 from ..sixdof.row import ALPHA, BETA, FBX, FBY, FBZ, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE, THETA, VT
 from ..sixdof.state import SixDofState
 
@@ -76,7 +76,7 @@ def attitude_from_row(row: Any, scale: Any, alpha_cmd: float, roll_cmd: float, d
 
 #: the pure functions :func:`attitude_commands` and :func:`attitude_from_row` call (a compiled
 #: caller registers them with ``numba.extending.register_jitable``)
-CALLED = (path_rate, wrap_angle, law_commands, attitude_commands)
+CALLED = (path_rate, wrap_angle, surface_deflections, law_commands, attitude_commands)
 
 
 class AttitudeLoops:

@@ -25,7 +25,8 @@ relative to: the caller's (the stabiliser: the coordinated-turn yaw rate; the au
 rotation of the air-velocity vector on its curved path). The bank error is the caller's too.
 Derivatives and inertia are re-read when the fold state moves by 1e-3 or more, cached otherwise.
 
-The arithmetic is one pure function, :func:`law_commands` (floats and float64 vectors: numba
+The arithmetic is one pure function, :func:`law_commands` (its moment demands turned into
+deflections by :func:`surface_deflections`; floats and float64 vectors: numba
 compiles it for the co-simulation kernel, Python runs the same source; so is the angle wrap
 of the callers' bank and heading errors, :func:`wrap_angle`); :class:`AttitudeLaw`
 holds its coefficient vector (layout ``C_*``), reads the state and keeps the integrators
@@ -133,7 +134,7 @@ def law_commands(c: Any, gains: Any, qbar: float, vt: float, alpha: float, beta:
     # max/min and clipping spelled out: the same operations run by Python and compiled by numba
     if 1.0 > qbar:
         qbar = 1.0
-    S, b, cc = c[C_S], c[C_B], c[C_C]
+    S, b = c[C_S], c[C_B]
     # pitch
     e_a = alpha_cmd - alpha
     ia = integ[I_ALPHA] + e_a * dt
@@ -151,6 +152,17 @@ def law_commands(c: Any, gains: Any, qbar: float, vt: float, alpha: float, beta:
     l_des = c[C_IXX] * (w * w * e_phi - 2 * gains[G_Z_PHI] * w * (p - p_ref))
     # yaw
     n_des = -c[C_IZZ] * 2 * gains[G_W_R] * (r - r_ref) + gains[G_K_BETA] * qbar * S * b * c[C_CN_BETA] * beta
+    return surface_deflections(c, qbar, vt, alpha, beta, p, q, r, m_des, l_des, n_des, invert)
+
+
+def surface_deflections(c: Any, qbar: float, vt: float, alpha: float, beta: float, p: float, q: float, r: float,
+                        m_des: float, l_des: float, n_des: float, invert: bool) -> tuple[float, float, float]:
+    """Surface commands ``(aileron, elevator, rudder)`` normalised to [-1, 1] (NaN gives 0) that
+    give the moment demands ``m_des`` (pitch), ``l_des`` (roll), ``n_des`` (yaw) [N m] with the
+    coefficient vector ``c`` at dynamic pressure ``qbar`` [Pa, >= 1] and airspeed ``vt`` [m/s],
+    ``alpha``, ``beta`` [rad], body rates ``p, q, r`` [rad/s]; ``invert``: the free moments are
+    subtracted (else the elevator's trim is added) -- the second half of :func:`law_commands`."""
+    S, b, cc = c[C_S], c[C_B], c[C_C]
     # moment demands -> deflections, rad
     qSb = qbar * S * b
     if invert:
