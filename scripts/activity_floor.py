@@ -75,6 +75,7 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
     """The floor (see the module doc) of ``reference`` (a :class:`TrackingReference`, as the
     optimiser wrote it) flown as ``config`` for ``cycles`` periods: the surface series' band RMS
     above 0.5 Hz and their total, full deflections."""
+    from fdm_awe.autopilot.auto_step import reference_pull
     from fdm_awe.autopilot.fold import fold_command, reference_fold_time
     from fdm_awe.autopilot.guidance import GK_THRUST_MAX, guidance_step
     from fdm_awe.autopilot.shaping import flyable_reference
@@ -99,10 +100,11 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
             f = fold_command(tc, ref.T1, ref.period, fold_time, p["FOLD_LEAD"], p["UNFOLD_LEAD"])
         pos, vel, acc = (np.asarray(x, float) for x in (r.pos, r.vel, r.acc))
         e_r = pos / max(float(np.linalg.norm(pos)), 1e-6)
-        taut = r.phase == 0 and tc >= p["GUID_CATCH_T"]
+        pull = reference_pull(True, r.phase, tc, p["GUID_CATCH_T"])
+        taut = r.phase == 0 and not pull  # generation's line, taut once caught
         tf = -r.tension * e_r if taut else np.zeros(3)
         cmd = guidance_step(gk, np.zeros(3), g.polar(f), g.m, g.rho, g.g, g.aero_u.S, g.aero_f.S, *pos, *vel, *acc,
-                            r.tension, *pos, *vel, *wind, *tf, f, 0.0, taut, gk[GK_THRUST_MAX], not taut)
+                            r.tension, *pos, *vel, *wind, *tf, f, 0.0, taut, gk[GK_THRUST_MAX], pull)
         alpha[k], roll[k], pitch[k] = cmd[0], cmd[3], cmd[4]
         V[k], fold[k] = float(np.linalg.norm(vel - wind)), f
     c = (1.0 - fold)[:, None] * c0[None, :] + fold[:, None] * c1[None, :]

@@ -85,6 +85,14 @@ PHASE_CHANGED, REJOINED, TRACK_LOST = 1, 2, 4
 N_OUT = 24
 
 
+def reference_pull(on: bool, phase: int, tc: float, catch_time: float) -> bool:
+    """Whether the guidance counts a line that is not taut with the reference's pull, not the
+    measured one (GUID_REFPULL ``on``; :func:`.guidance._air_force`): in recovery (``phase`` 1)
+    and while generation's first ``catch_time`` [s] (GUID_CATCH_T) of cycle time ``tc`` [s]
+    catch the slack line."""
+    return on and (phase != 0 or tc < catch_time)
+
+
 def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_table: Arr, segs: Arr, gk: Arr, cu: Arr,
                cf: Arr, gate: Arr, par: Arr, mem: Arr, integral: Arr, thr_state: Arr, motor_mem: Arr, rrow: Arr,
                out: Arr) -> int:
@@ -136,9 +144,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
     valid = gso[GS_VALID] != 0.0
     taut = valid and gso[GS_SLACK] == 0.0 and phase == 0
-    # the reference's line pull, not the measured one, on a line that is not taut in recovery
-    # and while generation's first GUID_CATCH_T seconds catch it (guidance._air_force)
-    ref_pull = par[A_REF_PULL] != 0.0 and (phase != 0 or tc < par[A_CATCH_TIME])
+    ref_pull = reference_pull(par[A_REF_PULL] != 0.0, phase, tc, par[A_CATCH_TIME])
     if valid:
         tx, ty, tz = gso[GS_FX], gso[GS_FY], gso[GS_FZ]
     else:
@@ -201,4 +207,4 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
-          cycle_winch_values) + GUIDANCE_CALLED + (polar_at, guidance_step, auto_guide)
+          cycle_winch_values) + GUIDANCE_CALLED + (polar_at, guidance_step, reference_pull, auto_guide)
