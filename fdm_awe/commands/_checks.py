@@ -8,14 +8,17 @@ cost nothing at start-up.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import socket
+import stat
 from pathlib import Path
 from typing import Iterable, Sequence
 
 from ..errors import InputError
-from ..fileio import check_output_dir, check_output_file
+from ..fileio import (check_input_dir, check_input_file, check_name_length, check_output_dir, check_output_file,
+                      lock_folder)
 
 #: JSBSim turbulence seeds: a positive 32-bit signed integer (JSBSim's random generator seed)
 SEED_MIN, SEED_MAX = 1, 2**31 - 1
@@ -73,50 +76,96 @@ def integer(value: int | None, option: str, lo: int, hi: int | None = None, *, w
 def outputs(files: Sequence[tuple[str, str | os.PathLike | None]] = (),
             dirs: Sequence[tuple[str, str | os.PathLike | None]] = (),
             inputs: Iterable[str | os.PathLike | None] = (),
-            dir_files: Sequence[tuple[str, str | os.PathLike]] = ()) -> None:
-    """Check every output of a run before the work starts.
+            dir_files: Sequence[tuple[str, str | os.PathLike]] = ()) -> contextlib.ExitStack:
+    """Check every output of a run before the work starts; returns the locks of the output
+    folders, to be held (``with``) until the run's last file is written.
 
     ``files`` and ``dirs`` are ``(option, path)`` pairs (None: not asked for); ``dir_files``
     are the files the run will write inside those folders (``option`` there names the folder's
-    option). Every path must differ from every other; the files are checked first (no side
-    effects), then the folders (created when missing), then the files whose folder that made. No path may be an input of the run (``inputs``, and always the
-    definition files, :func:`definition_files`) or the output of another option.
+    option). Every path must differ from every other after symbolic links are resolved (a file
+    an output folder writes is that folder option's, even when another option names it); the
+    files are checked first (no side effects), then the folders (created when missing, then
+    locked: :func:`fdm_awe.fileio.lock_folder`, a second run into the same folder is refused
+    while the first runs), then the files whose folder that made. No path may be an input of
+    the run (``inputs``, and always the definition files, :func:`definition_files`) or the
+    output of another option.
     """
     ins = [i for i in inputs if i is not None] + definition_files()
     seen: dict[Path, str] = {}
+    seen_ids: dict[tuple[int, int], str] = {}
 
     def distinct(option: str, p: Path) -> None:
-        key = Path(os.path.abspath(p))
+        check_name_length(p, option)
+        key = Path(os.path.realpath(p))
         if key in seen:
             raise InputError(f"{option} {p}: also the output of {seen[key]}; choose another path")
         seen[key] = option
+        try:
+            st = os.stat(p)
+        except OSError:
+            return
+        ident = (st.st_dev, st.st_ino)
+        if ident in seen_ids and stat.S_ISREG(st.st_mode):  # two names of one file (a hard link)
+            raise InputError(f"{option} {p}: the same file as the output of {seen_ids[ident]}; choose another path")
+        seen_ids[ident] = option
 
-    folders = [Path(os.path.abspath(d)) for _, d in dirs if d is not None]
+    for option, path in dirs:
+        if path is not None:
+            check_name_length(path, option)
+    folders = [Path(os.path.realpath(d)) for _, d in dirs if d is not None]
 
     def in_folder(path: str | os.PathLike) -> bool:
-        a = Path(os.path.abspath(path))
+        a = Path(os.path.realpath(path))
         return any(f in a.parents for f in folders)
 
     # a file inside an output folder that does not exist yet is checked once the folder is made;
     # every other path first (no side effects)
-    pending = [(o, p) for o, p in files if p is not None and in_folder(p)] + list(dir_files)
-    for option, path in [(o, p) for o, p in files if p is not None and not in_folder(p)] + pending:
+    outside = [(o, p) for o, p in files if p is not None and not in_folder(p)]
+    pending = list(dir_files) + [(o, p) for o, p in files if p is not None and in_folder(p)]
+    for option, path in outside + pending:
         distinct(option, Path(path))
     for option, path in dirs:
         if path is not None:
             distinct(option, Path(path))
     later = []
-    for option, path in [(o, p) for o, p in files if p is not None and not in_folder(p)] + pending:
-        parent = Path(os.path.abspath(path)).parent
+    for option, path in outside + pending:
+        parent = Path(os.path.realpath(path)).parent
         if parent in folders and not parent.is_dir():
             later.append((option, path))  # the folder option creates it
         else:
             check_output_file(path, option, ins)
-    for option, path in dirs:
-        if path is not None:
-            check_output_dir(path, option, ins)
-    for option, path in later:
-        check_output_file(path, option, ins)
+    locks = contextlib.ExitStack()
+    try:
+        for option, path in dirs:
+            if path is not None:
+                check_output_dir(path, option, ins)
+                locks.enter_context(lock_folder(path, option))
+        for option, path in later:
+            check_output_file(path, option, ins)
+    except BaseException:
+        locks.close()
+        raise
+    return locks
+
+
+def io_file(path: str | os.PathLike | None, option: str, inputs: Iterable[str | os.PathLike | None] = ()) -> None:
+    """A file the run reads and writes back (``fly --params``): a regular file or a new name in
+    a writable folder, not another input (``inputs`` and the definition files); None passes."""
+    if path is None:
+        return
+    check_output_file(path, option, [i for i in inputs if i is not None] + definition_files())
+
+
+def input_file(path: str | os.PathLike | None, option: str) -> None:
+    """An input file: an existing regular file (not a folder, a device or a FIFO); None passes."""
+    if path is not None:
+        check_input_file(path, option)
+
+
+def input_dir(path: str | os.PathLike | None, option: str) -> None:
+    """An input folder: an existing folder; None passes."""
+    if path is not None:
+        check_input_dir(path, option)
 
 
 def definition_files() -> list[Path]:
@@ -199,5 +248,6 @@ def scheduler_address(address: str | None, option: str = "--scheduler") -> str |
     return address
 
 
-__all__ = ["MAVLINK_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS", "definition_files", "integer",
-           "mavlink_url", "number", "outputs", "scheduler_address", "turbulence"]
+__all__ = ["MAVLINK_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS", "definition_files",
+           "input_dir", "input_file", "integer", "io_file", "mavlink_url", "number", "outputs", "scheduler_address",
+           "turbulence"]

@@ -169,12 +169,16 @@ def _check(args: argparse.Namespace) -> None:
     from ..recording.stream import check_live_args
 
     check_live_args(args)
+    chk.input_file(args.reference, "--reference")  # a regular file: a FIFO or a device would block or never end
     if args.mavlink_key is not None:
         if not args.mavlink:
             raise InputError("--mavlink-key: only with --mavlink (there is no link to sign)")
         from ..mavlink.signing import load_key
 
+        chk.input_file(args.mavlink_key, "--mavlink-key")
         args.signing_key = load_key(args.mavlink_key)  # checked before any work (one line)
+    # read now and written back on every PARAM_SET: a regular file or a new name in a writable folder
+    chk.io_file(args.params, "--params", inputs=[args.reference, args.mavlink_key])
     if args.reference is not None:
         given = [("--no-line-weight" if attr == "line_weight" and getattr(args, attr) is False else opt)
                  for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
@@ -278,8 +282,13 @@ def run(args: argparse.Namespace) -> int:
 
     params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
     out_dir = Path(args.out) if args.out else None
-    _check_outputs(args, out_dir, optimising=ref is None)
+    with _check_outputs(args, out_dir, optimising=ref is None):  # --out locked until the last file is written
+        return _run_checked(args, ref, problem, params, out_dir)
 
+
+def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, out_dir: Path | None) -> int:
+    """The work of :func:`run` once every input and output is checked: optimise the reference
+    (without ``--reference``), fly, print, write the outputs; returns the exit code."""
     if ref is None:
         ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
     else:
@@ -308,17 +317,18 @@ def _read_reference(args: argparse.Namespace) -> Any:
     return ref
 
 
-def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: bool) -> None:
+def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: bool) -> Any:
     """Every output path checked before any work: ``--json``, ``--rrd``, ``--out`` and the files
-    it will hold (with an optimised reference's file when ``optimising``), none an input."""
+    it will hold (with an optimised reference's file when ``optimising``), none an input; the
+    names ``--out`` gives its files (``flight.rrd`` too) are its own, even when ``--rrd`` takes
+    the recording elsewhere. Returns the lock of ``--out`` (:func:`_checks.outputs`)."""
     from ..recording.outputs import output_files
 
-    planned = output_files(out_dir, "flight", args.rrd)
-    in_dir = [("--out", p) for k, p in planned.items() if out_dir and not (k == "rrd" and args.rrd)]
+    in_dir = [("--out", p) for p in output_files(out_dir, "flight").values()] if out_dir else []
     if out_dir and optimising:
         in_dir.append(("--out", out_dir / reference_file_name(args)))
-    chk.outputs(files=[("--json", args.json), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
-                inputs=[args.reference, args.params], dir_files=in_dir)
+    return chk.outputs(files=[("--json", args.json), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
+                       inputs=[args.reference, args.params, args.mavlink_key], dir_files=in_dir)
 
 
 def _optimised_reference(args: argparse.Namespace, problem: Any, out_dir: Path | None) -> tuple[Any, Path | None, str]:

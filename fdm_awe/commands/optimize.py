@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
 
@@ -300,9 +301,17 @@ def run(args: argparse.Namespace) -> int:
     traj = trajectory_path(args)
     from ..recording.outputs import output_files
 
-    chk.outputs(files=[("--json", args.json), ("--trajectory", traj), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
-                dir_files=[("--out", p) for k, p in output_files(args.out, "cycle", args.rrd).items()
-                           if args.out and not (k == "rrd" and args.rrd)])
+    # the names --out gives its files (cycle.rrd too) are its own, even when --rrd takes the recording elsewhere
+    locks = chk.outputs(files=[("--json", args.json), ("--trajectory", traj), ("--rrd", args.rrd)],
+                        dirs=[("--out", args.out)],
+                        dir_files=[("--out", p) for p in output_files(args.out, "cycle").values()] if args.out else [])
+    with locks:  # --out locked until the last file is written
+        return _run_checked(args, problem, traj)
+
+
+def _run_checked(args: argparse.Namespace, problem: Any, traj: str | None) -> int:
+    """The work of :func:`run` once every option and output is checked: optimise, print, write
+    the outputs; returns the exit code."""
     from ..fileio import write_json
     from ..trajectory import write_reference
     from ..ocp.solve import get_nlp, solve_cycle

@@ -168,14 +168,27 @@ def run(args: argparse.Namespace) -> int:
     if args.compare is not None:  # report-only: nothing is solved, the sweep options play no part
         from ..sweep.compare import run_compare
 
+        chk.input_dir(args.out, "--out")  # both folders are inputs here
+        chk.input_dir(args.compare, "--compare")
         chk.outputs(files=[("--json", args.json)])
         return run_compare(args.out, args.compare, args.json)
     spec = build_spec(args)
     from ..sweep.report import output_files
 
-    chk.outputs(files=[("--json", args.json)], dirs=[("--out", args.out)],
-                dir_files=[("--out", p) for p in output_files(args.out).values()])
-    from ..fileio import write_json
+    locks = chk.outputs(files=[("--json", args.json)], dirs=[("--out", args.out)],
+                        dir_files=[("--out", p) for p in output_files(args.out).values()])
+    with locks:  # --out locked until the last file is written: a second sweep into it is refused
+        return _run_checked(args, spec)
+
+
+def _run_checked(args: argparse.Namespace, spec) -> int:
+    """The work of :func:`run` once every option and output is checked: solve the missing
+    points (or none, ``--report-only``), write the outputs; returns the exit code."""
+    from pathlib import Path
+
+    from ..fileio import remove_stale_parts, write_json
+
+    remove_stale_parts(Path(args.out) / "points")  # point files a killed sweep left half-written
     from ..sweep.execute import run_sweep
     from ..sweep.report import write_outputs
 
