@@ -5,9 +5,12 @@ and the start of a flight stay fast. Every command prints a human summary and wr
 JSON with ``--json``.
 
 Outputs: every output path is checked before any work starts (its folder exists and is
-writable, it is not a folder, not an input of the run, not the output of another option);
-files are written under a temporary name and renamed when complete, so no reader ever sees a
-truncated file; JSON has no NaN: a NaN or infinite number is written as ``null``.
+writable, its names fit the file system, it is a regular file or a new name, not an input of
+the run, not the output of another option, compared after resolving links); files are written
+under a temporary name and renamed when complete, so no reader ever sees a truncated file (the
+temporary files of killed runs are removed by the next run); an ``--out`` folder is locked for
+the run, a second run into it meanwhile is refused; JSON has no NaN: a NaN or infinite number is
+written as ``null``.
 
 Exit codes: 0 success; 1 the work ran but did not succeed (a failed optimisation, a flight
 ended by an event, an incomplete sweep); 2 bad input (a one-line error naming the option or

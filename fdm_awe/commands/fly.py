@@ -22,10 +22,13 @@ an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--p
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
 Checks before any work (one line, exit 2): every number in range, the turbulence seed
-(1..2**31-1), the MAVLink URL (form, port, host resolves), every output path (writable, not
-an input such as ``--reference`` or ``--params``). Outputs are written atomically; the JSON
-writes NaN as ``null`` (e.g. the tracking error of a cycle without reference points) and
-records the turbulence level and seed (``"turbulence": {"level", "seed"}`` or ``null``).
+(1..2**31-1), the MAVLink URL (form, port, host resolves), the input files (``--reference``,
+``--mavlink-key``: regular files; ``--params``: a regular file or a new name in an existing
+folder), every output path (writable, a regular file or a new name, not an input such as
+``--reference``, ``--mavlink-key`` or ``--params``); ``--out`` is locked for the run. Outputs
+are written atomically; the JSON writes NaN as ``null`` (e.g. the tracking error of a cycle
+without reference points) and records the turbulence level and seed (``"turbulence": {"level",
+"seed"}`` or ``null``).
 
 Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
 RTL or the link-loss failsafe) ended it landed or parked; 1 it ended

@@ -13,8 +13,9 @@ two differ by more than 0.5 W.
 
 Every option is checked before the cluster starts (numbers in range, list items not empty,
 ``--scheduler`` a ``[SCHEME://]HOST:PORT`` address whose host resolves, ``--out``/``--json``
-writable); bad input is one line and exit 2. The outputs are written atomically; the JSON
-writes NaN as ``null``.
+writable); bad input is one line and exit 2. ``--out`` is locked while the sweep runs: a second
+sweep into it is refused (exit 2). The outputs are written atomically; the JSON writes NaN as
+``null``.
 
 ``--compare OTHER_DIR`` solves nothing: it compares the points of ``--out`` with those of
 another sweep's folder (:mod:`fdm_awe.sweep.compare`; exit 0 when they agree within 0.5 W or
