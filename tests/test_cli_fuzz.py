@@ -57,6 +57,7 @@ NEEDS = {("fly", "--mavlink-key"): ["--mavlink", "udpout:127.0.0.1:14550"],
 _RANGES = "issue 28 items 1-3 (option values): {} accepted, no upper bound"
 _NAMING = "issue 28 items 1-3 (option values): the exit-2 line does not name the option"
 _TRACEBACK = "issue 28 items 1-3 (option values): sweep --wing-area -1 ends in a traceback"
+_LATE = "issue 28 items 1-3 (option values): a --mavlink address to listen on is tried only when the flight starts"
 XFAIL: dict[tuple[str, str, str], str] = {
     ("optimize", "--d-tf", "1e9"): _RANGES.format("--d-tf 1e9 m"),
     ("optimize", "--v-max", "1e9"): _RANGES.format("--v-max 1e9 m/s"),
@@ -66,7 +67,14 @@ XFAIL: dict[tuple[str, str, str], str] = {
     ("sweep", "--folded-drag-area", "-1"): _NAMING,
     ("sweep", "--fold-time", "-1"): _NAMING,
     ("sweep", "--wing-area", "-1"): _TRACEBACK,
+    ("fly", "--mavlink", "udpin:192.0.2.1:14550"): _LATE,
+    ("fly", "--mavlink", "tcpin:192.0.2.1:14550"): _LATE,
 }
+#: bad values of particular options, beyond those their kind gets: an address this machine cannot
+#: listen on (TEST-NET-1, RFC 5737), line models outside 2..200 segments
+EXTRA = {("fly", "--mavlink"): ["udpin:192.0.2.1:14550", "tcpin:192.0.2.1:14550"],
+         ("fly", "--tether"): ["lumped:1", "lumped:201"]}
+
 #: (command, option, value) cases that are valid by design: ``--stop-after N`` counts points and
 #: has no upper limit (a huge N never stops the sweep)
 VALID = {("sweep", "--stop-after", str(10**30))}
@@ -106,7 +114,7 @@ def _cases() -> list:
             if isinstance(action, (argparse._HelpAction, argparse._VersionAction)) or not action.option_strings:
                 continue
             option = action.option_strings[-1] if action.option_strings[0].startswith("--no-") else action.option_strings[0]
-            for value in _bad_values(action):
+            for value in _bad_values(action) + EXTRA.get((name, option), []):
                 if (name, option, value) in VALID:
                     continue
                 marks = ()
