@@ -67,3 +67,36 @@ def test_json_never_contains_nan(tmp_path):
     assert json.loads(text) == {"a": None, "b": [1.0, None, None], "c": [0, 1], "d": 1.5}
     write_json(tmp_path / "x.json", doc)
     assert json.loads((tmp_path / "x.json").read_text())["a"] is None
+
+
+def test_stale_temporary_files_are_only_those_of_dead_processes_of_this_host(tmp_path):
+    """:func:`remove_stale_parts` removes this host's temporary files of processes that ended
+    and nothing else: a live process's, another host's and files merely named alike stay."""
+    import subprocess
+    import sys
+
+    from fdm_awe.fileio import _host, remove_stale_parts
+
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()  # its pid names no process now (reaped)
+    host = _host()
+    stale = tmp_path / f".flight.csv.{dead.pid}@{host}.a1b2c3d4.part.csv"
+    live = tmp_path / f".flight.csv.{os.getpid()}@{host}.a1b2c3d4.part.csv"
+    other_host = tmp_path / f".flight.csv.{dead.pid}@{host}x.a1b2c3d4.part.csv"
+    probe = tmp_path / f".fdm-awe-probe.{dead.pid}@{host}.a1b2c3d4.part"
+    alike = tmp_path / ".flight.csv.a1b2c3d4.part.csv"  # an older name without its writer
+    for p in (stale, live, other_host, probe, alike):
+        p.write_text("")
+    assert sorted(remove_stale_parts(tmp_path)) == sorted([stale, probe])
+    assert sorted(os.listdir(tmp_path)) == sorted(p.name for p in (live, other_host, alike))
+
+
+def test_lock_folder_is_exclusive_and_leaves_nothing(tmp_path):
+    from fdm_awe.fileio import LOCK_NAME, lock_folder
+
+    with lock_folder(tmp_path, "--out"):
+        assert (tmp_path / LOCK_NAME).read_text().strip() == str(os.getpid())
+        with pytest.raises(InputError, match=f"--out .*another fdm-awe run \\(process {os.getpid()}\\)"):
+            lock_folder(tmp_path, "--out")
+    assert os.listdir(tmp_path) == []
+    lock_folder(tmp_path, "--out").close()  # free again
