@@ -113,7 +113,7 @@ def _cases() -> list:
         for action in sub._actions:
             if isinstance(action, (argparse._HelpAction, argparse._VersionAction)) or not action.option_strings:
                 continue
-            option = action.option_strings[-1] if action.option_strings[0].startswith("--no-") else action.option_strings[0]
+            option = action.option_strings[0]
             for value in _bad_values(action) + EXTRA.get((name, option), []):
                 if (name, option, value) in VALID:
                     continue
