@@ -138,6 +138,8 @@ def test_7_an_output_named_inside_out_that_out_writes_is_refused(tmp_path, no_wo
              "--rrd", "--out")
     _refused(["optimize", "--out", str(d), "--rrd", str(d / "cycle.rrd")], capsys, "--rrd", "--out")
     _refused(["optimize", "--out", str(d), "--json", str(d / "cycle.md")], capsys, "--json", "--out")
+    _refused(["sweep", "--wind", "8", "--out", str(d), "--json", str(d / "points" / "x.json")], capsys, "--json",
+             "points")
     assert not d.exists()
     # another name inside --out is fine: the run goes as far as its work
     with pytest.raises(WorkStarted):

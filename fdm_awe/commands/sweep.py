@@ -176,10 +176,25 @@ def run(args: argparse.Namespace) -> int:
     spec = build_spec(args)
     from ..sweep.report import output_files
 
+    _check_not_in_points(args)
     locks = chk.outputs(files=[("--json", args.json)], dirs=[("--out", args.out)],
                         dir_files=[("--out", p) for p in output_files(args.out).values()])
     with locks:  # --out locked until the last file is written: a second sweep into it is refused
         return _run_checked(args, spec)
+
+
+def _check_not_in_points(args: argparse.Namespace) -> None:
+    """``--json`` may not go into ``OUT/points/``: the point files (any name there may be one a
+    later sweep writes or reads as a point)."""
+    import os
+    from pathlib import Path
+
+    from ..errors import InputError
+
+    points = Path(os.path.realpath(args.out)) / "points"
+    if args.json is not None and Path(os.path.realpath(args.json)).parent == points:
+        raise InputError(f"--json {args.json}: inside the points/ folder of --out, which holds the sweep's point "
+                         f"files; choose another path")
 
 
 def _run_checked(args: argparse.Namespace, spec) -> int:
