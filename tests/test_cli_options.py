@@ -273,3 +273,41 @@ def test_smoothness_options_reach_the_problem_and_default_to_off():
     fly_args = sub["fly"].parse_args([])
     fly_args.scenario, fly_args.config = "physical", "nominal"
     assert reference_problem(fly_args).bounds.V_min == 5.0
+
+
+def _edited_reference(tmp_path: Path, name: str, edit) -> Path:
+    doc = json.loads(REF.read_text())
+    edit(doc)
+    p = tmp_path / f"{name}.json"
+    p.write_text(json.dumps(doc))
+    return p
+
+
+def _shift_last(col: str, by: float):
+    def f(doc):
+        doc["columns"][col][-1] += by
+    return f
+
+
+def _ramp_z(doc):
+    t = doc["columns"]["t"]
+    doc["columns"]["z"] = [z - 80.0 * ti / t[-1] for z, ti in zip(doc["columns"]["z"], t)]
+
+
+def _jump(doc):
+    doc["columns"]["x"][150] += 500.0
+
+
+@pytest.mark.parametrize("name,edit,words", [
+    ("last_x_moved", _shift_last("x", 100.0), ("columns.x[321]", "periodic", "allowed difference <= 0.0002 m")),
+    ("z_ramp", _ramp_z, ("columns.z[321]", "periodic")),
+    ("jump", _jump, ("columns.x[150]", "moves", "allowed <=")),
+    ("t_in_ms", lambda d: d["units"].update(t="ms"), ("units.t", "expected 's'")),
+    ("no_units", lambda d: d.pop("units"), ("units: missing",)),
+])
+def test_a_reference_that_is_not_one_continuous_periodic_cycle_in_si_units_is_not_flown(tmp_path, no_work, capsys, name,
+                                                                                      edit, words):
+    """Issue 28 item 13: each of these flew (status ok) before; now one line, exit 2, before the flight."""
+    p = _edited_reference(tmp_path, name, edit)
+    err = _refused(["fly", "--reference", str(p), "--cycles", "1"], capsys, str(p), *words)
+    assert err.startswith("fdm-awe fly: error: "), err
