@@ -319,7 +319,7 @@ def test_cli_rejects_bad_input(tmp_path, capsys):
     assert main(["sweep", "--wind", "3:x:1", "--out", str(tmp_path)]) == 2
     assert "--wind" in capsys.readouterr().err
     assert main(["sweep", "--wind", "5", "--fold-time", "-1.5", "--out", str(tmp_path)]) == 2
-    assert "fold time" in capsys.readouterr().err
+    assert "--fold-time" in capsys.readouterr().err  # the option, by its name
 
 
 def test_custom_glider_nlp_is_built_once_per_variant():
