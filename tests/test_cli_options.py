@@ -311,3 +311,63 @@ def test_a_reference_that_is_not_one_continuous_periodic_cycle_in_si_units_is_no
     p = _edited_reference(tmp_path, name, edit)
     err = _refused(["fly", "--reference", str(p), "--cycles", "1"], capsys, str(p), *words)
     assert err.startswith("fdm-awe fly: error: "), err
+
+
+SWEEP_DESIGN = [
+    # issue 28 item 11: -1 was a traceback (math domain error); the others did not name their option
+    (["--wing-area", "-1"], ("--wing-area '-1'", "-1 m2 out of range", "0.01..2 m2")),
+    (["--wing-area", "3"], ("--wing-area", "0.01..2 m2")),
+    (["--wing-area", "nan"], ("--wing-area",)),
+    (["--folded-span", "-1"], ("--folded-span '-1'", "> 0 m")),
+    (["--folded-span", "0"], ("--folded-span", "> 0 m")),
+    (["--folded-span", "5"], ("--folded-span '5'", "the unfolded span", "the definition's wing area")),
+    (["--wing-area", "0.05", "--folded-span", "0.9"], ("--folded-span '0.9'", "unfolded span", "--wing-area 0.05 m2")),
+    (["--folded-drag-area", "-1"], ("--folded-drag-area '-1'", "> 0 and < 0.1 m2")),
+    (["--folded-drag-area", "0.1"], ("--folded-drag-area", "> 0 and < 0.1 m2")),
+    (["--tether-range", "300:200"], ("--tether-range '300:200'", "0 < D0 < DTF")),
+    (["--tether-range", "0:250"], ("--tether-range", "0 < D0 < DTF")),
+    (["--tether-range", "200:inf"], ("--tether-range", "0 < D0 < DTF")),
+    (["--fold-time", "100"], ("--fold-time '100'", "0..60 s")),
+    (["--fold-time", "-1"], ("--fold-time", "0..60 s")),
+]
+
+
+@pytest.mark.parametrize("argv,words", SWEEP_DESIGN, ids=[" ".join(a) for a, _ in SWEEP_DESIGN])
+def test_sweep_design_values_name_their_option(argv, words, tmp_path, no_work, capsys):
+    _refused(["sweep", "--out", str(tmp_path / "sweep"), "--wind", "8", *argv], capsys, *words)
+    assert not (tmp_path / "sweep").exists()
+
+
+def test_sweep_design_values_in_range_pass(tmp_path):
+    from fdm_awe.commands.sweep import build_spec
+
+    args = build_parser().parse_args(["sweep", "--out", str(tmp_path / "s"), "--wind", "8", "--wing-area", "0.3,2",
+                                      "--folded-span", "0.4", "--folded-drag-area", "0.02", "--fold-time", "0,60",
+                                      "--tether-range", "150:250"])
+    spec = build_spec(args)
+    assert spec.wing_areas == (0.3, 2.0) and spec.folded_spans == (0.4,) and spec.fold_times == (0.0, 60.0)
+    assert spec.tether_ranges == ((150.0, 250.0),)
+
+
+def test_mavlink_key_that_is_not_a_file_says_what_it_is(tmp_path, no_work, capsys):
+    import os
+
+    fifo = tmp_path / "key.fifo"
+    os.mkfifo(fifo)
+    base = ["fly", "--reference", str(REF), "--mavlink", "udpout:127.0.0.1:14550", "--mavlink-key"]
+    _refused(base + [str(tmp_path)], capsys, f"--mavlink-key {tmp_path}", "is a folder")
+    _refused(base + [str(fifo)], capsys, "--mavlink-key", "not a regular file")
+    _refused(base + ["/dev/zero"], capsys, "--mavlink-key /dev/zero", "not a regular file")
+    _refused(base + [str(tmp_path / "none")], capsys, "--mavlink-key", "no such file")
+
+
+def test_params_errors_name_the_option(tmp_path, no_work, capsys):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    text = tmp_path / "text.json"
+    text.write_text(json.dumps({"params": {"WP_RADIUS": "far"}}))
+    base = ["fly", "--reference", str(REF), "--params"]
+    for path, words in ((bad, ("unreadable JSON",)), (text, ("parameter WP_RADIUS", "not a finite number")),
+                        (tmp_path, ("is a folder",))):
+        err = _refused(base + [str(path)], capsys, f"--params {path}", *words)
+        assert "<params>" not in err and "<parameter" not in err, err

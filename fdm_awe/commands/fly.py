@@ -273,10 +273,7 @@ def run(args: argparse.Namespace) -> int:
         args.scenario = args.scenario or DEFAULT_SCENARIO
         args.config = args.config or DEFAULT_CONFIG
         problem = reference_problem(args)
-    from ..autopilot.config import autopilot_params
-    from ..autopilot.params import ParamStore
-
-    params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
+    params = _autopilot_params(args.params)  # checked before any work
     out_dir = Path(args.out) if args.out else None
     _check_outputs(args, out_dir, optimising=ref is None)
 
@@ -293,6 +290,28 @@ def run(args: argparse.Namespace) -> int:
     report = _fly(args, ref, params, plant, scale, live)
     _print_summary(report, ref_label)
     return _finish(args, report, ref, ref_path, out_dir)
+
+
+def _autopilot_params(path: str | None, option: str = "--params") -> Any:
+    """The autopilot's parameters, from the file ``path`` (``--params``) when given: a JSON
+    parameter file, or a path where none exists yet (created at the first change). A folder, a
+    device, a FIFO or a malformed file is refused in one line naming ``option``."""
+    from ..autopilot.config import autopilot_params
+    from ..autopilot.params import ParamStore
+    from ..errors import DefinitionError
+
+    if path is None:
+        return autopilot_params()
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{option} {p}: is a folder (expected a JSON parameter file, created when missing)")
+    if p.exists() and not p.is_file():
+        raise InputError(f"{option} {p}: not a regular file (a device, FIFO or socket; expected a JSON parameter file, "
+                         f"created when missing)")
+    try:
+        return autopilot_params(store=ParamStore(p))
+    except DefinitionError as exc:
+        raise InputError(f"{option} {exc.path}: {exc.element}: {exc.problem}") from None
 
 
 def _read_reference(args: argparse.Namespace) -> Any:
