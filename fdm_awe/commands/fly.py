@@ -22,8 +22,11 @@ an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--p
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
 Checks before any work (one line, exit 2): every number in range, the turbulence seed
-(1..2**31-1), the MAVLink URL (form, port, host resolves), every output path (writable, not
-an input such as ``--reference`` or ``--params``). Outputs are written atomically; the JSON
+(1..2**31-1), the MAVLink URL (form, port, an IPv4 host; a listening address bound for a
+moment; a ``tcp`` client's connection tried once, within 3 s, and kept for the flight), the
+``--mavlink-key`` and ``--params`` files, the reference file (field by field, its units, one
+periodic and continuous cycle), ``--tether lumped:N`` only on the physical plant, every output
+path (writable, not an input such as ``--reference`` or ``--params``). Outputs are written atomically; the JSON
 writes NaN as ``null`` (e.g. the tracking error of a cycle without reference points) and
 records the turbulence level and seed (``"turbulence": {"level", "seed"}`` or ``null``).
 
@@ -134,8 +137,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV, a markdown report (and an optimised "
                                                 "reference's file) into DIR")
     p.add_argument("--mavlink", metavar="URL", nargs="?", const="udpout:127.0.0.1:14550",
-                   help="speak MAVLink 2 to a ground station: udpout|udpin|udp|tcp|tcpin:HOST:PORT, the host must "
-                        "resolve (default URL udpout:127.0.0.1:14550)")
+                   help="speak MAVLink 2 to a ground station: udpout|udpin|udp|tcp|tcpin:HOST:PORT, an IPv4 host; a "
+                        "listening address must be this machine's, a tcp ground station must accept the connection "
+                        "before the work (one attempt, 3 s) (default URL udpout:127.0.0.1:14550)")
     p.add_argument("--mavlink-key", metavar="FILE",
                    help="MAVLink 2 signing key: a 32-byte key file, or a one-line passphrase (hashed with SHA-256 like "
                         "MAVProxy's 'signing setup'); only signed commands are obeyed (needs --mavlink)")
@@ -273,23 +277,59 @@ def run(args: argparse.Namespace) -> int:
         args.scenario = args.scenario or DEFAULT_SCENARIO
         args.config = args.config or DEFAULT_CONFIG
         problem = reference_problem(args)
+    plant = flight_plant(args, ref)
+    from ..groundstation.lumped_state import check_tether_plant
+
+    check_tether_plant(args.tether, plant == "paper", _plant_why(args, plant))
     params = _autopilot_params(args.params)  # checked before any work
     out_dir = Path(args.out) if args.out else None
     _check_outputs(args, out_dir, optimising=ref is None)
+    link = _open_link(args)  # the MAVLink transport: a ground station that is not there is said now
+    try:
+        if ref is None:
+            ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
+        else:
+            ref_path = Path(args.reference)
+            ref_label = str(ref_path)
+        scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
+        from ..recording.stream import open_live
 
-    if ref is None:
-        ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
-    else:
-        ref_path = Path(args.reference)
-        ref_label = str(ref_path)
-    plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
-    scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
-    from ..recording.stream import open_live
+        live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
+        report = _fly(args, ref, params, plant, scale, live, link)
+        link = None  # the flight's MAVLink endpoint took it and closed it
+    finally:
+        if link is not None:
+            from ..mavlink.transport import close_link
 
-    live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-    report = _fly(args, ref, params, plant, scale, live)
+            close_link(link)
     _print_summary(report, ref_label)
     return _finish(args, report, ref, ref_path, out_dir)
+
+
+def flight_plant(args: argparse.Namespace, ref: Any) -> str:
+    """The plant that flies: ``--scenario``, else the reference's scenario (physical when it
+    names none)."""
+    if args.scenario:
+        return args.scenario
+    scenario = ref.meta.get("scenario") if ref is not None else None
+    return scenario if scenario in ("physical", "paper") else "physical"
+
+
+def _plant_why(args: argparse.Namespace, plant: str) -> str:
+    """What chose the plant ``plant``, for messages."""
+    if args.reference and args.scenario is None:
+        return f"the {plant} scenario of {args.reference}"
+    return f"--scenario {plant}"
+
+
+def _open_link(args: argparse.Namespace) -> Any:
+    """The ``--mavlink`` transport opened (a tcp client connected once, bounded in time), or
+    None without ``--mavlink``; one-line error naming the option when it cannot be opened."""
+    if not args.mavlink:
+        return None
+    from ..mavlink.transport import open_link
+
+    return open_link(args.mavlink)
 
 
 def _autopilot_params(path: str | None, option: str = "--params") -> Any:
@@ -364,9 +404,10 @@ class _FlightHooks:
     against the wall clock (``--realtime``) and the live viewer (``--spawn`` / ``--connect``,
     ``live``); all called after every step (:meth:`on_step`)."""
 
-    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None) -> None:
+    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None, link: Any = None) -> None:
         self.args = args
         self.live = live
+        self.link = link  #: the --mavlink transport, opened before the work (None: opened at set-up)
         self.endpoint: Any = None
         self.bar: Any = None
         self._hooks: list[Callable[[int, Any, Any], None]] = []
@@ -387,7 +428,8 @@ class _FlightHooks:
 
             endpoint = self.endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap,
                                                        signing_key=getattr(args, "signing_key", None),
-                                                       signing_key_file=args.mavlink_key)
+                                                       signing_key_file=args.mavlink_key, connection=self.link)
+            self.link = None  # the endpoint owns it now
             build = telemetry_builder(ap, sim)
 
             def link(k: int, s: Any, o: Any) -> None:
@@ -419,22 +461,29 @@ class _FlightHooks:
             h(k, s, o)
 
     def close(self) -> None:
-        """Close the progress bar, the MAVLink endpoint and the live viewer's stream."""
+        """Close the progress bar, the MAVLink endpoint (or the link no endpoint took) and the
+        live viewer's stream."""
         if self.bar is not None:
             self.bar.close()
         if self.endpoint is not None:
             self.endpoint.close()
+        elif self.link is not None:
+            from ..mavlink.transport import close_link
+
+            close_link(self.link)
+            self.link = None
         if self.live is not None:
             self.live.close()
 
 
-def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None) -> Any:
+def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None,
+         link: Any = None) -> Any:
     """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
     the report's wall time is the whole flight's, hooks included. The ground station on the
-    MAVLink link is told how the flight ended."""
+    MAVLink link (``link``, opened before the work; closed here) is told how the flight ended."""
     from ..sim import flight
 
-    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live)
+    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live, link)
     t0 = time.perf_counter()
     try:
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
