@@ -403,7 +403,8 @@ def test_a_mavlink_port_in_use_is_refused_at_once(no_work, capsys):
 
 
 def test_mavlink_host_without_ipv4_is_refused(no_work, capsys):
-    _refused(["fly", "--reference", str(REF), "--mavlink", "udpout:[::1]:14550"], capsys, "--mavlink", "no IPv4 address")
+    _refused(["fly", "--reference", str(REF), "--mavlink", "udpout:[::1]:14550"], capsys, "--mavlink",
+             "no IPv4 address")
 
 
 def test_a_tcp_ground_station_that_is_not_there_is_tried_once_before_the_flight(no_work, capsys):

@@ -328,7 +328,8 @@ def _result_from(path: Path) -> CycleResult:
     ref = read_reference(path)
     md = ref.metadata
     return CycleResult(md["scenario"], md["config"], md["wind_mps"], md["wind_from_deg"], "ok", "Solve_Succeeded",
-                       0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], k_wrap=md["k_wrap"], E_generated_J=1.0, E_thrust_J=2.0,
+                       0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], k_wrap=md["k_wrap"],
+                       E_generated_J=1.0, E_thrust_J=2.0,
                        E_reel_in_J=0.5, columns={k: ref[k].copy() for k in COLUMN_UNITS})
 
 
@@ -432,8 +433,8 @@ def test_periodicity_tolerance_is_what_the_optimiser_guarantees(tmp_path):
 def test_a_jump_between_consecutive_points_is_refused(tmp_path, name, i, by):
     doc = _doc()
     doc["columns"][name][i] += by
-    _refused(_write(tmp_path, doc), f"columns.{name}[{i}]", "the position moves", f"m from row {i - 1}", "largest airspeed",
-             "allowed <=")
+    _refused(_write(tmp_path, doc), f"columns.{name}[{i}]", "the position moves", f"m from row {i - 1}",
+             "largest airspeed", "allowed <=")
 
 
 def test_stored_references_move_within_the_continuity_bound():

@@ -228,5 +228,6 @@ def scheduler_address(address: str | None, option: str = "--scheduler") -> str |
     return address
 
 
-__all__ = ["MAVLINK_KINDS", "MAVLINK_LISTEN_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS", "definition_files", "integer",
+__all__ = ["MAVLINK_KINDS", "MAVLINK_LISTEN_KINDS", "SCHEDULER_SCHEMES",
+           "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS", "definition_files", "integer",
            "mavlink_url", "number", "outputs", "scheduler_address", "turbulence"]

@@ -405,7 +405,9 @@ def parse_floats(text: str, what: str, unit: str, lo: float | None = None, hi: f
     except ValueError:
         raise InputError(f"{what} {text!r} invalid (allowed: {allowed})") from None
     for v in vals:
-        if (lo is not None and (v <= lo if lo_open else v < lo)) or (hi is not None and (v >= hi if hi_open else v > hi)):
+        below = lo is not None and (v <= lo if lo_open else v < lo)
+        above = hi is not None and (v >= hi if hi_open else v > hi)
+        if below or above:
             raise InputError(f"{what} {text!r}: {v:g} {unit} out of range (allowed: {allowed})")
     return vals
 

@@ -68,8 +68,9 @@ row equal to its first within :data:`~fdm_awe.trajectory.schema.PERIODIC_TOL`, t
 optimiser's acceptance tolerance on its periodicity rows, the heading after ``2 pi k_wrap``;
 a continuous path: no position step between consecutive rows beyond the fastest ground speed,
 largest airspeed plus wind, times the time step, with the margin of
-:data:`~fdm_awe.trajectory.schema.CONTINUITY_FACTOR`). A malformed file raises :class:`~fdm_awe.errors.InputError` with one line
-naming the file, the field and the allowed range or form. It returns a
+:data:`~fdm_awe.trajectory.schema.CONTINUITY_FACTOR`). A malformed file raises
+:class:`~fdm_awe.errors.InputError` with one line naming the file, the field (with the row
+where it applies) and the allowed range or form. It returns a
 :class:`ReferenceTrajectory` with NumPy columns, the completed metadata (both wind forms,
 ``period_s``, ``tether_drag_scale``) and a ``sample(t)`` helper (:data:`REFERENCE_RULES`).
 :func:`write_reference` runs the same checks before it writes, atomically.
