@@ -44,6 +44,7 @@ def _with_motor(doc: dict, on) -> dict:
     d["metadata"]["motor_off"] = True
     c = d["columns"]
     d["columns"]["motor_on"] = [float(on(t, p)) for t, p in zip(c["t"], c["phase"])]
+    d["units"]["motor_on"] = "-"
     return d
 
 
@@ -73,6 +74,7 @@ def test_older_files_read_as_instantaneous_fold_and_running_motor():
 ])
 def test_malformed_plant_fields_are_refused_in_one_line(case, edit, match):
     d = _doc(FOLDABLE)
+    d["units"]["motor_on"] = "-"  # the unit the package writes, for the cases that add the column
     edit(d)
     with pytest.raises(InputError, match=match) as e:
         check_reference_document(d, "ref.json")
@@ -85,8 +87,8 @@ def test_written_reference_carries_fold_time_motor_mode_and_column(tmp_path):
     cols = {k: ref[k].copy() for k in COLUMN_UNITS}
     cols["motor_on"] = np.where(ref["T"] > 0.0, 1.0, 0.0)
     res = CycleResult(md["scenario"], md["config"], md["wind_mps"], md["wind_from_deg"], "ok", "Solve_Succeeded", 0.0, 0.0, 0,
-                      T1_s=md["T1_s"], T2_s=md["T2_s"], E_generated_J=1.0, E_thrust_J=2.0, E_reel_in_J=0.5, columns=cols,
-                      fold_time_s=2.0, motor_off=True)
+                      T1_s=md["T1_s"], T2_s=md["T2_s"], k_wrap=md["k_wrap"], E_generated_J=1.0, E_thrust_J=2.0,
+                      E_reel_in_J=0.5, columns=cols, fold_time_s=2.0, motor_off=True)
     back = read_reference(write_reference(res, tmp_path / "ref.json"))
     assert back.metadata["fold_time_s"] == 2.0 and back.metadata["motor_off"] is True
     np.testing.assert_array_equal(back["motor_on"], cols["motor_on"])

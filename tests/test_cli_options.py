@@ -6,6 +6,7 @@ before any work (the work functions are spies that fail the test when called).""
 from __future__ import annotations
 
 import json
+import socket
 import time
 from pathlib import Path
 
@@ -154,12 +155,19 @@ def test_mavlink_url_is_checked_before_the_flight(url, words, no_work, capsys):
     _refused(["fly", "--reference", str(REF), "--mavlink", url], capsys, "--mavlink", *words)
 
 
+def _free_port(kind: int = socket.SOCK_STREAM) -> int:
+    with socket.socket(socket.AF_INET, kind) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
 def test_mavlink_urls_of_every_kind_pass():
     from fdm_awe.commands._checks import MAVLINK_KINDS, mavlink_url, scheduler_address
 
+    port = _free_port()  # the listening kinds bind it for a moment
     for kind in MAVLINK_KINDS:
-        assert mavlink_url(f"{kind}:127.0.0.1:14550") == f"{kind}:127.0.0.1:14550"
-    assert mavlink_url("udpin:0.0.0.0:1") and mavlink_url("udpout:localhost:65535")
+        assert mavlink_url(f"{kind}:127.0.0.1:{port}") == f"{kind}:127.0.0.1:{port}"
+    assert mavlink_url(f"udpin:0.0.0.0:{_free_port(socket.SOCK_DGRAM)}") and mavlink_url("udpout:localhost:65535")
     assert scheduler_address("tcp://127.0.0.1:8786") and scheduler_address("127.0.0.1:8786")
 
 
@@ -273,3 +281,178 @@ def test_smoothness_options_reach_the_problem_and_default_to_off():
     fly_args = sub["fly"].parse_args([])
     fly_args.scenario, fly_args.config = "physical", "nominal"
     assert reference_problem(fly_args).bounds.V_min == 5.0
+
+
+def _edited_reference(tmp_path: Path, name: str, edit) -> Path:
+    doc = json.loads(REF.read_text())
+    edit(doc)
+    p = tmp_path / f"{name}.json"
+    p.write_text(json.dumps(doc))
+    return p
+
+
+def _shift_last(col: str, by: float):
+    def f(doc):
+        doc["columns"][col][-1] += by
+    return f
+
+
+def _ramp_z(doc):
+    t = doc["columns"]["t"]
+    doc["columns"]["z"] = [z - 80.0 * ti / t[-1] for z, ti in zip(doc["columns"]["z"], t)]
+
+
+def _jump(doc):
+    doc["columns"]["x"][150] += 500.0
+
+
+@pytest.mark.parametrize("name,edit,words", [
+    ("last_x_moved", _shift_last("x", 100.0), ("columns.x[321]", "periodic", "allowed difference <= 0.0002 m")),
+    ("z_ramp", _ramp_z, ("columns.z[321]", "periodic")),
+    ("jump", _jump, ("columns.x[150]", "moves", "allowed <=")),
+    ("t_in_ms", lambda d: d["units"].update(t="ms"), ("units.t", "expected 's'")),
+    ("no_units", lambda d: d.pop("units"), ("units: missing",)),
+])
+def test_a_reference_that_is_not_one_continuous_periodic_cycle_in_si_units_is_not_flown(tmp_path, no_work, capsys, name,
+                                                                                      edit, words):
+    """Issue 28 item 13: each of these flew (status ok) before; now one line, exit 2, before the flight."""
+    p = _edited_reference(tmp_path, name, edit)
+    err = _refused(["fly", "--reference", str(p), "--cycles", "1"], capsys, str(p), *words)
+    assert err.startswith("fdm-awe fly: error: "), err
+
+
+SWEEP_DESIGN = [
+    # issue 28 item 11: -1 was a traceback (math domain error); the others did not name their option
+    (["--wing-area", "-1"], ("--wing-area '-1'", "-1 m2 out of range", "0.01..2 m2")),
+    (["--wing-area", "3"], ("--wing-area", "0.01..2 m2")),
+    (["--wing-area", "nan"], ("--wing-area",)),
+    (["--folded-span", "-1"], ("--folded-span '-1'", "> 0 m")),
+    (["--folded-span", "0"], ("--folded-span", "> 0 m")),
+    (["--folded-span", "5"], ("--folded-span '5'", "the unfolded span", "the definition's wing area")),
+    (["--wing-area", "0.05", "--folded-span", "0.9"], ("--folded-span '0.9'", "unfolded span", "--wing-area 0.05 m2")),
+    (["--folded-drag-area", "-1"], ("--folded-drag-area '-1'", "> 0 and < 0.1 m2")),
+    (["--folded-drag-area", "0.1"], ("--folded-drag-area", "> 0 and < 0.1 m2")),
+    (["--tether-range", "300:200"], ("--tether-range '300:200'", "0 < D0 < DTF")),
+    (["--tether-range", "0:250"], ("--tether-range", "0 < D0 < DTF")),
+    (["--tether-range", "200:inf"], ("--tether-range", "0 < D0 < DTF")),
+    (["--fold-time", "100"], ("--fold-time '100'", "0..60 s")),
+    (["--fold-time", "-1"], ("--fold-time", "0..60 s")),
+]
+
+
+@pytest.mark.parametrize("argv,words", SWEEP_DESIGN, ids=[" ".join(a) for a, _ in SWEEP_DESIGN])
+def test_sweep_design_values_name_their_option(argv, words, tmp_path, no_work, capsys):
+    _refused(["sweep", "--out", str(tmp_path / "sweep"), "--wind", "8", *argv], capsys, *words)
+    assert not (tmp_path / "sweep").exists()
+
+
+def test_sweep_design_values_in_range_pass(tmp_path):
+    from fdm_awe.commands.sweep import build_spec
+
+    args = build_parser().parse_args(["sweep", "--out", str(tmp_path / "s"), "--wind", "8", "--wing-area", "0.3,2",
+                                      "--folded-span", "0.4", "--folded-drag-area", "0.02", "--fold-time", "0,60",
+                                      "--tether-range", "150:250"])
+    spec = build_spec(args)
+    assert spec.wing_areas == (0.3, 2.0) and spec.folded_spans == (0.4,) and spec.fold_times == (0.0, 60.0)
+    assert spec.tether_ranges == ((150.0, 250.0),)
+
+
+def test_mavlink_key_that_is_not_a_file_says_what_it_is(tmp_path, no_work, capsys):
+    import os
+
+    fifo = tmp_path / "key.fifo"
+    os.mkfifo(fifo)
+    base = ["fly", "--reference", str(REF), "--mavlink", "udpout:127.0.0.1:14550", "--mavlink-key"]
+    _refused(base + [str(tmp_path)], capsys, f"--mavlink-key {tmp_path}", "is a folder")
+    _refused(base + [str(fifo)], capsys, "--mavlink-key", "not a regular file")
+    _refused(base + ["/dev/zero"], capsys, "--mavlink-key /dev/zero", "not a regular file")
+    _refused(base + [str(tmp_path / "none")], capsys, "--mavlink-key", "no such file")
+
+
+def test_params_errors_name_the_option(tmp_path, no_work, capsys):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    text = tmp_path / "text.json"
+    text.write_text(json.dumps({"params": {"WP_RADIUS": "far"}}))
+    base = ["fly", "--reference", str(REF), "--params"]
+    for path, words in ((bad, ("unreadable JSON",)), (text, ("parameter WP_RADIUS", "not a finite number")),
+                        (tmp_path, ("is a folder",))):
+        err = _refused(base + [str(path)], capsys, f"--params {path}", *words)
+        assert "<params>" not in err and "<parameter" not in err, err
+
+
+# ------------------------------------------------------------------ issue 28 item 12: late errors come first
+
+
+@pytest.mark.parametrize("kind", ["udpin", "udp", "tcpin"])
+def test_a_mavlink_address_this_machine_cannot_listen_on_is_refused_at_once(kind, no_work, capsys):
+    """udpin:192.0.2.1 (a documentation address, not this machine's) exited 2 after 14 s."""
+    t0 = time.monotonic()
+    _refused(["fly", "--reference", str(REF), "--mavlink", f"{kind}:192.0.2.1:14550"], capsys, "--mavlink",
+             "cannot listen on 192.0.2.1:14550")
+    assert time.monotonic() - t0 < 5.0
+
+
+def test_a_mavlink_port_in_use_is_refused_at_once(no_work, capsys):
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen(1)
+        port = busy.getsockname()[1]
+        _refused(["fly", "--reference", str(REF), "--mavlink", f"tcpin:127.0.0.1:{port}"], capsys,
+                 f"cannot listen on 127.0.0.1:{port}")
+
+
+def test_mavlink_host_without_ipv4_is_refused(no_work, capsys):
+    _refused(["fly", "--reference", str(REF), "--mavlink", "udpout:[::1]:14550"], capsys, "--mavlink",
+             "no IPv4 address")
+
+
+def test_a_tcp_ground_station_that_is_not_there_is_tried_once_before_the_flight(no_work, capsys):
+    """tcp:127.0.0.1:1 printed "Connection refused sleeping" for 19 s; now one attempt, one
+    line, exit 2, before the flight (the flight is a spy that would fail the test)."""
+    port = _free_port()  # nobody listens there
+    t0 = time.monotonic()
+    rc = main(["fly", "--reference", str(REF), "--cycles", "1", "--quiet", "--mavlink", f"tcp:127.0.0.1:{port}"])
+    wall = time.monotonic() - t0
+    cap = capsys.readouterr()
+    assert rc == 2 and wall < 5.0, (rc, wall, cap.err)
+    err = cap.err.strip()
+    assert "\n" not in err and f"--mavlink 'tcp:127.0.0.1:{port}': cannot connect" in err and "one attempt" in err, err
+    assert "sleeping" not in cap.out + cap.err
+    from fdm_awe.mavlink.transport import TCP_CONNECT_TIMEOUT_S
+
+    fly_help = next(a.help for a in build_parser()._subparsers._group_actions[0].choices["fly"]._actions
+                    if "--mavlink" in a.option_strings)
+    assert f"one attempt, {TCP_CONNECT_TIMEOUT_S:g} s" in fly_help  # the help says the bound the link keeps
+
+
+def test_a_tcp_ground_station_is_connected_before_the_work_and_released(no_work):
+    """With a listening ground station, the connection is made once before the flight starts
+    (the flight spy is reached with the connection accepted) and closed when the run ends."""
+    from conftest import WorkStarted
+
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as srv:
+        srv.bind(("127.0.0.1", 0))
+        srv.listen(4)
+        srv.settimeout(5.0)
+        port = srv.getsockname()[1]
+        with pytest.raises(WorkStarted):
+            main(["fly", "--reference", str(REF), "--cycles", "1", "--quiet", "--mavlink", f"tcp:127.0.0.1:{port}"])
+        peer, _ = srv.accept()  # made before the flight was called
+        with peer:
+            peer.settimeout(5.0)
+            assert peer.recv(16) == b""  # and closed when the run ended
+        srv.settimeout(0.2)
+        with pytest.raises(socket.timeout):
+            srv.accept()  # exactly one connection
+
+
+@pytest.mark.parametrize("argv,why", [
+    (["--reference", str(DATA / "ref_paper_foldable_3mps.json"), "--tether", "lumped:200"],
+     "the paper scenario of " + str(DATA / "ref_paper_foldable_3mps.json")),
+    (["--scenario", "paper", "--tether", "lumped:20"], "--scenario paper"),
+], ids=["paper_reference", "scenario_paper"])
+def test_a_lumped_line_on_the_paper_plant_is_refused_before_the_work(argv, why, no_work, capsys):
+    """With the paper reference, lumped:200 exited 2 after 10 s with two lines; now one line
+    before the optimisation or the flight (both spies)."""
+    _refused(["fly", "--cycles", "1", *argv], capsys, f"--tether {argv[-1]}", "physical plant", why)

@@ -651,3 +651,57 @@ def test_tcp_url_works_and_survives_client_disconnect():
         ep.update(t, lambda: telemetry_at(t, v))
     assert ep.stats["handler_errors"] == 0
     ep.close()
+
+
+def test_tcp_client_on_a_link_opened_before_the_flight_and_bounded_reconnects():
+    """The vehicle as a TCP client (``tcp:``) on the link ``open_link`` opened (as ``fdm-awe fly``
+    opens it before the work): telemetry reaches the ground station and its commands are obeyed;
+    when the station goes away, the endpoint keeps running: one reconnection attempt per
+    RECONNECT_INTERVAL_S at most, each refused at once, no update slowed by retries."""
+    import socket as so
+
+    from fdm_awe.mavlink.transport import RECONNECT_INTERVAL_S, open_link
+
+    srv = so.socket(so.AF_INET, so.SOCK_STREAM)
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(1)
+    port = srv.getsockname()[1]
+    link = open_link(f"tcp:127.0.0.1:{port}")
+    peer, _ = srv.accept()  # the connection was made by open_link, before any endpoint
+    srv.close()
+    peer.setblocking(False)
+    v = StandInVehicle()
+    ep = MavlinkEndpoint(f"tcp:127.0.0.1:{port}", v, connection=link)
+    parser = mav.MAVLink(None, srcSystem=GCS_SYSID, srcComponent=190)
+    got = Counter()
+    t = 0.0
+    t_end = time.monotonic() + 5.0
+    while time.monotonic() < t_end and got["HEARTBEAT"] < 2:
+        t += 1 / 120
+        ep.update(t, lambda: telemetry_at(t, v))
+        try:
+            data = peer.recv(4096)
+        except BlockingIOError:
+            data = b""
+        for m in parser.parse_buffer(data) or []:
+            got[m.get_type()] += 1
+        time.sleep(0.0005)
+    assert got["HEARTBEAT"] >= 2
+    assert ep._conn is link
+    attempts = []
+    connect = link.do_connect
+    link.do_connect = lambda: (attempts.append(time.monotonic()), connect())
+    peer.close()  # the ground station goes away; nobody listens on the port any more
+    t_wall = time.monotonic()
+    worst = 0.0
+    while time.monotonic() - t_wall < 2.5 * RECONNECT_INTERVAL_S:
+        t += 1 / 120
+        t0 = time.monotonic()
+        ep.update(t, lambda: telemetry_at(t, v))
+        worst = max(worst, time.monotonic() - t0)
+        time.sleep(0.001)
+    assert worst < 0.5, worst  # no retry loop with sleeps inside an update
+    assert 1 <= len(attempts) <= 3, attempts  # at most one attempt per interval in 2.5 intervals
+    assert all(b - a >= 0.99 * RECONNECT_INTERVAL_S for a, b in zip(attempts, attempts[1:])), attempts
+    assert ep.stats["handler_errors"] == 0
+    ep.close()

@@ -124,7 +124,8 @@ def _result(problem: CycleProblem) -> CycleResult:
     ref = read_reference(DATA / "ref_physical_nominal_8mps.json")
     md = ref.metadata
     return CycleResult(problem.scenario, problem.config, md["wind_mps"], md["wind_from_deg"], "ok", "Solve_Succeeded",
-                       0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], E_generated_J=1.0, E_thrust_J=2.0,
+                       0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], k_wrap=md["k_wrap"],
+                       E_generated_J=1.0, E_thrust_J=2.0,
                        E_reel_in_J=0.5, columns={k: ref[k].copy() for k in COLUMN_UNITS}, problem=problem)
 
 

@@ -21,6 +21,7 @@ from fdm_awe.recording import (
 )
 from fdm_awe.recording.rrd import RrdFile
 from fdm_awe.recording.series import cycle_series, flight_series
+from fdm_awe.trajectory import COLUMN_UNITS
 
 DT = 1.0 / 120.0
 #: time stamps go through integer nanoseconds in the file: allow a few ns of rounding
@@ -93,7 +94,7 @@ def _reference_file(path, T1=8.0, T2=4.0, n1=33, n2=17, p_gen=10.0, p_thr=3.0, p
           "energies": {"E_generated_J": p_gen * T1, "E_thrust_J": p_thr * (T1 + T2), "E_reel_in_J": p_rw * T2,
                        "E_net_J": p_gen * T1 - p_thr * (T1 + T2) - p_rw * T2}}
     doc = {"format": "fdm-awe-reference-trajectory", "version": 1, "metadata": md,
-           "units": {}, "columns": {k: [float(v) for v in a] for k, a in cols.items()}}
+           "units": dict(COLUMN_UNITS), "columns": {k: [float(v) for v in a] for k, a in cols.items()}}
     path.write_text(json.dumps(doc))
     return path
 

@@ -319,7 +319,14 @@ def test_cli_rejects_bad_input(tmp_path, capsys):
     assert main(["sweep", "--wind", "3:x:1", "--out", str(tmp_path)]) == 2
     assert "--wind" in capsys.readouterr().err
     assert main(["sweep", "--wind", "5", "--fold-time", "-1.5", "--out", str(tmp_path)]) == 2
-    assert "fold time" in capsys.readouterr().err
+    assert "--fold-time" in capsys.readouterr().err  # the option, by its name
+
+
+@pytest.mark.parametrize("area", [-1.0, 0.0, math.nan, 5.0])
+def test_a_wing_area_out_of_range_is_an_input_error_not_a_math_error(area):
+    """Design.validate checks the wing area before it takes the square root of it."""
+    with pytest.raises(InputError, match="wing area .* out of range"):
+        Design(folded_span=0.4, wing_area=area).validate(load_glider())
 
 
 def test_custom_glider_nlp_is_built_once_per_variant():

@@ -85,7 +85,8 @@ def test_reference_in_memory_is_the_file_written_from_it(tmp_path: Path) -> None
     src = read_reference(STORED[0])
     md = src.metadata
     res = CycleResult(md["scenario"], md["config"], md["wind_mps"], md["wind_from_deg"], "ok", "Solve_Succeeded",
-                      0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], E_generated_J=1.0, E_thrust_J=2.0,
+                      0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], k_wrap=md["k_wrap"],
+                      E_generated_J=1.0, E_thrust_J=2.0,
                       E_reel_in_J=0.5, columns={k: src[k].copy() for k in COLUMN_UNITS})
     mem = reference_from_result(res)
     disk = read_reference(write_reference(res, tmp_path / "ref.json"))

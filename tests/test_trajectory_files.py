@@ -328,7 +328,8 @@ def _result_from(path: Path) -> CycleResult:
     ref = read_reference(path)
     md = ref.metadata
     return CycleResult(md["scenario"], md["config"], md["wind_mps"], md["wind_from_deg"], "ok", "Solve_Succeeded",
-                       0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], E_generated_J=1.0, E_thrust_J=2.0,
+                       0.0, 0.0, 0, T1_s=md["T1_s"], T2_s=md["T2_s"], k_wrap=md["k_wrap"],
+                       E_generated_J=1.0, E_thrust_J=2.0,
                        E_reel_in_J=0.5, columns={k: ref[k].copy() for k in COLUMN_UNITS})
 
 
@@ -353,3 +354,97 @@ def test_a_reference_that_would_not_read_back_is_not_written(tmp_path):
         write_reference(res, p)
     assert p.read_text() == "the previous reference"
     assert sorted(x.name for x in tmp_path.iterdir()) == ["ref.json"]
+
+
+# ------------------------------------------------------------------ units, periodicity, continuity
+
+
+def _write(tmp_path: Path, doc: dict, name: str = "ref.json") -> Path:
+    p = tmp_path / name
+    p.write_text(json.dumps(doc))
+    return p
+
+
+@pytest.mark.parametrize("mutate,words", [
+    (_set(["units"], ...), ["units: missing"]),
+    (_set(["units", "t"], "ms"), ["units.t", "'ms'", "expected 's'"]),
+    (_set(["units", "V"], "km/h"), ["units.V", "expected 'm/s'"]),
+    (_set(["units", "tension"], ...), ["units.tension: missing", "expected 'N'"]),
+    (_set(["units", "psi"], "deg"), ["units.psi", "expected 'rad'"]),
+], ids=["no_units", "t_in_ms", "V_in_kmh", "tension_unit_missing", "psi_in_deg"])
+def test_units_block_is_required_with_the_units_the_package_writes(tmp_path, mutate, words):
+    doc = _doc()
+    mutate(doc)
+    _refused(_write(tmp_path, doc), *words)
+
+
+def _shifted_end(name: str, by: float):
+    def f(doc):
+        doc["columns"][name][-1] += by
+
+    return f
+
+
+def _ramp(name: str, total: float):
+    """``total`` added to column ``name`` in proportion to the cycle time (nothing at the start)."""
+    def f(doc):
+        t = doc["columns"]["t"]
+        doc["columns"][name] = [v + total * ti / t[-1] for v, ti in zip(doc["columns"][name], t)]
+
+    return f
+
+
+@pytest.mark.parametrize("mutate,words", [
+    (_shifted_end("x", 100.0), ["columns.x[321]", "periodic", "allowed difference <= 0.0002 m"]),
+    (_ramp("z", -80.0), ["columns.z[321]", "periodic", "-80 m"]),
+    (_shifted_end("V", 0.01), ["columns.V[321]", "allowed difference <= 1e-05 m/s"]),
+    (_shifted_end("psi", 0.5), ["columns.psi[321]", "k_wrap", "allowed difference <= 1e-06 rad"]),
+    (_shifted_end("tether_length", 1.0), ["columns.tether_length[321]", "periodic"]),
+], ids=["last_x_100m", "z_ramp_80m", "V_end", "psi_end", "line_length_end"])
+def test_a_reference_that_is_not_one_periodic_cycle_is_refused(tmp_path, mutate, words):
+    doc = _doc()
+    mutate(doc)
+    _refused(_write(tmp_path, doc), *words)
+
+
+def test_periodicity_tolerance_is_what_the_optimiser_guarantees(tmp_path):
+    """The allowed end-to-start differences are the optimiser's acceptance tolerance on its
+    scaled periodicity rows; an end within them reads, one beyond them is refused."""
+    from fdm_awe.ocp.assemble import VIOLATION_TOL
+    from fdm_awe.ocp.layout import STATE_SCALE
+    from fdm_awe.trajectory.schema import PERIODIC_TOL
+
+    # rows: how many scaled rows (each within the tolerance) tie the end to the start; the line
+    # length's start is the distance of a start point within it per coordinate (sqrt 3)
+    for name, state, rows in (("x", "x", 2), ("y", "y", 2), ("z", "z", 2), ("tether_length", "l", 1 + math.sqrt(3)),
+                              ("V", "V", 1), ("gamma", "gamma", 1), ("psi", "psi", 1)):
+        assert PERIODIC_TOL[name] == pytest.approx(rows * VIOLATION_TOL * STATE_SCALE[state], rel=1e-12), name
+    for name in ("x", "V", "psi"):
+        tol = PERIODIC_TOL[name]
+        doc = _doc()
+        _shifted_end(name, 0.5 * tol)(doc)
+        read_reference(_write(tmp_path, doc, f"{name}_in.json"))
+        doc = _doc()
+        _shifted_end(name, 2.0 * tol)(doc)
+        _refused(_write(tmp_path, doc, f"{name}_out.json"), f"columns.{name}[321]")
+
+
+@pytest.mark.parametrize("name,i,by", [("x", 100, 500.0), ("z", 250, -60.0), ("y", 7, 20.0)])
+def test_a_jump_between_consecutive_points_is_refused(tmp_path, name, i, by):
+    doc = _doc()
+    doc["columns"][name][i] += by
+    _refused(_write(tmp_path, doc), f"columns.{name}[{i}]", "the position moves", f"m from row {i - 1}",
+             "largest airspeed", "allowed <=")
+
+
+def test_stored_references_move_within_the_continuity_bound():
+    """The margin is not what lets the stored references through: every step of theirs is
+    within the bound without the factor (ground speed <= largest airspeed + wind)."""
+    from fdm_awe.trajectory.schema import CONTINUITY_ATOL
+
+    for path in STORED:
+        ref = read_reference(path)
+        pos = np.stack([ref["x"], ref["y"], ref["z"]], axis=1)
+        dist = np.linalg.norm(np.diff(pos, axis=0), axis=1)
+        bound = (ref["V"].max() + ref.metadata["wind_mps"]) * np.diff(ref["t"]) + CONTINUITY_ATOL
+        assert np.all(dist <= bound), path.name

@@ -218,9 +218,16 @@ def _resolve(host: str, port: int, option: str, text: str, kind: int = 0) -> Non
         raise InputError(f"{option} {text!r}: host {host!r} does not resolve ({reason})") from None
 
 
+#: MAVLink connection kinds that listen on HOST:PORT (pymavlink's ``udp`` is ``udpin``)
+MAVLINK_LISTEN_KINDS = ("udpin", "udp", "tcpin")
+
+
 def mavlink_url(url: str | None, option: str = "--mavlink") -> str | None:
-    """``KIND:HOST:PORT`` with KIND one of :data:`MAVLINK_KINDS`, port 1..65535 and a host that
-    resolves (``socket.getaddrinfo``); None passes."""
+    """``KIND:HOST:PORT`` with KIND one of :data:`MAVLINK_KINDS`, port 1..65535 and a host with
+    an IPv4 address (pymavlink's UDP and TCP links are IPv4; ``socket.getaddrinfo``); a listening
+    kind (:data:`MAVLINK_LISTEN_KINDS`) must be able to bind HOST:PORT on this machine (tried at
+    once, the socket closed again); None passes. A ``tcp`` client's connection is tried when
+    the link opens (:func:`fdm_awe.mavlink.transport.open_link`), before the work."""
     if url is None:
         return None
     form = f"KIND:HOST:PORT with KIND one of {', '.join(MAVLINK_KINDS)} (e.g. udpout:127.0.0.1:14550)"
@@ -228,8 +235,30 @@ def mavlink_url(url: str | None, option: str = "--mavlink") -> str | None:
     if not colon or kind not in MAVLINK_KINDS:
         raise InputError(f"{option} {url!r}: expected {form}")
     host, port = _host_port(rest, url, option, form)
-    _resolve(host, port, option, url, socket.SOCK_STREAM if kind.startswith("tcp") else socket.SOCK_DGRAM)
+    kind_type = socket.SOCK_STREAM if kind.startswith("tcp") else socket.SOCK_DGRAM
+    _resolve(host, port, option, url, kind_type)
+    try:
+        socket.getaddrinfo(host, port, family=socket.AF_INET, type=kind_type)
+    except (OSError, UnicodeError):
+        raise InputError(f"{option} {url!r}: host {host!r} has no IPv4 address (MAVLink's UDP and TCP links are "
+                         f"IPv4; e.g. 127.0.0.1 or 0.0.0.0)") from None
+    if kind in MAVLINK_LISTEN_KINDS:
+        _bindable(host, port, kind_type, option, url)
     return url
+
+
+def _bindable(host: str, port: int, kind: int, option: str, text: str) -> None:
+    """InputError unless a socket of type ``kind`` binds ``host:port`` (as pymavlink binds a
+    listening link: IPv4, address reuse); the socket is closed again."""
+    sock = socket.socket(socket.AF_INET, kind)
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind((host, port))
+    except OSError as exc:
+        raise InputError(f"{option} {text!r}: cannot listen on {host}:{port} ({exc.strerror or exc}); allowed: an "
+                         f"address of this machine and a free port, e.g. 0.0.0.0 or 127.0.0.1") from None
+    finally:
+        sock.close()
 
 
 def scheduler_address(address: str | None, option: str = "--scheduler") -> str | None:
@@ -248,6 +277,6 @@ def scheduler_address(address: str | None, option: str = "--scheduler") -> str |
     return address
 
 
-__all__ = ["MAVLINK_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS", "definition_files",
-           "input_dir", "input_file", "integer", "io_file", "mavlink_url", "number", "outputs", "scheduler_address",
-           "turbulence"]
+__all__ = ["MAVLINK_KINDS", "MAVLINK_LISTEN_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS",
+           "definition_files", "input_dir", "input_file", "integer", "io_file", "mavlink_url", "number", "outputs",
+           "scheduler_address", "turbulence"]

@@ -22,12 +22,15 @@ an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--p
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
 Checks before any work (one line, exit 2): every number in range, the turbulence seed
-(1..2**31-1), the MAVLink URL (form, port, host resolves), the input files (``--reference``,
-``--mavlink-key``: regular files; ``--params``: a regular file or a new name in an existing
-folder), every output path (writable, a regular file or a new name, not an input such as
-``--reference``, ``--mavlink-key`` or ``--params``); ``--out`` is locked for the run. Outputs
-are written atomically; the JSON writes NaN as ``null`` (e.g. the tracking error of a cycle
-without reference points) and records the turbulence level and seed (``"turbulence": {"level",
+(1..2**31-1), the MAVLink URL (form, port, an IPv4 host; a listening address bound for a
+moment; a ``tcp`` client's connection tried once, within 3 s, and kept for the flight), the
+input files (``--reference``, ``--mavlink-key``: regular files; ``--params``: a regular file or
+a new name in an existing folder), the reference file (field by field, its units, one periodic
+and continuous cycle), ``--tether lumped:N`` only on the physical plant, every output path
+(writable, a regular file or a new name, not an input such as ``--reference``,
+``--mavlink-key`` or ``--params``); ``--out`` is locked for the run. Outputs are written
+atomically; the JSON writes NaN as ``null`` (e.g. the tracking error of a cycle without
+reference points) and records the turbulence level and seed (``"turbulence": {"level",
 "seed"}`` or ``null``).
 
 Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
@@ -137,8 +140,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", metavar="DIR", help="write recording, plots, CSV, a markdown report (and an optimised "
                                                 "reference's file) into DIR")
     p.add_argument("--mavlink", metavar="URL", nargs="?", const="udpout:127.0.0.1:14550",
-                   help="speak MAVLink 2 to a ground station: udpout|udpin|udp|tcp|tcpin:HOST:PORT, the host must "
-                        "resolve (default URL udpout:127.0.0.1:14550)")
+                   help="speak MAVLink 2 to a ground station: udpout|udpin|udp|tcp|tcpin:HOST:PORT, an IPv4 host; a "
+                        "listening address must be this machine's, a tcp ground station must accept the connection "
+                        "before the work (one attempt, 3 s) (default URL udpout:127.0.0.1:14550)")
     p.add_argument("--mavlink-key", metavar="FILE",
                    help="MAVLink 2 signing key: a 32-byte key file, or a one-line passphrase (hashed with SHA-256 like "
                         "MAVProxy's 'signing setup'); only signed commands are obeyed (needs --mavlink)")
@@ -280,31 +284,88 @@ def run(args: argparse.Namespace) -> int:
         args.scenario = args.scenario or DEFAULT_SCENARIO
         args.config = args.config or DEFAULT_CONFIG
         problem = reference_problem(args)
-    from ..autopilot.config import autopilot_params
-    from ..autopilot.params import ParamStore
+    plant = flight_plant(args, ref)
+    from ..groundstation.lumped_state import check_tether_plant
 
-    params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
+    check_tether_plant(args.tether, plant == "paper", _plant_why(args, plant))
+    params = _autopilot_params(args.params)  # checked before any work
     out_dir = Path(args.out) if args.out else None
     with _check_outputs(args, out_dir, optimising=ref is None):  # --out locked until the last file is written
-        return _run_checked(args, ref, problem, params, out_dir)
+        return _run_checked(args, ref, problem, params, plant, out_dir)
 
 
-def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, out_dir: Path | None) -> int:
-    """The work of :func:`run` once every input and output is checked: optimise the reference
-    (without ``--reference``), fly, print, write the outputs; returns the exit code."""
-    if ref is None:
-        ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
-    else:
-        ref_path = Path(args.reference)
-        ref_label = str(ref_path)
-    plant = args.scenario or (ref.meta.get("scenario") if ref.meta.get("scenario") in ("physical", "paper") else "physical")
-    scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
-    from ..recording.stream import open_live
+def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, plant: str, out_dir: Path | None) -> int:
+    """The work of :func:`run` once every input and output is checked: open the MAVLink link,
+    optimise the reference (without ``--reference``), fly, print, write the outputs; returns the
+    exit code."""
+    link = _open_link(args)  # the MAVLink transport: a ground station that is not there is said now
+    try:
+        if ref is None:
+            ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
+        else:
+            ref_path = Path(args.reference)
+            ref_label = str(ref_path)
+        scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
+        from ..recording.stream import open_live
 
-    live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-    report = _fly(args, ref, params, plant, scale, live)
+        live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
+        report = _fly(args, ref, params, plant, scale, live, link)
+        link = None  # the flight's MAVLink endpoint took it and closed it
+    finally:
+        if link is not None:
+            from ..mavlink.transport import close_link
+
+            close_link(link)
     _print_summary(report, ref_label)
     return _finish(args, report, ref, ref_path, out_dir)
+
+
+def flight_plant(args: argparse.Namespace, ref: Any) -> str:
+    """The plant that flies: ``--scenario``, else the reference's scenario (physical when it
+    names none)."""
+    if args.scenario:
+        return args.scenario
+    scenario = ref.meta.get("scenario") if ref is not None else None
+    return scenario if scenario in ("physical", "paper") else "physical"
+
+
+def _plant_why(args: argparse.Namespace, plant: str) -> str:
+    """What chose the plant ``plant``, for messages."""
+    if args.reference and args.scenario is None:
+        return f"the {plant} scenario of {args.reference}"
+    return f"--scenario {plant}"
+
+
+def _open_link(args: argparse.Namespace) -> Any:
+    """The ``--mavlink`` transport opened (a tcp client connected once, bounded in time), or
+    None without ``--mavlink``; one-line error naming the option when it cannot be opened."""
+    if not args.mavlink:
+        return None
+    from ..mavlink.transport import open_link
+
+    return open_link(args.mavlink)
+
+
+def _autopilot_params(path: str | None, option: str = "--params") -> Any:
+    """The autopilot's parameters, from the file ``path`` (``--params``) when given: a JSON
+    parameter file, or a path where none exists yet (created at the first change). A folder, a
+    device, a FIFO or a malformed file is refused in one line naming ``option``."""
+    from ..autopilot.config import autopilot_params
+    from ..autopilot.params import ParamStore
+    from ..errors import DefinitionError
+
+    if path is None:
+        return autopilot_params()
+    p = Path(path)
+    if p.is_dir():
+        raise InputError(f"{option} {p}: is a folder (expected a JSON parameter file, created when missing)")
+    if p.exists() and not p.is_file():
+        raise InputError(f"{option} {p}: not a regular file (a device, FIFO or socket; expected a JSON parameter file, "
+                         f"created when missing)")
+    try:
+        return autopilot_params(store=ParamStore(p))
+    except DefinitionError as exc:
+        raise InputError(f"{option} {exc.path}: {exc.element}: {exc.problem}") from None
 
 
 def _read_reference(args: argparse.Namespace) -> Any:
@@ -358,9 +419,10 @@ class _FlightHooks:
     against the wall clock (``--realtime``) and the live viewer (``--spawn`` / ``--connect``,
     ``live``); all called after every step (:meth:`on_step`)."""
 
-    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None) -> None:
+    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None, link: Any = None) -> None:
         self.args = args
         self.live = live
+        self.link = link  #: the --mavlink transport, opened before the work (None: opened at set-up)
         self.endpoint: Any = None
         self.bar: Any = None
         self._hooks: list[Callable[[int, Any, Any], None]] = []
@@ -381,7 +443,8 @@ class _FlightHooks:
 
             endpoint = self.endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap,
                                                        signing_key=getattr(args, "signing_key", None),
-                                                       signing_key_file=args.mavlink_key)
+                                                       signing_key_file=args.mavlink_key, connection=self.link)
+            self.link = None  # the endpoint owns it now
             build = telemetry_builder(ap, sim)
 
             def link(k: int, s: Any, o: Any) -> None:
@@ -413,22 +476,29 @@ class _FlightHooks:
             h(k, s, o)
 
     def close(self) -> None:
-        """Close the progress bar, the MAVLink endpoint and the live viewer's stream."""
+        """Close the progress bar, the MAVLink endpoint (or the link no endpoint took) and the
+        live viewer's stream."""
         if self.bar is not None:
             self.bar.close()
         if self.endpoint is not None:
             self.endpoint.close()
+        elif self.link is not None:
+            from ..mavlink.transport import close_link
+
+            close_link(self.link)
+            self.link = None
         if self.live is not None:
             self.live.close()
 
 
-def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None) -> Any:
+def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None,
+         link: Any = None) -> Any:
     """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
     the report's wall time is the whole flight's, hooks included. The ground station on the
-    MAVLink link is told how the flight ended."""
+    MAVLink link (``link``, opened before the work; closed here) is told how the flight ended."""
     from ..sim import flight
 
-    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live)
+    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live, link)
     t0 = time.perf_counter()
     try:
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,

@@ -112,6 +112,39 @@ def check_args(args: argparse.Namespace) -> None:
         raise InputError("--workers: not with --scheduler (the external cluster has its own workers)")
 
 
+def design_axes(args: argparse.Namespace) -> dict[str, tuple]:
+    """The design axes of the command line, each value in its range with the option named in
+    the error: ``--wing-area`` (:data:`~fdm_awe.sweep.design.WING_AREA_RANGE`),
+    ``--folded-drag-area`` (above 0, below :data:`~fdm_awe.sweep.design.FOLDED_DRAG_AREA_MAX`),
+    ``--fold-time`` (0 .. the aircraft's longest fold), ``--folded-span`` (above 0, at most the
+    unfolded span at every wing area of the sweep); ``(None,)`` for an option not given."""
+    from ..definitions.aircraft import FOLD_TIME_MAX_S
+    from ..errors import InputError
+    from ..sweep.design import FOLDED_DRAG_AREA_MAX, WING_AREA_RANGE, unfolded_span
+    from ..sweep.spec import parse_floats
+
+    def axis(text: str | None, option: str, unit: str, *rng, **ends) -> tuple:
+        return (None,) if text is None else parse_floats(text, option, unit, *rng, **ends)
+
+    out = {"wing_areas": axis(args.wing_area, "--wing-area", "m2", *WING_AREA_RANGE),
+           "folded_drag_areas": axis(args.folded_drag_area, "--folded-drag-area", "m2", 0.0, FOLDED_DRAG_AREA_MAX,
+                                     lo_open=True, hi_open=True),
+           "fold_times": axis(args.fold_time, "--fold-time", "s", 0.0, FOLD_TIME_MAX_S),
+           "folded_spans": axis(args.folded_span, "--folded-span", "m", 0.0, None, lo_open=True)}
+    if args.folded_span is not None:  # a folded wing no longer than the unfolded one, at every wing area
+        from ..sweep.runner import _base_glider
+
+        base = _base_glider()
+        for S in out["wing_areas"]:
+            b_u = unfolded_span(base, S)
+            for b in out["folded_spans"]:
+                if b > b_u:
+                    at = "the definition's wing area" if S is None else f"--wing-area {S:g} m2"
+                    raise InputError(f"--folded-span {args.folded_span!r}: {b:g} m out of range (allowed > 0 and <= "
+                                     f"the unfolded span {b_u:.4g} m at {at})")
+    return out
+
+
 def build_spec(args: argparse.Namespace):
     """The :class:`~fdm_awe.sweep.spec.SweepSpec` of the command line (canonical ids)."""
     from ..ocp.problem import CONFIGS
@@ -124,9 +157,7 @@ def build_spec(args: argparse.Namespace):
 
     mesh = parse_mesh(args.mesh, two=True)
     configs = parse_names(args.config, "--config", CONFIGS)
-
-    def opt(text: str | None, what: str, unit: str) -> tuple:
-        return (None,) if text is None else parse_floats(text, what, unit)
+    designs = design_axes(args)
 
     from .optimize import check_plant_args, wind_profile_from_args
 
@@ -144,11 +175,9 @@ def build_spec(args: argparse.Namespace):
                 raise InputError(f"--line-diameter {args.line_diameter!r}: {exc}") from None
     spec = SweepSpec(
         winds=parse_floats(args.wind, "--wind", "m/s", *WIND_RANGE), configs=configs,
-        folded_spans=opt(args.folded_span, "--folded-span", "m"),
-        folded_drag_areas=opt(args.folded_drag_area, "--folded-drag-area", "m2"),
-        wing_areas=opt(args.wing_area, "--wing-area", "m2"),
-        tether_ranges=parse_tether_ranges(args.tether_range),
-        fold_times=(None,) if args.fold_time is None else parse_floats(args.fold_time, "--fold-time", "s"),
+        folded_spans=designs["folded_spans"], folded_drag_areas=designs["folded_drag_areas"],
+        wing_areas=designs["wing_areas"], tether_ranges=parse_tether_ranges(args.tether_range),
+        fold_times=designs["fold_times"],
         scenario=args.scenario, mesh=mesh, max_iter=args.max_iter if args.max_iter is not None else DEFAULT_MAX_ITER,
         max_iter_total=args.max_iter_total if args.max_iter_total is not None else DEFAULT_MAX_ITER_TOTAL,
         warm_fallback=args.warm_fallback, anchor_every=args.anchor_every,

@@ -70,6 +70,18 @@ def parse_tether(spec: object) -> int:
     raise InputError(f"--tether {spec!r} not allowed (allowed: straight, lumped:N with N {N_MIN} .. {N_MAX})")
 
 
+def check_tether_plant(spec: object, paper: bool, why: str = "") -> int:
+    """:func:`parse_tether` of ``spec``, refused (one line naming ``--tether``) when the line is
+    lumped and the plant is the paper scenario's (``paper``), whose winch is kinematic and has no
+    line to lump; ``why`` says what chose that plant."""
+    n = parse_tether(spec)
+    if paper and n:
+        reason = f" ({why})" if why else ""
+        raise InputError(f"--tether {spec}: a lumped line needs the physical plant; the paper plant{reason} has a "
+                         f"kinematic winch (allowed with it: straight)")
+    return n
+
+
 def state_size(n: int) -> int:
     """Length of the ground station's state array with an ``n``-segment line."""
     return NODES + 9 * (n + 1) + n

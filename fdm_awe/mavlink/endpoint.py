@@ -59,7 +59,6 @@ from fdm_awe.mavlink.geo import GeoFrame, Home
 from fdm_awe.mavlink.vehicle import Telemetry, VehicleInterface
 
 # Imported at module level on purpose: importing this module is the opt-in to MAVLink.
-from pymavlink import mavutil  # noqa: E402
 from pymavlink.dialects.v20 import common as mav  # noqa: E402
 
 from fdm_awe.mavlink import signing as _signing  # noqa: E402
@@ -71,6 +70,7 @@ from fdm_awe.mavlink.mission import MissionProtocol  # noqa: E402
 from fdm_awe.mavlink.param_protocol import ParamProtocol  # noqa: E402
 from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
 from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule  # noqa: E402
+from fdm_awe.mavlink.transport import open_link  # noqa: E402
 from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
 __all__ = ["MavlinkEndpoint", "DEFAULT_RATES", "NAMED_VALUES"]
@@ -128,6 +128,9 @@ class MavlinkEndpoint:
             None for no signing.
         signing_key_file: where a key set with SETUP_SIGNING is saved (None: kept in memory).
         signing_link_id: link id of the outgoing signatures, 0..255.
+        connection: the transport of ``url`` already opened by
+            :func:`fdm_awe.mavlink.transport.open_link` (None: opened here); closed by
+            :meth:`close`.
 
     Raises:
         InputError: bad URL, rate, id or option (one line naming it).
@@ -144,7 +147,7 @@ class MavlinkEndpoint:
                  max_rx_per_poll: int = 200, param_burst: int = 20,
                  clock: Callable[[], float] = time.monotonic,
                  signing_key: bytes | None = None, signing_key_file: Any = None,
-                 signing_link_id: int = 0) -> None:
+                 signing_link_id: int = 0, connection: Any = None) -> None:
         _check_options(sysid, compid, rx_rate_hz, link_timeout_s, mission_timeout_s, max_range_m,
                        mission_retries, max_mission_items, max_rx_per_poll, param_burst)
         self.url = url
@@ -163,7 +166,7 @@ class MavlinkEndpoint:
         self.param_burst = param_burst
         self.clock = clock  #: the wall clock of the timeouts (monotonic seconds)
         self.streams = StreamSchedule(rates)  #: the telemetry streams' rates and schedule
-        self._open(url, signing_key, signing_link_id)
+        self._open(url, signing_key, signing_link_id, connection)
         self.signing_key_file = signing_key_file
         self._reporter = ChangeReporter()
 
@@ -190,13 +193,10 @@ class MavlinkEndpoint:
         self.info(f"MAVLink endpoint on {url} as system {sysid} component {self.compid} (winch component "
                    f"{WINCH_COMPID}); signing {'on' if self.signer.on else 'off'}")
 
-    def _open(self, url: str, signing_key: bytes | None, signing_link_id: int) -> None:
-        """Open the connection, this vehicle's codec, the winch component and the signer."""
-        try:
-            self._conn = mavutil.mavlink_connection(url, source_system=self.sysid,
-                                                    source_component=self.compid, autoreconnect=True)
-        except Exception as e:  # noqa: BLE001 - pymavlink raises many types for bad URLs
-            raise InputError(f"--mavlink {url!r}: cannot open ({type(e).__name__}: {e})") from None
+    def _open(self, url: str, signing_key: bytes | None, signing_link_id: int, connection: Any = None) -> None:
+        """Open the connection (or take ``connection``, opened by :func:`.transport.open_link`),
+        this vehicle's codec, the winch component and the signer."""
+        self._conn = connection if connection is not None else open_link(url, self.sysid, self.compid)
         # Our own MAVLink 2 codec on pymavlink's transport: independent of mavutil's
         # process-wide dialect/protocol-version switch.
         #: the vehicle's MAVLink encoder (signed once a key is set); the protocol modules send through

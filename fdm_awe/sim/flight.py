@@ -73,7 +73,7 @@ from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
 from ..groundstation import GroundStation, GroundStationParams, load_ground_station
 from ..groundstation.line import check_line
-from ..groundstation.lumped import parse_tether
+from ..groundstation.lumped_state import check_tether_plant
 from ..groundstation.tether import check_tether_drag_scale
 from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
@@ -165,7 +165,7 @@ class _FlightWind:
         return self.ned if self.profile.uniform else self.at(h)
 
 
-def _station_params(meta: dict[str, Any], paper: bool, nseg: int) -> GroundStationParams:
+def _station_params(meta: dict[str, Any], paper: bool) -> GroundStationParams:
     """The ground station's definition with the line a reference (metadata ``meta``) was
     optimised with; a reference written before lines were named was optimised with Table 1's
     line (``paper``). Read, and what the plant cannot fly refused, before JSBSim loads."""
@@ -174,8 +174,6 @@ def _station_params(meta: dict[str, Any], paper: bool, nseg: int) -> GroundStati
         raise InputError("reference metadata.generator: 'ideal' is the optimiser's upper bound (a loss-free converter "
                          "holding any tension), which no ground station realises; allowed passive, boost")
     gsp = load_ground_station(line="paper" if line is None else check_line(line, "reference metadata.line"))
-    if paper and nseg:
-        raise InputError("--tether lumped:N needs the physical plant (the paper plant's winch is kinematic)")
     return gsp
 
 
@@ -274,12 +272,12 @@ def fly(
     if plant not in PLANTS:
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
     tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
-    nseg = parse_tether(tether)
     paper = plant == "paper"
+    nseg = check_tether_plant(tether, paper)  # a lumped line only on the physical plant
     reference = flyable_reference(reference)  # the optimiser's held-control steps smoothed out
     meta = reference.meta
     wind = _FlightWind(meta)
-    gsp = _station_params(meta, paper, nseg)
+    gsp = _station_params(meta, paper)
     rig = _rig(reference, wind, gsp, config, dt, turbulence, params, paper, tether_drag_scale, tether)
     if setup is not None:
         setup(rig.ap, rig.sim)

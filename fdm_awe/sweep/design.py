@@ -76,6 +76,18 @@ def wing_aero(span: float, chord: float, pc: PolarConstants) -> AeroParams:
                       CDalpha1=2 * k * CL0 * CLa, CDalpha2=k * CLa * CLa)
 
 
+#: allowed unfolded wing areas ``S_u`` [m^2] of a design (inclusive)
+WING_AREA_RANGE = (0.01, 2.0)
+#: folded drag areas ``C_Dmin,f S_f`` [m^2] of a design: above 0 and below this
+FOLDED_DRAG_AREA_MAX = 0.1
+
+
+def unfolded_span(base: Glider, wing_area: float | None) -> float:
+    """The unfolded span [m] of ``base`` with the wing area ``wing_area`` [m^2] at the
+    definition's aspect ratio (``b_u = sqrt(S_u A_u)``; ``None``: the definition's span)."""
+    return base.unfolded.aero.b if wing_area is None else math.sqrt(wing_area * base.unfolded.aero.aspect_ratio)
+
+
 @dataclass(frozen=True)
 class Design:
     """Design parameters of one sweep point; ``None`` = as in the aircraft definitions."""
@@ -85,13 +97,16 @@ class Design:
     wing_area: float | None = None  #: S_u [m^2]
 
     def validate(self, base: Glider) -> "Design":
-        b_u = base.unfolded.aero.b if self.wing_area is None else math.sqrt(self.wing_area * base.unfolded.aero.aspect_ratio)
+        lo, hi = WING_AREA_RANGE
+        if self.wing_area is not None and not (math.isfinite(self.wing_area) and lo <= self.wing_area <= hi):
+            raise InputError(f"wing area {self.wing_area!r} m2 out of range (allowed {lo:g}..{hi:g} m2)")
+        b_u = unfolded_span(base, self.wing_area)
         if self.folded_span is not None and not (math.isfinite(self.folded_span) and 0 < self.folded_span <= b_u):
             raise InputError(f"folded span {self.folded_span!r} m out of range (allowed 0 < b_f <= unfolded span {b_u:.4g} m)")
-        if self.folded_drag_area is not None and not (math.isfinite(self.folded_drag_area) and 0 < self.folded_drag_area < 0.1):
-            raise InputError(f"folded drag area {self.folded_drag_area!r} m2 out of range (allowed 0 < C_Dmin S_f < 0.1 m2)")
-        if self.wing_area is not None and not (math.isfinite(self.wing_area) and 0.01 <= self.wing_area <= 2.0):
-            raise InputError(f"wing area {self.wing_area!r} m2 out of range (allowed 0.01..2 m2)")
+        if self.folded_drag_area is not None and not (
+                math.isfinite(self.folded_drag_area) and 0 < self.folded_drag_area < FOLDED_DRAG_AREA_MAX):
+            raise InputError(f"folded drag area {self.folded_drag_area!r} m2 out of range (allowed 0 < C_Dmin S_f < "
+                             f"{FOLDED_DRAG_AREA_MAX:g} m2)")
         return self
 
 

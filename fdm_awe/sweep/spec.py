@@ -368,16 +368,25 @@ def _items(text: str, what: str, allowed: str) -> list[str]:
     return items
 
 
-def parse_floats(text: str, what: str, unit: str, lo: float | None = None, hi: float | None = None) -> tuple[float, ...]:
+def _range_text(lo: float | None, hi: float | None, lo_open: bool, hi_open: bool, unit: str) -> str:
+    """``lo``..``hi`` [``unit``] as the errors write it (``0.01..2 m2``, ``> 0 and < 0.1 m2``)."""
+    if lo is not None and hi is not None and not lo_open and not hi_open:
+        return f"{lo:g}..{hi:g} {unit}"
+    parts = ([f"{'>' if lo_open else '>='} {lo:g}"] if lo is not None else []) + (
+        [f"{'<' if hi_open else '<='} {hi:g}"] if hi is not None else [])
+    return f"{' and '.join(parts)} {unit}"
+
+
+def parse_floats(text: str, what: str, unit: str, lo: float | None = None, hi: float | None = None, *,
+                 lo_open: bool = False, hi_open: bool = False) -> tuple[float, ...]:
     """``"3:12:1"`` (start:stop:step, stop included) or ``"0.22,0.4"`` -> floats.
 
-    Every value must be finite and, where given, within ``lo``..``hi`` [``unit``]; empty list
-    items are refused. ``what`` names the option in the one-line error.
+    Every value must be finite and, where given, within ``lo``..``hi`` [``unit``] (an end
+    excluded where ``lo_open``/``hi_open``); empty list items are refused. ``what`` names the
+    option in the one-line error.
     """
     text = text.strip()
-    rng = "" if lo is None and hi is None else (
-        f", each {lo:g}..{hi:g} {unit}" if lo is not None and hi is not None else
-        f", each >= {lo:g} {unit}" if lo is not None else f", each <= {hi:g} {unit}")
+    rng = "" if lo is None and hi is None else f", each {_range_text(lo, hi, lo_open, hi_open, unit)}"
     allowed = f"START:STOP:STEP with STEP > 0, or a comma list, in {unit}{rng}"
     try:
         if ":" in text:
@@ -396,7 +405,9 @@ def parse_floats(text: str, what: str, unit: str, lo: float | None = None, hi: f
     except ValueError:
         raise InputError(f"{what} {text!r} invalid (allowed: {allowed})") from None
     for v in vals:
-        if (lo is not None and v < lo) or (hi is not None and v > hi):
+        below = lo is not None and (v <= lo if lo_open else v < lo)
+        above = hi is not None and (v >= hi if hi_open else v > hi)
+        if below or above:
             raise InputError(f"{what} {text!r}: {v:g} {unit} out of range (allowed: {allowed})")
     return vals
 
@@ -412,8 +423,9 @@ def parse_names(text: str, what: str, allowed: tuple[str, ...]) -> tuple[str, ..
 
 
 def parse_tether_ranges(text: str, what: str = "--tether-range") -> tuple[tuple[float, float], ...]:
-    """``"200:250,150:250"`` -> ((200, 250), (150, 250)) [m]; empty items are refused (the
-    ranges themselves are checked by :meth:`SweepSpec.validate`)."""
+    """``"200:250,150:250"`` -> ((200, 250), (150, 250)) [m]; empty items, other forms and
+    ranges outside ``0 < d0 < d_tf`` (finite) are refused naming ``what``, as
+    :meth:`SweepSpec.validate` would refuse them."""
     allowed = "D0:DTF in m with 0 < D0 < DTF, e.g. 200:250, comma separated"
     out = []
     for item in _items(text, what, allowed):
@@ -421,5 +433,7 @@ def parse_tether_ranges(text: str, what: str = "--tether-range") -> tuple[tuple[
             a, b = (float(x) for x in item.split(":"))
         except ValueError:
             raise InputError(f"{what} {item!r} invalid (allowed {allowed})") from None
+        if not (math.isfinite(a) and math.isfinite(b) and 0 < a < b):
+            raise InputError(f"{what} {text!r}: {item} m out of range (allowed {allowed})")
         out.append((a, b))
     return tuple(out)

@@ -62,8 +62,15 @@ wind of every file written before profiles existed.
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,
 all of one length, at least 2 rows; ``t`` from 0 strictly increasing to T1 + T2 except one
 repeated time at the phase switch; ``phase`` 0 then 1 with the switch at T1; ``fold`` 0 for
-the nominal config). A malformed file raises :class:`~fdm_awe.errors.InputError` with one line
-naming the file, the field and the allowed range or form. It returns a
+the nominal config; the ``units`` block required, naming each column's unit as the package
+writes it, :data:`COLUMN_UNITS`, no other unit accepted; one periodic cycle: every state's last
+row equal to its first within :data:`~fdm_awe.trajectory.schema.PERIODIC_TOL`, the
+optimiser's acceptance tolerance on its periodicity rows, the heading after ``2 pi k_wrap``;
+a continuous path: no position step between consecutive rows beyond the fastest ground speed,
+largest airspeed plus wind, times the time step, with the margin of
+:data:`~fdm_awe.trajectory.schema.CONTINUITY_FACTOR`). A malformed file raises
+:class:`~fdm_awe.errors.InputError` with one line naming the file, the field (with the row
+where it applies) and the allowed range or form. It returns a
 :class:`ReferenceTrajectory` with NumPy columns, the completed metadata (both wind forms,
 ``period_s``, ``tether_drag_scale``) and a ``sample(t)`` helper (:data:`REFERENCE_RULES`).
 :func:`write_reference` runs the same checks before it writes, atomically.

@@ -13,8 +13,9 @@ import numpy as np
 from ..errors import InputError
 from ..wind import WindProfile
 from .reference import ReferenceTrajectory
-from .schema import (COLUMN_RANGES, COLUMN_UNITS, CONFIGS, FORMAT, GENERATORS, PHASE_MAX_S, PHASE_NAMES, PROPELLERS,
-                     RECOVERY_AIRFRAME, SCENARIOS, SLACK, TIME_RTOL, VERSION, WIND_MAX)
+from .schema import (COLUMN_RANGES, COLUMN_UNITS, CONFIGS, CONTINUITY_ATOL, CONTINUITY_FACTOR, FORMAT, GENERATORS,
+                     OPTIONAL_COLUMN_UNITS, PERIODIC_TOL, PHASE_MAX_S, PHASE_NAMES, PROPELLERS, RECOVERY_AIRFRAME,
+                     SCENARIOS, SLACK, TIME_RTOL, VERSION, WIND_MAX)
 
 
 # Some checks take their allowed values from the optimiser's, the ground station's and the
@@ -348,8 +349,53 @@ def check_reference(ref: ReferenceTrajectory) -> ReferenceTrajectory:
         i = int(np.flatnonzero(cols["boost_duty"] != 0.0)[0])
         raise InputError(f"{src}: columns.boost_duty[{i}]: {cols['boost_duty'][i]:g}, but metadata.generator is "
                          f"{md.get('generator', 'passive')!r} (no T2 duty; allowed 0)")
+    _check_periodic(src, md, cols)
+    _check_continuity(src, md, cols)
     units = ref.units if isinstance(ref.units, dict) else {}
     return ReferenceTrajectory(md, cols, dict(units), source=src)
+
+
+def _check_periodic(src: str, md: dict[str, Any], cols: dict[str, np.ndarray]) -> None:
+    """The cycle ends where it starts: every state column's last row equals its first within
+    :data:`PERIODIC_TOL` (the heading after ``2 pi k_wrap``; any whole number of turns when the
+    metadata has no ``k_wrap``)."""
+    last = len(cols["t"]) - 1
+    for name, tol in PERIODIC_TOL.items():
+        a = cols[name]
+        diff = float(a[-1] - a[0])
+        turns = ""
+        if name == "psi":
+            k = md.get("k_wrap")
+            k = round(diff / (2 * math.pi)) if k is None else k
+            diff -= 2 * math.pi * k
+            turns = f" + 2 pi x {k} (k_wrap)"
+        if not abs(diff) <= tol:
+            unit = COLUMN_UNITS[name]
+            raise InputError(f"{src}: columns.{name}[{last}]: the cycle ends at {a[-1]:.9g} {unit}, {diff:+.3g} {unit} "
+                             f"from its start {a[0]:.9g} {unit}{turns}; a reference is one periodic cycle "
+                             f"(allowed difference <= {tol:g} {unit})")
+
+
+def _check_continuity(src: str, md: dict[str, Any], cols: dict[str, np.ndarray]) -> None:
+    """No step of the position between consecutive rows larger than the fastest ground speed
+    (largest airspeed + largest wind along the path) times the time step, with the margin of
+    :data:`CONTINUITY_FACTOR` and :data:`CONTINUITY_ATOL`."""
+    pos = np.stack([cols["x"], cols["y"], cols["z"]], axis=1)
+    step = np.diff(pos, axis=0)
+    dist = np.sqrt(np.sum(step * step, axis=1))
+    dt = np.diff(cols["t"])
+    prof = WindProfile.from_dict(md.get("wind_profile"), f"{src}: metadata.wind_profile")
+    factor = max((float(prof.factor(float(h))) for h in -cols["z"]), default=1.0)
+    wind = float(md["wind_mps"]) * max(1.0, factor)
+    v_max = float(np.max(cols["V"]))
+    allowed = CONTINUITY_FACTOR * (v_max + wind) * dt + CONTINUITY_ATOL
+    bad = np.flatnonzero(~(dist <= allowed))
+    if len(bad):
+        i = int(bad[0])
+        axis = ("x", "y", "z")[int(np.argmax(np.abs(step[i])))]
+        raise InputError(f"{src}: columns.{axis}[{i + 1}]: the position moves {dist[i]:.4g} m from row {i} in "
+                         f"{dt[i]:.4g} s (allowed <= {allowed[i]:.4g} m: {CONTINUITY_FACTOR:g} x (largest airspeed "
+                         f"{v_max:.4g} m/s + wind {wind:.4g} m/s) x time step + {CONTINUITY_ATOL:g} m)")
 
 
 def check_reference_document(doc: Any, source: str) -> ReferenceTrajectory:
@@ -371,10 +417,22 @@ def check_reference_document(doc: Any, source: str) -> ReferenceTrajectory:
             raise InputError(f"{src}: {key}: missing (expected {what})")
         if not isinstance(doc[key], dict):
             raise InputError(f"{src}: {key}: {_kind(doc[key])}, expected {what}")
-    units = doc.get("units", {})
+    if "units" not in doc:
+        raise InputError(f"{src}: units: missing (expected an object of the columns' units, as 'fdm-awe optimize' "
+                         f"writes them: t: s, x: m, V: m/s, ...)")
+    units = doc["units"]
     if not (isinstance(units, dict) and all(isinstance(v, str) for v in units.values())):
         raise InputError(f"{src}: units: {_kind(units)}, expected an object of unit names")
     raw = doc["columns"]
+    for k in raw:  # every column in the SI unit the package writes (no conversion: another unit is refused)
+        expected = COLUMN_UNITS.get(k, OPTIONAL_COLUMN_UNITS.get(k))
+        if expected is None:
+            continue
+        if k not in units:
+            raise InputError(f"{src}: units.{k}: missing (expected {expected!r})")
+        if units[k] != expected:
+            raise InputError(f"{src}: units.{k}: {_show(units[k])} not allowed (expected {expected!r}, the unit "
+                             f"'fdm-awe optimize' writes)")
     missing = [k for k in COLUMN_UNITS if k not in raw]
     if missing:
         raise InputError(f"{src}: columns missing: {', '.join(missing)} (required: {', '.join(COLUMN_UNITS)})")

@@ -57,6 +57,30 @@ COLUMN_RANGES: dict[str, tuple[float, float, bool] | None] = {
 SLACK = 1e-6
 #: Relative tolerance of the time relations (t ends at T1 + T2, the phase switch at T1, period_s).
 TIME_RTOL = 1e-6
+#: Periodicity of a reference: the largest difference allowed between a state column's last row
+#: (the cycle's end, ``t = T1 + T2``) and its first (``t = 0``), SI units. What the optimiser
+#: guarantees: it accepts a cycle only when every constraint row holds within 1e-6
+#: (``fdm_awe.ocp.assemble.VIOLATION_TOL``), and its rows divide the position and the line length
+#: by 100 m, the airspeed by 10 m/s and the angles by 1 rad (``fdm_awe.ocp.layout.STATE_SCALE``).
+#: Each end coordinate is tied to the fixed start position by one row and the first row's by
+#: another: 2 x 1e-6 x 100 m. The line length ends at ``d0`` by one row (1e-6 x 100 m) and
+#: starts at the first point's distance from the winch, whose three coordinates are each within
+#: 1e-6 x 100 m of the start position on the ``d0`` sphere (sqrt(3) x 1e-6 x 100 m). Airspeed,
+#: flight-path angle and heading (after ``2 pi k_wrap``, metadata) are tied to the first row by
+#: one row each: 1e-6 x 10 m/s and 1e-6 rad. The file stores the numbers exactly (JSON round
+#: trip), so the guarantee is the tolerance; tests/test_trajectory_files.py ties these numbers to
+#: the optimiser's.
+PERIODIC_TOL = {"x": 2e-4, "y": 2e-4, "z": 2e-4, "tether_length": (1.0 + math.sqrt(3.0)) * 1e-4, "V": 1e-5,
+                "gamma": 1e-6, "psi": 1e-6}
+#: Continuity of the path: the position may move between consecutive rows at most
+#: ``CONTINUITY_FACTOR x (largest airspeed of the V column + largest wind along the path) x dt``
+#: plus :data:`CONTINUITY_ATOL` [m]. The ground speed is the airspeed plus the wind, so a
+#: collocated path never moves faster; the factor leaves room for the airspeed between rows
+#: exceeding the rows' largest (the stored references of tests/data move at most 0.98 of the
+#: bound), the absolute term for the phase switch, where the time repeats and the position is
+#: tied across it by the optimiser's continuity rows (1e-6 x 100 m per coordinate).
+CONTINUITY_FACTOR = 1.25
+CONTINUITY_ATOL = 2e-4
 #: Wind speed range of a reference [m/s] (the optimiser's, :class:`fdm_awe.ocp.problem.CycleProblem`).
 WIND_MAX = 25.0
 #: Longest phase of a reference [s].
