@@ -18,7 +18,8 @@ when a message needs it. Incoming messages are drained at ``rx_rate_hz`` (simula
 time), at most ``max_rx_per_poll`` datagrams per poll; link and mission-transfer
 timeouts use the wall clock, because ground stations run on it. The link counts as lost
 after ``link_timeout_s`` without a message from a ground station (``link_up``; SYS_STATUS
-reports it).
+reports it): another system than this vehicle's, and with signing on a message with a valid
+signature (:meth:`MavlinkEndpoint.from_ground_station`).
 
 This module is the link: the transport, the update loop, the receive loop that hands each
 message to its handler, sending (every send is counted in ``stats["sent"]``, a failing one
@@ -98,7 +99,8 @@ def _new_stats() -> dict[str, Any]:
     """The endpoint's counters, all zero."""
     return {"sent": {}, "received": 0, "bad_packets": 0, "handler_errors": 0, "send_errors": 0,
             "link_losses": 0, "polls": 0, "datagrams": 0, "bad_time": 0, "warnings_suppressed": 0,
-            "signing": {"accepted": 0, "unsigned_rejected": 0, "bad_signature_rejected": 0}}
+            "signing": {"accepted": 0, "unsigned_accepted": 0, "unsigned_rejected": 0,
+                        "bad_signature_rejected": 0}}
 
 
 class MavlinkEndpoint:
@@ -116,8 +118,8 @@ class MavlinkEndpoint:
         log: a logging.Logger or a callable taking one string; default logger
             ``fdm_awe.mavlink``.
         rx_rate_hz: how often (simulation time) incoming data are drained.
-        link_timeout_s: wall-clock time without any message from a ground station after
-            which the link counts as lost.
+        link_timeout_s: wall-clock time without any message from a ground station
+            (:meth:`from_ground_station`) after which the link counts as lost.
         mission_timeout_s, mission_retries: mission-upload item timeout and re-requests.
         max_mission_items: largest mission accepted (MAV_MISSION_NO_SPACE above).
         max_range_m: largest horizontal distance of a waypoint from home.
@@ -381,19 +383,19 @@ class MavlinkEndpoint:
                 self.warn(f"MAVLink: {refused.replace('_', ' ')} message ignored (signing on)")
             return
         if self.signer.on:
-            self.stats["signing"]["accepted"] += 1
+            self.stats["signing"]["accepted" if m.get_signed() else "unsigned_accepted"] += 1
         src = (m.get_srcSystem(), m.get_srcComponent())
         if src == (self.sysid, self.compid):
             return  # our own packet echoed back (e.g. broadcast)
         self.stats["received"] += 1
-        now = self.clock()
-        self._last_rx_wall = now
-        if not self.link_up:
-            self.link_up = True
-            self.gcs = src
-            self.info(f"MAVLink: ground-station link {'regained' if self._ever_linked else 'up'} "
-                       f"(system {src[0]} component {src[1]})")
-            self._ever_linked = True
+        if self.from_ground_station(m):
+            self._last_rx_wall = self.clock()
+            if not self.link_up:
+                self.link_up = True
+                self.gcs = src
+                self.info(f"MAVLink: ground-station link {'regained' if self._ever_linked else 'up'} "
+                           f"(system {src[0]} component {src[1]})")
+                self._ever_linked = True
         h = self._handlers.get(mtype)
         if h is None:
             return
@@ -402,6 +404,16 @@ class MavlinkEndpoint:
         except Exception as e:  # noqa: BLE001 - one bad message must not stop the loop
             self.stats["handler_errors"] += 1
             self.warn(f"MAVLink {mtype} from {src} not handled: {type(e).__name__}: {e}")
+
+    def from_ground_station(self, m: Any) -> bool:
+        """Does ``m`` come from a ground station, so it keeps the link up (``link_up``, the
+        FS_GCS_ENABL failsafe)? Not when it comes from this vehicle's own system (its winch, any
+        other of its components, an echo of what it sent); with signing on, only when it carried
+        a valid signature (RADIO_STATUS and RADIO pass unsigned, but a radio is no ground
+        station)."""
+        if m.get_srcSystem() == self.sysid:
+            return False
+        return m.get_signed() or not self.signer.on
 
     def for_me(self, m: Any) -> bool:
         """Is ``m`` addressed to this vehicle (or broadcast)?"""
