@@ -9,6 +9,7 @@ with it.
 from __future__ import annotations
 
 import hashlib
+import json
 import time
 
 import pytest
@@ -98,3 +99,55 @@ def test_the_vehicles_own_components_are_no_ground_station(key):
         winch.close()
         other.close()
         lk.close()
+
+
+# ---------------------------------------------------------------- parameters
+def test_param_set_of_a_switch_takes_only_0_or_1(tmp_path):
+    """PARAM_SET FS_GCS_ENABL 0.5 is refused as ArduPilot refuses a write: the PARAM_VALUE
+    answer carries the old value, a STATUSTEXT says why, the file keeps the old value; 1 is
+    taken. The autopilot definition's switches are all 0/1 only."""
+    from fdm_awe.autopilot.config import autopilot_params
+    from fdm_awe.mavlink.params import ParamStore
+
+    path = tmp_path / "params.json"
+    v = StandInVehicle()
+    v.params = autopilot_params(store=ParamStore(path))
+    switches = [n for n in v.params if v.params.info(n).kind == "bool"]
+    assert {"FS_GCS_ENABL", "GUID_NEGLIFT", "GUID_REFPULL", "REC_LAND"} <= set(switches)
+    lk = Link(v, gcs_udpin=False)
+    try:
+        ts, tc = lk.target()
+        for name, value, kept in (("FS_GCS_ENABL", 0.5, 0.0), ("GUID_NEGLIFT", 0.25, 1.0), ("FS_GCS_ENABL", 1.0, 1.0)):
+            lk.tx.param_set_send(ts, tc, name.encode(), value, mav.MAV_PARAM_TYPE_REAL32)
+            pv = lk.wait_for("PARAM_VALUE", lambda m, n=name: m.param_id == n, timeout=2.0)
+            assert pv is not None and pv.param_value == kept, (name, value, pv)
+            assert v.params[name] == kept
+            if value != kept:
+                text = lk.wait_for("STATUSTEXT", lambda m, n=name: n in m.text, timeout=2.0)
+                assert text is not None and "whole number" in text.text, text
+        assert json.loads(path.read_text())["params"]["FS_GCS_ENABL"] == 1.0
+    finally:
+        lk.close()
+
+
+@pytest.mark.parametrize("content, words", [
+    ({"format": "fdm-awe-params-1", "params": {"FS_GCS_ENABLE": 1}}, ("<parameter FS_GCS_ENABLE>", "unknown id")),
+    ({"format": "fdm-awe-params-2", "params": {"GUID_KP": 1.0}}, ("<format>", "fdm-awe-params-1")),
+    ({"params": {"GUID_KP": 1.0}}, ("<format>", "fdm-awe-params-1")),
+    ({"format": "fdm-awe-params-1", "params": {"FS_GCS_ENABL": 0.5}}, ("<parameter FS_GCS_ENABL>", "whole number")),
+], ids=["unknown-id", "wrong-format", "no-format", "half-a-switch"])
+def test_fly_refuses_a_bad_params_file_before_the_flight(tmp_path, capsys, content, words):
+    """``fly --params FILE``: an unknown id, a wrong or missing format tag, a switch at 0.5: a
+    one-line error naming the file and the field, exit 2, before any work."""
+    from pathlib import Path
+
+    from fdm_awe.cli import main
+
+    ref = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
+    path = tmp_path / "params.json"
+    path.write_text(json.dumps(content))
+    t0 = time.monotonic()
+    rc = main(["fly", "--reference", str(ref), "--quiet", "--params", str(path)])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and time.monotonic() - t0 < 10.0, err
+    assert "\n" not in err and str(path) in err and all(w in err for w in words), err
