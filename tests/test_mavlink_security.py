@@ -10,16 +10,21 @@ from __future__ import annotations
 
 import hashlib
 import json
+import socket
 import time
 
 import pytest
 
-from mavlink_helpers import GCS_COMPID, GCS_SYSID, Link, StandInVehicle, telemetry_at
+from mavlink_helpers import GCS_COMPID, GCS_SYSID, Link, StandInVehicle, free_udp_port, telemetry_at
 from pymavlink import mavutil
 from pymavlink.dialects.v20 import common as mav
 
+from fdm_awe.mavlink.endpoint import MavlinkEndpoint
+from fdm_awe.mavlink.framing import StreamParser
+from fdm_awe.mavlink.transport import MAX_TCP_CLIENTS, MAX_UDP_CLIENTS
+
 KEY = hashlib.sha256(b"tethered glider test key").digest()
-LINK_TIMEOUT_S = 0.4
+LINK_TIMEOUT_S = 0.8   # long beside a step's stalls on a loaded machine
 
 
 def _peer(port: int, sysid: int, compid: int, key: bytes | None = None):
@@ -30,11 +35,12 @@ def _peer(port: int, sysid: int, compid: int, key: bytes | None = None):
     return g
 
 
-def _run(lk: Link, seconds: float, send, period: float = 0.1) -> None:
-    """Step the vehicle for ``seconds`` of wall time, calling ``send()`` every ``period`` s."""
+def _run(lk: Link, seconds: float, send, period: float = 0.1, until=None) -> None:
+    """Step the vehicle for ``seconds`` of wall time (or until ``until()`` holds), calling
+    ``send()`` every ``period`` s."""
     t_end = time.monotonic() + seconds
     t_next = 0.0
-    while time.monotonic() < t_end:
+    while time.monotonic() < t_end and not (until is not None and until()):
         if send is not None and time.monotonic() >= t_next:
             send()
             t_next = time.monotonic() + period
@@ -65,7 +71,8 @@ def test_with_a_key_unsigned_traffic_does_not_keep_the_link_up(kind):
         assert not lk.ep.link_up and lk.ep.stats["link_losses"] == 1
         sg = lk.ep.stats["signing"]   # the intruder's messages did arrive
         assert (sg["unsigned_accepted"] if kind == "radio_status" else sg["unsigned_rejected"]) >= 5
-        _run(lk, 0.3, lambda: _heartbeat(lk.gcs))     # the ground station back: the link is back
+        _run(lk, 2.0, lambda: _heartbeat(lk.gcs), until=lambda: lk.ep.link_up)  # the ground station back
+
         assert lk.ep.link_up
     finally:
         intruder.close()
@@ -91,7 +98,7 @@ def test_the_vehicles_own_components_are_no_ground_station(key):
         _run(lk, 3 * LINK_TIMEOUT_S, echo)            # never linked by the vehicle's own traffic
         assert lk.ep.stats["received"] >= 10
         assert not lk.ep.link_up and lk.ep.gcs is None
-        _run(lk, 0.5, lambda: _heartbeat(lk.gcs))     # a ground station links
+        _run(lk, 2.0, lambda: _heartbeat(lk.gcs), until=lambda: lk.ep.link_up)  # a ground station links
         assert lk.ep.link_up and lk.ep.gcs == (GCS_SYSID, GCS_COMPID)
         _run(lk, 3 * LINK_TIMEOUT_S, echo)            # and the echoes do not keep it up
         assert not lk.ep.link_up and lk.ep.stats["link_losses"] == 1
@@ -151,3 +158,181 @@ def test_fly_refuses_a_bad_params_file_before_the_flight(tmp_path, capsys, conte
     err = capsys.readouterr().err.strip()
     assert rc == 2 and time.monotonic() - t0 < 10.0, err
     assert "\n" not in err and str(path) in err and all(w in err for w in words), err
+
+
+# ---------------------------------------------------------------- floods, squatters, stray bytes
+def _tcp_vehicle():
+    port = free_udp_port()   # a free number; TCP and UDP port spaces are separate
+    v = StandInVehicle()
+    ep = MavlinkEndpoint(f"tcpin:127.0.0.1:{port}", v)
+    return ep, v, port
+
+
+def _acks(ep, v, gcs, n: int, timeout: float = 1.5, before_each=None) -> int:
+    """Send ``n`` distinct (unsupported) commands one at a time, stepping the vehicle; how many
+    got their COMMAND_ACK within ``timeout`` s each."""
+    t = [ep.t_now]
+    answered = 0
+    for k in range(n):
+        if before_each is not None:
+            before_each()
+        gcs.mav.command_long_send(1, 1, 31000 + k, 0, 0, 0, 0, 0, 0, 0, 0)
+        t_end = time.monotonic() + timeout
+        got = False
+        while not got and time.monotonic() < t_end:
+            t[0] += 1 / 120
+            ep.update(t[0], lambda: telemetry_at(t[0], v))
+            while not got:
+                m = gcs.recv_match(blocking=False)
+                if m is None:
+                    break
+                got = m.get_type() == "COMMAND_ACK" and m.command == 31000 + k
+            time.sleep(0.0005)
+        answered += got
+    return answered
+
+
+def _step(ep, v, seconds: float) -> None:
+    t_end = time.monotonic() + seconds
+    while time.monotonic() < t_end:
+        t = ep.t_now + 1 / 120
+        ep.update(t, lambda: telemetry_at(t, v))
+        time.sleep(0.001)
+
+
+@pytest.mark.parametrize("squatter", ["idle", "flooding"])
+def test_tcp_serves_a_ground_station_that_connects_after_another_client(squatter):
+    """The issue's case: a peer connects first and sends nothing (or floods HEARTBEATs); a
+    ground station connecting after it gets every command answered."""
+    ep, v, port = _tcp_vehicle()
+    first = socket.create_connection(("127.0.0.1", port), timeout=2.0)
+    _step(ep, v, 0.1)
+    enc = mav.MAVLink(None, srcSystem=77, srcComponent=1)
+    hb = enc.heartbeat_encode(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0).pack(enc)
+    flood = (lambda: first.sendall(hb * 20)) if squatter == "flooding" else None
+    gcs = mavutil.mavlink_connection(f"tcp:127.0.0.1:{port}", source_system=GCS_SYSID,
+                                     source_component=GCS_COMPID)
+    try:
+        assert _acks(ep, v, gcs, 10, before_each=flood) == 10
+        assert ep.stats["handler_errors"] == 0
+    finally:
+        gcs.close()
+        first.close()
+        ep.close()
+
+
+def test_a_full_tcp_server_drops_the_client_silent_longest():
+    """MAX_TCP_CLIENTS idle connections: a ground station connecting next takes the place of
+    the one that connected first (none ever sent a valid message), and is served."""
+    ep, v, port = _tcp_vehicle()
+    idle = [socket.create_connection(("127.0.0.1", port), timeout=2.0) for _ in range(MAX_TCP_CLIENTS)]
+    _step(ep, v, 0.2)
+    assert len(ep._conn.clients) == MAX_TCP_CLIENTS
+    gcs = mavutil.mavlink_connection(f"tcp:127.0.0.1:{port}", source_system=GCS_SYSID,
+                                     source_component=GCS_COMPID)
+    try:
+        assert _acks(ep, v, gcs, 3) == 3
+        assert len(ep._conn.clients) == MAX_TCP_CLIENTS
+        idle[0].settimeout(1.0)
+        while idle[0].recv(4096):                # what it was sent, then the end: closed by the vehicle
+            pass
+    finally:
+        gcs.close()
+        for s in idle:
+            s.close()
+        ep.close()
+
+
+def test_a_stray_byte_on_tcp_costs_no_command():
+    """One 0xFD byte on the stream, then commands one at a time: every one is answered (the
+    stray start byte's header would take the next frames' bytes as its own)."""
+    ep, v, port = _tcp_vehicle()
+    gcs = mavutil.mavlink_connection(f"tcp:127.0.0.1:{port}", source_system=GCS_SYSID,
+                                     source_component=GCS_COMPID)
+    try:
+        assert _acks(ep, v, gcs, 1) == 1
+        gcs.port.sendall(b"\xfd")
+        assert _acks(ep, v, gcs, 8, timeout=1.0) == 8
+        assert ep.stats["bad_packets"] >= 1
+    finally:
+        gcs.close()
+        ep.close()
+
+
+def test_stream_parser_resynchronises_on_the_next_frame():
+    """The stream parser itself: a stray start byte before a whole frame gives the frame at once;
+    a frame that arrives in pieces is waited for; a bad CRC costs only its own frame."""
+    enc = mav.MAVLink(None, srcSystem=250, srcComponent=1)
+    a = enc.command_long_encode(1, 1, 400, 0, 1, 0, 0, 0, 0, 0, 0).pack(enc)
+    b = enc.param_set_encode(1, 1, b"AP_ROLL_KP", 1.5, 9).pack(enc)
+    codec = mav.MAVLink(None, srcSystem=1, srcComponent=1)
+    codec.robust_parsing = True
+    sp = StreamParser(codec)
+    msgs, bad = sp.feed(b"\xfd" + a)
+    assert [m.get_type() for m in msgs] == ["COMMAND_LONG"] and bad == 1 and sp.pending == 0
+    msgs, bad = sp.feed(b[:7])
+    assert msgs == [] and bad == 0 and sp.pending == 7          # a frame in pieces: waited for
+    msgs, bad = sp.feed(b[7:] + b"\xfe\x21")
+    assert [m.get_type() for m in msgs] == ["PARAM_SET"] and sp.pending == 2
+    corrupt = bytearray(a)
+    corrupt[-1] ^= 0x55
+    msgs, bad = sp.feed(bytes(corrupt) + b)   # (the two bytes held are junk, their frame bad)
+    assert [m.get_type() for m in msgs] == ["PARAM_SET"] and bad >= 2 and sp.pending == 0
+
+
+def test_a_udp_flood_does_not_starve_a_command():
+    """A peer's datagrams beyond its share of a poll are dropped unparsed: a command behind 50 of
+    them is answered in the first poll (with 8 parsed reads a poll, without the share it
+    would wait 7 polls)."""
+    lk = Link(StandInVehicle(), gcs_udpin=False, max_rx_per_poll=8)
+    raw = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        lk.tx.heartbeat_send(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+        lk.step(3)
+        enc = mav.MAVLink(None, srcSystem=77, srcComponent=1)
+        hb = enc.heartbeat_encode(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0).pack(enc)
+        for _ in range(50):
+            raw.sendto(hb, ("127.0.0.1", lk.port))
+        ts, tc = lk.target()
+        lk.tx.command_long_send(ts, tc, 31000, 0, 0, 0, 0, 0, 0, 0, 0)
+        time.sleep(0.2)                                   # all of it in the vehicle's socket
+        polls = lk.ep.stats["polls"]
+        lk.t += 1.0                                       # one poll
+        lk.step()
+        assert lk.ep.stats["polls"] == polls + 1
+        t_end = time.monotonic() + 1.0
+        while time.monotonic() < t_end and not any(m.get_type() == "COMMAND_ACK" for m in lk.received):
+            lk.drain()
+            time.sleep(0.01)
+        assert any(m.get_type() == "COMMAND_ACK" and m.command == 31000 for m in lk.received)
+        assert lk.ep.stats["rx_dropped"] >= 45
+    finally:
+        raw.close()
+        lk.close()
+
+
+def test_udp_destinations_are_peers_that_sent_mavlink_and_bounded():
+    """``udpin:``: junk from ever new source ports adds no destination; valid messages from many
+    ports add at most MAX_UDP_CLIENTS; the ground station that keeps talking stays one."""
+    lk = Link(StandInVehicle(), gcs_udpin=False)
+    try:
+        lk.tx.heartbeat_send(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+        lk.step(3)
+        assert len(lk.ep._conn.clients) == 1
+        enc = mav.MAVLink(None, srcSystem=77, srcComponent=1)
+        hb = enc.heartbeat_encode(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0).pack(enc)
+        for data in (b"\xfd\xff junk", hb):
+            for _ in range(40):
+                s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+                s.sendto(data, ("127.0.0.1", lk.port))
+                s.close()
+            lk.tx.heartbeat_send(mav.MAV_TYPE_GCS, mav.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+            time.sleep(0.05)
+            lk.step(30)
+            if data != hb:
+                assert len(lk.ep._conn.clients) == 1
+        assert len(lk.ep._conn.clients) == MAX_UDP_CLIENTS
+        gcs_port = lk.gcs.port.getsockname()[1]
+        assert any(a[1] == gcs_port for a in lk.ep._conn.clients)
+    finally:
+        lk.close()
