@@ -233,8 +233,9 @@ class Receiver:
             except OSError as e:
                 if e.errno in _AGAIN:
                     return
-                self.stats["read_errors"] += 1   # e.g. an earlier send refused: the next read works
-                continue
+                if e.errno != errno.ECONNREFUSED:   # (an earlier send refused: no read error)
+                    self.stats["read_errors"] += 1
+                continue   # the error is consumed; the next read works
             k = counts.get(addr, 0) + 1
             counts[addr] = k
             if k > self.share:
