@@ -336,3 +336,61 @@ def test_udp_destinations_are_peers_that_sent_mavlink_and_bounded():
         assert any(a[1] == gcs_port for a in lk.ep._conn.clients)
     finally:
         lk.close()
+
+
+def test_fs_gcs_recovers_a_flight_whose_signed_ground_station_falls_silent():
+    """The issue's flight: the real autopilot with FS_GCS_ENABL 1 and FS_LONG_TIMEOUT 1 s, paced
+    at real time, signed link; the signed ground station talks for 1 s, then only an unsigned
+    peer sends RADIO_STATUS every 0.3 s. The link is lost and the failsafe switches AUTO to
+    RECOVER (before, the RADIO_STATUS kept the link up and the glider in AUTO)."""
+    from flight_helpers import DATA
+
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.mavlink.bridge import telemetry_builder
+    from fdm_awe.sim.flight import fly
+    from fdm_awe.sim.pacing import RealtimePacer
+
+    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps_sized.json")
+    port = free_udp_port()
+    h: dict = {"next_send": 0.0}
+    gcs = _peer(port, GCS_SYSID, GCS_COMPID, KEY)
+    radio = _peer(port, 51, 68)       # a telemetry radio's ids, unsigned
+    pacer = RealtimePacer(1.0)
+
+    def setup(ap, sim):
+        assert ap.params.try_set("FS_GCS_ENABL", 1)[0] and ap.params.try_set("FS_LONG_TIMEOUT", 1.0)[0]
+        h["ap"] = ap
+        h["ep"] = MavlinkEndpoint(f"udpin:127.0.0.1:{port}", ap, signing_key=KEY, link_timeout_s=0.5,
+                                  log=lambda s: None)
+        h["build"] = telemetry_builder(ap, sim)
+
+    def on_step(k, s, o):
+        ep, ap, build = h["ep"], h["ap"], h["build"]
+        if s.t >= h["next_send"]:
+            h["next_send"] = s.t + (0.2 if s.t < 1.0 else 0.3)
+            if s.t < 1.0:
+                _heartbeat(gcs)
+            else:
+                radio.mav.radio_status_send(200, 180, 90, 20, 15, 0, 0)
+        build.integrate(s)
+        ep.update(s.t, lambda: build(s, o))
+        ap.gcs_link(ep.link_up, s.t)
+        if ap.mode != h.get("mode"):
+            h.setdefault("modes", []).append((s.t, ap.mode, ep.link_up))
+            h["mode"] = ap.mode
+        pacer.wait(s.t)
+
+    try:
+        fly(ref, config="nominal", cycles=1, t_end=3.5, setup=setup, on_step=on_step)
+        ep = h["ep"]
+        assert h["ap"].mode == "RECOVER", h.get("modes")
+        assert ep._ever_linked and ep.stats["link_losses"] == 1
+        assert ep.stats["signing"]["unsigned_accepted"] >= 5
+        t_fs = [t for t, m in h["ap"].log if m.startswith("failsafe")]
+        # the last signed heartbeat at 0.8 s, lost 0.5 s (wall) after it, failsafe FS_LONG_TIMEOUT later
+        assert len(t_fs) == 1 and 2.3 - 0.05 <= t_fs[0] <= 3.5, t_fs
+    finally:
+        if "ep" in h:
+            h["ep"].close()
+        gcs.close()
+        radio.close()
