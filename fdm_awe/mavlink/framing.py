@@ -3,7 +3,8 @@
 On UDP every datagram is parsed on its own (:func:`parse_datagram`): the parser starts empty
 for each one, so a cut frame or junk in one datagram cannot swallow the messages of the next.
 On byte streams (TCP, serial) a :class:`StreamParser` keeps a frame that has not fully arrived
-across reads, as a message may arrive in pieces.
+across reads, as a message may arrive in pieces (:class:`fdm_awe.mavlink.transport.Receiver`
+picks one or the other by the transport).
 
 Both find frames the same way (:func:`parse_frames`): from a start byte (0xFD MAVLink 2, 0xFE
 MAVLink 1) the header gives the frame's length; a frame that fails to decode (bad CRC, unknown
@@ -19,11 +20,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from pymavlink import mavutil
 from pymavlink.dialects.v20 import common as mav
 
-#: pymavlink transports that deliver whole datagrams (UDP, UDP multicast)
-DATAGRAM_TRANSPORTS = (mavutil.mavudp, mavutil.mavmcast)
 #: resynchronisations tried within one datagram or stream read after a bad or cut frame (bounds a
 #: read's cost; beyond it a bad frame is skipped whole and the rest of a datagram dropped)
 MAX_RESYNC_PER_DATAGRAM = 32

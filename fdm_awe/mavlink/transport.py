@@ -18,10 +18,10 @@ cut inside a frame.
 peer sends beyond its share in one poll is read and dropped unparsed (counted in ``dropped``),
 which costs little, so a flood from one peer neither fills the buffer (where the kernel would
 drop the ground station's commands with it) nor takes the poll's time. A TCP client beyond its
-share is not read until the next poll: its data wait in its own socket, and TCP slows it down. A UDP server (``udpin:``) answers an address only once it
-has sent a valid MAVLink message, and keeps at most :data:`MAX_UDP_CLIENTS` of them (the one
-silent longest makes room), so junk from ever new source ports cannot grow its list of
-destinations.
+share is not read until the next poll: its data wait in its own socket, and TCP slows it down.
+A UDP server (``udpin:``) answers an address only once it has sent a valid MAVLink message, and
+keeps at most :data:`MAX_UDP_CLIENTS` of them (the one silent longest makes room), so junk from
+ever new source ports cannot grow its list of destinations.
 """
 
 from __future__ import annotations
