@@ -138,7 +138,7 @@ def test_param_set_of_a_switch_takes_only_0_or_1(tmp_path):
 
 
 @pytest.mark.parametrize("content, words", [
-    ({"format": "fdm-awe-params-1", "params": {"FS_GCS_ENABLE": 1}}, ("<parameter FS_GCS_ENABLE>", "unknown id")),
+    ({"format": "fdm-awe-params-1", "params": {"FS_GCS_ENABLE": 1}}, ("<parameter FS_GCS_ENABLE>", "unknown id", "FS_GCS_ENABL?")),
     ({"format": "fdm-awe-params-2", "params": {"GUID_KP": 1.0}}, ("<format>", "fdm-awe-params-1")),
     ({"params": {"GUID_KP": 1.0}}, ("<format>", "fdm-awe-params-1")),
     ({"format": "fdm-awe-params-1", "params": {"FS_GCS_ENABL": 0.5}}, ("<parameter FS_GCS_ENABL>", "whole number")),

@@ -22,6 +22,7 @@ that none of them has (a typo would otherwise be ignored silently).
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 import os
@@ -109,9 +110,11 @@ class ParamStore:
         it once every parameter is declared)."""
         unknown = [k for k in self._saved if k not in self._params]
         if unknown:
+            close = difflib.get_close_matches(unknown[0], self._order, n=1)
+            hint = f"did you mean {close[0]}?" if close else f"e.g. {', '.join(self._order[:3])}"
             raise DefinitionError(self.path, f"parameter {unknown[0]}",
-                                  f"unknown id ({len(unknown)} unknown in the file; the ids are those of "
-                                  f"the autopilot definition, e.g. {', '.join(self._order[:3])})")
+                                  f"unknown id ({len(unknown)} unknown in the file; the ids are the "
+                                  f"autopilot's, {hint})")
 
     def on_change(self, name: str, fn: ParamCallback) -> None:
         """Call ``fn(name, value)`` after every accepted change of ``name``."""
