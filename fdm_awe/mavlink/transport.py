@@ -245,6 +245,8 @@ class Receiver:
             msgs, bad = parse_datagram(self.codec, data)
             if msgs and conn.udp_server:
                 self._udp_client(addr)
+            elif msgs and conn.broadcast:
+                conn.last_address = addr   # udpbcast: answer the first that answers (pymavlink's rule)
             yield msgs, bad
             parsed += 1
             if parsed >= self.max_reads:
