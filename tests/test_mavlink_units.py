@@ -85,7 +85,7 @@ def test_param_file_errors_name_the_file(tmp_path):
     bad.write_text("{not json")
     with pytest.raises(DefinitionError, match="p.json"):
         ParamStore(bad)
-    bad.write_text(json.dumps({"params": {"X": "fast"}}))
+    bad.write_text(json.dumps({"format": "fdm-awe-params-1", "params": {"X": "fast"}}))
     with pytest.raises(DefinitionError, match="parameter X"):
         ParamStore(bad)
 

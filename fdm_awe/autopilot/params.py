@@ -14,11 +14,15 @@ turns the wire's float32 values into these numbers and back). Each parameter has
 With a ``path`` the store saves every accepted change to a JSON file (atomically:
 write a temporary file, then rename) and a new store on the same file starts from the
 saved values: when a parameter is declared with :meth:`ParamStore.add` and the file
-holds a value for it, the saved value wins over the default (after range checking).
+holds a value for it, the saved value wins over the default (after range checking). The
+file is ``{"format": "fdm-awe-params-1", "params": {id: value}}``; another format tag is
+refused, and once every parameter is declared :meth:`ParamStore.check_saved` refuses an id
+that none of them has (a typo would otherwise be ignored silently).
 """
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 import os
@@ -34,6 +38,8 @@ ParamCallback = Callable[[str, float], None]
 
 _ID_RE = re.compile(r"^[A-Z0-9_]{1,16}$")
 KINDS = ("float", "int", "bool")
+#: the ``format`` tag of a parameter file
+FILE_FORMAT = "fdm-awe-params-1"
 
 
 @dataclass
@@ -98,6 +104,17 @@ class ParamStore:
         self._params[name] = p
         self._order.append(name)
         return p
+
+    def check_saved(self) -> None:
+        """DefinitionError naming the file for a saved id that no declared parameter has (call
+        it once every parameter is declared)."""
+        unknown = [k for k in self._saved if k not in self._params]
+        if unknown:
+            close = difflib.get_close_matches(unknown[0], self._order, n=1)
+            hint = f"did you mean {close[0]}?" if close else f"e.g. {', '.join(self._order[:3])}"
+            raise DefinitionError(self.path, f"parameter {unknown[0]}",
+                                  f"unknown id ({len(unknown)} unknown in the file; the ids are the "
+                                  f"autopilot's, {hint})")
 
     def on_change(self, name: str, fn: ParamCallback) -> None:
         """Call ``fn(name, value)`` after every accepted change of ``name``."""
@@ -206,7 +223,7 @@ class ParamStore:
         data.update(self.as_dict())
         self._saved = data
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_text(self.path, json.dumps({"format": "fdm-awe-params-1", "params": data}, indent=1,
+        atomic_write_text(self.path, json.dumps({"format": FILE_FORMAT, "params": data}, indent=1,
                                                 sort_keys=True) + "\n")
 
     def _read_file(self) -> dict[str, float]:
@@ -217,6 +234,9 @@ class ParamStore:
             doc = json.loads(self.path.read_text())
         except (OSError, ValueError) as e:
             raise DefinitionError(self.path, "params", f"unreadable JSON: {e}") from None
+        fmt = doc.get("format") if isinstance(doc, dict) else None
+        if isinstance(doc, dict) and fmt != FILE_FORMAT:
+            raise DefinitionError(self.path, "format", f"{fmt!r}; a parameter file has \"format\": \"{FILE_FORMAT}\"")
         params = doc.get("params") if isinstance(doc, dict) else None
         if not isinstance(params, dict):
             raise DefinitionError(self.path, "params", "expected an object {\"params\": {id: value}}")

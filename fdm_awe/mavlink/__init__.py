@@ -9,10 +9,11 @@
   (what each stream says), :mod:`~fdm_awe.mavlink.commands` (COMMAND_LONG/INT, SET_MODE),
   :mod:`~fdm_awe.mavlink.mission` (mission download/upload),
   :mod:`~fdm_awe.mavlink.param_protocol` (parameters on the link), :mod:`~fdm_awe.mavlink.ftp`
-  (MAVFTP NAK), :mod:`~fdm_awe.mavlink.framing` (datagram parsing),
-  :mod:`~fdm_awe.mavlink.winch` (the winch component), :mod:`~fdm_awe.mavlink.statustext`,
-  :mod:`~fdm_awe.mavlink.signing` (MAVLink 2 signing, key files) and
-  :mod:`~fdm_awe.mavlink.transport` (the connection: a tcp client tried once, bounded in time).
+  (MAVFTP NAK), :mod:`~fdm_awe.mavlink.transport` (the connection, read fairly; a TCP
+  server for several ground stations; a tcp client tried once, bounded in time),
+  :mod:`~fdm_awe.mavlink.framing` (datagram and stream parsing),
+  :mod:`~fdm_awe.mavlink.winch` (the winch component), :mod:`~fdm_awe.mavlink.statustext`
+  and :mod:`~fdm_awe.mavlink.signing` (MAVLink 2 signing, key files).
 """
 
 from fdm_awe.mavlink.geo import GeoFrame, Home

@@ -15,10 +15,12 @@ with the real-time pacer, :class:`fdm_awe.sim.pacing.RealtimePacer`, for a perso
 without it the streams come out as fast as the simulation runs). When nothing is due,
 ``update`` costs one or two float comparisons; a callable ``telemetry`` is only called
 when a message needs it. Incoming messages are drained at ``rx_rate_hz`` (simulation
-time), at most ``max_rx_per_poll`` datagrams per poll; link and mission-transfer
-timeouts use the wall clock, because ground stations run on it. The link counts as lost
+time), at most ``max_rx_per_poll`` datagrams or stream reads per poll, each peer within its
+share (:mod:`~fdm_awe.mavlink.transport`); link and mission-transfer timeouts use the wall
+clock, because ground stations run on it. The link counts as lost
 after ``link_timeout_s`` without a message from a ground station (``link_up``; SYS_STATUS
-reports it).
+reports it): another system than this vehicle's, and with signing on a message with a valid
+signature (:meth:`MavlinkEndpoint.from_ground_station`).
 
 This module is the link: the transport, the update loop, the receive loop that hands each
 message to its handler, sending (every send is counted in ``stats["sent"]``, a failing one
@@ -31,7 +33,10 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
 - :mod:`~fdm_awe.mavlink.param_protocol`: PARAM_REQUEST_LIST/READ, PARAM_SET;
 - :mod:`~fdm_awe.mavlink.ftp`: MAVFTP, answered with a NAK so ground stations fall back to
   the parameter protocol at once;
-- :mod:`~fdm_awe.mavlink.framing`: UDP datagrams parsed one by one, byte streams as streams;
+- :mod:`~fdm_awe.mavlink.transport`: the connection (``tcpin:`` serves several ground
+  stations), read fairly: a flooding peer cannot starve the others;
+- :mod:`~fdm_awe.mavlink.framing`: UDP datagrams parsed one by one, byte streams as streams,
+  both resynchronising on the next frame after a bad one;
 - :mod:`~fdm_awe.mavlink.winch`: the winch, its own component (id 169) on this connection;
 - :mod:`~fdm_awe.mavlink.statustext`: STATUSTEXT of mode, arm, cycling, phase and winch
   changes and of the flight's end (:meth:`MavlinkEndpoint.flight_ended`);
@@ -63,14 +68,13 @@ from pymavlink.dialects.v20 import common as mav  # noqa: E402
 
 from fdm_awe.mavlink import signing as _signing  # noqa: E402
 from fdm_awe.mavlink.commands import CommandHandler  # noqa: E402
-from fdm_awe.mavlink.framing import DATAGRAM_TRANSPORTS, parse_datagram, reset_parser  # noqa: E402
 from fdm_awe.mavlink.ftp import on_ftp  # noqa: E402
 from fdm_awe.mavlink.messages import NAMED_VALUES  # noqa: E402
 from fdm_awe.mavlink.mission import MissionProtocol  # noqa: E402
 from fdm_awe.mavlink.param_protocol import ParamProtocol  # noqa: E402
 from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
 from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule  # noqa: E402
-from fdm_awe.mavlink.transport import open_link  # noqa: E402
+from fdm_awe.mavlink.transport import Receiver, open_link  # noqa: E402
 from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
 __all__ = ["MavlinkEndpoint", "DEFAULT_RATES", "NAMED_VALUES"]
@@ -97,8 +101,9 @@ def _check_options(sysid: int, compid: int, rx_rate_hz: float, link_timeout_s: f
 def _new_stats() -> dict[str, Any]:
     """The endpoint's counters, all zero."""
     return {"sent": {}, "received": 0, "bad_packets": 0, "handler_errors": 0, "send_errors": 0,
-            "link_losses": 0, "polls": 0, "datagrams": 0, "bad_time": 0, "warnings_suppressed": 0,
-            "signing": {"accepted": 0, "unsigned_rejected": 0, "bad_signature_rejected": 0}}
+            "link_losses": 0, "polls": 0, "datagrams": 0, "rx_dropped": 0, "bad_time": 0, "warnings_suppressed": 0,
+            "signing": {"accepted": 0, "unsigned_accepted": 0, "unsigned_rejected": 0,
+                        "bad_signature_rejected": 0}}
 
 
 class MavlinkEndpoint:
@@ -116,12 +121,13 @@ class MavlinkEndpoint:
         log: a logging.Logger or a callable taking one string; default logger
             ``fdm_awe.mavlink``.
         rx_rate_hz: how often (simulation time) incoming data are drained.
-        link_timeout_s: wall-clock time without any message from a ground station after
-            which the link counts as lost.
+        link_timeout_s: wall-clock time without any message from a ground station
+            (:meth:`from_ground_station`) after which the link counts as lost.
         mission_timeout_s, mission_retries: mission-upload item timeout and re-requests.
         max_mission_items: largest mission accepted (MAV_MISSION_NO_SPACE above).
         max_range_m: largest horizontal distance of a waypoint from home.
-        max_rx_per_poll: datagrams/reads handled per poll at most (bounds a poll's cost).
+        max_rx_per_poll: datagrams/reads handled per poll at most (bounds a poll's cost); one
+            peer gets a quarter of them, what it sends beyond that in a poll is not parsed.
         param_burst: PARAM_VALUE messages sent per update while streaming the list.
         clock: wall clock for timeouts (monotonic seconds).
         signing_key: 32-byte MAVLink 2 signing key (:mod:`fdm_awe.mavlink.signing`), or
@@ -196,7 +202,7 @@ class MavlinkEndpoint:
     def _open(self, url: str, signing_key: bytes | None, signing_link_id: int, connection: Any = None) -> None:
         """Open the connection (or take ``connection``, opened by :func:`.transport.open_link`),
         this vehicle's codec, the winch component and the signer."""
-        self._conn = connection if connection is not None else open_link(url, self.sysid, self.compid)
+        self._conn = connection if connection is not None else open_link(url, self.sysid, self.compid, log=self.info)
         # Our own MAVLink 2 codec on pymavlink's transport: independent of mavutil's
         # process-wide dialect/protocol-version switch.
         #: the vehicle's MAVLink encoder (signed once a key is set); the protocol modules send through
@@ -207,8 +213,8 @@ class MavlinkEndpoint:
         self.winch = WinchComponent(self._conn, self.sysid)
         #: MAVLink 2 signing of both components (off without a key)
         self.signer = _signing.Signer([self.mav, self.winch.mav], signing_key, signing_link_id)
-        #: UDP (one message set per datagram, parsed on its own) or a byte stream (TCP, serial)
-        self._datagrams = isinstance(self._conn, DATAGRAM_TRANSPORTS)
+        #: reads the connection poll by poll, each peer within its share
+        self._rx = Receiver(self._conn, self.mav, self.max_rx_per_poll)
 
     def _handler_table(self) -> dict[str, Callable[[Any], None]]:
         """Incoming message type -> handler (other types only keep the link up)."""
@@ -337,30 +343,15 @@ class MavlinkEndpoint:
     def _poll(self) -> None:
         self.stats["polls"] += 1
         self.signer.tick()
-        conn = self._conn
-        parse = self.mav.parse_buffer
-        datagrams = self._datagrams
-        for _ in range(self.max_rx_per_poll):
-            try:
-                data = conn.recv(4096)
-            except Exception:  # noqa: BLE001 - a transport error is not fatal; try next poll
-                self.stats["bad_packets"] += 1
-                break
-            if not data:
-                break
-            self.stats["datagrams"] += 1
-            if datagrams:  # one datagram, parsed on its own
-                msgs, bad = parse_datagram(self.mav, data)
-                self.stats["bad_packets"] += bad
-            else:  # a byte stream: a message may span reads, the parser keeps its state
-                try:
-                    msgs = parse(data) or []
-                except Exception:  # noqa: BLE001 - robust parsing should not raise; be safe anyway
-                    self.stats["bad_packets"] += 1
-                    reset_parser(self.mav)
-                    continue
+        rx = self._rx.stats
+        reads, dropped, errors = rx["reads"], rx["dropped"], rx["read_errors"]
+        for msgs, bad in self._rx.poll():
+            self.stats["bad_packets"] += bad
             for m in msgs:
                 self._handle(m)
+        self.stats["datagrams"] += rx["reads"] - reads
+        self.stats["rx_dropped"] += rx["dropped"] - dropped
+        self.stats["bad_packets"] += rx["read_errors"] - errors
         now = self.clock()
         if self.link_up and now - self._last_rx_wall > self.link_timeout_s:
             self.link_up = False
@@ -381,19 +372,19 @@ class MavlinkEndpoint:
                 self.warn(f"MAVLink: {refused.replace('_', ' ')} message ignored (signing on)")
             return
         if self.signer.on:
-            self.stats["signing"]["accepted"] += 1
+            self.stats["signing"]["accepted" if m.get_signed() else "unsigned_accepted"] += 1
         src = (m.get_srcSystem(), m.get_srcComponent())
         if src == (self.sysid, self.compid):
             return  # our own packet echoed back (e.g. broadcast)
         self.stats["received"] += 1
-        now = self.clock()
-        self._last_rx_wall = now
-        if not self.link_up:
-            self.link_up = True
-            self.gcs = src
-            self.info(f"MAVLink: ground-station link {'regained' if self._ever_linked else 'up'} "
-                       f"(system {src[0]} component {src[1]})")
-            self._ever_linked = True
+        if self.from_ground_station(m):
+            self._last_rx_wall = self.clock()
+            if not self.link_up:
+                self.link_up = True
+                self.gcs = src
+                self.info(f"MAVLink: ground-station link {'regained' if self._ever_linked else 'up'} "
+                           f"(system {src[0]} component {src[1]})")
+                self._ever_linked = True
         h = self._handlers.get(mtype)
         if h is None:
             return
@@ -402,6 +393,16 @@ class MavlinkEndpoint:
         except Exception as e:  # noqa: BLE001 - one bad message must not stop the loop
             self.stats["handler_errors"] += 1
             self.warn(f"MAVLink {mtype} from {src} not handled: {type(e).__name__}: {e}")
+
+    def from_ground_station(self, m: Any) -> bool:
+        """Does ``m`` come from a ground station, so it keeps the link up (``link_up``, the
+        FS_GCS_ENABL failsafe)? Not when it comes from this vehicle's own system (its winch, any
+        other of its components, an echo of what it sent); with signing on, only when it carried
+        a valid signature (RADIO_STATUS and RADIO pass unsigned, but a radio is no ground
+        station)."""
+        if m.get_srcSystem() == self.sysid:
+            return False
+        return m.get_signed() or not self.signer.on
 
     def for_me(self, m: Any) -> bool:
         """Is ``m`` addressed to this vehicle (or broadcast)?"""
