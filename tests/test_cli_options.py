@@ -373,7 +373,7 @@ def test_params_errors_name_the_option(tmp_path, no_work, capsys):
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
     text = tmp_path / "text.json"
-    text.write_text(json.dumps({"params": {"WP_RADIUS": "far"}}))
+    text.write_text(json.dumps({"format": "fdm-awe-params-1", "params": {"WP_RADIUS": "far"}}))
     base = ["fly", "--reference", str(REF), "--params"]
     for path, words in ((bad, ("unreadable JSON",)), (text, ("parameter WP_RADIUS", "not a finite number")),
                         (tmp_path, ("is a folder",))):
