@@ -21,11 +21,13 @@ an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--p
 ``--line-weight``/``--no-line-weight``) are refused (the flight flies the line the reference names), and a ``--config``/``--scenario`` other than the reference's
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
-Checks before any work (one line, exit 2): every number in range, the turbulence seed
-(1..2**31-1), the MAVLink URL (form, port, host resolves), every output path (writable, not
+Checks before any work (one line, exit 2): every number in range, the turbulence form and
+seed (1..2**31-1), the MAVLink URL (form, port, host resolves), every output path (writable, not
 an input such as ``--reference`` or ``--params``). Outputs are written atomically; the JSON
 writes NaN as ``null`` (e.g. the tracking error of a cycle without reference points) and
-records the turbulence level and seed (``"turbulence": {"level", "seed"}`` or ``null``).
+records the turbulence (``null`` in calm air): its form and seed, the JSBSim parameters, the
+target sigma and intensity at the hub height and the turbulence measured at the glider
+(:mod:`fdm_awe.turbulence`).
 
 Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
 RTL or the link-loss failsafe) ended it landed or parked; 1 it ended
@@ -125,8 +127,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
     p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles, 1..1000 (default 3)")
     p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s, 0.0001..0.05 (default 1/120)")
-    p.add_argument("--turbulence", metavar="LEVEL[:SEED]",
-                   help="JSBSim turbulence: light|moderate|severe, seeded (SEED 1..2147483647, default 1)")
+    p.add_argument("--turbulence", metavar="FORM[:SEED]",
+                   help="JSBSim turbulence, seeded (SEED 1..2147483647, default 1): light|moderate|severe (fixed "
+                        "wind at 20 ft: 15|30|45 kt), milspec:light|moderate|severe (MIL-F-8785C with the flight's "
+                        "own wind at 20 ft) or iec:A|B|C (IEC 61400-1 class at the cycle's mean height); "
+                        "docs/wind.md")
     p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: brake the drum, reel in, circle down and land at the "
                         "winch, or park in a hold with REC_LAND 0)")
     p.add_argument("--json", metavar="FILE", help="write the numbers as JSON (NaN written as null)")
@@ -442,7 +447,6 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
 
     doc = report.as_json()
     doc["reference"] = None if ref_path is None else str(ref_path)
-    doc["turbulence"] = None if args.turbulence is None else {"level": args.turbulence[0], "seed": args.turbulence[1]}
     rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
     written: dict[str, object] = {}
     cut = False
