@@ -17,10 +17,20 @@ import sys
 
 import numpy as np
 
+from fdm_awe.commands import _checks as chk
 from fdm_awe.errors import InputError
 from fdm_awe.sixdof.turbulence_path import sample_turbulence
-from fdm_awe.turbulence import Turbulence, measure
+from fdm_awe.turbulence import LOW_ALTITUDE_M, Turbulence, measure
 from fdm_awe.wind import WindProfile
+
+
+def _wind(text: str) -> float:
+    """One wind speed of ``--winds`` [m/s], 0.5..30."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise InputError(f"--winds {text!r}: not a number (allowed 0.5..30 m/s, comma-separated)") from None
+    return chk.number(v, "--winds", 0.5, 30.0, unit="m/s", what="wind speed")  # type: ignore[return-value]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -34,10 +44,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--dt", type=float, default=1.0 / 30.0, help="step, s")
     a = p.parse_args(argv)
     try:
-        profile = WindProfile.parse(a.profile)
-        forms = [Turbulence.parse(f) for f in a.forms.split(",")]
-        winds = [float(w) for w in a.winds.split(",")]
-    except (InputError, ValueError) as exc:
+        profile = WindProfile.parse(a.profile, option="--profile")
+        forms = [Turbulence.parse(f, option="--forms") for f in a.forms.split(",")]
+        winds = [_wind(w) for w in a.winds.split(",")]
+        chk.number(a.hub, "--hub", 1.0, LOW_ALTITUDE_M[1], unit="m", what="hub height")
+        chk.number(a.airspeed, "--airspeed", 5.0, 60.0, unit="m/s", what="airspeed")
+        chk.number(a.duration, "--duration", 1.0, 86400.0, unit="s", what="simulated seconds per cell")
+        chk.number(a.dt, "--dt", 0.0, 0.1, lo_open=True, unit="s", what="step")
+    except InputError as exc:
         print(f"turbulence_table: error: {exc}", file=sys.stderr)
         return 2
     print(f"hub {a.hub:g} m, {profile.describe()}, airspeed {a.airspeed:g} m/s crosswind, "

@@ -161,3 +161,20 @@ def test_jsbsim_turbulence_meets_the_iec_target_over_a_long_record():
     assert m["sigma_v_mps"] == pytest.approx(tg["sigma_u_mps"], rel=0.15)  # JSBSim: sigma_v = sigma_u
     assert m["sigma_w_mps"] == pytest.approx(tg["sigma_w_mps"], rel=0.10)
     assert isinstance(st, TurbulenceSetting) and st.severity > 0
+
+
+def test_table_script_prints_target_and_measured_and_refuses_bad_input(capsys):
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+    import turbulence_table
+
+    assert turbulence_table.main(["--forms", "iec:B", "--winds", "10", "--duration", "30"]) == 0
+    row = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("| iec:B")]
+    assert len(row) == 1 and "| 10 | " in row[0] and "| 1.834 |" in row[0]  # sigma_1 = 0.14 (7.5 + 5.6)
+    for argv, words in ((["--forms", "iec:Z"], "--forms 'iec:Z'"), (["--winds", "x"], "--winds 'x'"),
+                        (["--hub", "400"], "--hub 400"), (["--profile", "log:9"], "--profile")):
+        assert turbulence_table.main(argv) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0 and words in err
