@@ -30,7 +30,7 @@ The severity index only acts above 1000 ft (the high-altitude table, blended in 
   ``W20 = 10 sigma_1 (0.177 + 0.000823 h_hub)^0.4`` (h_hub in ft). Only the longitudinal sigma
   at the hub height matches IEC: JSBSim's lateral sigma equals it (IEC: 0.7 sigma_1), its
   vertical sigma is ``(0.177 + 0.000823 h)^0.4`` of it (0.72 at 100 m; IEC: 0.5), and its
-  longitudinal sigma grows below the hub height and falls above it (x1.15 at 50 m, x0.90 at
+  longitudinal sigma grows below the hub height and falls above it (x1.15 at 50 m, x0.87 at
   170 m for a hub at 100 m), where IEC's is the same at every height of the rotor.
 
 SEED (1..2**31-1, default 1) seeds JSBSim's random generator; a flight repeats for a seed.
