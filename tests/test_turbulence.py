@@ -178,3 +178,24 @@ def test_table_script_prints_target_and_measured_and_refuses_bad_input(capsys):
         assert turbulence_table.main(argv) == 2
         err = capsys.readouterr().err.strip()
         assert err.count("\n") == 0 and words in err
+
+
+def test_a_flight_takes_its_hub_from_the_reference_and_refuses_one_too_high():
+    """The hub is the reference cycle's time-mean height, the wind its metadata's; an IEC hub
+    above 305 m is refused (one line naming --turbulence) before the flight."""
+    import dataclasses
+    from pathlib import Path
+
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.sim.flight import turbulence_setting
+
+    ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json")
+    st = turbulence_setting(ref, Turbulence("iec", "A", 1))
+    h = -ref.pos[:, 2]
+    assert h.min() < st.hub_height_m < h.max() and st.wind_hub_mps == pytest.approx(8.0)
+    assert turbulence_setting(ref, None) is None
+    assert turbulence_setting(ref, ("light", 2)).w20_mps == 15.0 * 1852.0 / 3600.0
+    high = dataclasses.replace(ref, pos=ref.pos + np.array([0.0, 0.0, -300.0]))
+    with pytest.raises(InputError, match=r"^--turbulence iec:A:1: the reference's mean height \d+ m is above 305 m"):
+        turbulence_setting(high, Turbulence("iec", "A", 1))
+    assert turbulence_setting(high, Turbulence("milspec", "light", 1)).w20_mps == pytest.approx(8.0)

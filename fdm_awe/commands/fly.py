@@ -308,6 +308,10 @@ def _read_reference(args: argparse.Namespace) -> Any:
 
     ref = TrackingReference.from_ocp_file(args.reference)
     check_reference_options(args, ref.meta, args.reference)
+    if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
+        from ..sim.flight import turbulence_setting
+
+        turbulence_setting(ref, args.turbulence)
     args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
                                   else DEFAULT_CONFIG)
     return ref

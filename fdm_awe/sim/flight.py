@@ -179,14 +179,19 @@ class _FlightWind:
                 out[k] = self.at(float(height[k - 1]))
         return out
 
-    def turbulence(self, turbulence: Turbulence | tuple[str, int] | None, reference: Any) -> TurbulenceSetting | None:
-        """The flight's turbulence realised in this wind (:mod:`fdm_awe.turbulence`), with the
-        hub height the time-mean height of one cycle of ``reference`` (None: no turbulence)."""
-        form = Turbulence.of(turbulence)
-        if form is None:
-            return None
-        hub = mean_height(reference.t, -reference.pos[:, 2])
-        return form.setting(math.hypot(self.ned[0], self.ned[1]), self.profile, hub)
+
+
+def turbulence_setting(reference: Any, turbulence: Turbulence | tuple[str, int] | None) -> TurbulenceSetting | None:
+    """The turbulence of a flight of ``reference`` (a :class:`~fdm_awe.autopilot.tracking.TrackingReference`)
+    realised in its wind (metadata ``wind_ned_mps`` and ``wind_profile``; :mod:`fdm_awe.turbulence`),
+    the hub height the time-mean height of its cycle; None without turbulence. A form that
+    cannot be realised there raises a one-line :class:`InputError` naming ``--turbulence``."""
+    form = Turbulence.of(turbulence)
+    if form is None:
+        return None
+    wind = _FlightWind(reference.meta)
+    hub = mean_height(reference.t, -reference.pos[:, 2])
+    return form.setting(math.hypot(wind.ned[0], wind.ned[1]), wind.profile, hub)
 
 
 def _station_params(meta: dict[str, Any], paper: bool, nseg: int) -> GroundStationParams:
@@ -307,7 +312,7 @@ def fly(
     meta = reference.meta
     wind = _FlightWind(meta)
     gsp = _station_params(meta, paper, nseg)
-    turb = wind.turbulence(turbulence, reference)
+    turb = turbulence_setting(reference, turbulence)
     rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, tether)
     if setup is not None:
         setup(rig.ap, rig.sim)
@@ -507,4 +512,4 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
 #: the report's names, re-exported: a flight's callers find them here
 __all__ = ["FLIGHT_STATUSES", "LAND_RADIUS_MAX", "LAND_SINK_MAX", "LAND_SPEED_MAX", "LINE_SHAPE_HZ", "NO_CYCLE",
            "OTHER_PHASE", "PHASE_CODES", "PLANT_NOTES", "CycleMetrics", "CycleSpan", "FlightReport", "GliderLedger",
-           "cycle_metrics", "fly", "landing_verdict", "segment_cycles"]
+           "cycle_metrics", "fly", "landing_verdict", "segment_cycles", "turbulence_setting"]
