@@ -186,7 +186,7 @@ def test_fly_records_the_turbulence_level_and_seed(tmp_path, monkeypatch):
     assert (doc["level"], doc["seed"], doc["w20_mps"]) == ("moderate", 1, pytest.approx(30.0 * 1852.0 / 3600.0))
 
 
-def test_fly_records_the_iec_target_and_the_turbulence_met(tmp_path, monkeypatch):
+def test_fly_records_the_iec_target_and_the_turbulence_met(tmp_path, monkeypatch, capsys):
     """``iec:A``: the hub is the reference's mean height, the target IEC's sigma_1 there; the
     measured turbulence comes from the wind the glider met over the (3 s) flight."""
     from fdm_awe.autopilot.tracking import TrackingReference
@@ -208,6 +208,8 @@ def test_fly_records_the_iec_target_and_the_turbulence_met(tmp_path, monkeypatch
     assert m["duration_s"] == pytest.approx(3.0, abs=0.02) and m["mean_wind_mps"] == pytest.approx(8.0)
     assert 0.0 < m["sigma_u_mps"] < 3.0 * sigma_1 and 0.0 < m["sigma_w_mps"] < 3.0 * sigma_1
     assert m["intensity"] == pytest.approx(m["sigma_u_mps"] / 8.0, abs=2e-6)  # 6 decimals in the JSON
+    line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("turbulence iec:A:3: ")]
+    assert len(line) == 1 and "target sigma_u 1.86 m/s at " in line[0] and "intensity 0.232" in line[0]
 
 
 def test_writers_leave_no_partial_file_when_they_raise(tmp_path, monkeypatch):

@@ -482,11 +482,27 @@ def _fmt(v: float, spec: str) -> str:
     return format(v, spec)
 
 
+def _turbulence_line(t: dict) -> str:
+    """One line on the flight's turbulence: the form, the target at the hub height and what the
+    glider met (``FlightReport.turbulence``)."""
+    tg, m = t["target"], t["measured"]
+
+    def f(v: Any, spec: str) -> str:
+        return "-" if v is None or not math.isfinite(v) else format(v, spec)
+
+    hub = f"{f(tg['sigma_u_mps'], '.2f')} m/s at {f(t['hub_height_m'], '.0f')} m"
+    return (f"turbulence {t['text']}: target sigma_u {hub}, intensity {f(tg['intensity'], '.3f')}; met over "
+            f"{f(m['duration_s'], '.0f')} s: sigma_u/v/w {f(m['sigma_u_mps'], '.2f')}/{f(m['sigma_v_mps'], '.2f')}/"
+            f"{f(m['sigma_w_mps'], '.2f')} m/s, intensity {f(m['intensity'], '.3f')}")
+
+
 def _print_summary(report, ref_label: str) -> None:
     print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_label}  plant {report.plant}"
           f"  line drag x {report.tether_drag_scale:g}  tether {report.tether}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
           f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
+    if report.turbulence is not None:
+        print(_turbulence_line(report.turbulence))
     print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
     for c in report.cycles:
         flag = "" if c.complete else "  (incomplete)"
