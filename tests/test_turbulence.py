@@ -154,8 +154,9 @@ def test_jsbsim_turbulence_meets_the_iec_target_over_a_long_record():
     st = Turbulence("iec", "A", 4).setting(8.0, None, 100.0)
     tg = st.targets()
     assert tg["intensity"] == pytest.approx(0.16 * (0.75 * 8.0 + 5.6) / 8.0)
-    t, wind = sample_turbulence(st, (8.0, 0.0, 0.0), 100.0, 20.0, 3600.0, dt=1.0 / 30.0)
-    m = measure(t, wind, np.tile([8.0, 0.0, 0.0], (len(t), 1)), (1.0, 0.0))
+    t, wind, steady = sample_turbulence(st, (8.0, 0.0, 0.0), 100.0, 20.0, 3600.0, dt=1.0 / 30.0)
+    assert np.array_equal(steady, np.tile([8.0, 0.0, 0.0], (len(t), 1)))
+    m = measure(t, wind, steady, (1.0, 0.0))
     assert m["sigma_u_mps"] == pytest.approx(tg["sigma_u_mps"], rel=0.15)
     assert m["intensity"] == pytest.approx(tg["intensity"], rel=0.15)
     assert m["sigma_v_mps"] == pytest.approx(tg["sigma_u_mps"], rel=0.15)  # JSBSim: sigma_v = sigma_u
@@ -174,7 +175,8 @@ def test_table_script_prints_target_and_measured_and_refuses_bad_input(capsys):
     row = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("| iec:B")]
     assert len(row) == 1 and "| 10 | " in row[0] and "| 1.834 |" in row[0]  # sigma_1 = 0.14 (7.5 + 5.6)
     for argv, words in ((["--forms", "iec:Z"], "--forms 'iec:Z'"), (["--winds", "x"], "--winds 'x'"),
-                        (["--hub", "400"], "--hub 400"), (["--profile", "log:9"], "--profile")):
+                        (["--hub", "400"], "--hub 400"), (["--profile", "log:9"], "--profile"),
+                        (["--swing", "7"], "--swing '7'"), (["--swing", "20:3"], "--swing 20.0")):
         assert turbulence_table.main(argv) == 2
         err = capsys.readouterr().err.strip()
         assert err.count("\n") == 0 and words in err
