@@ -82,6 +82,15 @@ def test_named_levels_fly_the_old_gusts_bit_for_bit(level):
     assert np.abs(new - (8.0, 0.0, 0.0)).max() > 0.05  # turbulence is on
 
 
+def test_the_glider_takes_a_wind_following_form_only_as_its_setting():
+    with pytest.raises(InputError, match="iec:A:1 follows the flight's wind"):
+        JSBSimGlider("glider_unfolded", turbulence=Turbulence("iec", "A"))
+    with pytest.raises(InputError, match="not one of light, moderate, severe"):
+        JSBSimGlider("glider_unfolded", turbulence=("storm", 1))
+    g = JSBSimGlider("glider_unfolded", turbulence=Turbulence("level", "severe", 3))
+    assert g.turbulence == Turbulence("level", "severe", 3).setting() and g.fdm["atmosphere/turb-type"] == 4
+
+
 def test_milspec_takes_the_wind_at_20_ft_from_the_profile():
     st = Turbulence("milspec", "light").setting(8.0, None, 100.0)
     assert st.w20_mps == 8.0 and st.sigma_w == pytest.approx(0.8)

@@ -180,7 +180,6 @@ class _FlightWind:
         return out
 
 
-
 def turbulence_setting(reference: Any, turbulence: Turbulence | tuple[str, int] | None) -> TurbulenceSetting | None:
     """The turbulence of a flight of ``reference`` (a :class:`~fdm_awe.autopilot.tracking.TrackingReference`)
     realised in its wind (metadata ``wind_ned_mps`` and ``wind_profile``; :mod:`fdm_awe.turbulence`),

@@ -252,7 +252,11 @@ class JSBSimGlider:
             self.turbulence = None
             return
         if not isinstance(turbulence, TurbulenceSetting):
-            turbulence = Turbulence.of(turbulence).setting()  # type: ignore[union-attr]
+            form = Turbulence.of(turbulence)
+            if form.form != "level":  # type: ignore[union-attr]
+                raise InputError(f"turbulence: {form.text()} follows the flight's wind: pass its setting "  # type: ignore[union-attr]
+                                 f"(Turbulence.setting with the wind and hub height)")
+            turbulence = form.setting()  # type: ignore[union-attr]
         seed = turbulence.seed
         f["atmosphere/randomseed"] = int(seed)
         f["simulation/randomseed"] = int(seed)
