@@ -126,7 +126,11 @@ def test_every_numeric_option_is_range_checked_before_work(argv, words, tmp_path
     ("severe:2147483648", ("seed 2147483648", "1..2147483647")),
     ("moderate:", ("seed ''", "not an integer")),
     ("moderate:x", ("seed 'x'", "not an integer")),
-    ("storm:3", ("level 'storm'", "light, moderate, severe")),
+    ("storm:3", ("form 'storm'", "light, moderate, severe", "milspec:SEVERITY", "iec:CLASS")),
+    ("iec:D:2", ("class 'D'", "A, B, C", "milspec:SEVERITY")),
+    ("iec", ("needs a class", "A, B, C")),
+    ("milspec:gusty", ("severity 'gusty'", "light, moderate, severe")),
+    ("iec:A:0", ("seed 0", "1..2147483647")),
 ])
 def test_turbulence_seed_and_level_are_validated(spec, words, no_work, capsys):
     _refused(["fly", "--reference", str(REF), "--turbulence", spec], capsys, "--turbulence", *words)
@@ -134,10 +138,13 @@ def test_turbulence_seed_and_level_are_validated(spec, words, no_work, capsys):
 
 def test_turbulence_parser_accepts_the_seed_range():
     from fdm_awe.commands._checks import turbulence
+    from fdm_awe.turbulence import Turbulence
 
-    assert turbulence("light") == ("light", 1)
-    assert turbulence("light:1") == ("light", 1)
-    assert turbulence("severe:2147483647") == ("severe", 2**31 - 1)
+    assert turbulence("light") == Turbulence("level", "light", 1)
+    assert turbulence("light:1") == Turbulence("level", "light", 1)
+    assert turbulence("severe:2147483647") == Turbulence("level", "severe", 2**31 - 1)
+    assert turbulence("milspec:moderate:2147483647") == Turbulence("milspec", "moderate", 2**31 - 1)
+    assert turbulence("iec:B") == Turbulence("iec", "B", 1)
     assert turbulence(None) is None
 
 

@@ -171,14 +171,45 @@ def test_fly_json_of_a_flight_ended_by_an_event_has_null_for_nan(tmp_path, monke
 
 
 def test_fly_records_the_turbulence_level_and_seed(tmp_path, monkeypatch):
+    from fdm_awe.turbulence import Turbulence
+
     calls = _short_flights(monkeypatch)
     out = tmp_path / "run.json"
     assert main(["fly", "--reference", str(REF), "--turbulence", "light:2147483647", "--quiet", "--json", str(out)]) == 0
-    assert calls[-1]["turbulence"] == ("light", 2147483647)
-    assert json.loads(out.read_text())["turbulence"] == {"level": "light", "seed": 2147483647}
+    assert calls[-1]["turbulence"] == Turbulence("level", "light", 2147483647)
+    doc = json.loads(out.read_text())["turbulence"]
+    assert (doc["form"], doc["level"], doc["seed"]) == ("level", "light", 2147483647)
+    assert doc["w20_mps"] == pytest.approx(15.0 * 1852.0 / 3600.0) and doc["severity_index"] == 3
     assert main(["fly", "--reference", str(REF), "--turbulence", "moderate", "--quiet", "--json", str(out)]) == 0
-    assert calls[-1]["turbulence"] == ("moderate", 1)
-    assert json.loads(out.read_text())["turbulence"] == {"level": "moderate", "seed": 1}
+    assert calls[-1]["turbulence"] == Turbulence("level", "moderate", 1)
+    doc = json.loads(out.read_text())["turbulence"]
+    assert (doc["level"], doc["seed"], doc["w20_mps"]) == ("moderate", 1, pytest.approx(30.0 * 1852.0 / 3600.0))
+
+
+def test_fly_records_the_iec_target_and_the_turbulence_met(tmp_path, monkeypatch, capsys):
+    """``iec:A``: the hub is the reference's mean height, the target IEC's sigma_1 there; the
+    measured turbulence comes from the wind the glider met over the (3 s) flight."""
+    from fdm_awe.autopilot.tracking import TrackingReference
+    from fdm_awe.turbulence import mean_height
+
+    _short_flights(monkeypatch)
+    out = tmp_path / "run.json"
+    assert main(["fly", "--reference", str(REF), "--turbulence", "iec:A:3", "--quiet", "--json", str(out)]) == 0
+    doc = json.loads(out.read_text())["turbulence"]
+    ref = TrackingReference.from_ocp_file(REF)
+    hub = mean_height(ref.t, -ref.pos[:, 2])
+    assert (doc["form"], doc["iec_class"], doc["i_ref"], doc["seed"]) == ("iec", "A", 0.16, 3)
+    assert doc["hub_height_m"] == pytest.approx(hub, rel=0.02) and 40.0 < hub < 200.0
+    assert doc["wind_hub_mps"] == pytest.approx(8.0)  # uniform wind
+    sigma_1 = 0.16 * (0.75 * 8.0 + 5.6)
+    assert doc["target"]["sigma_u_mps"] == pytest.approx(sigma_1, rel=1e-5)
+    assert doc["target"]["intensity"] == pytest.approx(sigma_1 / 8.0, rel=1e-5)
+    m = doc["measured"]
+    assert m["duration_s"] == pytest.approx(3.0, abs=0.02) and m["mean_wind_mps"] == pytest.approx(8.0)
+    assert 0.0 < m["sigma_u_mps"] < 3.0 * sigma_1 and 0.0 < m["sigma_w_mps"] < 3.0 * sigma_1
+    assert m["intensity"] == pytest.approx(m["sigma_u_mps"] / 8.0, abs=2e-6)  # 6 decimals in the JSON
+    line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("turbulence iec:A:3: ")]
+    assert len(line) == 1 and "target sigma_u 1.86 m/s at " in line[0] and "intensity 0.232" in line[0]
 
 
 def test_writers_leave_no_partial_file_when_they_raise(tmp_path, monkeypatch):

@@ -38,7 +38,7 @@ RULES = {
 #: ``__init__`` (ROOT, version) sits below everything).
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "units"),
-    ("fileio", "jitcache", "progress"),
+    ("fileio", "jitcache", "progress", "turbulence"),
     ("definitions",),
     ("pointmass", "sixdof"),
     ("wind",),

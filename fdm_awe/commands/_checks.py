@@ -2,8 +2,8 @@
 
 Every function raises :class:`~fdm_awe.errors.InputError` with one line naming the option, the
 value and the allowed range; the command line turns it into ``fdm-awe CMD: error: ...`` and exit
-code 2. Only the standard library and :mod:`fdm_awe.fileio` are imported here, so the checks
-cost nothing at start-up.
+code 2. Only the standard library, :mod:`fdm_awe.fileio` and :mod:`fdm_awe.turbulence` (the
+forms of ``--turbulence``) are imported here, so the checks cost nothing at start-up.
 """
 
 from __future__ import annotations
@@ -19,11 +19,10 @@ from typing import Iterable, Sequence
 from ..errors import InputError
 from ..fileio import (check_input_dir, check_input_file, check_name_length, check_output_dir, check_output_file,
                       lock_folder)
+from ..turbulence import SEED_MAX, SEED_MIN, Turbulence
 
-#: JSBSim turbulence seeds: a positive 32-bit signed integer (JSBSim's random generator seed)
-SEED_MIN, SEED_MAX = 1, 2**31 - 1
-
-#: turbulence levels of ``fly --turbulence`` (JSBSim's Milspec severities)
+#: the named turbulence levels of ``fly --turbulence`` (JSBSim's Milspec severities with a fixed
+#: wind at 20 ft; the other forms: :mod:`fdm_awe.turbulence`)
 TURBULENCE_LEVELS = ("light", "moderate", "severe")
 
 #: connection kinds of ``fly --mavlink`` (pymavlink connection strings with HOST:PORT)
@@ -177,22 +176,12 @@ def definition_files() -> list[Path]:
     return [p for folder in DEFINITION_FOLDERS for p in sorted((ROOT / folder).rglob("*")) if p.is_file()]
 
 
-def turbulence(text: str | None, option: str = "--turbulence") -> tuple[str, int] | None:
-    """``LEVEL[:SEED]`` -> (level, seed); the seed defaults to 1, allowed 1..2**31-1."""
+def turbulence(text: str | None, option: str = "--turbulence") -> Turbulence | None:
+    """``LEVEL[:SEED]``, ``milspec:SEVERITY[:SEED]`` or ``iec:CLASS[:SEED]`` -> the
+    :class:`~fdm_awe.turbulence.Turbulence` form; the seed defaults to 1, allowed 1..2**31-1."""
     if text is None:
         return None
-    level, colon, seed = text.partition(":")
-    if level not in TURBULENCE_LEVELS:
-        raise InputError(f"{option} {text!r}: level {level!r} unknown (allowed {', '.join(TURBULENCE_LEVELS)})")
-    if not colon:
-        return level, SEED_MIN
-    try:
-        n = int(seed)
-    except ValueError:
-        raise InputError(f"{option} {text!r}: seed {seed!r} is not an integer (allowed {SEED_MIN}..{SEED_MAX})") from None
-    if not SEED_MIN <= n <= SEED_MAX:
-        raise InputError(f"{option} {text!r}: seed {n} out of range (allowed {SEED_MIN}..{SEED_MAX})")
-    return level, n
+    return Turbulence.parse(text, option)
 
 
 def _host_port(rest: str, text: str, option: str, form: str) -> tuple[str, int]:

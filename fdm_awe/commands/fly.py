@@ -21,8 +21,8 @@ an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--p
 ``--line-weight``/``--no-line-weight``) are refused (the flight flies the line the reference names), and a ``--config``/``--scenario`` other than the reference's
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
-Checks before any work (one line, exit 2): every number in range, the turbulence seed
-(1..2**31-1), the MAVLink URL (form, port, an IPv4 host; a listening address bound for a
+Checks before any work (one line, exit 2): every number in range, the turbulence form and
+seed (1..2**31-1), the MAVLink URL (form, port, an IPv4 host; a listening address bound for a
 moment; a ``tcp`` client's connection tried once, within 3 s, and kept for the flight), the
 input files (``--reference``, ``--mavlink-key``: regular files; ``--params``: a regular file or
 a new name in an existing folder), the reference file (field by field, its units, one periodic
@@ -30,8 +30,9 @@ and continuous cycle), ``--tether lumped:N`` only on the physical plant, every o
 (writable, a regular file or a new name, not an input such as ``--reference``,
 ``--mavlink-key`` or ``--params``); ``--out`` is locked for the run. Outputs are written
 atomically; the JSON writes NaN as ``null`` (e.g. the tracking error of a cycle without
-reference points) and records the turbulence level and seed (``"turbulence": {"level",
-"seed"}`` or ``null``).
+reference points) and records the turbulence (``null`` in calm air): its form and seed, the
+JSBSim parameters, the target sigma and intensity at the hub height and the turbulence
+measured at the glider (:mod:`fdm_awe.turbulence`).
 
 Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
 RTL or the link-loss failsafe) ended it landed or parked; 1 it ended
@@ -131,8 +132,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
     p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles, 1..1000 (default 3)")
     p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s, 0.0001..0.05 (default 1/120)")
-    p.add_argument("--turbulence", metavar="LEVEL[:SEED]",
-                   help="JSBSim turbulence: light|moderate|severe, seeded (SEED 1..2147483647, default 1)")
+    p.add_argument("--turbulence", metavar="FORM[:SEED]",
+                   help="JSBSim turbulence, seeded (SEED 1..2147483647, default 1): light|moderate|severe (fixed "
+                        "wind at 20 ft: 15|30|45 kt), milspec:light|moderate|severe (MIL-F-8785C with the flight's "
+                        "own wind at 20 ft) or iec:A|B|C (IEC 61400-1 class at the cycle's mean height); "
+                        "docs/wind.md")
     p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: brake the drum, reel in, circle down and land at the "
                         "winch, or park in a hold with REC_LAND 0)")
     p.add_argument("--json", metavar="FILE", help="write the numbers as JSON (NaN written as null)")
@@ -376,6 +380,10 @@ def _read_reference(args: argparse.Namespace) -> Any:
 
     ref = TrackingReference.from_ocp_file(args.reference)
     check_reference_options(args, ref.meta, args.reference)
+    if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
+        from ..sim.flight import turbulence_setting
+
+        turbulence_setting(ref, args.turbulence)
     args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
                                   else DEFAULT_CONFIG)
     return ref
@@ -525,7 +533,6 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
 
     doc = report.as_json()
     doc["reference"] = None if ref_path is None else str(ref_path)
-    doc["turbulence"] = None if args.turbulence is None else {"level": args.turbulence[0], "seed": args.turbulence[1]}
     rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
     written: dict[str, object] = {}
     cut = False
@@ -557,11 +564,27 @@ def _fmt(v: float, spec: str) -> str:
     return format(v, spec)
 
 
+def _turbulence_line(t: dict) -> str:
+    """One line on the flight's turbulence: the form, the target at the hub height and what the
+    glider met (``FlightReport.turbulence``)."""
+    tg, m = t["target"], t["measured"]
+
+    def f(v: Any, spec: str) -> str:
+        return "-" if v is None or not math.isfinite(v) else format(v, spec)
+
+    hub = f"{f(tg['sigma_u_mps'], '.2f')} m/s at {f(t['hub_height_m'], '.0f')} m"
+    return (f"turbulence {t['text']}: target sigma_u {hub}, intensity {f(tg['intensity'], '.3f')}; met over "
+            f"{f(m['duration_s'], '.0f')} s: sigma_u/v/w {f(m['sigma_u_mps'], '.2f')}/{f(m['sigma_v_mps'], '.2f')}/"
+            f"{f(m['sigma_w_mps'], '.2f')} m/s, intensity {f(m['intensity'], '.3f')}")
+
+
 def _print_summary(report, ref_label: str) -> None:
     print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_label}  plant {report.plant}"
           f"  line drag x {report.tether_drag_scale:g}  tether {report.tether}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
           f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
+    if report.turbulence is not None:
+        print(_turbulence_line(report.turbulence))
     print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
     for c in report.cycles:
         flag = "" if c.complete else "  (incomplete)"

@@ -77,6 +77,7 @@ from ..groundstation.lumped_state import check_tether_plant
 from ..groundstation.tether import check_tether_drag_scale
 from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
+from ..turbulence import Turbulence, TurbulenceSetting, mean_height, measure
 from ..wind import WindProfile, line_height
 from .activity import control_activity
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
@@ -164,6 +165,33 @@ class _FlightWind:
         """The glider's wind at the start height ``h`` [m] (the reference wind when uniform)."""
         return self.ned if self.profile.uniform else self.at(h)
 
+    def given(self, height: np.ndarray) -> np.ndarray:
+        """The steady wind JSBSim was given for each logged row, NED [m/s] (n, 3), from the
+        glider's logged heights ``height`` [m]: the start wind for the first row, then the wind
+        at the height of the row before (:func:`_step_hook` sets the next step's wind)."""
+        n = len(height)
+        if self.profile.uniform:
+            return np.tile(np.asarray(self.ned, float), (n, 1))
+        out = np.empty((n, 3))
+        if n:
+            out[0] = self.glider_start(float(height[0]))
+            for k in range(1, n):
+                out[k] = self.at(float(height[k - 1]))
+        return out
+
+
+def turbulence_setting(reference: Any, turbulence: Turbulence | tuple[str, int] | None) -> TurbulenceSetting | None:
+    """The turbulence of a flight of ``reference`` (a :class:`~fdm_awe.autopilot.tracking.TrackingReference`)
+    realised in its wind (metadata ``wind_ned_mps`` and ``wind_profile``; :mod:`fdm_awe.turbulence`),
+    the hub height the time-mean height of its cycle; None without turbulence. A form that
+    cannot be realised there raises a one-line :class:`InputError` naming ``--turbulence``."""
+    form = Turbulence.of(turbulence)
+    if form is None:
+        return None
+    wind = _FlightWind(reference.meta)
+    hub = mean_height(reference.t, -reference.pos[:, 2])
+    return form.setting(math.hypot(wind.ned[0], wind.ned[1]), wind.profile, hub)
+
 
 def _station_params(meta: dict[str, Any], paper: bool) -> GroundStationParams:
     """The ground station's definition with the line a reference (metadata ``meta``) was
@@ -191,7 +219,7 @@ class _Rig:
 
 
 def _rig(reference: Any, wind: _FlightWind, gsp: GroundStationParams, config: str, dt: float,
-         turbulence: tuple[str, int] | None, params: Any, paper: bool, tether_drag_scale: float,
+         turbulence: TurbulenceSetting | None, params: Any, paper: bool, tether_drag_scale: float,
          tether: str) -> _Rig:
     """Build the plant (see :func:`fly`), start it on the reference's first point and wire the
     autopilot and the co-simulation."""
@@ -240,7 +268,7 @@ def fly(
     config: str = "foldable",
     cycles: int = 3,
     dt: float = 1.0 / 120.0,
-    turbulence: tuple[str, int] | None = None,
+    turbulence: Turbulence | tuple[str, int] | None = None,
     on_step: Callable[[int, Any, Any], bool | None] | None = None,
     params: Any = None,
     setup: Callable[[Any, Any], None] | None = None,
@@ -260,7 +288,10 @@ def fly(
     ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
     ``tether``: the ground station's line model, ``"straight"`` (default) or ``"lumped:N"``
     (:mod:`fdm_awe.groundstation.lumped`; its shape is sampled into the report's ``line_shape``
-    and its own ledger into ``ledger``).
+    and its own ledger into ``ledger``). ``turbulence``: None, a named level's ``(level, seed)``
+    or a :class:`~fdm_awe.turbulence.Turbulence` form, realised in the reference's wind with
+    the cycle's mean height as hub height; the report's ``turbulence`` holds its parameters,
+    targets and the turbulence the glider met (:func:`fdm_awe.turbulence.measure`).
     The line is the one named by the reference metadata's ``line``
     (:data:`fdm_awe.groundstation.line.LINES`); a reference without it flies Table 1's line
     (``paper``), the line every reference written before lines were named was optimised with.
@@ -278,7 +309,8 @@ def fly(
     meta = reference.meta
     wind = _FlightWind(meta)
     gsp = _station_params(meta, paper)
-    rig = _rig(reference, wind, gsp, config, dt, turbulence, params, paper, tether_drag_scale, tether)
+    turb = turbulence_setting(reference, turbulence)
+    rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, tether)
     if setup is not None:
         setup(rig.ap, rig.sim)
     gl = GliderLedger(rig.glider, ideal_thrust=paper)
@@ -289,7 +321,7 @@ def fly(
     stop = _StopRequest()
     flown = [False]  # whether every requested cycle was flown
     hook = _step_hook(rig, wind, log, stop, flown, on_step, None if t_end is not None else cycles * reference.period,
-                      gust_on_line=turbulence is not None and not paper and bool(rig.gs.tether_segments))
+                      gust_on_line=turb is not None and not paper and bool(rig.gs.tether_segments))
     if on_step is None and not paper and not nseg and wind.profile.uniform:
         # no per-step work in Python: the autopilot may fly whole blocks compiled
         rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, None if t_end is not None else cycles * reference.period)
@@ -316,7 +348,19 @@ def fly(
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
         control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
+        turbulence=_turbulence_facts(turb, wind, res),
     )
+
+
+def _turbulence_facts(turb: TurbulenceSetting | None, wind: _FlightWind, res: FlightResult) -> dict[str, Any] | None:
+    """The report's ``turbulence`` (None in calm air): the form's parameters and targets
+    (:meth:`~fdm_awe.turbulence.TurbulenceSetting.as_dict`) and ``measured``, the turbulence of
+    the wind the glider met over the flight (:func:`~fdm_awe.turbulence.measure`)."""
+    if turb is None:
+        return None
+    d = turb.as_dict()
+    d["measured"] = measure(res.t, res.wind, wind.given(-res.pos[:, 2]), wind.ned[:2])
+    return d
 
 
 def _loop_facts(sim: CoSim, steps: int) -> dict[str, Any]:
@@ -465,4 +509,4 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
 #: the report's names, re-exported: a flight's callers find them here
 __all__ = ["FLIGHT_STATUSES", "LAND_RADIUS_MAX", "LAND_SINK_MAX", "LAND_SPEED_MAX", "LINE_SHAPE_HZ", "NO_CYCLE",
            "OTHER_PHASE", "PHASE_CODES", "PLANT_NOTES", "CycleMetrics", "CycleSpan", "FlightReport", "GliderLedger",
-           "cycle_metrics", "fly", "landing_verdict", "segment_cycles"]
+           "cycle_metrics", "fly", "landing_verdict", "segment_cycles", "turbulence_setting"]

@@ -93,6 +93,9 @@ class FlightReport:
     #: autopilot flew compiled in blocks (:mod:`fdm_awe.sim.autopilot_kernel`), the rest with the
     #: autopilot in Python
     loop: dict[str, Any] = field(default_factory=dict)
+    #: the turbulence flown (:func:`fdm_awe.sim.flight.fly`): the form, its JSBSim parameters,
+    #: targets and the measured turbulence at the glider; None in calm air
+    turbulence: dict[str, Any] | None = None
 
     @property
     def realtime_factor(self) -> float:
@@ -122,4 +125,16 @@ class FlightReport:
             "control_activity": None if self.control_activity is None else
             {k: _json_float(v) for k, v in self.control_activity.as_dict().items()},
             "loop": dict(self.loop),
+            "turbulence": _json_tree(self.turbulence),
         }
+
+
+def _json_tree(v: Any) -> Any:
+    """``v`` (nested dicts, lists, numbers) JSON-ready: floats as :func:`_json_float`."""
+    if isinstance(v, dict):
+        return {k: _json_tree(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_json_tree(x) for x in v]
+    if isinstance(v, float):
+        return _json_float(v)
+    return v

@@ -27,18 +27,21 @@ COLUMNS: tuple[str, ...] = (
     "airspeed", "alpha", "beta", "fold", "thrust", "p_prop", "load_factor",
     "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec",
     "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd", "phase",
+    "wind_n", "wind_e", "wind_d",
 )
 _C = {name: i for i, name in enumerate(COLUMNS)}
 #: column ranges of the vector-valued names: (first, end)
 _SPANS = {"pos": (_C["x"], _C["z"] + 1), "vel": (_C["vn"], _C["vd"] + 1), "quat": (_C["qw"], _C["qz"] + 1),
           "euler": (_C["phi"], _C["psi"] + 1), "omega_body": (_C["p"], _C["r"] + 1),
-          "tether_force": (_C["fx"], _C["fz"] + 1), "controls": (_C["aileron"], _C["fold_cmd"] + 1)}
+          "tether_force": (_C["fx"], _C["fz"] + 1), "controls": (_C["aileron"], _C["fold_cmd"] + 1),
+          "wind": (_C["wind_n"], _C["wind_d"] + 1)}
 #: the ground station's logged columns (tension .. fz)
 _GS_SPAN = (_C["tension"], _C["fz"] + 1)
 #: logged columns (or ranges, see _SPANS) from the glider's converted rows: (column, JSBSimGlider.convert_raw key)
 _FROM_STATE = (("t", "t"), ("pos", "pos_ned"), ("vel", "vel_ned"), ("quat", "quat"), ("euler", "euler"),
                ("omega_body", "omega_body"), ("airspeed", "airspeed"), ("alpha", "alpha"), ("beta", "beta"),
-               ("fold", "fold"), ("thrust", "thrust_N"), ("p_prop", "prop_power_W"), ("load_factor", "load_factor"))
+               ("fold", "fold"), ("thrust", "thrust_N"), ("p_prop", "prop_power_W"), ("load_factor", "load_factor"),
+               ("wind", "wind_ned"))
 #: the ground station's logged columns, in the order of its per-step record
 STATION_COLUMNS = COLUMNS[_GS_SPAN[0]:_GS_SPAN[1]]
 
@@ -51,7 +54,8 @@ class FlightResult:
     ``euler`` (n,3), ``omega_body`` (n,3), ``airspeed``, ``alpha``, ``beta``, ``fold``,
     ``thrust``, ``p_prop``, ``load_factor``, ``tension``, ``length``, ``reel_speed``,
     ``omega`` (drum), ``current``, ``duty``, ``p_elec``, ``tether_force`` (n,3), ``controls``
-    (n,5: aileron, elevator, rudder, throttle, fold_cmd), ``phase`` (labels per row).
+    (n,5: aileron, elevator, rudder, throttle, fold_cmd), ``phase`` (labels per row), ``wind``
+    (n,3: the total wind at the glider's CG, steady and turbulence, NED).
     Ground-station columns of the initial row are NaN (no step yet)."""
 
     status: str
@@ -64,7 +68,7 @@ class FlightResult:
 
     def __getattr__(self, name: str) -> np.ndarray:
         """A logged column (:data:`COLUMNS`) or a vector's columns (``pos``, ``vel``, ``quat``,
-        ``euler``, ``omega_body``, ``tether_force``, ``controls``) as a view of ``data``."""
+        ``euler``, ``omega_body``, ``tether_force``, ``controls``, ``wind``) as a view of ``data``."""
         if "data" in self.__dict__:
             if name in _C:
                 return self.__dict__["data"][:, _C[name]]

@@ -29,6 +29,7 @@ from .. import ROOT
 from ..definitions.aircraft import check_aircraft_file
 from ..definitions.engine import engine_files, motor_constants
 from ..errors import DefinitionError, InputError
+from ..turbulence import TURBULENCE_LEVELS, Turbulence, TurbulenceSetting
 from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
 from .row import (ALPHA, BETA, CURRENT, FBX, FBZ, FOLD, FOLD_PROPERTY, H_SL, LAT, LON, MASS, P_RATE, PHI,
                   PROPERTIES, PSI, QBAR, R_RATE, RHO, SHAFT_HP, THETA, THROTTLE, THRUST, V_DOWN, V_NORTH, VT,
@@ -40,8 +41,6 @@ _WGS84_F = 1.0 / 298.257223563
 _WGS84_E2 = _WGS84_F * (2.0 - _WGS84_F)
 _HP_W = 745.69987158227022
 
-#: Turbulence levels: (JSBSim MIL-F-8785C severity index, wind speed at 20 ft in knots)
-TURBULENCE_LEVELS: dict[str, tuple[int, float]] = {"light": (3, 15.0), "moderate": (4, 30.0), "severe": (6, 45.0)}
 
 # Properties read after every step, in the order of the raw row (sixdof.row; the fold state,
 # position FOLD, is read from FOLD_PROPERTY on the foldable aircraft, else a constant 0.0)
@@ -52,13 +51,14 @@ class JSBSimGlider:
     """One JSBSim aircraft from ``aircraft/NAME`` as a steppable 6-DOF block.
 
     ``dt`` s (fixed), ``wind_ned`` steady wind m/s (NED, "from the south at 3 m/s" = (3, 0, 0)),
-    ``turbulence`` None or ``(level, seed)`` with level "light" | "moderate" | "severe"
-    (JSBSim's MIL-F-8785C/Tustin model, seeded).
+    ``turbulence`` None, ``(level, seed)`` with level "light" | "moderate" | "severe", or a
+    :class:`~fdm_awe.turbulence.TurbulenceSetting` (JSBSim's MIL-F-8785C/Tustin model, seeded;
+    :mod:`fdm_awe.turbulence`).
     """
 
     def __init__(self, name: str = "glider_foldable", dt: float = 1.0 / 120.0,
                  wind_ned: Sequence[float] = (0.0, 0.0, 0.0),
-                 turbulence: tuple[str, int] | None = None,
+                 turbulence: TurbulenceSetting | tuple[str, int] | None = None,
                  root: str | Path = ROOT, home_lat_deg: float = 0.0) -> None:
         if not (0.0 < dt <= 0.1):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 0.1 s)")
@@ -241,27 +241,29 @@ class JSBSimGlider:
         f["atmosphere/wind-east-fps"] = w[1] / FT
         f["atmosphere/wind-down-fps"] = w[2] / FT
 
-    def set_turbulence(self, turbulence: tuple[str, int] | None) -> None:
-        """``None`` (off) or ``(level, seed)``; level "light" | "moderate" | "severe".
-        Applied at once; every :meth:`reset` re-seeds, so a run repeats for the same seed."""
+    def set_turbulence(self, turbulence: TurbulenceSetting | tuple[str, int] | None) -> None:
+        """``None`` (off), ``(level, seed)`` with level "light" | "moderate" | "severe", or a
+        :class:`~fdm_awe.turbulence.TurbulenceSetting` (its severity index, wind at 20 ft and
+        seed). Applied at once; every :meth:`reset` re-seeds, so a run repeats for the same seed.
+        :attr:`turbulence` keeps the setting."""
         f = self.fdm
         if turbulence is None:
             f["atmosphere/turb-type"] = 0
             self.turbulence = None
             return
-        try:
-            level, seed = turbulence
-        except (TypeError, ValueError):
-            raise InputError(f"turbulence: expected (level, seed), got {turbulence!r}") from None
-        if level not in TURBULENCE_LEVELS:
-            raise InputError(f"turbulence level: {level!r} not one of {', '.join(TURBULENCE_LEVELS)}")
-        sev, w20_kt = TURBULENCE_LEVELS[level]
+        if not isinstance(turbulence, TurbulenceSetting):
+            form = Turbulence.of(turbulence)
+            if form.form != "level":  # type: ignore[union-attr]
+                raise InputError(f"turbulence: {form.text()} follows the flight's wind: pass its setting "  # type: ignore[union-attr]
+                                 f"(Turbulence.setting with the wind and hub height)")
+            turbulence = form.setting()  # type: ignore[union-attr]
+        seed = turbulence.seed
         f["atmosphere/randomseed"] = int(seed)
         f["simulation/randomseed"] = int(seed)
         f["atmosphere/turb-type"] = 4  # Tustin form of the MIL-F-8785C spectra
-        f["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = w20_kt * 1852.0 / 3600.0 / FT
-        f["atmosphere/turbulence/milspec/severity"] = sev
-        self.turbulence = (level, int(seed))
+        f["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = turbulence.w20_mps / FT
+        f["atmosphere/turbulence/milspec/severity"] = turbulence.severity
+        self.turbulence = turbulence
 
     # ------------------------------------------------------------------ frames
     def ned_to_geodetic(self, pos_ned: Sequence[float]) -> tuple[float, float, float]:
@@ -460,6 +462,7 @@ class JSBSimGlider:
         return {
             "t": raw[:, T], "pos_ned": v[:, LAT:H_SL + 1], "vel_ned": v[:, V_NORTH:V_DOWN + 1],
             "vel_air_ned": v[:, V_NORTH:V_DOWN + 1] - v[:, WIND_NORTH:WIND_DOWN + 1],
+            "wind_ned": v[:, WIND_NORTH:WIND_DOWN + 1],
             "quat": quat, "euler": raw[:, PHI:PSI + 1], "omega_body": raw[:, P_RATE:R_RATE + 1], "airspeed": v[:, VT],
             "alpha": raw[:, ALPHA], "beta": raw[:, BETA], "fold": raw[:, FOLD], "thrust_N": v[:, THRUST],
             "prop_power_W": raw[:, THROTTLE] * self._maxvolts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
