@@ -51,25 +51,9 @@ NEEDS = {("fly", "--mavlink-key"): ["--mavlink", "udpout:127.0.0.1:14550"],
          ("sweep", "--compare"): [],
          ("fly", "--allow-mismatch"): ["--reference", str(REF)]}
 
-#: (command, option, value) cases that are not refused yet, a matter of the option-value checks
-#: (issue 28, items 1-3: ranges, messages naming their option) rather than of paths; strict: an
-#: entry that passes fails the run, so that it is removed
-_RANGES = "issue 28 items 1-3 (option values): {} accepted, no upper bound"
-_NAMING = "issue 28 items 1-3 (option values): the exit-2 line does not name the option"
-_TRACEBACK = "issue 28 items 1-3 (option values): sweep --wing-area -1 ends in a traceback"
-_LATE = "issue 28 items 1-3 (option values): a --mavlink address to listen on is tried only when the flight starts"
-XFAIL: dict[tuple[str, str, str], str] = {
-    ("optimize", "--d-tf", "1e9"): _RANGES.format("--d-tf 1e9 m"),
-    ("optimize", "--v-max", "1e9"): _RANGES.format("--v-max 1e9 m/s"),
-    ("optimize", "--t-max", "1e9"): _RANGES.format("--t-max 1e9 s"),
-    ("optimize", "--h-min", "1e9"): _NAMING,
-    ("sweep", "--folded-span", "-1"): _NAMING,
-    ("sweep", "--folded-drag-area", "-1"): _NAMING,
-    ("sweep", "--fold-time", "-1"): _NAMING,
-    ("sweep", "--wing-area", "-1"): _TRACEBACK,
-    ("fly", "--mavlink", "udpin:192.0.2.1:14550"): _LATE,
-    ("fly", "--mavlink", "tcpin:192.0.2.1:14550"): _LATE,
-}
+#: (command, option, value) cases known not to be refused yet (strict xfail: an entry that passes
+#: fails the run, so that it is removed); none today
+XFAIL: dict[tuple[str, str, str], str] = {}
 #: bad values of particular options, beyond those their kind gets: an address this machine cannot
 #: listen on (TEST-NET-1, RFC 5737), line models outside 2..200 segments
 EXTRA = {("fly", "--mavlink"): ["udpin:192.0.2.1:14550", "tcpin:192.0.2.1:14550"],

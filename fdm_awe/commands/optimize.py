@@ -8,6 +8,7 @@ Exit codes: 0 a cycle was found, 1 the optimiser found none, 2 bad input, 130 Ct
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Any
 
@@ -237,6 +238,20 @@ def check_solver_args(args: argparse.Namespace) -> None:
     chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
 
 
+#: highest ``--v-max`` [m/s]: twice the paper's 25 m/s bound, past which the glider's polynomial
+#: aerodynamics and the propeller's tables are not made for
+V_MAX_LIMIT = 50.0
+#: longest ``--t-max`` [s]: ten times the paper's 60 s cycle (the mesh's intervals stretch with it)
+T_MAX_LIMIT = 600.0
+
+
+def _drum_capacity() -> float:
+    """The drum's capacity [m] (``tether/max_length`` of the ground-station definition)."""
+    from ..groundstation import load_ground_station
+
+    return load_ground_station().tether.max_length
+
+
 def problem_from_args(args: argparse.Namespace):
     """Build and validate the :class:`CycleProblem` from command-line arguments."""
     from ..ocp.problem import Bounds, CycleProblem
@@ -244,13 +259,18 @@ def problem_from_args(args: argparse.Namespace):
 
     check_solver_args(args)
     check_plant_args(args)
-    chk.number(args.d0, "--d0", 0.0, None, lo_open=True, unit="m", what="tether length at the cycle start")
-    chk.number(args.d_tf, "--d-tf", args.d0, None, lo_open=True, unit="m (above --d0)",
+    drum = _drum_capacity()
+    chk.number(args.d0, "--d0", 0.0, drum, lo_open=True, hi_open=True, unit="m (below the drum's capacity)",
+               what="tether length at the cycle start")
+    chk.number(args.d_tf, "--d-tf", args.d0, drum, lo_open=True, unit="m (above --d0, up to the drum's capacity)",
                what="tether length at the end of generation")
     chk.number(args.v_min, "--v-min", 0.0, None, lo_open=True, unit="m/s", what="minimum airspeed")
-    chk.number(args.v_max, "--v-max", args.v_min, None, lo_open=True, unit="m/s (above --v-min)", what="maximum airspeed")
-    chk.number(args.h_min, "--h-min", 0.0, None, unit="m", what="ground clearance")
-    chk.number(args.t_max, "--t-max", 0.0, None, lo_open=True, unit="s", what="longest cycle")
+    chk.number(args.v_max, "--v-max", args.v_min, V_MAX_LIMIT, lo_open=True, unit="m/s (above --v-min)",
+               what="maximum airspeed")
+    h0 = args.d0 * math.sin(math.radians(CycleProblem.elevation0_deg))
+    chk.number(args.h_min, "--h-min", 0.0, h0, unit="m (below the start altitude --d0 x sin(elevation))",
+               what="ground clearance")
+    chk.number(args.t_max, "--t-max", 0.0, T_MAX_LIMIT, lo_open=True, unit="s", what="longest cycle")
     mesh = parse_mesh(args.mesh)
     bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args))
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
