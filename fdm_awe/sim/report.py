@@ -93,6 +93,9 @@ class FlightReport:
     #: autopilot flew compiled in blocks (:mod:`fdm_awe.sim.autopilot_kernel`), the rest with the
     #: autopilot in Python
     loop: dict[str, Any] = field(default_factory=dict)
+    #: the onboard wind estimate per cycle against the true mean wind at the glider, and the
+    #: reference flown with a reference set (:meth:`fdm_awe.sim.onboard_wind.CycleWind.close`)
+    wind_estimates: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def realtime_factor(self) -> float:
@@ -122,4 +125,16 @@ class FlightReport:
             "control_activity": None if self.control_activity is None else
             {k: _json_float(v) for k, v in self.control_activity.as_dict().items()},
             "loop": dict(self.loop),
+            "wind_estimates": [_json_tree(r) for r in self.wind_estimates],
         }
+
+
+def _json_tree(v: Any) -> Any:
+    """``v`` (dicts, lists, numbers) with its floats rounded for JSON (:func:`_json_float`)."""
+    if isinstance(v, dict):
+        return {k: _json_tree(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_json_tree(x) for x in v]
+    if isinstance(v, float):
+        return _json_float(v)
+    return v
