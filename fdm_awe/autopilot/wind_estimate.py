@@ -22,8 +22,9 @@ not the gusts; the least-squares estimate over a cycle is that mean (to within t
 variation along the path), and with the heading turning through the cycle's loops the two
 unknowns are well determined. A recursive filter with a time constant of a cycle would give
 the same mean with a lag. The sideslip term makes the estimate independent of the angle of
-attack, which the DCM estimate's body-axis direction is not (its bias is ``TAS sin(alpha)``
-rotated into the horizontal by the bank, up to 2 m/s in the cycle's turns); the synthetic
+attack, which the DCM estimate's body-axis direction is not (sample by sample it is off by
+``TAS sin(alpha)`` turned into the horizontal by the bank, 1-3 m/s in the cycle's turns; that
+averages out only over whole turns at one bank, not over a pumping cycle's path); the synthetic
 sideslip is itself a model: the yaw damper keeps the glider's sideslip small but not zero.
 
 With a wind profile (``factor``), the unknown is the wind at the profile's reference height
@@ -74,6 +75,13 @@ class WindEstimate:
     def direction_from_deg(self) -> float:
         """The direction the wind blows from [deg, 0..360, 0 = north, 90 = east]."""
         return math.degrees(math.atan2(-self.east, -self.north)) % 360.0
+
+    def at_glider_ned(self) -> tuple[float, float, float]:
+        """The mean wind at the glider's heights [m/s, NED]: the estimate's direction with
+        :attr:`at_glider`'s speed (no vertical wind)."""
+        s = self.speed
+        f = self.at_glider / s if s > 0.0 else 1.0
+        return (self.north * f, self.east * f, 0.0)
 
     def as_dict(self) -> dict[str, float | int]:
         """The estimate's numbers (JSON)."""
