@@ -157,3 +157,19 @@ def test_the_vehicle_sends_its_wind_estimate_as_ardupilots_wind_message():
         assert m.speed == pytest.approx(math.hypot(11.0, 2.0), abs=1e-5) and m.speed_z == 0.0
     finally:
         lk.close()
+
+
+def test_the_set_script_gathers_references_of_one_family_only(tmp_path):
+    import subprocess
+    import sys
+
+    script = Path(__file__).parent.parent / "scripts" / "reference_set.py"
+    ok = [str(DATA / "ref_physical_nominal_8mps_sized.json"), str(DATA / "ref_physical_nominal_12mps_sized.json")]
+    r = subprocess.run([sys.executable, str(script), "--files", ",".join(ok), "--out", str(tmp_path / "set")],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert ReferenceSet.from_folder(tmp_path / "set").winds == [8.0, 12.0]
+    mixed = [ok[0], str(DATA / "ref_physical_foldable_8mps_sized.json")]
+    r = subprocess.run([sys.executable, str(script), "--files", ",".join(mixed), "--out", str(tmp_path / "mixed")],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "metadata.config" in r.stderr and not (tmp_path / "mixed").exists()

@@ -56,10 +56,6 @@ class ReferenceSet:
         m0 = first.reference.meta
         self.profile = WindProfile.from_dict(m0.get("wind_profile"), f"{first.source}: metadata.wind_profile")
         self.wind_from_deg = float(m0.get("wind_from_deg", 180.0))
-        for a, b in zip(self.entries, self.entries[1:]):
-            if abs(a.wind_mps - b.wind_mps) < SAME_WIND_MPS:
-                raise InputError(f"{b.source}: metadata.wind_mps {b.wind_mps:g} is also the wind of {a.source} "
-                                 f"(allowed: one reference per wind)")
         for e in self.entries[1:]:
             m = e.reference.meta
             for key, what in SHARED_FIELDS.items():
@@ -75,6 +71,10 @@ class ReferenceSet:
                 raise InputError(f"{e.source}: metadata.wind_from_deg {d:g} is not the set's {self.wind_from_deg:g} "
                                  f"({first.source}; allowed: one wind direction per set, within "
                                  f"{DIRECTION_TOL_DEG:g} deg)")
+        for a, b in zip(self.entries, self.entries[1:]):
+            if abs(a.wind_mps - b.wind_mps) < SAME_WIND_MPS:
+                raise InputError(f"{b.source}: metadata.wind_mps {b.wind_mps:g} is also the wind of {a.source} "
+                                 f"(allowed: one reference per wind)")
 
     @classmethod
     def from_folder(cls, folder: str | Path, option: str = "--references") -> "ReferenceSet":
