@@ -68,6 +68,7 @@ import numpy as np
 
 from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
+from ..autopilot.schedule import ReferenceSet, ScheduledReference
 from ..autopilot.shaping import flyable_reference
 from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
@@ -78,7 +79,6 @@ from ..groundstation.tether import check_tether_drag_scale
 from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
 from ..wind import WindProfile, line_height
-from ..autopilot.schedule import ReferenceSet, ScheduledReference
 from .activity import control_activity
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
 from .events import machine_current
