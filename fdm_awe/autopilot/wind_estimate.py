@@ -125,15 +125,22 @@ def estimate_wind(vel_ned: np.ndarray, airspeed: np.ndarray, euler: np.ndarray, 
     it = 0
     for it in range(1, MAX_ITERATIONS + 1):
         r, J = _residuals(v, tas, by, f, w)
-        step = np.linalg.lstsq(J, -r, rcond=None)[0]
+        step = -_solve2(J.T @ J, J.T @ r)
         w = w + step
-        if float(np.max(np.abs(step))) < STEP_TOL:
+        if not float(np.max(np.abs(step))) >= STEP_TOL:  # converged (or no step: NaN)
             break
     r, J = _residuals(v, tas, by, f, w)
     rms = float(np.sqrt(np.mean(r * r)))
-    cov = np.linalg.pinv(J.T @ J) * float(r @ r) / max(len(r) - 2, 1)
-    sigma = float(np.sqrt(max(cov[0, 0], cov[1, 1], 0.0)))
+    inv = _solve2(J.T @ J, np.eye(2)) * float(r @ r) / max(len(r) - 2, 1)
+    sigma = float(np.sqrt(max(inv[0, 0], inv[1, 1], 0.0)))
     return WindEstimate(float(w[0]), float(w[1]), float(np.hypot(*w) * np.mean(f)), rms, sigma, n, it)
+
+
+def _solve2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``a^-1 b`` for a 2 x 2 matrix ``a`` (the normal equations' two unknowns; NaN when singular)."""
+    det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
+    inv = np.array([[a[1, 1], -a[0, 1]], [-a[1, 0], a[0, 0]]]) / det if det != 0.0 else np.full((2, 2), np.nan)
+    return inv @ b
 
 
 def _residuals(v: np.ndarray, tas: np.ndarray, by: np.ndarray, f: np.ndarray,

@@ -305,7 +305,7 @@ def fly(
     flown = [False]  # whether every requested cycle was flown
     # the path parameter at which the flight ends (a reference switch moves it to the new period)
     s_end = [math.inf if t_end is not None else cycles * reference.period]
-    cw = CycleWind(rig.glider, wind.profile if refs is None else refs.profile, refs, current)
+    cw = CycleWind(rig.glider, dt, wind.profile if refs is None else refs.profile, refs, current)
     hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw,
                       gust_on_line=turbulence is not None and not paper and bool(rig.gs.tether_segments))
     if on_step is None and not paper and not nseg and wind.profile.uniform:
@@ -405,7 +405,7 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest,
             gs.set_line_wind(profile, wind.ned[:2], np.subtract(np.subtract(s.vel_ned, s.vel_air_ned), wind_at(h)))
         log.book(k, s)
         if ap.mode == "AUTO" and ap.cycling:
-            cw.add(s._r)
+            cw.add(k, s._r)
         if on_step is not None and on_step(k, s, o):
             return True  # the caller ends the flight here
         return _flight_ends(ap, s_end, flown, stop)
@@ -435,7 +435,7 @@ def _blocks(rig: _Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flo
 
     def after(k0: int, k1: int, s: Any, o: Any) -> bool:
         log.book_block(k0, k1, runner.alog)
-        cw.add_block(runner.raw_rows(k0, k1))
+        cw.add_block(k0, runner.raw_rows(k0, k1))
         return _flight_ends(ap, s_end, flown, stop)
 
     runner = AutopilotBlocks.create(rig.sim, ap, gl, after, s_end[0])

@@ -22,13 +22,20 @@ from ..autopilot.wind_estimate import WindEstimate, estimate_wind
 from ..wind import WindProfile
 
 
-class CycleWind:
-    """The wind estimate of each cycle of a flight of ``glider`` (its ``convert_raw``), with
-    the onboard wind profile ``profile`` (the references'), and the reference set ``refs``
-    (None: no scheduling) whose member ``current`` is flown first."""
+#: the rate of the estimate's samples [Hz]: every step whose index is a multiple of the steps
+#: in 1/SENSE_HZ (ArduPilot's EKF fuses airspeed at about this rate; a cycle gives hundreds)
+SENSE_HZ = 10.0
 
-    def __init__(self, glider: Any, profile: WindProfile, refs: ReferenceSet | None = None, current: int = 0) -> None:
+
+class CycleWind:
+    """The wind estimate of each cycle of a flight of ``glider`` (its ``convert_raw``) with
+    steps of ``dt`` [s], with the onboard wind profile ``profile`` (the references'), and the
+    reference set ``refs`` (None: no scheduling) whose member ``current`` is flown first."""
+
+    def __init__(self, glider: Any, dt: float, profile: WindProfile, refs: ReferenceSet | None = None,
+                 current: int = 0) -> None:
         self.glider = glider
+        self.stride = max(1, int(round(1.0 / (SENSE_HZ * dt))))  #: steps between samples
         self.profile = profile
         self.refs = refs
         self.current = current
@@ -37,16 +44,19 @@ class CycleWind:
         self._chunks: list[np.ndarray] = []
         self._rows: list[tuple] = []
 
-    def add(self, raw: Any) -> None:
-        """One logged row (a raw JSBSim row, :mod:`fdm_awe.sixdof.row`) of the cycle flown."""
-        self._rows.append(tuple(raw))
+    def add(self, k: int, raw: Any) -> None:
+        """Logged row ``k`` (a raw JSBSim row, :mod:`fdm_awe.sixdof.row`) of the cycle flown,
+        kept when ``k`` is a sample's step."""
+        if k % self.stride == 0:
+            self._rows.append(tuple(raw))
 
-    def add_block(self, rows: np.ndarray) -> None:
-        """The rows of a compiled block (n x raw row)."""
+    def add_block(self, k0: int, rows: np.ndarray) -> None:
+        """The rows ``k0 + 1 ..`` of a compiled block (n x raw row), those of the samples' steps."""
         if self._rows:
             self._chunks.append(np.array(self._rows, float))
             self._rows = []
-        self._chunks.append(np.array(rows, float))
+        first = (-(k0 + 1)) % self.stride
+        self._chunks.append(np.array(rows[first::self.stride], float))
 
     def _take(self) -> np.ndarray | None:
         """The rows kept since the last cycle boundary (then forgotten), None without any."""
