@@ -545,3 +545,8 @@ def _print_summary(report, ref_label: str) -> None:
         print(f"{c.index + 1:>5} {_fmt(c.T1_s, '6.2f')} {_fmt(c.T2_s, '6.2f')} {_fmt(c.E_generated_J, '8.1f')} "
               f"{_fmt(c.E_thrust_J, '9.1f')} {_fmt(c.E_reel_in_J, '9.1f')} {_fmt(c.E_net_J, '8.1f')} "
               f"{_fmt(c.track_rms_m, '7.2f')} {_fmt(c.track_max_m, '7.2f')}{flag}")
+    if report.wind_estimates:
+        print("wind at the glider per cycle, estimated (true) m/s: " + ", ".join(
+            f"{w['cycle'] + 1}: {w['estimated_at_glider']['speed_mps']:.2f} ({w['true_at_glider']['speed_mps']:.2f})"
+            + (f" on the {w['reference_wind_mps']:g} m/s reference" if "reference_wind_mps" in w else "")
+            for w in report.wind_estimates))
