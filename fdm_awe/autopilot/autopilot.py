@@ -154,6 +154,7 @@ class Autopilot:
         #: the latest onboard wind estimate (:class:`~.wind_estimate.WindEstimate`), None before one
         self.wind_estimate: Any = None
         self._rejoin_before = math.inf  # a rejoin searches the reference's points before this cycle time [s]
+        self._cycle_begun = 0  # the last cycle whose start went to on_cycle
         for name in params.names():
             params.on_change(name, self._on_param)
 
@@ -447,7 +448,9 @@ class Autopilot:
             self._note(text)
         self.path_rate = self.auto.path_rate
         self._track_failsafe(t)
-        if before == "recovery" and self.phase == "generation" and self.on_cycle is not None and self.mode == "AUTO":
+        if (before == "recovery" and self.phase == "generation" and self.on_cycle is not None and self.mode == "AUTO"
+                and self.cycle > self._cycle_begun):
+            self._cycle_begun = self.cycle  # once per cycle (not again after a RECOVER rejoins the same cycle)
             new = self.on_cycle(self.cycle, t)
             if new is not None:
                 self.switch_reference(new)
