@@ -102,7 +102,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{w:g} m/s: no cycle ({res.status})", file=sys.stderr)
             continue
         path = write_reference(res, out / f"reference_{args.scenario}_{args.config}_{w:g}.json")
-        print(f"{w:g} m/s: {res.P_avg_W:+.1f} W, period {res.T1_s + res.T2_s:.1f} s, {time.perf_counter() - t0:.0f} s -> {path}")
+        print(f"{w:g} m/s: {res.P_avg_W:+.1f} W, period {res.T1_s + res.T2_s:.1f} s, "
+              f"{time.perf_counter() - t0:.0f} s -> {path}")
     return 1 if failed else 0
 
 

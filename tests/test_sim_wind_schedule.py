@@ -78,7 +78,8 @@ def test_fly_refuses_bad_reference_set_options_with_one_line_and_exit_2(tmp_path
     for argv, words in ((["--references", str(tmp_path / "none")], ("--references", "not a folder")),
                         (["--references", str(tmp_path)], ("--references", "no reference file")),
                         (["--start-wind", "8"], ("--start-wind", "only with --references")),
-                        (["--references", str(tmp_path), "--reference", str(DATA / REF8)], ("--references", "--reference")),
+                        (["--references", str(tmp_path), "--reference", str(DATA / REF8)],
+                         ("--references", "--reference")),
                         (["--references", str(tmp_path), "--start-wind", "30"], ("--start-wind", "0..25")),
                         (["--references", str(tmp_path), "--gamma-max", "0.5"], ("--gamma-max", "--references"))):
         assert main(["fly", *argv]) == 2, argv

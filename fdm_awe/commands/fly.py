@@ -195,7 +195,8 @@ def _check(args: argparse.Namespace) -> None:
                  for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None
                  and attr not in flight_wind]
         if given:
-            what = f"the reference {args.reference}" if args.reference is not None else f"the references {args.references}"
+            what = (f"the reference {args.reference}" if args.reference is not None
+                    else f"the references {args.references}")
             raise InputError(f"{', '.join(given)}: {what} fix{'es' if args.reference is not None else ''} "
                              f"{'this' if len(given) == 1 else 'these'} (only used when fly optimises a reference; drop "
                              f"{'it' if len(given) == 1 else 'them'} or drop "
@@ -353,11 +354,13 @@ def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any]
     ref = entry.reference
     if args.wind is None and args.wind_profile is None and args.wind_from is None:
         meta = ref.meta
-        wind = {"wind_ned_mps": list(meta.get("wind_ned_mps", (0.0, 0.0, 0.0))), "wind_profile": meta.get("wind_profile")}
+        wind = {"wind_ned_mps": list(meta.get("wind_ned_mps", (0.0, 0.0, 0.0))),
+                "wind_profile": meta.get("wind_profile")}
     else:
         prof = wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
         speed = entry.wind_mps if args.wind is None else args.wind
-        wind = {"wind_ned_mps": list(wind_vector(speed, refs.wind_from_deg if args.wind_from is None else args.wind_from)),
+        from_deg = refs.wind_from_deg if args.wind_from is None else args.wind_from
+        wind = {"wind_ned_mps": list(wind_vector(speed, from_deg)),
                 "wind_profile": prof.as_dict(), "wind_mps": speed}
     print(f"reference set {args.references}: {len(refs.entries)} references at "
           f"{', '.join(f'{w:g}' for w in refs.winds)} m/s ({refs.profile.describe()}); the first cycle flies "

@@ -34,8 +34,8 @@ DEFAULT_RATES: dict[str, float] = dict(RATES)
 MAX_RATE_HZ = 200.0
 
 #: message ids of the streams (ArduPilot's own messages, e.g. WIND, from its dialect)
-_STREAM_IDS: dict[str, int] = {name: getattr(mav, f"MAVLINK_MSG_ID_{name}", None) or getattr(apm, f"MAVLINK_MSG_ID_{name}")
-                               for name in DEFAULT_RATES}
+_STREAM_IDS: dict[str, int] = {name: getattr(mav, f"MAVLINK_MSG_ID_{name}", None)
+                               or getattr(apm, f"MAVLINK_MSG_ID_{name}") for name in DEFAULT_RATES}
 _STREAM_BY_ID: dict[int, str] = {v: k for k, v in _STREAM_IDS.items()}
 
 Sender = Callable[["MavlinkEndpoint", Telemetry, float], None]

@@ -330,7 +330,8 @@ def fly(
     line = meta.get("line")
     return FlightReport(
         scenario=str(meta.get("scenario", "custom")), config=config,
-        wind_mps=float((meta if flight_wind is None else flight_wind).get("wind_mps", math.hypot(wind.ned[0], wind.ned[1]))),
+        wind_mps=float((meta if flight_wind is None else flight_wind).get("wind_mps",
+                                                                          math.hypot(wind.ned[0], wind.ned[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=log.err[: k_end + 1], reference_pos=log.refpos[: k_end + 1],
         autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
