@@ -106,7 +106,8 @@ def estimate_wind(vel_ned: np.ndarray, airspeed: np.ndarray, euler: np.ndarray, 
     m/s), true airspeed ``airspeed`` (n, m/s), attitude ``euler`` (n x 3: roll, pitch, yaw,
     rad), heights ``heights`` (n, m above the winch) and the wind profile's ``factor(h)``
     (:meth:`fdm_awe.wind.WindProfile.factor`; None: uniform). Samples that are not finite or
-    slower than 1 m/s in the air are left out; None with fewer than :data:`MIN_SAMPLES`."""
+    slower than 1 m/s in the air are left out; None with fewer than :data:`MIN_SAMPLES`, or when
+    the samples do not determine the wind (the normal equations singular)."""
     v = np.asarray(vel_ned, float).reshape(-1, 3)
     tas = np.asarray(airspeed, float).reshape(-1)
     eu = np.asarray(euler, float).reshape(-1, 3)
@@ -129,6 +130,8 @@ def estimate_wind(vel_ned: np.ndarray, airspeed: np.ndarray, euler: np.ndarray, 
         w = w + step
         if not float(np.max(np.abs(step))) >= STEP_TOL:  # converged (or no step: NaN)
             break
+    if not np.all(np.isfinite(w)):  # singular: the samples do not tell the two components apart
+        return None
     r, J = _residuals(v, tas, by, f, w)
     rms = float(np.sqrt(np.mean(r * r)))
     inv = _solve2(J.T @ J, np.eye(2)) * float(r @ r) / max(len(r) - 2, 1)
