@@ -108,6 +108,7 @@ def test_the_scheduler_picks_the_nearest_reference_and_keeps_the_flown_one_on_a_
     assert [refs.nearest(w) for w in (0.0, 8.9, 9.1, 10.9, 11.1, 25.0)] == [0, 0, 1, 1, 2, 2]
     assert refs.nearest(9.0, current=0) == 0 and refs.nearest(9.0, current=1) == 1
     assert refs.nearest(9.0) == 0
+    assert refs.nearest(math.nan, current=2) == 2 and refs.nearest(math.nan) == 0
 
 
 def test_a_set_of_two_cycle_families_is_refused_naming_the_file_and_field(ref8):

@@ -100,7 +100,10 @@ class ReferenceSet:
 
     def nearest(self, wind_mps: float, current: int | None = None) -> int:
         """The index of the reference whose wind is nearest ``wind_mps`` [m/s]; on a tie the
-        reference ``current`` (the one flown) when it is among the nearest."""
+        reference ``current`` (the one flown) when it is among the nearest; a wind that is not a
+        number keeps ``current`` (else the lowest wind's)."""
+        if not math.isfinite(wind_mps):
+            return 0 if current is None else current
         d = [abs(w - wind_mps) for w in self.winds]
         best = min(d)
         near = [i for i, di in enumerate(d) if di <= best + 1e-12]
