@@ -147,6 +147,14 @@ class Autopilot:
         self.motor = MotorSwitch(motor if motor is not None else MotorGate())
         #: RECOVER's path and winch (:class:`~fdm_awe.autopilot.recovery.Recovery`)
         self.recovery = Recovery(params, winch, self.R_L, self.guidance, self._note)
+        #: called as ``on_cycle(cycle, t)`` at the AUTO step that starts a new cycle's generation
+        #: (``cycle`` its index, ``t`` [s]); a reference it returns is flown from the next step
+        #: (:meth:`switch_reference`), None keeps the one flown
+        self.on_cycle: Any = None
+        #: the latest onboard wind estimate (:class:`~.wind_estimate.WindEstimate`), None before one
+        self.wind_estimate: Any = None
+        self._rejoin_before = math.inf  # a rejoin searches the reference's points before this cycle time [s]
+        self._cycle_begun = 0  # the last cycle whose start went to on_cycle
         for name in params.names():
             params.on_change(name, self._on_param)
 
@@ -414,6 +422,9 @@ class Autopilot:
         self._rejoin_pending = False
         T = self.params["RJ_TIME"]
         cost = (np.sum((ref.pos - s.pos_ned) ** 2, axis=1) + 4.0 * np.sum((ref.vel - s.vel_ned) ** 2, axis=1))
+        if self._rejoin_before < math.inf:  # a switch at a cycle boundary: on the new cycle's generation
+            cost = np.where(np.asarray(ref.t) < self._rejoin_before, cost, math.inf)
+            self._rejoin_before = math.inf
         i = int(np.argmin(cost))
         self.s_ref = self._cycle_start() + float(ref.t[i])
         self.guidance.reset()
@@ -431,12 +442,35 @@ class Autopilot:
         if self._rejoin_pending:
             self._rejoin_start(self.reference, s, t)  # type: ignore[arg-type]
         self._auto_point = self._auto_guidance = True
+        before = self.phase
         surf, wcmd, notes = self.auto.step(self, s, gs)
         for text in notes:
             self._note(text)
         self.path_rate = self.auto.path_rate
         self._track_failsafe(t)
+        if (before == "recovery" and self.phase == "generation" and self.on_cycle is not None and self.mode == "AUTO"
+                and self.cycle > self._cycle_begun):
+            self._cycle_begun = self.cycle  # once per cycle (not again after a RECOVER rejoins the same cycle)
+            new = self.on_cycle(self.cycle, t)
+            if new is not None:
+                self.switch_reference(new)
         return surf, wcmd
+
+    def switch_reference(self, reference: TrackingReference) -> None:
+        """Fly ``reference`` from the next step on, in the cycle under way: the path parameter
+        keeps the cycle's index on the new period, and a rejoin segment (:meth:`_rejoin_start`)
+        takes the glider from where it is to the nearest point (position and velocity) of the
+        new reference's generation phase, so the switch at a cycle boundary is as smooth as a
+        rejoin."""
+        if self.config == "foldable":
+            reference_fold_time(reference.meta, self.glider.fold_time_s)
+        k = self.cycle
+        self._note(f"reference switched at cycle {k}: {self.reference.meta.get('wind_mps', float('nan')):g} -> "
+                   f"{reference.meta.get('wind_mps', float('nan')):g} m/s")
+        self.reference = reference
+        self.s_ref = k * reference.period
+        self._rejoin_before = reference.T1
+        self._rejoin_pending = True
 
     def _track_failsafe(self, t: float) -> None:
         """The lost-path failsafe after an AUTO step at time ``t`` [s]: a position error above

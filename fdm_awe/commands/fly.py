@@ -96,6 +96,15 @@ def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one "
                                                        "now and fly it from memory; its file is written only into --out)")
+    p.add_argument("--references", metavar="DIR",
+                   help="a reference set: a folder of reference files, each optimised for one wind (its metadata's "
+                        "wind_mps; e.g. scripts/reference_set.py); at every cycle boundary the autopilot flies the "
+                        "next cycle on the reference nearest its onboard wind estimate. --wind, --wind-from, "
+                        "--wind-profile, --wind-ref-height then give the wind the flight meets (default: the first "
+                        "reference's own); not with --reference")
+    p.add_argument("--start-wind", type=float, default=None, metavar="M/S",
+                   help="with --references: the first cycle flies the set's reference nearest this wind, 0..25 "
+                        "(default: nearest --wind, else the set's lowest wind)")
     p.add_argument("--scenario", choices=("physical", "paper"), default=None,
                    help="scenario of the reference to optimise and of the plant that flies it: physical (JSBSim propeller + "
                         "ground station) or paper (ideal thruster + kinematic winch); default physical, or the --reference file's")
@@ -171,6 +180,7 @@ def _check(args: argparse.Namespace) -> None:
     chk.number(args.tether_drag_scale, "--tether-drag-scale", 0.0, TETHER_DRAG_SCALE_MAX, what="line drag factor")
     chk.number(args.gamma_max, "--gamma-max", 0.1, 1.5, unit="rad", what="flight-path angle bound")
     chk.number(args.v_min, "--v-min", 1.0, 20.0, unit="m/s", what="minimum airspeed of the reference")
+    chk.number(args.start_wind, "--start-wind", 0.0, 25.0, unit="m/s", what="wind of the first reference")
     smoothness_bounds(args)
     args.turbulence = chk.turbulence(args.turbulence)
     from ..groundstation.lumped import parse_tether
@@ -190,18 +200,34 @@ def _check(args: argparse.Namespace) -> None:
         args.signing_key = load_key(args.mavlink_key)  # checked before any work (one line)
     # read now and written back on every PARAM_SET: a regular file or a new name in a writable folder
     chk.io_file(args.params, "--params", inputs=[args.reference, args.mavlink_key])
-    if args.reference is not None:
+    if args.references is not None and args.reference is not None:
+        raise InputError("--references: not with --reference (the set's references are the flight's; drop one)")
+    if args.start_wind is not None and args.references is None:
+        raise InputError("--start-wind: only with --references (it chooses the set's first reference)")
+    if args.reference is not None or args.references is not None:
+        flight_wind = FLIGHT_WIND if args.references is not None else ()
         given = [("--no-line-weight" if attr == "line_weight" and getattr(args, attr) is False else opt)
-                 for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
+                 for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None
+                 and attr not in flight_wind]
         if given:
-            raise InputError(f"{', '.join(given)}: the reference {args.reference} fixes {'this' if len(given) == 1 else 'these'} "
-                             f"(only used when fly optimises a reference; drop {'it' if len(given) == 1 else 'them'} or "
-                             f"drop --reference)")
+            what = (f"the reference {args.reference}" if args.reference is not None
+                    else f"the references {args.references}")
+            raise InputError(f"{', '.join(given)}: {what} fix{'es' if args.reference is not None else ''} "
+                             f"{'this' if len(given) == 1 else 'these'} (only used when fly optimises a reference; drop "
+                             f"{'it' if len(given) == 1 else 'them'} or drop "
+                             f"{'--reference' if args.reference is not None else '--references'})")
+        if args.references is not None:
+            wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
     elif args.allow_mismatch:
-        raise InputError("--allow-mismatch: only with --reference (nothing to mismatch when fly optimises the reference)")
+        raise InputError("--allow-mismatch: only with --reference or --references (nothing to mismatch when fly "
+                         "optimises the reference)")
     else:
         check_plant_args(args, args.scenario or DEFAULT_SCENARIO)
         wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
+
+
+#: the options that give the flight's wind with ``--references`` (attributes)
+FLIGHT_WIND = ("wind", "wind_from", "wind_profile", "wind_ref_height")
 
 
 def check_reference_options(args: argparse.Namespace, meta: dict, ref_path: str) -> None:
@@ -281,8 +307,10 @@ def flight_drag_scale(meta: dict, requested: float | None, ref_path: object) -> 
 
 def run(args: argparse.Namespace) -> int:
     _check(args)
-    ref = problem = None
-    if args.reference:
+    ref = problem = refs = flight_wind = None
+    if args.references:
+        refs, ref, flight_wind, args.reference_flown = _read_references(args)
+    elif args.reference:
         ref = _read_reference(args)
     else:
         args.scenario = args.scenario or DEFAULT_SCENARIO
@@ -295,25 +323,26 @@ def run(args: argparse.Namespace) -> int:
     params = _autopilot_params(args.params)  # checked before any work
     out_dir = Path(args.out) if args.out else None
     with _check_outputs(args, out_dir, optimising=ref is None):  # --out locked until the last file is written
-        return _run_checked(args, ref, problem, params, plant, out_dir)
+        return _run_checked(args, ref, problem, params, plant, out_dir, refs, flight_wind)
 
 
-def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, plant: str, out_dir: Path | None) -> int:
+def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, plant: str, out_dir: Path | None,
+                 refs: Any = None, flight_wind: dict[str, Any] | None = None) -> int:
     """The work of :func:`run` once every input and output is checked: open the MAVLink link,
-    optimise the reference (without ``--reference``), fly, print, write the outputs; returns the
+    optimise the reference (without ``--reference`` or ``--references``; ``refs`` the set, ``flight_wind`` the wind it meets), fly, print, write the outputs; returns the
     exit code."""
     link = _open_link(args)  # the MAVLink transport: a ground station that is not there is said now
     try:
         if ref is None:
             ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
         else:
-            ref_path = Path(args.reference)
+            ref_path = Path(args.reference or args.reference_flown)
             ref_label = str(ref_path)
         scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
         from ..recording.stream import open_live
 
         live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-        report = _fly(args, ref, params, plant, scale, live, link)
+        report = _fly(args, ref, params, plant, scale, live, link, refs, flight_wind)
         link = None  # the flight's MAVLink endpoint took it and closed it
     finally:
         if link is not None:
@@ -387,6 +416,38 @@ def _read_reference(args: argparse.Namespace) -> Any:
     args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
                                   else DEFAULT_CONFIG)
     return ref
+
+
+def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any], str]:
+    """The ``--references`` set (:class:`~fdm_awe.autopilot.schedule.ReferenceSet`, checked file by
+    file and as a set; its configuration and scenario against the options), the reference it
+    starts on (``--start-wind``) and the wind the flight meets (``--wind`` ... or the start
+    reference's own) as reference metadata gives a wind, and the start reference's file."""
+    from ..autopilot.schedule import ReferenceSet
+    from ..pointmass.model import wind_vector
+
+    refs = ReferenceSet.from_folder(args.references)
+    first = refs.entries[0]
+    check_reference_options(args, first.reference.meta, first.source)
+    args.config = args.config or (first.reference.meta.get("config") if first.reference.meta.get("config") in
+                                  ("foldable", "nominal") else DEFAULT_CONFIG)
+    start_w = args.start_wind if args.start_wind is not None else args.wind
+    entry = refs.entries[0 if start_w is None else refs.nearest(start_w)]
+    ref = entry.reference
+    if args.wind is None and args.wind_profile is None and args.wind_from is None:
+        meta = ref.meta
+        wind = {"wind_ned_mps": list(meta.get("wind_ned_mps", (0.0, 0.0, 0.0))),
+                "wind_profile": meta.get("wind_profile")}
+    else:
+        prof = wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
+        speed = entry.wind_mps if args.wind is None else args.wind
+        from_deg = refs.wind_from_deg if args.wind_from is None else args.wind_from
+        wind = {"wind_ned_mps": list(wind_vector(speed, from_deg)),
+                "wind_profile": prof.as_dict(), "wind_mps": speed}
+    print(f"reference set {args.references}: {len(refs.entries)} references at "
+          f"{', '.join(f'{w:g}' for w in refs.winds)} m/s ({refs.profile.describe()}); the first cycle flies "
+          f"{entry.source}", file=sys.stderr)
+    return refs, ref, wind, entry.source
 
 
 def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: bool) -> Any:
@@ -500,7 +561,7 @@ class _FlightHooks:
 
 
 def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None,
-         link: Any = None) -> Any:
+         link: Any = None, refs: Any = None, flight_wind: dict[str, Any] | None = None) -> Any:
     """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
     the report's wall time is the whole flight's, hooks included. The ground station on the
     MAVLink link (``link``, opened before the work; closed here) is told how the flight ended."""
@@ -511,7 +572,8 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
     try:
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
                             on_step=hooks.on_step if hooks.per_step else None, params=params, setup=hooks.setup,
-                            plant=plant, tether_drag_scale=scale, tether=args.tether)
+                            plant=plant, tether_drag_scale=scale, tether=args.tether, references=refs,
+                            flight_wind=flight_wind)
         if hooks.endpoint is not None:
             hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
         if live is not None:
@@ -533,6 +595,7 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
 
     doc = report.as_json()
     doc["reference"] = None if ref_path is None else str(ref_path)
+    doc["references"] = getattr(args, "references", None)
     rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
     written: dict[str, object] = {}
     cut = False
@@ -591,3 +654,8 @@ def _print_summary(report, ref_label: str) -> None:
         print(f"{c.index + 1:>5} {_fmt(c.T1_s, '6.2f')} {_fmt(c.T2_s, '6.2f')} {_fmt(c.E_generated_J, '8.1f')} "
               f"{_fmt(c.E_thrust_J, '9.1f')} {_fmt(c.E_reel_in_J, '9.1f')} {_fmt(c.E_net_J, '8.1f')} "
               f"{_fmt(c.track_rms_m, '7.2f')} {_fmt(c.track_max_m, '7.2f')}{flag}")
+    if report.wind_estimates:
+        print("wind at the glider per cycle, estimated (true) m/s: " + ", ".join(
+            f"{w['cycle'] + 1}: {w['estimated_at_glider']['speed_mps']:.2f} ({w['true_at_glider']['speed_mps']:.2f})"
+            + (f" on the {w['reference_wind_mps']:g} m/s reference" if "reference_wind_mps" in w else "")
+            for w in report.wind_estimates))

@@ -57,6 +57,10 @@ def telemetry_builder(autopilot: Any, sim: Any) -> Callable[[Any, Any], Telemetr
             return -1
         return int(np.searchsorted(times, r.t_cycle, side="right")) % len(times)
 
+    def wind_ned() -> np.ndarray | None:
+        est = getattr(autopilot, "wind_estimate", None)
+        return None if est is None else np.asarray(est.at_glider_ned(), float)
+
     def build(s: Any, o: Any) -> Telemetry:
         c = autopilot.glider.controls
         length = math.nan if o is None else float(o.length)
@@ -76,7 +80,7 @@ def telemetry_builder(autopilot: Any, sim: Any) -> Callable[[Any, Any], Telemetr
             winch_ok=True if o is None else not bool(getattr(o, "broken", False)),
             line_fully_in=(o is not None and (o.event == "tether_fully_reeled_in" or length <= FULLY_IN_M)),
             surfaces=(c.aileron, c.elevator, c.rudder, c.fold_cmd),
-            mission_seq=mission_seq(), nav=nav_target(autopilot, s),
+            mission_seq=mission_seq(), nav=nav_target(autopilot, s), wind_ned=wind_ned(),
         )
 
     def integrate(s: Any) -> None:

@@ -44,6 +44,11 @@ Telemetry fields that are missing or not finite go out as the message's "unknown
     :class:`fdm_awe.sixdof.state.Surfaces`.
 ``WINCH_STATUS``
     Sent by the winch component (:mod:`fdm_awe.mavlink.winch`).
+``WIND``
+    ArduPilot's message (id 168, ardupilotmega dialect; MAVProxy shows it): the onboard wind
+    estimate at the glider (:mod:`fdm_awe.autopilot.wind_estimate`, the last cycle's), the
+    direction it blows from (deg, 0..360), its horizontal speed and its vertical speed (m/s, 0:
+    the estimate has no vertical wind, as EKF3's). Not sent before the first estimate.
 
 ``AUTOPILOT_VERSION`` (on request only): the package version and the protocol capabilities
 (mission and parameter protocols in float and int form, COMMAND_INT, MAVLink 2).
@@ -54,6 +59,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Callable
 
+from pymavlink.dialects.v20 import ardupilotmega as apm
 from pymavlink.dialects.v20 import common as mav
 
 from .vehicle import MODE_NUMBERS, PHASE_CODES, Telemetry
@@ -76,6 +82,7 @@ RATES: dict[str, float] = {
     "NAV_CONTROLLER_OUTPUT": 4.0,
     "SERVO_OUTPUT_RAW": 4.0,
     "WINCH_STATUS": 2.0,
+    "WIND": 1.0,
 }
 
 #: Names and units of the NAMED_VALUE_FLOAT values (names <= 10 characters).
@@ -330,6 +337,15 @@ def send_winch_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     ep.winch.send_status(ep, tel, t)
 
 
+def send_wind(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    w = tel.wind_ned
+    if w is None:
+        return
+    n, e, d = _vec3(w)
+    ep.send("WIND", ep.mav.send, apm.MAVLink_wind_message(math.degrees(math.atan2(-e, -n)) % 360.0,
+                                                           math.hypot(n, e), d))
+
+
 #: stream name -> sender (the streams of :data:`RATES`)
 SENDERS: dict[str, Callable[["MavlinkEndpoint", Telemetry, float], None]] = {
     "HEARTBEAT": send_heartbeat,
@@ -345,4 +361,5 @@ SENDERS: dict[str, Callable[["MavlinkEndpoint", Telemetry, float], None]] = {
     "NAV_CONTROLLER_OUTPUT": send_nav_controller,
     "SERVO_OUTPUT_RAW": send_servo_output,
     "WINCH_STATUS": send_winch_status,
+    "WIND": send_wind,
 }

@@ -16,6 +16,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
+from pymavlink.dialects.v20 import ardupilotmega as apm
 from pymavlink.dialects.v20 import common as mav
 
 from fdm_awe.errors import InputError
@@ -32,7 +33,9 @@ DEFAULT_RATES: dict[str, float] = dict(RATES)
 #: highest stream rate accepted, Hz
 MAX_RATE_HZ = 200.0
 
-_STREAM_IDS: dict[str, int] = {name: getattr(mav, f"MAVLINK_MSG_ID_{name}") for name in DEFAULT_RATES}
+#: message ids of the streams (ArduPilot's own messages, e.g. WIND, from its dialect)
+_STREAM_IDS: dict[str, int] = {name: getattr(mav, f"MAVLINK_MSG_ID_{name}", None)
+                               or getattr(apm, f"MAVLINK_MSG_ID_{name}") for name in DEFAULT_RATES}
 _STREAM_BY_ID: dict[int, str] = {v: k for k, v in _STREAM_IDS.items()}
 
 Sender = Callable[["MavlinkEndpoint", Telemetry, float], None]

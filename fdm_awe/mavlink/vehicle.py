@@ -93,6 +93,8 @@ class Telemetry:
         surfaces: aileron, elevator, rudder (-1..1) and fold command (0..1) as commanded.
         mission_seq: index of the mission item being flown to, -1 when no mission is flown.
         nav: what the path follower aims at (:class:`NavTarget`), None outside path following.
+        wind_ned: the autopilot's onboard wind estimate at the glider, m/s NED (the air's
+            velocity; :mod:`fdm_awe.autopilot.wind_estimate`), None before its first estimate.
     """
 
     t: float = 0.0
@@ -124,6 +126,7 @@ class Telemetry:
     surfaces: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
     mission_seq: int = -1
     nav: "NavTarget | None" = None
+    wind_ned: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

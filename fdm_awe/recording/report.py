@@ -68,6 +68,15 @@ def flight_markdown(report: Any, title: str | None = None) -> str:
                      _f(c.track_rms_m), _f(c.track_max_m), _f(bool(c.complete))])
     out += [_table(header, rows) if rows else "(no cycle flown)", "", SIGN_NOTE,
             "P_avg is given for complete cycles only (E_net / (T1 + T2) of the reference period).", ""]
+    winds = getattr(r, "wind_estimates", None) or []
+    if winds:
+        out += ["## Wind", "", "The onboard estimate per cycle (airspeed, attitude, GPS velocity) against the true mean "
+                "wind at the glider over the same steps, m/s; with a reference set, the wind of the reference flown.", "",
+                _table(["cycle", "estimated", "from [deg]", "true", "error [%]", "mean height [m]", "reference"],
+                       [[str(w["cycle"]), _f(w["estimated_at_glider"]["speed_mps"], 2),
+                         _f(w["estimated"]["from_deg"], 0), _f(w["true_at_glider"]["speed_mps"], 2),
+                         _f(100.0 * w["vector_error_rel"], 1), _f(w["mean_height_m"], 0),
+                         _f(w.get("reference_wind_mps"), 1)] for w in winds]), ""]
     ledger = getattr(r, "ledger", None) or {}
     if ledger:
         out += ["## Energy ledger", "", _table(["term", "J"], [[k, _f(v, 3)] for k, v in ledger.items()]), ""]

@@ -213,6 +213,7 @@ class AutopilotBlocks:
         #: the bookkeeping rows of the flight (:data:`ALOG_COLUMNS`), grown with the log
         self.alog = np.full((1, N_ALOG), math.nan)
         self.steps = 0  #: steps flown in compiled blocks so far
+        self._log: np.ndarray | None = None  # the loop's log of the last block
 
     @classmethod
     def create(cls, sim: Any, ap: Any, ledger: Any, after: Callable[[int, int, Any, Any], bool],
@@ -264,12 +265,21 @@ class AutopilotBlocks:
         if len(self.alog) < len(log):
             self.alog = np.concatenate((self.alog, np.full((len(log) - len(self.alog), N_ALOG), math.nan)))
         self.q[Q_GS_VALID] = 1.0
+        self._log = log
         done, code = self._call(h, p, lim, log, s_gs, c_gs, k, m, self.ha, self.q, self.scale, self.offset, *arrays,
                                 self.ledger.work_array, self.ledger.v_prev, self.alog)
         if done:
             self.steps += done
             self.ap.after_block(log[k + done, :int(self.q[Q_NRAW])])
         return done, code, self.q[Q_WHY] == WHY_PYTHON
+
+    def set_s_end(self, s_end: float) -> None:
+        """The path parameter [s] after whose step a block ends (the flight's last cycle flown)."""
+        self.q[Q_S_END] = s_end
+
+    def raw_rows(self, k0: int, k1: int) -> np.ndarray:
+        """The glider's raw rows ``k0 + 1 .. k1`` of the last block (:mod:`fdm_awe.sixdof.row`)."""
+        return self._log[k0 + 1: k1 + 1, :int(self.q[Q_NRAW])]
 
     def commands(self, k0: int, k1: int) -> list:
         """The five commands of rows ``k0 + 1 .. k1`` (lists)."""

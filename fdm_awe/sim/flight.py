@@ -68,6 +68,7 @@ import numpy as np
 
 from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
+from ..autopilot.schedule import ReferenceSet, ScheduledReference
 from ..autopilot.shaping import flyable_reference
 from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
@@ -85,6 +86,7 @@ from .events import machine_current
 from .flight_log import LINE_SHAPE_HZ, FlightLog
 from .glider_ledger import GliderLedger
 from .loop import COLUMNS, CoSim, FlightResult, Limits
+from .onboard_wind import CycleWind, note_text
 from .propulsion import logged_propulsion
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
 from .report import FLIGHT_STATUSES, PLANT_NOTES, CycleMetrics, FlightReport
@@ -180,15 +182,18 @@ class _FlightWind:
         return out
 
 
-def turbulence_setting(reference: Any, turbulence: Turbulence | tuple[str, int] | None) -> TurbulenceSetting | None:
+def turbulence_setting(reference: Any, turbulence: Turbulence | tuple[str, int] | None,
+                       flight_wind: dict[str, Any] | None = None) -> TurbulenceSetting | None:
     """The turbulence of a flight of ``reference`` (a :class:`~fdm_awe.autopilot.tracking.TrackingReference`)
     realised in its wind (metadata ``wind_ned_mps`` and ``wind_profile``; :mod:`fdm_awe.turbulence`),
     the hub height the time-mean height of its cycle; None without turbulence. A form that
-    cannot be realised there raises a one-line :class:`InputError` naming ``--turbulence``."""
+    cannot be realised there raises a one-line :class:`InputError` naming ``--turbulence``.
+    ``flight_wind`` (reference-metadata form) is the wind the flight meets where it is not the
+    reference's own (a reference set flown in another wind)."""
     form = Turbulence.of(turbulence)
     if form is None:
         return None
-    wind = _FlightWind(reference.meta)
+    wind = _FlightWind(reference.meta if flight_wind is None else flight_wind)
     hub = mean_height(reference.t, -reference.pos[:, 2])
     return form.setting(math.hypot(wind.ned[0], wind.ned[1]), wind.profile, hub)
 
@@ -276,6 +281,8 @@ def fly(
     plant: str = "physical",
     tether_drag_scale: float = 1.0,
     tether: str = "straight",
+    references: ReferenceSet | None = None,
+    flight_wind: dict[str, Any] | None = None,
 ) -> FlightReport:
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
@@ -296,6 +303,13 @@ def fly(
     (:data:`fdm_awe.groundstation.line.LINES`); a reference without it flies Table 1's line
     (``paper``), the line every reference written before lines were named was optimised with.
 
+    The onboard wind estimate (:mod:`fdm_awe.sim.onboard_wind`) runs at every cycle boundary and
+    is reported per cycle (``FlightReport.wind_estimates``). ``references``: a reference set
+    (:class:`~fdm_awe.autopilot.schedule.ReferenceSet`, ``reference`` one of its members, flown
+    first): at each cycle boundary the autopilot takes the set's reference nearest the estimated
+    wind. ``flight_wind``: the wind the flight meets, as reference metadata gives it
+    (``wind_ned_mps`` at the height of ``wind_profile``); None: the reference's own.
+
     Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
     a normal report with status ``interrupted`` holding everything flown so far (see
     :class:`_StopRequest`); a KeyboardInterrupt in ``setup`` propagates (nothing was flown).
@@ -305,26 +319,32 @@ def fly(
     tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
     paper = plant == "paper"
     nseg = check_tether_plant(tether, paper)  # a lumped line only on the physical plant
-    reference = flyable_reference(reference)  # the optimiser's held-control steps smoothed out
+    refs, current = _flyable_set(references, reference)
+    reference = flyable_reference(reference) if refs is None else refs.entries[current].reference
     meta = reference.meta
-    wind = _FlightWind(meta)
+    wind = _FlightWind(meta if flight_wind is None else flight_wind)
     gsp = _station_params(meta, paper)
-    turb = turbulence_setting(reference, turbulence)
+    turb = turbulence_setting(reference, turbulence, flight_wind)
     rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, tether)
     if setup is not None:
         setup(rig.ap, rig.sim)
     gl = GliderLedger(rig.glider, ideal_thrust=paper)
     # cycles are counted by the autopilot's path parameter (the glider's own period); the
     # flight ends when the last cycle is flown, or at a generous time cap
-    T_total = t_end if t_end is not None else cycles * reference.period * 2.0 + 10.0
+    period = reference.period if refs is None else refs.longest_period
+    T_total = t_end if t_end is not None else cycles * period * 2.0 + 10.0
     log = FlightLog(int(round(T_total / dt)), dt, rig, gl, bool(nseg))
     stop = _StopRequest()
     flown = [False]  # whether every requested cycle was flown
-    hook = _step_hook(rig, wind, log, stop, flown, on_step, None if t_end is not None else cycles * reference.period,
+    # the path parameter at which the flight ends (a reference switch moves it to the new period)
+    s_end = [math.inf if t_end is not None else cycles * reference.period]
+    cw = CycleWind(rig.glider, dt, wind.profile if refs is None else refs.profile, refs, current)
+    hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw,
                       gust_on_line=turb is not None and not paper and bool(rig.gs.tether_segments))
     if on_step is None and not paper and not nseg and wind.profile.uniform:
         # no per-step work in Python: the autopilot may fly whole blocks compiled
-        rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, None if t_end is not None else cycles * reference.period)
+        rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, s_end, cw)
+    rig.ap.on_cycle = _cycle_boundary(rig, cw, s_end, cycles)
     res, wall, interrupted = _run(rig.sim, T_total, hook, stop, log)
     k_end = res.steps
     e_thrust = _thrust_energy(res, log, rig, paper, dt)
@@ -332,6 +352,8 @@ def fly(
     reached = ap.cycle if ap.mode == "AUTO" and ap.cycling else None
     spans = segment_cycles(log.cycle[: k_end + 1], log.phase[: k_end + 1], reached)
     mets = cycle_metrics(spans, dt, log.e_load[: k_end + 1], e_thrust, log.e_supply[: k_end + 1], log.err[: k_end + 1])
+    if mets:  # the last cycle's wind, from its rows so far
+        cw.close(mets[-1].index, float(res.t[-1]), mets[-1].complete)
     ledger, rel = _ledger(gl, rig.gs, float(e_thrust[k_end]), bool(nseg))
     status, msg = _status(res, ap, interrupted, flown[0] or t_end is not None, T_total, cycles, mets)
     m = gsp.machine  # the armature current against the machine's ratings (the paper plant's winch has none)
@@ -341,7 +363,8 @@ def fly(
     line = meta.get("line")
     return FlightReport(
         scenario=str(meta.get("scenario", "custom")), config=config,
-        wind_mps=float(meta.get("wind_mps", math.hypot(wind.ned[0], wind.ned[1]))),
+        wind_mps=float((meta if flight_wind is None else flight_wind).get("wind_mps",
+                                                                          math.hypot(wind.ned[0], wind.ned[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=log.err[: k_end + 1], reference_pos=log.refpos[: k_end + 1],
         autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
@@ -349,6 +372,7 @@ def fly(
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
         control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
         turbulence=_turbulence_facts(turb, wind, res),
+        wind_estimates=list(cw.records),
     )
 
 
@@ -363,6 +387,41 @@ def _turbulence_facts(turb: TurbulenceSetting | None, wind: _FlightWind, res: Fl
     return d
 
 
+def _flyable_set(references: ReferenceSet | None, reference: Any) -> tuple[ReferenceSet | None, int]:
+    """The reference set with its references made flyable (:func:`flyable_reference`) and the
+    index of ``reference`` in it (a member, or the one of its wind); (None, 0) without a set."""
+    if references is None:
+        return None, 0
+    refs = ReferenceSet([ScheduledReference(e.wind_mps, flyable_reference(e.reference), e.source)
+                         for e in references.entries])
+    mine = [i for i, e in enumerate(references.entries) if e.reference is reference]
+    w = float(reference.meta.get("wind_mps", math.nan))
+    return refs, mine[0] if mine else refs.nearest(w)
+
+
+def _cycle_boundary(rig: _Rig, cw: CycleWind, s_end: list[float], cycles: int) -> Callable[[int, float], Any]:
+    """The autopilot's ``on_cycle`` of a flight: the wind of the cycle just flown estimated,
+    noted and recorded (``cw``); with a reference set, the reference of the next cycle (the
+    flight's end ``s_end[0]`` [s] then moves to ``cycles`` of its period)."""
+    ap = rig.ap
+
+    def on_cycle(cycle: int, t: float) -> Any:
+        rec = cw.close(cycle - 1, t)
+        if rec is None:
+            return None
+        ap.wind_estimate = cw.last
+        ap.log.append((t, note_text(rec)))
+        new = cw.next_reference(cw.last)
+        if new is not None and s_end[0] < math.inf:
+            s_end[0] = cycles * new.period
+            runner = rig.sim.block_runner
+            if runner is not None:
+                runner.set_s_end(s_end[0])
+        return new
+
+    return on_cycle
+
+
 def _loop_facts(sim: CoSim, steps: int) -> dict[str, Any]:
     """How a flight's steps ran (:attr:`FlightReport.loop`)."""
     runner = sim.block_runner
@@ -372,12 +431,13 @@ def _loop_facts(sim: CoSim, steps: int) -> dict[str, Any]:
 
 
 def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest, flown: list[bool],
-               on_step: Callable[[int, Any, Any], bool | None] | None, s_end: float | None,
+               on_step: Callable[[int, Any, Any], bool | None] | None, s_end: list[float], cw: CycleWind,
                gust_on_line: bool) -> Callable[[int, Any, Any], bool]:
     """The co-simulation's ``on_step`` of a flight: the next step's wind at the glider's (and
     the line's) height, the step's bookkeeping, the caller's ``on_step``, and the flight's end
-    (the caller's, the path parameter at ``s_end`` [s] in AUTO, which sets ``flown[0]``, or a
-    stop request). ``s_end`` None: the flight runs its whole length."""
+    (the caller's, the path parameter at ``s_end[0]`` [s] in AUTO, which sets ``flown[0]``, or a
+    stop request; inf: the flight runs its whole length). A step flown in AUTO cycling is kept
+    for the cycle's wind estimate (``cw``)."""
     glider, gs, ap = rig.glider, rig.gs, rig.ap
     profile = wind.profile
     wind_at = wind.at
@@ -390,6 +450,8 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest,
         if gust_on_line:  # the lumped line: the gust the glider meets now, uniform along the line
             gs.set_line_wind(profile, wind.ned[:2], np.subtract(np.subtract(s.vel_ned, s.vel_air_ned), wind_at(h)))
         log.book(k, s)
+        if ap.mode == "AUTO" and ap.cycling:
+            cw.add(k, s._r)
         if on_step is not None and on_step(k, s, o):
             return True  # the caller ends the flight here
         return _flight_ends(ap, s_end, flown, stop)
@@ -397,30 +459,32 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest,
     return hook
 
 
-def _flight_ends(ap: Autopilot, s_end: float | None, flown: list[bool], stop: _StopRequest) -> bool:
-    """Whether the flight ends after the step just booked: the path parameter at ``s_end`` [s]
+def _flight_ends(ap: Autopilot, s_end: list[float], flown: list[bool], stop: _StopRequest) -> bool:
+    """Whether the flight ends after the step just booked: the path parameter at ``s_end[0]`` [s]
     in AUTO (every cycle flown: sets ``flown[0]``), or a stop request."""
-    if s_end is not None and ap.mode == "AUTO" and ap.s_ref >= s_end:
+    if ap.mode == "AUTO" and ap.s_ref >= s_end[0]:
         flown[0] = True
         return True
     return stop.requested
 
 
 def _blocks(rig: _Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flown: list[bool],
-            s_end: float | None) -> Any:
+            s_end: list[float], cw: CycleWind) -> Any:
     """The co-simulation's block runner of a flight (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`:
     the autopilot's AUTO steps and their bookkeeping compiled), or None where it cannot run
     (no numba, no native JSBSim calls, ``FDM_AWE_JIT=0``, the Python loop chosen). A block's
-    rows are booked as :func:`_step_hook` books a step, and the flight ends as it does there."""
+    rows are booked (and kept for the cycle's wind estimate) as :func:`_step_hook` books a step,
+    and the flight ends as it does there."""
     from .autopilot_kernel import AutopilotBlocks
 
     ap = rig.ap
 
     def after(k0: int, k1: int, s: Any, o: Any) -> bool:
         log.book_block(k0, k1, runner.alog)
+        cw.add_block(k0, runner.raw_rows(k0, k1))
         return _flight_ends(ap, s_end, flown, stop)
 
-    runner = AutopilotBlocks.create(rig.sim, ap, gl, after, math.inf if s_end is None else s_end)
+    runner = AutopilotBlocks.create(rig.sim, ap, gl, after, s_end[0])
     return runner
 
 

@@ -96,6 +96,9 @@ class FlightReport:
     #: the turbulence flown (:func:`fdm_awe.sim.flight.fly`): the form, its JSBSim parameters,
     #: targets and the measured turbulence at the glider; None in calm air
     turbulence: dict[str, Any] | None = None
+    #: the onboard wind estimate per cycle against the true mean wind at the glider, and the
+    #: reference flown with a reference set (:meth:`fdm_awe.sim.onboard_wind.CycleWind.close`)
+    wind_estimates: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def realtime_factor(self) -> float:
@@ -126,6 +129,7 @@ class FlightReport:
             {k: _json_float(v) for k, v in self.control_activity.as_dict().items()},
             "loop": dict(self.loop),
             "turbulence": _json_tree(self.turbulence),
+            "wind_estimates": [_json_tree(r) for r in self.wind_estimates],
         }
 
 
