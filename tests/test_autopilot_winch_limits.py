@@ -64,14 +64,22 @@ def test_lull_hands_back_to_the_generator_with_hysteresis():
     generator takes the line back above; the generator does not hand over above WINCH_TLO."""
     t_lo, hyst = P["WINCH_TLO"], P["WINCH_THYST"]
     mid = t_lo + 0.5 * hyst
-    assert _winch(GENERATION, mid, low=True)[0] == 1.0  # held
-    assert _winch(GENERATION, mid, low=False)[0] == 0.0  # not taken over
+    assert _winch(GENERATION, mid, low=True, dist_rate=-1.0)[0] == 1.0  # held
+    assert _winch(GENERATION, mid, low=False, dist_rate=-1.0)[0] == 0.0  # not taken over
     motor, _, rl, _, low = _winch(GENERATION, t_lo + hyst + 0.5, low=True)
     assert motor == 0.0 and not low and rl == pytest.approx(R_L)
     # on a line held at WINCH_TLO the tension term pays out above it and reels in below it
     v_hi = _winch(GENERATION, t_lo + 1.0, low=True, dist_rate=-1.0)[1]
     v_lo = _winch(GENERATION, t_lo - 1.0, low=True, dist_rate=-1.0)[1]
     assert v_hi > v_lo + 0.1
+
+
+def test_a_glider_moving_out_on_a_low_tension_is_the_generators():
+    """Below WINCH_TLO with the glider moving away on a taut line the line is paid out by the
+    generator, not by the motor (a motor paying out brakes the drum through the armature)."""
+    for low in (False, True):
+        motor, _, rl, _, held = _winch(GENERATION, 0.5 * P["WINCH_TLO"], dist_rate=2.0, low=low)
+        assert motor == 0.0 and not held and rl == pytest.approx(R_L)
 
 
 def test_lull_reels_in_within_the_drive():

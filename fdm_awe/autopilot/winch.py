@@ -137,7 +137,8 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     reference's T2 duty) between two tension limits. Below WINCH_TLO the motor takes over
     (speed loop): it follows the glider back and takes up the slack (:func:`take_up_speed`),
     the tension held at WINCH_TLO by WINCH_TLO_KT, until the tension passes WINCH_TLO +
-    WINCH_THYST (:func:`lower_limit_holds`). Above WINCH_THI the generator brakes less
+    WINCH_THYST (:func:`lower_limit_holds`) or the line would be paid out (the generator's
+    job: a motor paying out brakes the drum through the armature). Above WINCH_THI the generator brakes less
     (:func:`upper_limit_load`). In recovery the motor reels in at the reference speed,
     trimmed on the length, but never more than WINCH_VCATCH faster than the glider approaches,
     plus WINCH_SLK_KL per metre of slack line (the slack closes no faster than that: the line is
@@ -161,14 +162,16 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
         return 0.0, v, math.nan, math.nan, False
     v_in_max = lim[WL_VIN_MAX]
     if phase == GENERATION:
-        low = gs_valid and lower_limit_holds(low, gs_tension, lim[WL_TLO], lim[WL_THYST])
-        if low:
+        if gs_valid and lower_limit_holds(low, gs_tension, lim[WL_TLO], lim[WL_THYST]):
             # the line would go slack: reel in behind the glider, the tension held at WINCH_TLO
             v = take_up_speed(dist, dist_rate, gs_length, 0.0, lim[WL_SLK_KL], lim[WL_VCATCH])
             v += lim[WL_TLO_KT] * (gs_tension - lim[WL_TLO])
             if dist == dist:
                 v = max(v, dist_rate - lim[WL_VCATCH])
-            return 1.0, max(v, -v_in_max), math.nan, math.nan, True
+            if v < 0.0:
+                return 1.0, max(v, -v_in_max), math.nan, math.nan, True
+            # where it would pay out the generator does (the motor mode would brake a drum
+            # paying out through the armature: plugging)
         rl = load_resistance
         if gen_rl_kp > 0 and gs_valid:
             # radial position is the winch's job: pay out faster (higher R_L, less
