@@ -54,7 +54,7 @@ def test_lull_reels_in_behind_the_approaching_glider():
         assert -v >= 3.0 - 1e-12  # the slack does not grow
         assert -v <= 3.0 + P["WINCH_VCATCH"] + P["WINCH_TLO_KT"] * P["WINCH_TLO"] + 1e-12
     # more slack, faster take-up (until the catch bound)
-    v_small = _winch(GENERATION, 0.0, length=200.5, dist_rate=-3.0)[1]
+    v_small = _winch(GENERATION, 0.0, length=200.1, dist_rate=-3.0)[1]
     v_big = _winch(GENERATION, 0.0, length=230.0, dist_rate=-3.0)[1]
     assert v_big < v_small - 0.2
 
