@@ -218,4 +218,5 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
-          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values) + GUIDANCE_CALLED + (polar_at, guidance_step, reference_pull, auto_guide)
+          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values) + GUIDANCE_CALLED + (
+              polar_at, guidance_step, reference_pull, auto_guide)

@@ -112,8 +112,8 @@ def motor_max_reel_in_speed(tension: Any, params: GroundStationParams) -> Any:
 
     (5.36 m/s on a slack line with the 24 V supply of the definition file)."""
     w, m, c = params.winch, params.machine, params.converter
-    omega = (c.supply_voltage - 2.0 * c.device_drop - m.resistance * (w.radius * tension + w.coulomb_friction) / m.k) / (
-        m.k + m.resistance * w.viscous_friction / m.k)
+    drop = 2.0 * c.device_drop + m.resistance * (w.radius * tension + w.coulomb_friction) / m.k
+    omega = (c.supply_voltage - drop) / (m.k + m.resistance * w.viscous_friction / m.k)
     return w.radius * omega
 
 
