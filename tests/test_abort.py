@@ -262,14 +262,30 @@ def test_lost_path_failsafe_times_alike_in_compiled_blocks_and_python():
     assert ap.mode == "AUTO" and not [m for _, m in ap.log if m.startswith("failsafe")]
 
 
+#: the winch's line limits off: the law that let the line hang slack in a lull
+NO_LINE_LIMITS = {"WINCH_TLO": 0.0, "WINCH_THI": 0.0, "WINCH_VCATCH": 0.0}
+
+
 def test_moderate_turbulence_the_cycle_cannot_be_flown_in_ends_parked():
-    """Moderate turbulence on the sized line at 8 m/s (seed 1) throws the nominal glider 70 m off
-    its path within 25 s (without the failsafe it wandered at the stall speed with a slack line
-    for 100 s): the default failsafe (50 m for 5 s) takes it to RECOVER, which parks."""
-    rep, ap = _lost_path_flight({}, cycles=1, turbulence=("moderate", 1))
+    """Moderate turbulence on the sized line at 8 m/s (seed 1), with a winch that lets the line
+    hang slack in the lulls (its line limits off), throws the nominal glider 70 m off its path
+    within 25 s (without the failsafe it wandered at the stall speed with a slack line for 100
+    s): the default failsafe (50 m for 5 s) takes it to RECOVER, which parks. (With the line
+    limits on, the default, the winch keeps the line taut and this cycle is flown:
+    :func:`test_the_line_limits_fly_the_cycle_the_slack_line_lost`.)"""
+    rep, ap = _lost_path_flight(NO_LINE_LIMITS, cycles=1, turbulence=("moderate", 1))
     assert (ap.params["FS_TRK_ERR"], ap.params["FS_TRK_TIME"]) == (50.0, 5.0)
     fs = [t for t, m in ap.log if m.startswith("failsafe")]
     assert len(fs) == 1 and rep.status == "parked", (rep.status, rep.message)
     err = np.asarray(rep.track_error, float)
     k = int(round(fs[0] * 120))
     assert np.all(err[k - 5 * 120 + 1:k + 1] > 50.0)  # above the bound for the whole FS_TRK_TIME
+
+
+def test_the_line_limits_fly_the_cycle_the_slack_line_lost():
+    """The flight of :func:`test_moderate_turbulence_the_cycle_cannot_be_flown_in_ends_parked`
+    with the winch's default line limits: the line is taken up in the lulls, the glider stays
+    within the failsafe's bound and the cycle is flown."""
+    rep, ap = _lost_path_flight({}, cycles=1, turbulence=("moderate", 1))
+    assert rep.status == "ok" and rep.cycles[0].complete, rep.message
+    assert not [m for _, m in ap.log if m.startswith("failsafe")]

@@ -159,3 +159,31 @@ def test_info_shows_the_sizing_of_each_line(tmp_path, capsys):
     assert all(s < p for s, p in zip(sized["cd_t"], paper["cd_t"]))
     assert sized["mass_per_length_kg_per_m"] < paper["mass_per_length_kg_per_m"]
     assert sized["axial_stiffness_N"] > 0 and sized["diameter_m"] < paper["diameter_m"]
+
+
+def test_info_shows_what_the_drive_allows(tmp_path, capsys):
+    """`fdm-awe info` prints what the supply and the machine's ratings allow: the largest reel-in
+    speed (5.36 m/s at 24 V on a slack line, less against the lower line tension), the line
+    tensions of the rated and peak currents (50 N, the line's rating, and twice that), and the
+    supply the drive's design reel-in speed needs, in the JSON too."""
+    import json
+
+    import pytest
+
+    from fdm_awe.groundstation import load_ground_station
+    from fdm_awe.groundstation.steady import motor_steady
+
+    out = tmp_path / "i.json"
+    assert main(["info", "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "drive: supply 24 V: reel-in at most 5.36 m/s" in text and "needs" in text
+    d = json.loads(out.read_text())["ground_station"]["drive"]
+    assert d["reel_in_max_at_lower_tension_mps"] < d["reel_in_max_mps"] == pytest.approx(5.355, abs=0.005)
+    assert d["rated_tension_N"] == pytest.approx(50.0, abs=0.5) and d["peak_tension_N"] == pytest.approx(
+        2.0 * d["rated_tension_N"])
+    # the supply the design speed needs is the one at which the steady motor runs at full duty
+    gs = load_ground_station()
+    full = motor_steady(d["design_reel_in_speed_mps"], d["lower_tension_N"], gs).duty * gs.converter.supply_voltage
+    assert d["supply_needed_V"] == pytest.approx(full, rel=1e-12)
+    assert (d["supply_needed_V"] > d["supply_voltage_V"]) == (d["design_reel_in_speed_mps"] > d[
+        "reel_in_max_at_lower_tension_mps"])

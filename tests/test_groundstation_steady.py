@@ -82,3 +82,17 @@ def test_generator_at_speed_inverts_generator_steady():
     v = ca.SX.sym("v")
     f = ca.Function("f", [v], [generator_at_speed(v, P, 1.5).tension])
     assert float(f(DESIGN6["reel_speed"])) == pytest.approx(30.0, rel=1e-4)  # docs/design.md rounding
+
+
+def test_largest_reel_in_speed_is_the_motor_at_full_duty():
+    """:func:`motor_max_reel_in_speed` is :func:`motor_steady` at duty 1 (5.36 m/s on a slack
+    line at 24 V, slower against a tension), and :func:`motor_supply_needed` its inverse."""
+    from fdm_awe.groundstation.steady import motor_max_reel_in_speed, motor_supply_needed
+
+    c = P.converter
+    assert motor_max_reel_in_speed(0.0, P) == pytest.approx(5.355, abs=0.001)
+    for tension in (0.0, 4.0, 30.0):
+        v = motor_max_reel_in_speed(tension, P)
+        assert motor_steady(v, tension, P).duty == pytest.approx(1.0, rel=1e-12)
+        assert motor_supply_needed(v, tension, P) == pytest.approx(c.supply_voltage, rel=1e-12)
+    assert motor_max_reel_in_speed(30.0, P) < motor_max_reel_in_speed(4.0, P) < motor_max_reel_in_speed(0.0, P)

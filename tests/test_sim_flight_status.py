@@ -170,7 +170,9 @@ def test_sigint_in_generation_returns_an_interrupted_report(reference):
     assert 600 <= rep.result.steps <= 601  # taken at the step boundary
     c = _check_cut_flight(rep)
     assert c.T1_s == pytest.approx(rep.sim_time_s, abs=1e-9) and c.T2_s == 0.0
-    assert c.E_generated_J > 0 and c.E_thrust_J > 0 and c.E_reel_in_J == 0.0
+    # in generation the supply delivers only where the winch's lower line limit reels in (the
+    # slack at the catch: 0.5 J in these 5 s)
+    assert c.E_generated_J > 0 and c.E_thrust_J > 0 and 0.0 <= c.E_reel_in_J < 0.02 * c.E_thrust_J
 
 
 def _interrupt_in_recovery(after_steps: int):

@@ -21,17 +21,17 @@ from ..sixdof.state import SixDofState, Surfaces
 from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT,
                         A_GEN_RL_KP, A_IDEAL_WINCH, A_LINE_EA, A_MASS, A_PATH_TAU, A_PERIOD, A_RATIO, A_REC_TENSION,
                         A_REF_PULL, A_RHO, A_RJ_TIME, A_RL, A_S_F, A_S_U, A_T1, A_THR_KI, A_THR_KP, A_THR_VZERO,
-                        A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, GS_FX, GS_FZ, GS_LENGTH,
-                        GS_SLACK, GS_TENSION, GS_VALID, M_DT, M_ERR, M_PHASE, M_RJ, M_RJ_DP, M_RJ_DV, M_RJ_T0, M_TLAST,
-                        N_GSO, N_MEM, N_OUT, N_PAR, N_REF, O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD, O_IDEAL_THRUST, O_MU,
-                        O_PHASE, O_PITCH, O_RATE, O_ROLL, O_SEG, O_TC, O_THROTTLE, O_THRUST, O_W_D2, O_W_MOTOR,
-                        O_W_REEL_SPEED, O_W_RL, O_YAW, PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX, R_AZ, R_LENGTH, R_PHI,
-                        R_PX, R_PZ, R_REEL_SPEED, R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS, REF_WHERE, REJOINED,
-                        TRACK_LOST, auto_guide)
+                        A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, A_WLIM, GS_FX, GS_FZ,
+                        GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT, M_ERR, M_PHASE, M_RJ, M_RJ_DP, M_RJ_DV,
+                        M_RJ_T0, M_TLAST, N_GSO, N_MEM, N_OUT, N_PAR, N_REF, O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD,
+                        O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL, O_SEG, O_TC, O_THROTTLE, O_THRUST,
+                        O_W_D2, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_YAW, PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX,
+                        R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED, R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS,
+                        REF_WHERE, REJOINED, TRACK_LOST, auto_guide)
 from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
 from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
-from .winch import winch_command
+from .winch import N_LIMITS, limit_vector, winch_command
 
 #: the AUTO step's phase codes of the autopilot's phases
 PHASE_CODES = {"generation": float(GENERATION), "recovery": float(RECOVERY)}
@@ -105,6 +105,7 @@ class AutoStep:
         par[A_THRUSTER], par[A_G_ATT], par[A_RJ_TIME] = (1.0 if ap.thruster is not None else 0.0, ap.att.g,
                                                         p["RJ_TIME"])
         par[A_FS_TRK_ERR] = p["FS_TRK_ERR"]
+        par[A_WLIM:A_WLIM + N_LIMITS] = limit_vector(p, ap.reel_in_max)
         par[A_REF_PULL], par[A_CATCH_TIME] = p["GUID_REFPULL"], p["GUID_CATCH_T"]
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,
                   np.asarray(g.k.vector(), float), cu, cf, gate.vector(), par, ap.att.law.gains.vector())

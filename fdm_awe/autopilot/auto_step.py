@@ -43,7 +43,7 @@ from .guidance import CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, guidance_step, p
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import rejoin_weights
 from .thrust import T_LAST, T_THRUST, throttle_step
-from .winch import cycle_winch_values
+from .winch import N_LIMITS, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
 Arr = np.ndarray
@@ -65,7 +65,9 @@ N_GSO = 7
  A_RATIO, A_IDEAL_WINCH, A_RL, A_LINE_EA, A_GEN_RL_KP, A_REC_TENSION, A_WINCH_KL, A_WINCH_KT, A_ARMED, A_THR_KP,
  A_THR_KI, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_G_ATT, A_RJ_TIME, A_FS_TRK_ERR, A_REF_PULL,
  A_CATCH_TIME) = range(31)
-N_PAR = 31
+#: then the winch's line limits (:func:`.winch.limit_vector`, :data:`.winch.N_LIMITS` values)
+A_WLIM = 31
+N_PAR = A_WLIM + N_LIMITS
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
 #: of the last step [m] (NaN before the first), phase of the last step (0 generation, 1
 #: recovery, -1 another mode), the last step's length [s]; the guidance's integral, the thrust
@@ -74,7 +76,9 @@ M_SREF, M_TLAST, M_ERR, M_PHASE, M_DT = range(5)
 #: then the rejoin segment under way (:mod:`.rejoin`): 1.0 while it lasts, its start time [s] and
 #: the glider's offsets from the path at the start (position m, velocity m/s, NED)
 M_RJ, M_RJ_T0, M_RJ_DP, M_RJ_DV = 5, 6, 7, 10
-N_MEM = 13
+#: then 1.0 while the winch's lower tension limit holds (:func:`.winch.lower_limit_holds`)
+M_WLOW = 13
+N_MEM = 14
 #: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step, the
 #: position error exceeds ``par[A_FS_TRK_ERR]`` (> 0; the autopilot times it, FS_TRK_TIME)
 PHASE_CHANGED, REJOINED, TRACK_LOST = 1, 2, 4
@@ -174,10 +178,17 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         flags |= PHASE_CHANGED
     mem[M_PHASE] = phase
     ideal_winch = par[A_IDEAL_WINCH] != 0.0
-    w_motor, w_speed, w_rl, w_d2 = cycle_winch_values(
+    # the glider's and the reference point's distances from the winch, the glider's rate
+    dist = math.sqrt(px * px + py * py + pz * pz)
+    dist_rate = (px * vx + py * vy + pz * vz) / max(dist, 1e-6)
+    rx, ry, rz = rrow[R_PX], rrow[R_PY], rrow[R_PZ]
+    ref_dist = math.sqrt(rx * rx + ry * ry + rz * rz)
+    w_motor, w_speed, w_rl, w_d2, w_low = cycle_winch_values(
         phase, ideal_winch, rate, rrow[R_REEL_SPEED], rrow[R_LENGTH], rrow[R_TENSION], segs[SEG_D2, seg],
         valid, gso[GS_LENGTH], gso[GS_TENSION], par[A_RL], par[A_LINE_EA], par[A_GEN_RL_KP], par[A_REC_TENSION],
-        par[A_WINCH_KL], par[A_WINCH_KT])
+        par[A_WINCH_KL], par[A_WINCH_KT], ref_dist, dist, dist_rate, mem[M_WLOW] != 0.0,
+        par[A_WLIM:A_WLIM + N_LIMITS])
+    mem[M_WLOW] = 1.0 if w_low else 0.0
     ideal = 0.0
     if par[A_THRUSTER] != 0.0:
         thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
@@ -207,4 +218,5 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
-          cycle_winch_values) + GUIDANCE_CALLED + (polar_at, guidance_step, reference_pull, auto_guide)
+          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values) + GUIDANCE_CALLED + (
+              polar_at, guidance_step, reference_pull, auto_guide)

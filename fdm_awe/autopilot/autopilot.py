@@ -79,6 +79,8 @@ class Autopilot:
     ``thruster``/``winch``/``line_EA``: the paper plant's ideal thruster, ``"ideal"`` for its
     kinematic winch, and the line's axial stiffness EA [N] (ground-station definition).
     ``motor``: when AUTO stops the motor (:class:`MotorGate`; default gate if None).
+    ``reel_in_max``: the drive's largest reel-in speed [m/s] (ground-station definition,
+    :func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`; inf: no bound of its own).
 
     A foldable reference whose fold time the aircraft cannot fly (faster than its fold
     actuator, :func:`reference_fold_time`) raises :class:`~fdm_awe.errors.InputError`.
@@ -98,6 +100,7 @@ class Autopilot:
         winch: str = "physical",
         line_EA: float = 22600.0,
         motor: MotorGate | None = None,
+        reel_in_max: float = math.inf,
     ) -> None:
         if config not in CONFIGS:
             raise ValueError(f"config {config!r} unknown (allowed: {', '.join(CONFIGS)})")
@@ -143,6 +146,7 @@ class Autopilot:
         self._t_now = 0.0
         self.thrust_loop = ThrustLoop(params, af.propulsion.T_max, thruster)  #: throttle for the thrust command
         self.line_EA = line_EA  #: the line's axial stiffness EA [N] (the kinematic winch's length)
+        self.reel_in_max = float(reel_in_max)  #: the drive's largest reel-in speed [m/s]
         #: whether AUTO runs the motor (:class:`MotorSwitch` under the gate ``motor``)
         self.motor = MotorSwitch(motor if motor is not None else MotorGate())
         #: RECOVER's path and winch (:class:`~fdm_awe.autopilot.recovery.Recovery`)

@@ -8,12 +8,51 @@ length, EA, equivalent line drag coefficient at the shortest and longest working
 from __future__ import annotations
 
 import argparse
+import math
+from typing import Any
 
 HELP = "show the airframe, propulsion and ground-station definitions and the reference glide"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON (NaN written as null)")
+
+
+def drive_info(gs: Any) -> dict[str, float]:
+    """What the supply voltage and the machine's ratings of ground station ``gs`` allow: the
+    largest reel-in speed [m/s] on a slack line and against the autopilot's lower line tension
+    (WINCH_TLO), the line tensions [N] the rated and peak currents and the motor's current
+    limit hold on the drum (``K i / r_w``, friction aside; the motor's pull less its Coulomb
+    friction), the drive's design reel-in speed [m/s] and the supply it needs against
+    WINCH_TLO [V] (NaN where the file gives no design speed)."""
+    from ..autopilot.config import autopilot_params
+    from ..groundstation.steady import motor_max_reel_in_speed, motor_supply_needed
+
+    w, m, c = gs.winch, gs.machine, gs.converter
+    t_lo = float(autopilot_params()["WINCH_TLO"])
+    v_design = w.design_reel_in_speed
+    return {"supply_voltage_V": c.supply_voltage, "reel_in_max_mps": float(motor_max_reel_in_speed(0.0, gs)),
+            "lower_tension_N": t_lo, "reel_in_max_at_lower_tension_mps": float(motor_max_reel_in_speed(t_lo, gs)),
+            "rated_current_A": m.rated_current, "rated_tension_N": m.k * m.rated_current / w.radius,
+            "peak_current_A": m.peak_current, "peak_tension_N": m.k * m.peak_current / w.radius,
+            "motor_current_limit_A": c.current_limit,
+            "motor_pull_max_N": (m.k * c.current_limit - w.coulomb_friction) / w.radius,
+            "design_reel_in_speed_mps": v_design,
+            "supply_needed_V": float(motor_supply_needed(v_design, t_lo, gs)) if v_design == v_design else math.nan}
+
+
+def drive_text(d: dict[str, float]) -> str:
+    """:func:`drive_info` as two lines."""
+    text = (f"drive: supply {d['supply_voltage_V']:g} V: reel-in at most {d['reel_in_max_mps']:.2f} m/s "
+            f"({d['reel_in_max_at_lower_tension_mps']:.2f} m/s against the lower line tension "
+            f"{d['lower_tension_N']:g} N); rated {d['rated_current_A']:g} A = {d['rated_tension_N']:.1f} N of "
+            f"line tension, peak {d['peak_current_A']:g} A = {d['peak_tension_N']:.1f} N, motor current limit "
+            f"{d['motor_current_limit_A']:g} A pulls {d['motor_pull_max_N']:.1f} N")
+    v = d["design_reel_in_speed_mps"]
+    if v == v:
+        text += (f"\n       design reel-in speed {v:g} m/s (the glider's fall-back) needs "
+                 f"{d['supply_needed_V']:.1f} V against {d['lower_tension_N']:g} N")
+    return text
 
 
 def ground_station_info(wing_area: float) -> dict[str, object]:
@@ -29,6 +68,8 @@ def ground_station_info(wing_area: float) -> dict[str, object]:
     w, m, c = gs.winch, gs.machine, gs.converter
     print(f"ground station: {gs.path}  drum r {w.radius:g} m  DC machine k {m.k:.4g} V s/rad  R {m.resistance:g} ohm  "
           f"supply {c.supply_voltage:g} V  load {c.load_resistance:g} ohm")
+    drive = drive_info(gs)
+    print(drive_text(drive))
     defaults = {scn: str(d["line"]) for scn, d in PLANT_DEFAULTS.items()}
     lines: dict[str, object] = {}
     for name in LINES:
@@ -38,7 +79,7 @@ def ground_station_info(wing_area: float) -> dict[str, object]:
         lines[name] = ls.as_dict()
     return {"ground_station": {"path": gs.path, "drum_radius_m": w.radius, "motor_constant_V_s_per_rad": m.k,
                                "armature_resistance_ohm": m.resistance, "supply_voltage_V": c.supply_voltage,
-                               "load_resistance_ohm": c.load_resistance},
+                               "load_resistance_ohm": c.load_resistance, "drive": drive},
             "lines": lines, "default_line": {"file": DEFAULT_LINE, **defaults}}
 
 

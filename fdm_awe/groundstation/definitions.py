@@ -66,6 +66,8 @@ class WinchParams:
     mass: float  #: winch mass (informational), kg
     viscous_friction: float  #: B, N m s
     coulomb_friction: float  #: M_c (counted once), N m
+    #: the reel-in speed the drive is sized for (the glider's fall-back speed), m/s; NaN: not given
+    design_reel_in_speed: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -295,13 +297,15 @@ def _read_tether(doc: XmlDoc, name: str) -> TetherParams:
 
 
 def _read_winch(doc: XmlDoc) -> WinchParams:
-    """``<winch>``."""
+    """``<winch>`` (``design_reel_in_speed`` optional)."""
     return WinchParams(
         radius=_value(doc, "winch/radius", "M", lo=0.0, lo_open=True, hi=2.0),
         inertia=_value(doc, "winch/inertia", "KG*M2", lo=0.0, lo_open=True),
         mass=_value(doc, "winch/mass", "KG", lo=0.0),
         viscous_friction=_value(doc, "winch/viscous_friction", "N*M*S", lo=0.0),
         coulomb_friction=_value(doc, "winch/coulomb_friction", "N*M", lo=0.0),
+        design_reel_in_speed=(_value(doc, "winch/design_reel_in_speed", "M/S", lo=0.0, lo_open=True, hi=50.0)
+                              if doc.find("winch/design_reel_in_speed") is not None else float("nan")),
     )
 
 

@@ -101,3 +101,27 @@ def motor_steady(reel_in_speed: Any, tension: Any, params: GroundStationParams) 
     p_supply = v_arm * i
     p_mech = tension * reel_in_speed
     return MotorSteady(i, v_arm / c.supply_voltage, p_supply, p_mech, p_supply - p_mech)
+
+
+def motor_max_reel_in_speed(tension: Any, params: GroundStationParams) -> Any:
+    """The largest steady reel-in speed (m/s) at full T1 duty against line tension ``tension``
+    (N): the supply voltage ``V_a`` across the armature (:func:`motor_steady` at duty 1,
+    solved for the speed)::
+
+        omega_in = (V_a - 2 U_d - R (r_w G + M_c) / K) / (K + R B / K),   v = r_w omega_in
+
+    (5.36 m/s on a slack line with the 24 V supply of the definition file)."""
+    w, m, c = params.winch, params.machine, params.converter
+    drop = 2.0 * c.device_drop + m.resistance * (w.radius * tension + w.coulomb_friction) / m.k
+    omega = (c.supply_voltage - drop) / (m.k + m.resistance * w.viscous_friction / m.k)
+    return w.radius * omega
+
+
+def motor_supply_needed(reel_in_speed: Any, tension: Any, params: GroundStationParams) -> Any:
+    """The supply voltage (V) that reels in at ``reel_in_speed`` (m/s) against ``tension`` (N)
+    at full duty: the armature voltage of :func:`motor_steady` (the inverse of
+    :func:`motor_max_reel_in_speed`)."""
+    w, m, c = params.winch, params.machine, params.converter
+    omega_in = reel_in_speed / w.radius
+    i = (w.radius * tension + w.coulomb_friction + w.viscous_friction * omega_in) / m.k
+    return m.k * omega_in + m.resistance * i + 2.0 * c.device_drop

@@ -75,6 +75,7 @@ from ..errors import InputError
 from ..groundstation import GroundStation, GroundStationParams, load_ground_station
 from ..groundstation.line import check_line
 from ..groundstation.lumped_state import check_tether_plant
+from ..groundstation.steady import motor_max_reel_in_speed
 from ..groundstation.tether import check_tether_drag_scale
 from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
@@ -242,7 +243,8 @@ def _rig(reference: Any, wind: _FlightWind, gsp: GroundStationParams, config: st
     ps = params if params is not None else autopilot_params()
     thruster = IdealThruster.for_glider(glider, airframes.unfolded.propulsion) if paper else None
     ap = Autopilot(glider, airframes, ps, reference, config=config, load_resistance=gsp.converter.load_resistance,
-                   thruster=thruster, winch="ideal" if paper else "physical", line_EA=gsp.tether.axial_stiffness)
+                   thruster=thruster, winch="ideal" if paper else "physical", line_EA=gsp.tether.axial_stiffness,
+                   reel_in_max=math.inf if paper else motor_max_reel_in_speed(0.0, gsp))
     # the line's own breaking load ends a run as "tether_break" (ground-station event); the
     # co-simulation's tension limit sits just above it so it never pre-empts that event
     sim = CoSim(glider, gs, ap, dt=dt, limits=Limits(max_tension=1.01 * gsp.tether.breaking_load, grace_s=1.0))
