@@ -130,6 +130,11 @@ class Autopilot:
         self._gcs = (False, False, -math.inf)
         #: when the AUTO steps' position error rose above FS_TRK_ERR [s] (NaN: it is below)
         self._trk_since = math.nan
+        #: why the glider is in RECOVER: None (not in RECOVER), "commanded" (the start mode, the
+        #: ground station's mode change or RTL, its clearing of the mission) or the failsafe's
+        #: note ("failsafe: ...": the lost path, the lost link); the flight's exit code reads it
+        self.recover_cause: str | None = None
+        self._failsafe_note: str | None = None
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -263,6 +268,9 @@ class Autopilot:
             if name == "RECOVER":
                 self.phase = "recovery"
                 self.recovery.stage = None  # a new recovery from wherever the glider is
+                self.recover_cause = self._failsafe_note or "commanded"
+            else:
+                self.recover_cause = None
             if name == "AUTO":
                 self._rejoin_pending = True  # rejoin the path from the glider's own state
         self.mode = name
@@ -292,8 +300,7 @@ class Autopilot:
         p = self.params
         if (ever and p["FS_GCS_ENABL"] > 0.5 and t - t_lost >= p["FS_LONG_TIMEOUT"] and self.mode != "RECOVER"
                 and self.armed and self.airborne):
-            self._note(f"failsafe: ground-station link lost for {t - t_lost:.1f} s")
-            self.set_mode("RECOVER")
+            self._failsafe(f"failsafe: ground-station link lost for {t - t_lost:.1f} s")
             self._gcs = (False, ever, math.inf)  # acted on this loss
 
     def start_cycling(self) -> bool:
@@ -450,9 +457,18 @@ class Autopilot:
             self._trk_since = t
         p = self.params
         if t - self._trk_since >= p["FS_TRK_TIME"] and self.armed and self.airborne:
-            self._note(f"failsafe: {self.track_error:.1f} m from the path for {t - self._trk_since:.1f} s "
-                       f"(FS_TRK_ERR {p['FS_TRK_ERR']:g} m)")
+            self._failsafe(f"failsafe: {self.track_error:.1f} m from the path for {t - self._trk_since:.1f} s "
+                           f"(FS_TRK_ERR {p['FS_TRK_ERR']:g} m)")
+
+    def _failsafe(self, text: str) -> None:
+        """A failsafe takes the glider to RECOVER: ``text`` noted and kept as the
+        :attr:`recover_cause`."""
+        self._note(text)
+        self._failsafe_note = text
+        try:
             self.set_mode("RECOVER")
+        finally:
+            self._failsafe_note = None
 
     def kernel_arrays(self) -> tuple | None:
         """The arrays of a compiled block (:func:`fdm_awe.sim.autopilot_kernel.autopilot_steps`)

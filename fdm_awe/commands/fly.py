@@ -21,15 +21,17 @@ an optimisation (``--wind``, ``--wind-from``, ``--gamma-max``, ``--line``, ``--p
 ``--line-weight``/``--no-line-weight``) are refused (the flight flies the line the reference names), and a ``--config``/``--scenario`` other than the reference's
 is refused unless ``--allow-mismatch`` is given (then a warning is printed).
 
-Checks before any work (one line, exit 2): every number in range, the turbulence seed
+Checks before any work (one line, exit 2): every number in range, the step against the
+attitude loops and the flight's steps against the memory it keeps (:mod:`fdm_awe.sim.budget`), the turbulence seed
 (1..2**31-1), the MAVLink URL (form, port, host resolves), every output path (writable, not
 an input such as ``--reference`` or ``--params``). Outputs are written atomically; the JSON
 writes NaN as ``null`` (e.g. the tracking error of a cycle without reference points) and
 records the turbulence level and seed (``"turbulence": {"level", "seed"}`` or ``null``).
 
-Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
-RTL or the link-loss failsafe) ended it landed or parked; 1 it ended
-otherwise (an event, or cycles left incomplete); 2 bad input; 130 Ctrl-C: the flight stops,
+Exit codes (:func:`fdm_awe.sim.report.flight_exit_code`): 0 the flight flew every requested
+cycle, or a commanded RECOVER (``--mode``, a MAVLink mode change or RTL) ended it landed or
+parked; 1 it ended otherwise (an event, cycles left incomplete, or landed or parked after a
+failsafe took it out of its cycles); 2 bad input; 130 Ctrl-C: the flight stops,
 the steps flown so far are written to every requested output (status ``interrupted``).
 """
 
@@ -123,8 +125,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
-    p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles, 1..1000 (default 3)")
-    p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s, 0.0001..0.05 (default 1/120)")
+    p.add_argument("--cycles", type=int, default=3,
+                   help="number of pumping cycles, 1..1000 (default 3), and at most 750000 steps in the flight's time "
+                        "cap (2 x cycles x period + 10 s) / --dt: a flight keeps every step in memory, about 2 kB each "
+                        "(51 cycles of a 60 s cycle at the default step)")
+    p.add_argument("--dt", type=float, default=1.0 / 120.0,
+                   help="co-simulation step, s (default 1/120), 0.0001..0.25 / max(W_ALPHA, W_PHI): the attitude loops "
+                        "fly with one update a step; 0.0001..0.0125 with the defined gains (W_PHI 20 rad/s)")
     p.add_argument("--turbulence", metavar="LEVEL[:SEED]",
                    help="JSBSim turbulence: light|moderate|severe, seeded (SEED 1..2147483647, default 1)")
     p.add_argument("--mode", choices=("AUTO", "RECOVER"), default="AUTO", help="autopilot mode at the start (RECOVER: brake the drum, reel in, circle down and land at the "
@@ -277,6 +284,7 @@ def run(args: argparse.Namespace) -> int:
     from ..autopilot.params import ParamStore
 
     params = autopilot_params(store=ParamStore(args.params) if args.params else None)  # checked before any work
+    _check_budget(args, params, ref, problem)
     out_dir = Path(args.out) if args.out else None
     _check_outputs(args, out_dir, optimising=ref is None)
 
@@ -293,6 +301,21 @@ def run(args: argparse.Namespace) -> int:
     report = _fly(args, ref, params, plant, scale, live)
     _print_summary(report, ref_label)
     return _finish(args, report, ref, ref_path, out_dir)
+
+
+def _check_budget(args: argparse.Namespace, params: Any, ref: Any, problem: Any) -> None:
+    """Before any work (:mod:`fdm_awe.sim.budget`): ``--dt`` is a step the attitude loops fly
+    with under ``params``, and ``--cycles`` of the reference's period (of the longest cycle the
+    optimiser may return, ``problem``'s bound, when it optimises one) at ``--dt`` fit in the
+    steps a flight keeps in memory."""
+    from ..sim.budget import check_length, check_step
+
+    check_step(args.dt, params)
+    if ref is not None:
+        check_length(args.cycles, ref.period, args.dt, what=f"{args.reference}")
+    else:
+        check_length(args.cycles, problem.bounds.t_max, args.dt,
+                     what="the longest cycle the optimiser may return (T1 + T2 <= t_max)")
 
 
 def _read_reference(args: argparse.Namespace) -> Any:
@@ -460,10 +483,9 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
         doc["outputs_cut_short"] = True
     if args.json:
         write_json(args.json, doc)
-    if report.status == "interrupted" or cut:
+    if cut:
         return EXIT_INTERRUPTED
-    ok = report.status in ("ok", "landed", "parked")
-    return 0 if ok else 1
+    return report.exit_code
 
 
 def _fmt(v: float, spec: str) -> str:

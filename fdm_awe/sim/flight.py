@@ -79,6 +79,7 @@ from ..ocp.problem import Scenario
 from ..sixdof import JSBSimGlider
 from ..wind import WindProfile, line_height
 from .activity import control_activity
+from .budget import check_length, check_step, time_cap
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
 from .events import machine_current
 from .flight_log import LINE_SHAPE_HZ, FlightLog
@@ -267,6 +268,10 @@ def fly(
     (:data:`fdm_awe.groundstation.line.LINES`); a reference without it flies Table 1's line
     (``paper``), the line every reference written before lines were named was optimised with.
 
+    A step the autopilot's attitude loops cannot fly with, or a flight whose time cap (or
+    ``t_end``) holds more steps than a flight keeps in memory, is refused with an InputError
+    before JSBSim loads (:mod:`fdm_awe.sim.budget`).
+
     Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
     a normal report with status ``interrupted`` holding everything flown so far (see
     :class:`_StopRequest`); a KeyboardInterrupt in ``setup`` propagates (nothing was flown).
@@ -277,6 +282,9 @@ def fly(
     nseg = parse_tether(tether)
     paper = plant == "paper"
     reference = flyable_reference(reference)  # the optimiser's held-control steps smoothed out
+    params = params if params is not None else autopilot_params()
+    check_step(dt, params, "dt")  # the attitude loops fly with it (budget)
+    check_length(cycles, reference.period, dt, t_end, "cycles")  # the flight's steps fit in memory (budget)
     meta = reference.meta
     wind = _FlightWind(meta)
     gsp = _station_params(meta, paper, nseg)
@@ -286,7 +294,7 @@ def fly(
     gl = GliderLedger(rig.glider, ideal_thrust=paper)
     # cycles are counted by the autopilot's path parameter (the glider's own period); the
     # flight ends when the last cycle is flown, or at a generous time cap
-    T_total = t_end if t_end is not None else cycles * reference.period * 2.0 + 10.0
+    T_total = t_end if t_end is not None else time_cap(cycles, reference.period)
     log = FlightLog(int(round(T_total / dt)), dt, rig, gl, bool(nseg))
     stop = _StopRequest()
     flown = [False]  # whether every requested cycle was flown
@@ -318,6 +326,7 @@ def fly(
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
         control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
+        recover_cause=ap.recover_cause if ap.mode == "RECOVER" else None,
     )
 
 
@@ -461,6 +470,9 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
             status, msg = "landed", msg.replace("ground contact", "landed") + f", sink {v_down:.1f} m/s"
         else:
             msg += f", sink {v_down:.1f} m/s (a crash, not a landing: {why})"
+    if status in ("landed", "parked") and ap.recover_cause != "commanded":
+        # safe, but not what was asked: a failsafe ended the cycles (the exit code says so)
+        msg += f"; RECOVER after the {ap.recover_cause}, {n_done} of {cycles} cycles complete"
     return status, msg
 
 
