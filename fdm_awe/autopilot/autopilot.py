@@ -23,8 +23,9 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NU
   ``motor_on``, :class:`MotorGate`): where the optimiser stopped it the throttle is cut (the
   ESC brakes the propeller to a stop: no thrust, no drag, only the idle power P0).
   Without cycling or without a reference, AUTO holds FBWA.
-- ``RECOVER``: the safe mode. Unfold, no thrust, glide to a circle of ``REC_RADIUS`` about
-  the winch and descend on it at ``REC_AIRSPEED``; the winch reels in whatever line hangs
+- ``RECOVER``: the safe mode. Unfold, glide (motor stopped) to a circle of ``REC_RADIUS``
+  about the winch and descend on it at ``REC_AIRSPEED`` (as steeply as the glider must); the
+  motor runs only to hold the level floor circle and against a stall in the flare; the winch reels in whatever line hangs
   slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level and flare. Losing
   the reference in AUTO (mission cleared) switches to RECOVER.
 
@@ -135,6 +136,8 @@ class Autopilot:
         #: note ("failsafe: ...": the lost path, the lost link); the flight's exit code reads it
         self.recover_cause: str | None = None
         self._failsafe_note: str | None = None
+        #: RECOVER's throttle ceiling and last throttle (:meth:`_recover_throttle`)
+        self._rec_ceiling = self._rec_throttle = 1.0
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -269,6 +272,7 @@ class Autopilot:
                 self.phase = "recovery"
                 self.recovery.stage = None  # a new recovery from wherever the glider is
                 self.recover_cause = self._failsafe_note or "commanded"
+                self._rec_ceiling = self._rec_throttle = 1.0  # the motor may be running: a soft stop
             else:
                 self.recover_cause = None
             if name == "AUTO":
@@ -518,12 +522,31 @@ class Autopilot:
             a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
             # the motor only guards against stalling (below 80 % of the recovery airspeed)
             thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
-            thr = self.thrust_loop.propulsion(thrust, s, dt, self.armed)
+            thr = self._recover_throttle(thrust, thrust <= 0.0, s, dt)
             return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
         self.ref_point = r
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
-        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt)
+        # the motor is stopped while the path descends (the glide), it holds the level floor
+        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt,
+                                   thrust_max=0.0 if rec.gliding else None)
         self.last_guidance = cmd
         self.track_error = cmd.pos_error
-        thr = self.thrust_loop.propulsion(cmd.thrust, s, dt, self.armed)
+        thr = self._recover_throttle(cmd.thrust, rec.gliding, s, dt)
         return self._hold(s, cmd.alpha, cmd.roll, 0.0, dt, thr), wcmd
+
+    def _recover_throttle(self, thrust: float, stopped: bool, s: SixDofState, dt: float) -> float:
+        """RECOVER's throttle for ``thrust`` [N] at glider state ``s``, step ``dt`` [s]: with the
+        motor ``stopped`` (the glide) the throttle's ceiling falls from its last value to 0 over
+        the motor gate's ``soft_stop_s`` (at 0 the ESC brakes the propeller: no thrust, no
+        windmill drag, only the idle power P0), running it rises to 1 over ``soft_start_s``
+        (:class:`MotorGate`: the same soft stop and start as AUTO's motor)."""
+        g = self.motor.gate
+        if stopped:
+            drop = dt / g.soft_stop_s if g.soft_stop_s > 0.0 else 1.0
+            self._rec_ceiling = max(min(self._rec_ceiling, self._rec_throttle) - drop, 0.0)
+        else:
+            rise = dt / g.soft_start_s if g.soft_start_s > 0.0 else 1.0
+            self._rec_ceiling = min(self._rec_ceiling + rise, 1.0)
+        thr = self.thrust_loop.propulsion(thrust, s, dt, self.armed, u_max=self._rec_ceiling)
+        self._rec_throttle = thr
+        return thr
