@@ -66,6 +66,9 @@ from .tracking import PHASE_NAMES, RefPoint, TrackingReference
 from .vehicle import Waypoint
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
+#: how far [m] an uploaded point may lie from the reference's own to be its own path
+#: (:meth:`Autopilot.own_path`)
+OWN_PATH_TOL_M = 1.0
 CONFIGS = ("foldable", "nominal")
 
 _STAB_PARAMS = {"W_ALPHA": "w_alpha", "Z_ALPHA": "z_alpha", "KI_ALPHA": "ki_alpha", "W_PHI": "w_phi",
@@ -331,8 +334,17 @@ class Autopilot:
         return [Waypoint(n, e, d, t, PHASE_NAMES[p]) for n, e, d, t, p in self.reference.waypoints()]
 
     def set_mission(self, wps: list[Waypoint]) -> tuple[bool, str]:
+        """Load the path ``wps`` as the reference (see :meth:`own_path` for the vehicle's own
+        path uploaded back, which keeps the reference); ``(accepted, reason)``."""
         if len(wps) < 3:
             return False, f"need at least 3 waypoints, got {len(wps)}"
+        if self.own_path(wps):
+            # the reference's own path uploaded back (a download, MAVProxy's `wp save` and
+            # `wp load`): a mission item carries only a position, not the cycle's phases,
+            # timing, tension, reel speed, fold and motor, so rebuilding the reference from the
+            # items would fly another cycle (no recovery phase); the cycle is kept as it is
+            self._note(f"mission of {len(wps)} waypoints is the reference's own path: its cycle kept")
+            return True, "own path"
         P = np.array([[w.north, w.east, w.down] for w in wps], float)
         if not np.all(np.isfinite(P)):
             return False, "waypoint not finite"
@@ -355,6 +367,20 @@ class Autopilot:
         if self.cycling:
             self.s_ref = self._cycle_start() + self._nearest_cycle_time()
         return True, "accepted"
+
+    def own_path(self, wps: list[Waypoint]) -> bool:
+        """Whether ``wps`` is the loaded reference's own path, as :meth:`mission` gives it:
+        as many points, each within :data:`OWN_PATH_TOL_M` of its own (the resolution of a
+        mission item's position: 1e-7 deg in MISSION_ITEM_INT, float32 degrees in
+        MISSION_ITEM, about 0.4 m of latitude)."""
+        if self.reference is None:
+            return False
+        own = self.mission()
+        if len(own) != len(wps):
+            return False
+        P = np.array([[w.north, w.east, w.down] for w in wps], float)
+        Q = np.array([[w.north, w.east, w.down] for w in own], float)
+        return bool(np.all(np.isfinite(P))) and float(np.max(np.linalg.norm(P - Q, axis=1))) <= OWN_PATH_TOL_M
 
     def clear_mission(self) -> None:
         self.reference = None
