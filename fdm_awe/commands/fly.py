@@ -128,7 +128,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--cycles", type=int, default=3,
                    help="number of pumping cycles, 1..1000 (default 3), and at most 750000 steps in the flight's time "
                         "cap (2 x cycles x period + 10 s) / --dt: a flight keeps every step in memory, about 2 kB each "
-                        "(51 cycles of a 60 s cycle at the default step)")
+                        "(about 51 cycles of a 60 s cycle at the default step)")
     p.add_argument("--dt", type=float, default=1.0 / 120.0,
                    help="co-simulation step, s (default 1/120), 0.0001..0.25 / max(W_ALPHA, W_PHI): the attitude loops "
                         "fly with one update a step; 0.0001..0.0125 with the defined gains (W_PHI 20 rad/s)")

@@ -20,7 +20,7 @@ tests/data/ref_physical_nominal_8mps.json`` 2 cycles 306 MB, 8 cycles 393 MB, 43
 apart: 2.0 kB per step; with ``--out`` 1.1-1.6 kB per step, the physical foldable reference
 likewise). A flight may last until its time cap (:func:`time_cap`), so the cap's steps are
 bounded: at most :data:`MAX_FLIGHT_STEPS`, about 1.5 GB of logs on top of the ~0.4 GB the
-modules take (51 cycles of the stored 60 s references at the default step)."""
+modules take (about 51 cycles of the stored 60 s references at the default step)."""
 
 from __future__ import annotations
 
