@@ -84,6 +84,26 @@ def test_recover_lands_gently_at_the_winch_in_calm_air(path, trigger_s):
     assert abs(end[C["x"]] * w[1] - end[C["y"]] * w[0]) / np.hypot(*w) < 5.0
 
 
+def test_recover_glides_with_the_motor_stopped_down_to_the_floor():
+    """The issue's ``fly --mode RECOVER`` on the physical foldable cycle ran the motor all the
+    way (throttle above 0.05 for 115 s, 3.2 kJ) while RECOVER glides: from the soft stop (1 s)
+    until the glider is on the circle at its floor the throttle is 0 (the ESC brakes the
+    propeller), the motor runs only on the level floor circle, the final and in the flare, and
+    the glider still lands at the winch."""
+    rep, ap, after = _abort(DATA / "ref_physical_foldable_8mps_sized.json", 0.0, 200.0)
+    _assert_landed(rep, after)
+    t, thr = after[:, C["t"]], after[:, C["throttle"]]
+    t_floor = next(tn for tn, m in ap.log if m.startswith("recovery: on the circle"))
+    glide = (t > 1.5) & (t < t_floor - 3.0)
+    assert np.count_nonzero(glide) > 10 * 120  # at least 10 s of glide
+    assert np.max(thr[glide]) == 0.0
+    # the glider cannot hold 1:REC_SLOPE on its line: it glides steeper, down to the floor sooner
+    h0 = -after[0, C["z"]]
+    assert t_floor < (h0 - ap.params["REC_FINAL_ALT"]) * ap.params["REC_SLOPE"] / ap.params["REC_AIRSPEED"]
+    running = np.count_nonzero(thr > 0.05) / 120.0
+    assert running < 0.6 * (t[-1] - t[0]), running
+
+
 def test_recover_parks_in_moderate_turbulence():
     """Moderate turbulence (vertical gusts ~2 m/s RMS): no gentle touchdown is possible, RECOVER
     parks in the hold on a reeled-in line instead, without any limit reached."""

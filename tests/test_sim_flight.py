@@ -118,7 +118,9 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
         out["items"] = items
         gcs.mav.param_set_send(1, 1, b"GUID_KP", 0.7, mav.MAV_PARAM_TYPE_REAL32)
         out["param"] = wait("PARAM_VALUE", lambda m: m.param_id == "GUID_KP")
-        # upload the same path back (MAVLink carries no timing: the autopilot times it itself)
+        # upload the path moved 3 m north (another path: MAVLink carries no timing, the
+        # autopilot times it itself; the vehicle's own path back keeps its cycle, see
+        # tests/test_mavlink_mission_roundtrip.py)
         gcs.mav.mission_count_send(1, 1, len(items))
         while True:
             m = wait(["MISSION_REQUEST_INT", "MISSION_REQUEST", "MISSION_ACK"])
@@ -126,7 +128,7 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
                 out["upload_ack"] = m
                 break
             it = items[m.seq]
-            gcs.mav.mission_item_int_send(1, 1, m.seq, it.frame, it.command, 0, 1, 0, 0, 0, 0, it.x, it.y, it.z)
+            gcs.mav.mission_item_int_send(1, 1, m.seq, it.frame, it.command, 0, 1, 0, 0, 0, 0, it.x + 270, it.y, it.z)
         # the uploaded path is flown a while: the ground station keeps the link up and keeps
         # reading (a reader that pauses lets the socket's buffer fill with telemetry, and the
         # kernel then drops the next datagram, which may be the COMMAND_ACK awaited below)

@@ -23,8 +23,9 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NU
   ``motor_on``, :class:`MotorGate`): where the optimiser stopped it the throttle is cut (the
   ESC brakes the propeller to a stop: no thrust, no drag, only the idle power P0).
   Without cycling or without a reference, AUTO holds FBWA.
-- ``RECOVER``: the safe mode. Unfold, no thrust, glide to a circle of ``REC_RADIUS`` about
-  the winch and descend on it at ``REC_AIRSPEED``; the winch reels in whatever line hangs
+- ``RECOVER``: the safe mode. Unfold, glide (motor stopped) to a circle of ``REC_RADIUS``
+  about the winch and descend on it at ``REC_AIRSPEED`` (as steeply as the glider must); the
+  motor runs only to hold the level floor circle and against a stall in the flare; the winch reels in whatever line hangs
   slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level and flare. Losing
   the reference in AUTO (mission cleared) switches to RECOVER.
 
@@ -65,6 +66,9 @@ from .tracking import PHASE_NAMES, RefPoint, TrackingReference
 from .vehicle import Waypoint
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
+#: how far [m] an uploaded point may lie from the reference's own to be its own path
+#: (:meth:`Autopilot.own_path`)
+OWN_PATH_TOL_M = 1.0
 CONFIGS = ("foldable", "nominal")
 
 _STAB_PARAMS = {"W_ALPHA": "w_alpha", "Z_ALPHA": "z_alpha", "KI_ALPHA": "ki_alpha", "W_PHI": "w_phi",
@@ -133,6 +137,13 @@ class Autopilot:
         self._gcs = (False, False, -math.inf)
         #: when the AUTO steps' position error rose above FS_TRK_ERR [s] (NaN: it is below)
         self._trk_since = math.nan
+        #: why the glider is in RECOVER: None (not in RECOVER), "commanded" (the start mode, the
+        #: ground station's mode change or RTL, its clearing of the mission) or the failsafe's
+        #: note ("failsafe: ...": the lost path, the lost link); the flight's exit code reads it
+        self.recover_cause: str | None = None
+        self._failsafe_note: str | None = None
+        #: RECOVER's throttle ceiling and last throttle (:meth:`_recover_throttle`)
+        self._rec_ceiling = self._rec_throttle = 1.0
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
         self.log: list[tuple[float, str]] = []
@@ -275,6 +286,10 @@ class Autopilot:
             if name == "RECOVER":
                 self.phase = "recovery"
                 self.recovery.stage = None  # a new recovery from wherever the glider is
+                self.recover_cause = self._failsafe_note or "commanded"
+                self._rec_ceiling = self._rec_throttle = 1.0  # the motor may be running: a soft stop
+            else:
+                self.recover_cause = None
             if name == "AUTO":
                 self._rejoin_pending = True  # rejoin the path from the glider's own state
         self.mode = name
@@ -304,8 +319,7 @@ class Autopilot:
         p = self.params
         if (ever and p["FS_GCS_ENABL"] > 0.5 and t - t_lost >= p["FS_LONG_TIMEOUT"] and self.mode != "RECOVER"
                 and self.armed and self.airborne):
-            self._note(f"failsafe: ground-station link lost for {t - t_lost:.1f} s")
-            self.set_mode("RECOVER")
+            self._failsafe(f"failsafe: ground-station link lost for {t - t_lost:.1f} s")
             self._gcs = (False, ever, math.inf)  # acted on this loss
 
     def start_cycling(self) -> bool:
@@ -332,8 +346,17 @@ class Autopilot:
         return [Waypoint(n, e, d, t, PHASE_NAMES[p]) for n, e, d, t, p in self.reference.waypoints()]
 
     def set_mission(self, wps: list[Waypoint]) -> tuple[bool, str]:
+        """Load the path ``wps`` as the reference (see :meth:`own_path` for the vehicle's own
+        path uploaded back, which keeps the reference); ``(accepted, reason)``."""
         if len(wps) < 3:
             return False, f"need at least 3 waypoints, got {len(wps)}"
+        if self.own_path(wps):
+            # the reference's own path uploaded back (a download, MAVProxy's `wp save` and
+            # `wp load`): a mission item carries only a position, not the cycle's phases,
+            # timing, tension, reel speed, fold and motor, so rebuilding the reference from the
+            # items would fly another cycle (no recovery phase); the cycle is kept as it is
+            self._note(f"mission of {len(wps)} waypoints is the reference's own path: its cycle kept")
+            return True, "own path"
         P = np.array([[w.north, w.east, w.down] for w in wps], float)
         if not np.all(np.isfinite(P)):
             return False, "waypoint not finite"
@@ -356,6 +379,20 @@ class Autopilot:
         if self.cycling:
             self.s_ref = self._cycle_start() + self._nearest_cycle_time()
         return True, "accepted"
+
+    def own_path(self, wps: list[Waypoint]) -> bool:
+        """Whether ``wps`` is the loaded reference's own path, as :meth:`mission` gives it:
+        as many points, each within :data:`OWN_PATH_TOL_M` of its own (the resolution of a
+        mission item's position: 1e-7 deg in MISSION_ITEM_INT, float32 degrees in
+        MISSION_ITEM, about 0.4 m of latitude)."""
+        if self.reference is None:
+            return False
+        own = self.mission()
+        if len(own) != len(wps):
+            return False
+        P = np.array([[w.north, w.east, w.down] for w in wps], float)
+        Q = np.array([[w.north, w.east, w.down] for w in own], float)
+        return bool(np.all(np.isfinite(P))) and float(np.max(np.linalg.norm(P - Q, axis=1))) <= OWN_PATH_TOL_M
 
     def clear_mission(self) -> None:
         self.reference = None
@@ -488,9 +525,18 @@ class Autopilot:
             self._trk_since = t
         p = self.params
         if t - self._trk_since >= p["FS_TRK_TIME"] and self.armed and self.airborne:
-            self._note(f"failsafe: {self.track_error:.1f} m from the path for {t - self._trk_since:.1f} s "
-                       f"(FS_TRK_ERR {p['FS_TRK_ERR']:g} m)")
+            self._failsafe(f"failsafe: {self.track_error:.1f} m from the path for {t - self._trk_since:.1f} s "
+                           f"(FS_TRK_ERR {p['FS_TRK_ERR']:g} m)")
+
+    def _failsafe(self, text: str) -> None:
+        """A failsafe takes the glider to RECOVER: ``text`` noted and kept as the
+        :attr:`recover_cause`."""
+        self._note(text)
+        self._failsafe_note = text
+        try:
             self.set_mode("RECOVER")
+        finally:
+            self._failsafe_note = None
 
     def kernel_arrays(self) -> tuple | None:
         """The arrays of a compiled block (:func:`fdm_awe.sim.autopilot_kernel.autopilot_steps`)
@@ -540,12 +586,31 @@ class Autopilot:
             a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
             # the motor only guards against stalling (below 80 % of the recovery airspeed)
             thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
-            thr = self.thrust_loop.propulsion(thrust, s, dt, self.armed)
+            thr = self._recover_throttle(thrust, thrust <= 0.0, s, dt)
             return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
         self.ref_point = r
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
-        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt)
+        # the motor is stopped while the path descends (the glide), it holds the level floor
+        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt,
+                                   thrust_max=0.0 if rec.gliding else None)
         self.last_guidance = cmd
         self.track_error = cmd.pos_error
-        thr = self.thrust_loop.propulsion(cmd.thrust, s, dt, self.armed)
+        thr = self._recover_throttle(cmd.thrust, rec.gliding, s, dt)
         return self._hold(s, cmd.alpha, cmd.roll, 0.0, dt, thr), wcmd
+
+    def _recover_throttle(self, thrust: float, stopped: bool, s: SixDofState, dt: float) -> float:
+        """RECOVER's throttle for ``thrust`` [N] at glider state ``s``, step ``dt`` [s]: with the
+        motor ``stopped`` (the glide) the throttle's ceiling falls from its last value to 0 over
+        the motor gate's ``soft_stop_s`` (at 0 the ESC brakes the propeller: no thrust, no
+        windmill drag, only the idle power P0), running it rises to 1 over ``soft_start_s``
+        (:class:`MotorGate`: the same soft stop and start as AUTO's motor)."""
+        g = self.motor.gate
+        if stopped:
+            drop = dt / g.soft_stop_s if g.soft_stop_s > 0.0 else 1.0
+            self._rec_ceiling = max(min(self._rec_ceiling, self._rec_throttle) - drop, 0.0)
+        else:
+            rise = dt / g.soft_start_s if g.soft_start_s > 0.0 else 1.0
+            self._rec_ceiling = min(self._rec_ceiling + rise, 1.0)
+        thr = self.thrust_loop.propulsion(thrust, s, dt, self.armed, u_max=self._rec_ceiling)
+        self._rec_throttle = thr
+        return thr

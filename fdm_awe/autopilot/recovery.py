@@ -1,10 +1,15 @@
 """RECOVER, the autopilot's safe mode: its path and its winch.
 
-Unfold, no thrust, glide to a circle of ``REC_RADIUS`` about the winch and descend on it at
-``REC_AIRSPEED`` (stage ``return``); hold on it at its floor altitude (``hold``); with
+Unfold, glide to a circle of ``REC_RADIUS`` about the winch and descend on it at
+``REC_AIRSPEED`` (stage ``return``), motor stopped, at the path's slope ``REC_SLOPE`` or as
+steeply as the glider must (a glider on its line cannot hold 1:10: the path follows its own
+glide); hold on it at its floor altitude (``hold``); with
 ``REC_LAND`` 1 turn off it on its downwind side onto the final approach, a straight line into
 the wind over the winch (``final``), and, below ``REC_FLARE_ALT``, fly wings level and flare
-(``flare``, no path). With ``REC_LAND`` 0, or when
+(``flare``, no path). The motor runs only where the glide cannot do: level on the floor
+(the hold, the wait for the turn onto the final), on the final approach (its 1:REC_SLOPE line
+must reach the winch) and against a stall in the flare. With
+``REC_LAND`` 0, or when
 vertical gusts exceed ``REC_GUST_MAX`` near the hold, the glider parks in the hold at
 ``REC_HOLD_ALT``. The winch brakes a paying-out drum in generator mode first, then reels in the
 slack beyond ``REC_SLACK`` (at most ``REC_REEL_SPD``), and spools free on the final approach.
@@ -23,6 +28,11 @@ from .guidance import Guidance, norm3
 from .params import ParamStore
 from .tracking import RECOVERY, RefPoint
 from .winch import pay_out
+
+
+#: the steepest recovery path [m flown per m of descent] (REC_SLOPE's least value): the most
+#: the altitude reference follows a glider sinking faster than the path
+SLOPE_MIN = 3.0
 
 
 class Recovery:
@@ -49,6 +59,9 @@ class Recovery:
         self._final: tuple[np.ndarray, np.ndarray | None, float] | None = None
         self.park = False  #: the recovery parks in the hold instead of landing
         self._gust2 = 0.0  # mean square of the vertical wind [m^2/s^2], ~10 s filter
+        #: the last step's path descended to the floor (stages ``return`` and ``hold`` above it):
+        #: the motor is stopped, the glider glides (docs/design.md section 8b)
+        self.gliding = False
 
     def enter(self, s: SixDofState) -> None:
         """Start a recovery from glider state ``s``: circle in the sense the glider turns about
@@ -59,6 +72,7 @@ class Recovery:
         self._h = -float(s.pos_ned[2])
         self.stage = "return"
         self._final = None
+        self.gliding = False
         self.park = self.params["REC_LAND"] < 0.5
         self._gust2 = 0.0
         self.guidance.reset()
@@ -196,7 +210,18 @@ class Recovery:
             if centre is not None and float((q - centre) @ f) >= 0.0:  # abeam the centre: the turn's end
                 self._final, centre = (f, None, 0.0), None
         floor = 0.0 if self.stage == "final" else floor
-        self._h = min(max(self._h - sink * dt, floor), h + 10.0)
+        # to the circle and down on it to the floor the glider glides, motor stopped: the
+        # altitude reference sinks at the path's rate or, where the glider cannot hold that glide
+        # (the line's drag and weight on it), at the glider's own sink rate, at most that of the
+        # steepest path the parameters allow (1:3, REC_SLOPE's least: a glider diving faster,
+        # e.g. on entry from a dive, is pulled up). On the floor the path is level, and the final
+        # approach must reach the winch at REC_SLOPE: there the motor holds what the glide cannot
+        self.gliding = self.stage != "final" and self._h > floor
+        if self.gliding:
+            sink = max(sink, min(float(s.vel_ned[2]), V / SLOPE_MIN))
+            self._h = min(max(self._h - sink * dt, floor), h + 1.0)
+        else:
+            self._h = min(max(self._h - sink * dt, floor), h + 10.0)
         descending = self._h > floor
         if self.stage == "final" and centre is None:
             # on the line over the winch

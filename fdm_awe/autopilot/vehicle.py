@@ -5,7 +5,7 @@
     winch, optionally the reference time within the cycle ``time_s`` and the cycle
     ``phase``. A path uploaded from a ground station arrives with ``time_s = phase = None``
     (a MAVLink mission item carries neither) and the autopilot decides how to time it (or
-    rejects it through ``set_mission``).
+    rejects it through ``set_mission``); its own path uploaded back keeps its reference.
 
 ``VehicleInterface``
     The protocol the autopilot implements so a ground station can command it::
@@ -19,7 +19,8 @@
         start_cycling() -> bool
         stop_cycling() -> bool
         mission() -> list[Waypoint]      # the loaded reference path
-        set_mission(wps) -> (ok, reason) # validate + load; reason says why not
+        set_mission(wps) -> (ok, reason) # validate + load; reason says why not ("own path":
+                                         # the vehicle's own path back, its cycle kept)
         clear_mission() -> None
         params: ParamStore               # gains etc.; a change calls their callbacks
 

@@ -32,11 +32,13 @@ and continuous cycle), ``--tether lumped:N`` only on the physical plant, every o
 atomically; the JSON writes NaN as ``null`` (e.g. the tracking error of a cycle without
 reference points) and records the turbulence (``null`` in calm air): its form and seed, the
 JSBSim parameters, the target sigma and intensity at the hub height and the turbulence
-measured at the glider (:mod:`fdm_awe.turbulence`).
+measured at the glider (:mod:`fdm_awe.turbulence`); the step against the attitude loops and the
+flight's steps against the memory it keeps (:mod:`fdm_awe.sim.budget`).
 
-Exit codes: 0 the flight completed without an event, or RECOVER (from ``--mode``, a MAVLink
-RTL or the link-loss failsafe) ended it landed or parked; 1 it ended
-otherwise (an event, or cycles left incomplete); 2 bad input; 130 Ctrl-C: the flight stops,
+Exit codes (:func:`fdm_awe.sim.report.flight_exit_code`): 0 the flight flew every requested
+cycle, or a commanded RECOVER (``--mode``, a MAVLink mode change or RTL) ended it landed or
+parked; 1 it ended otherwise (an event, cycles left incomplete, or landed or parked after a
+failsafe took it out of its cycles); 2 bad input; 130 Ctrl-C: the flight stops,
 the steps flown so far are written to every requested output (status ``interrupted``).
 """
 
@@ -139,8 +141,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
-    p.add_argument("--cycles", type=int, default=3, help="number of pumping cycles, 1..1000 (default 3)")
-    p.add_argument("--dt", type=float, default=1.0 / 120.0, help="co-simulation step, s, 0.0001..0.05 (default 1/120)")
+    p.add_argument("--cycles", type=int, default=3,
+                   help="number of pumping cycles, 1..1000 (default 3), and at most 750000 steps in the flight's time "
+                        "cap (2 x cycles x period + 10 s) / --dt: a flight keeps every step in memory, about 2 kB each "
+                        "(about 51 cycles of a 60 s cycle at the default step)")
+    p.add_argument("--dt", type=float, default=1.0 / 120.0,
+                   help="co-simulation step, s (default 1/120), 0.0001..0.25 / max(W_ALPHA, W_PHI): the attitude loops "
+                        "fly with one update a step; 0.0001..0.0125 with the defined gains (W_PHI 20 rad/s)")
     p.add_argument("--turbulence", metavar="FORM[:SEED]",
                    help="JSBSim turbulence, seeded (SEED 1..2147483647, default 1): light|moderate|severe (fixed "
                         "wind at 20 ft: 15|30|45 kt), milspec:light|moderate|severe (MIL-F-8785C with the flight's "
@@ -321,6 +328,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_tether_plant(args.tether, plant == "paper", _plant_why(args, plant))
     params = _autopilot_params(args.params)  # checked before any work
+    _check_budget(args, params, ref, problem)
     out_dir = Path(args.out) if args.out else None
     with _check_outputs(args, out_dir, optimising=ref is None):  # --out locked until the last file is written
         return _run_checked(args, ref, problem, params, plant, out_dir, refs, flight_wind)
@@ -399,6 +407,21 @@ def _autopilot_params(path: str | None, option: str = "--params") -> Any:
         return autopilot_params(store=ParamStore(p))
     except DefinitionError as exc:
         raise InputError(f"{option} {exc.path}: {exc.element}: {exc.problem}") from None
+
+
+def _check_budget(args: argparse.Namespace, params: Any, ref: Any, problem: Any) -> None:
+    """Before any work (:mod:`fdm_awe.sim.budget`): ``--dt`` is a step the attitude loops fly
+    with under ``params``, and ``--cycles`` of the reference's period (of the longest cycle the
+    optimiser may return, ``problem``'s bound, when it optimises one) at ``--dt`` fit in the
+    steps a flight keeps in memory."""
+    from ..sim.budget import check_length, check_step
+
+    check_step(args.dt, params)
+    if ref is not None:
+        check_length(args.cycles, ref.period, args.dt, what=f"{args.reference or args.references}")
+    else:
+        check_length(args.cycles, problem.bounds.t_max, args.dt,
+                     what="the longest cycle the optimiser may return (T1 + T2 <= t_max)")
 
 
 def _read_reference(args: argparse.Namespace) -> Any:
@@ -613,10 +636,9 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
         doc["outputs_cut_short"] = True
     if args.json:
         write_json(args.json, doc)
-    if report.status == "interrupted" or cut:
+    if cut:
         return EXIT_INTERRUPTED
-    ok = report.status in ("ok", "landed", "parked")
-    return 0 if ok else 1
+    return report.exit_code
 
 
 def _fmt(v: float, spec: str) -> str:

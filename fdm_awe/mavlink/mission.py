@@ -12,6 +12,11 @@ waypoint), INVALID_PARAM5_X/6_Y/7 (bad latitude/longitude/altitude or farther th
 ``max_range_m`` from home), OPERATION_CANCELLED (timeout) or INVALID (the vehicle's
 ``set_mission`` refused; the reason goes out as STATUSTEXT). An upload of zero items and
 MISSION_CLEAR_ALL clear the mission. The limits are the endpoint's attributes.
+
+A mission item carries a position only, not the cycle's phases, timing, tension, reel speed,
+fold or motor: the vehicle's own path uploaded back (a download, then MAVProxy's ``wp save``
+and ``wp load``) is recognised by the vehicle (``set_mission`` answers ``"own path"``) and
+keeps its cycle, told by a STATUSTEXT; any other path replaces the reference.
 """
 
 from __future__ import annotations
@@ -257,7 +262,11 @@ class MissionProtocol:
         ok, why = ep.vehicle.set_mission(list(up.items))
         if ok:
             self._download = None
-            ep.info(f"MAVLink: mission of {len(up.items)} waypoints accepted")
+            if why == "own path":  # the vehicle's own path back: the cycle is kept, and said so
+                ep.info(f"MAVLink: mission of {len(up.items)} waypoints is the vehicle's own path; cycle kept")
+                ep.statustext("mission is the vehicle's own path: cycle kept", mav.MAV_SEVERITY_INFO)
+            else:
+                ep.info(f"MAVLink: mission of {len(up.items)} waypoints accepted")
             self._ack(src, mav.MAV_MISSION_ACCEPTED, _MISSION)
         else:
             ep.warn(f"MAVLink: mission refused by the vehicle: {why}")

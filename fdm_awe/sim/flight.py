@@ -82,6 +82,7 @@ from ..sixdof import JSBSimGlider
 from ..turbulence import Turbulence, TurbulenceSetting, mean_height, measure
 from ..wind import WindProfile, line_height
 from .activity import control_activity
+from .budget import check_length, check_step, time_cap
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
 from .events import machine_current
 from .flight_log import LINE_SHAPE_HZ, FlightLog
@@ -312,6 +313,10 @@ def fly(
     wind. ``flight_wind``: the wind the flight meets, as reference metadata gives it
     (``wind_ned_mps`` at the height of ``wind_profile``); None: the reference's own.
 
+    A step the autopilot's attitude loops cannot fly with, or a flight whose time cap (or
+    ``t_end``) holds more steps than a flight keeps in memory, is refused with an InputError
+    before JSBSim loads (:mod:`fdm_awe.sim.budget`).
+
     Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
     a normal report with status ``interrupted`` holding everything flown so far (see
     :class:`_StopRequest`); a KeyboardInterrupt in ``setup`` propagates (nothing was flown).
@@ -323,6 +328,10 @@ def fly(
     nseg = check_tether_plant(tether, paper)  # a lumped line only on the physical plant
     refs, current = _flyable_set(references, reference)
     reference = flyable_reference(reference) if refs is None else refs.entries[current].reference
+    period = reference.period if refs is None else refs.longest_period
+    params = params if params is not None else autopilot_params()
+    check_step(dt, params, "dt")  # the attitude loops fly with it (budget)
+    check_length(cycles, period, dt, t_end, "cycles")  # the flight's steps fit in memory (budget)
     meta = reference.meta
     wind = _FlightWind(meta if flight_wind is None else flight_wind)
     gsp = _station_params(meta, paper)
@@ -333,8 +342,7 @@ def fly(
     gl = GliderLedger(rig.glider, ideal_thrust=paper)
     # cycles are counted by the autopilot's path parameter (the glider's own period); the
     # flight ends when the last cycle is flown, or at a generous time cap
-    period = reference.period if refs is None else refs.longest_period
-    T_total = t_end if t_end is not None else cycles * period * 2.0 + 10.0
+    T_total = t_end if t_end is not None else time_cap(cycles, period)
     log = FlightLog(int(round(T_total / dt)), dt, rig, gl, bool(nseg))
     stop = _StopRequest()
     flown = [False]  # whether every requested cycle was flown
@@ -375,6 +383,7 @@ def fly(
         control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
         turbulence=_turbulence_facts(turb, wind, res),
         wind_estimates=list(cw.records),
+        recover_cause=ap.recover_cause if ap.mode == "RECOVER" else None,
     )
 
 
@@ -569,6 +578,9 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
             status, msg = "landed", msg.replace("ground contact", "landed") + f", sink {v_down:.1f} m/s"
         else:
             msg += f", sink {v_down:.1f} m/s (a crash, not a landing: {why})"
+    if status in ("landed", "parked") and ap.recover_cause != "commanded":
+        # safe, but not what was asked: a failsafe ended the cycles (the exit code says so)
+        msg += f"; RECOVER after the {ap.recover_cause}, {n_done} of {cycles} cycles complete"
     return status, msg
 
 

@@ -10,6 +10,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import EXIT_INTERRUPTED
+
 #: what each plant is (written into the flight's JSON)
 PLANT_NOTES = {
     "physical": "JSBSim 9x5 propeller and motor; ground station with DC machine, converter and PI speed loop",
@@ -20,6 +22,28 @@ PLANT_NOTES = {
 #: statuses of a flight (:mod:`fdm_awe.sim.flight`); other ground-station events appear by name
 FLIGHT_STATUSES = ("ok", "incomplete", "interrupted", "landed", "parked", "ground_contact", "tether_break",
                    "nonfinite", "airspeed_limit", "load_limit")
+
+#: the statuses that end a flight as RECOVER meant it to (:func:`flight_exit_code`)
+RECOVERED = ("landed", "parked")
+
+
+def flight_exit_code(status: str, recover_cause: str | None) -> int:
+    """The exit code of ``fdm-awe fly`` for a flight that ended with ``status`` (docs/design.md
+    section 1): 0 when it did what it was asked, 1 when not, 130 after Ctrl-C.
+
+    ``ok`` (every requested cycle flown to its end, or the requested length) is 0. ``landed``
+    and ``parked`` are 0 only when RECOVER was asked for (``recover_cause`` "commanded": the
+    start mode, the ground station's mode change or RTL, its clearing of the mission); after a
+    failsafe took the glider out of its cycles (the lost path, the lost link) the glider is
+    safe but the requested cycles were not flown: 1. ``interrupted`` is 130; ``incomplete``,
+    the co-simulation's events and the ground station's are 1."""
+    if status == "interrupted":
+        return EXIT_INTERRUPTED
+    if status == "ok":
+        return 0
+    if status in RECOVERED and recover_cause == "commanded":
+        return 0
+    return 1
 
 
 @dataclass
@@ -99,6 +123,14 @@ class FlightReport:
     #: the onboard wind estimate per cycle against the true mean wind at the glider, and the
     #: reference flown with a reference set (:meth:`fdm_awe.sim.onboard_wind.CycleWind.close`)
     wind_estimates: list[dict[str, Any]] = field(default_factory=list)
+    #: why the flight ended in RECOVER (:attr:`fdm_awe.autopilot.autopilot.Autopilot.recover_cause`):
+    #: None (not in RECOVER), "commanded", or the failsafe's note
+    recover_cause: str | None = None
+
+    @property
+    def exit_code(self) -> int:
+        """The exit code of ``fdm-awe fly`` for this flight (:func:`flight_exit_code`)."""
+        return flight_exit_code(self.status, self.recover_cause)
 
     @property
     def realtime_factor(self) -> float:
@@ -116,7 +148,7 @@ class FlightReport:
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
             "config": self.config, "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
             "line": self.line, "generator": self.generator, "tether": self.tether,
-            "status": self.status,
+            "status": self.status, "recover_cause": self.recover_cause,
             "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),
             "realtime_factor": _json_float(self.realtime_factor, 1),
             "ledger_residual_rel": _json_float(float(f"{self.ledger_residual_rel:.3e}"), 12),
