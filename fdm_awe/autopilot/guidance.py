@@ -41,8 +41,9 @@ Floats = np.ndarray | list[float] | tuple[float, ...]
 (GK_KP, GK_KD, GK_KI, GK_AMAX, GK_IMAX, GK_ALPHA_MIN, GK_ALPHA_MAX, GK_PHI_MAX, GK_THRUST_MAX,
  GK_ETRADE, GK_NEGLIFT, GK_CURVMAX, GK_VTENS, GK_VMARGIN, GK_PHI_MAX_VERT, GK_BODY_AXIS) = range(16)
 #: then the underspeed protection's (:mod:`.underspeed`): entry and exit airspeeds in stall
-#: speeds, hold time, alpha margin below the stall, speed gain, pull away from the winch
-GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, GK_US_AMARGIN, GK_US_KV, GK_US_SLACK = range(16, 22)
+#: speeds, hold time, alpha margin below the stall, speed gain, pull away from the winch, the
+#: airspeed in stall speeds up to which the alpha margin acts
+GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, GK_US_AMARGIN, GK_US_KV, GK_US_SLACK, GK_US_AMARGV = range(16, 23)
 #: layout of the position-error integral (NED, m s) that :func:`guidance_step` advances in place
 (I_X, I_Y, I_Z) = range(3)
 #: layout of a polar (:func:`polar_at`) and of the coefficients it blends (:func:`polar_coefficients`,
@@ -81,9 +82,12 @@ class GuidanceGains:
     us_alpha_margin: float = 0.04  #: while protected, alpha is capped this far below the stall [rad]
     us_speed_gain: float = 1.0  #: while protected, along-path acceleration per m/s below the exit speed [1/s]
     us_slack_acc: float = 2.0  #: while protected on a slack line, horizontal acceleration away from the winch [m/s^2]
+    #: with the protection on, alpha stays us_alpha_margin below the stall up to this airspeed in
+    #: stall speeds [-] (faster, a pull-out needs the whole lift and an overshoot past the stall is brief)
+    us_margin_speed: float = 2.0
 
     def vector(self) -> np.ndarray:
-        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_US_SLACK`` (the field
+        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_US_AMARGV`` (the field
         order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`guidance_step`."""
         nan = math.nan
         return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
@@ -91,7 +95,8 @@ class GuidanceGains:
                          nan if self.curv_scale_max is None else self.curv_scale_max, self.overspeed_tension,
                          self.overspeed_margin, nan if self.phi_max_vertical is None else self.phi_max_vertical,
                          float(self.thrust_on_body_axis), self.us_enter, self.us_exit, self.us_hold,
-                         self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc), dtype=np.float64)
+                         self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc, self.us_margin_speed),
+                        dtype=np.float64)
 
 
 @dataclass(frozen=True)
@@ -263,7 +268,8 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     (:func:`_underspeed_demand`, the integral held) and alpha is capped the gains' margin below
     the stall, the thrust is all there is (``t_max``). With ``us`` 0 the step is the
     protection-free one, bit for bit (but for the alpha margin where the gains turn the
-    protection on, ``GK_US_ENTER`` > 0)."""
+    protection on, ``GK_US_ENTER`` > 0: below ``GK_US_AMARGV`` stall speeds alpha stays
+    ``GK_US_AMARGIN`` below the stall)."""
     # e_p = p_ref - p, e_v = v_ref - v
     epx, epy, epz = rpx - px, rpy - py, rpz - pz
     evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
@@ -281,7 +287,11 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     vax, vay, vaz = vx - wx, vy - wy, vz - wz  # air velocity
     v_ref, v0 = _norm(vrx, vry, vrz), _norm(vax, vay, vaz)
     afx, afy, afz = _path_feed_forward(rax, ray, raz, vrx, vry, vrz, v_ref, vax, vay, vaz, v0, gk[GK_CURVMAX])
-    margin = gk[GK_US_AMARGIN] if gk[GK_US_ENTER] > 0.0 else 0.0
+    margin = 0.0
+    if gk[GK_US_ENTER] > 0.0:
+        v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
+        if v0 < gk[GK_US_AMARGV] * v_stall:
+            margin = gk[GK_US_AMARGIN]
     if us != 0.0:
         v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
         afx, afy, afz = _underspeed_demand(gk, afx + cx, afy + cy, afz + cz, vax, vay, vaz, v0, v_stall, us == 2.0,
