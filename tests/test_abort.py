@@ -263,10 +263,11 @@ def test_lost_path_failsafe_times_alike_in_compiled_blocks_and_python():
 
 
 def test_moderate_turbulence_the_cycle_cannot_be_flown_in_ends_parked():
-    """Moderate turbulence on the sized line at 8 m/s (seed 1) throws the nominal glider 70 m off
-    its path within 25 s (without the failsafe it wandered at the stall speed with a slack line
-    for 100 s): the default failsafe (50 m for 5 s) takes it to RECOVER, which parks."""
-    rep, ap = _lost_path_flight({}, cycles=1, turbulence=("moderate", 1))
+    """Moderate turbulence on the sized line at 8 m/s (seed 1) throws the nominal glider without
+    its underspeed protection (US_V_ENTER 0; with it this cycle is flown) 70 m off its path
+    within 25 s (without the failsafe it wandered at the stall speed with a slack line for
+    100 s): the default failsafe (50 m for 5 s) takes it to RECOVER, which parks."""
+    rep, ap = _lost_path_flight({"US_V_ENTER": 0.0}, cycles=1, turbulence=("moderate", 1))
     assert (ap.params["FS_TRK_ERR"], ap.params["FS_TRK_TIME"]) == (50.0, 5.0)
     fs = [t for t, m in ap.log if m.startswith("failsafe")]
     assert len(fs) == 1 and rep.status == "parked", (rep.status, rep.message)
