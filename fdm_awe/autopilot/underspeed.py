@@ -10,7 +10,8 @@ earliest ``US_HOLD`` after it was last below the entry speed. What the guidance 
 (its ``us`` argument): speed priority (the along-path demand becomes a speed recovery, height is
 given for it and never asked for) and on a slack line a pull away from the winch. With the
 protection on (``US_V_ENTER`` > 0) the commanded angle of attack stays ``US_ALPHA_MARG`` below
-the stall everywhere: the attitude loop's overshoot and the gusts no longer carry it past. Leaving it, the AUTO step rejoins the path over
+the stall wherever the airspeed is below ``US_AMARG_V`` times the stall speed, in underspeed or
+not: the attitude loop's overshoot and the gusts no longer carry it past. Leaving it, the AUTO step rejoins the path over
 a rejoin segment from the glider's own state (:mod:`.rejoin`). A plain function: the compiled
 AUTO step runs it too.
 """
