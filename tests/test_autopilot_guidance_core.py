@@ -36,8 +36,10 @@ def _compiled():
 
 
 def _gains(variant) -> GuidanceGains:
+    """The variant's gains; the underspeed protection on with negative lift (its alpha margin)."""
     neg, curv, pv, body = variant
-    return replace(GAINS, negative_lift=neg, curv_scale_max=curv, phi_max_vertical=pv, thrust_on_body_axis=body)
+    return replace(GAINS, negative_lift=neg, curv_scale_max=curv, phi_max_vertical=pv, thrust_on_body_axis=body,
+                   us_enter=1.1 if neg else 0.0)
 
 
 def _cases(rng, n):
@@ -58,14 +60,15 @@ def _cases(rng, n):
         t_max = (0.0, 3.0, 8.0)[i % 3]
         yield rng.uniform(-2.0, 2.0, 3), (m, 1.225, 9.81, s_u, s_f, *rp, *rv, *ra, float(rng.uniform(0.0, 60.0)), *pos,
                                           *vel, *wind, *tf, float(rng.uniform(0.0, 1.0)) if i % 4 else 0.0,
-                                          float(rng.uniform(0.005, 0.3)), bool(i % 2), t_max, bool(i % 5 in (1, 2)))
+                                          float(rng.uniform(0.005, 0.3)), bool(i % 2), t_max, bool(i % 5 in (1, 2)),
+                                          float(i % 7 % 3))
     level = (0.0, 0.0, -100.0)
     # F = m (a - g) = 0 along a level air velocity: no lift asked (mu 0)
     yield np.zeros(3), (m, 1.225, 9.81, s_u, s_f, *level, 15.0, 0.0, 0.0, 0.0, 0.0, 9.81, 0.0, *level, 15.0, 0.0, 0.0,
-                        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.01, False, 8.0, False)
+                        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5, 0.01, False, 8.0, False, 0.0)
     # no airspeed (V held at 1 m/s, any horizontal axis), reference at rest in the air
     yield np.zeros(3), (m, 1.225, 9.81, s_u, s_f, *level, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 20.0, *level, 3.0, 0.0, 0.0,
-                        3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.01, True, 8.0, False)
+                        3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.01, True, 8.0, False, 0.0)
 
 
 def _lines_run(fn, calls):
@@ -120,7 +123,8 @@ def test_polar_at_compiled_is_python_and_the_fold_blend():
 def test_guidance_step_compiled_is_python_bit_for_bit():
     """Every variant of the flags and sentinels (negative lift, curvature scaling, vertical bank
     limit, thrust axis) over random states (taut and slack line, saturated corrections, the
-    integral at its limit, the energy trade both ways, vertical flight, the thrust limit 0): the
+    integral at its limit, the energy trade both ways, vertical flight, the thrust limit 0, the
+    underspeed protection off, on and on a slack line, its alpha margin on and off): the
     compiled step equals the Python step, result and integral, and the Python step runs every
     line of the pure functions."""
     step, _ = _compiled()
@@ -164,7 +168,7 @@ def test_guidance_update_is_the_step_and_follows_new_gains():
         mine = integral.copy()
         want = guidance_step(k.vector().tolist(), mine, gd.polar(0.3), gd.m, gd.rho, gd.g, gd.aero_u.S, gd.aero_f.S,
                              *ref.pos.tolist(), *ref.vel.tolist(), *ref.acc.tolist(), ref.tension, *pos.tolist(),
-                             *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max, False)
+                             *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max, False, 0.0)
         c = gd.update(ref, pos, vel, wind, tf, 0.3, 0.01, taut=True)
         assert (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error) == want
         assert gd.integral is integral and integral.tolist() == mine.tolist() and integral[I_X] != 0.0

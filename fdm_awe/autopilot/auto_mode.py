@@ -27,7 +27,7 @@ from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDA
                         O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL, O_SEG, O_TC, O_THROTTLE, O_THRUST,
                         O_W_D2, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_YAW, PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX,
                         R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED, R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS,
-                        REF_WHERE, REJOINED, TRACK_LOST, auto_guide)
+                        REF_WHERE, REJOINED, TRACK_LOST, M_US, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
 from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
@@ -71,6 +71,7 @@ class AutoStep:
         m = self.mem
         m[M_RJ], m[M_RJ_T0] = 1.0, t
         m[M_RJ_DP:M_RJ_DP + 3], m[M_RJ_DV:M_RJ_DV + 3] = dp, dv
+        m[M_US] = 0.0  # AUTO begins unprotected
 
     def end_rejoin(self) -> None:
         """No rejoin segment."""
@@ -129,6 +130,12 @@ class AutoStep:
                            ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem, self.rrow, out)
         notes = []
         self.track_lost = bool(flags & TRACK_LOST)
+        if flags & UNDERSPEED:
+            if mem[M_US] != 0.0:
+                notes.append(f"underspeed: airspeed {s.airspeed:.1f} m/s, speed before path "
+                             f"(stall speed {ap.stall_speed(s.fold):.1f} m/s)")
+            else:
+                notes.append(f"underspeed: airspeed {s.airspeed:.1f} m/s again, rejoining the path")
         if flags & REJOINED:
             notes.append("rejoin: on the path")
         if flags & PHASE_CHANGED:

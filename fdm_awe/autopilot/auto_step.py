@@ -35,14 +35,17 @@ from typing import Any
 
 import numpy as np
 
+from ..definitions.aircraft import stall_speed
 from ..pointmass.fold import fold_fraction
 from ..sixdof.row import FOLD, THRUST, VT, WIND_DOWN, WIND_EAST, WIND_NORTH, si_position, si_velocity
 from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
 from .fold import fold_command
-from .guidance import CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, guidance_step, polar_at
+from .guidance import (CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, P_CLMAX,
+                       guidance_step, polar_at)
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import rejoin_weights
 from .thrust import T_LAST, T_THRUST, throttle_step
+from .underspeed import underspeed_update
 from .winch import N_LIMITS, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
@@ -78,10 +81,14 @@ M_SREF, M_TLAST, M_ERR, M_PHASE, M_DT = range(5)
 M_RJ, M_RJ_T0, M_RJ_DP, M_RJ_DV = 5, 6, 7, 10
 #: then 1.0 while the winch's lower tension limit holds (:func:`.winch.lower_limit_holds`)
 M_WLOW = 13
-N_MEM = 14
+#: then the underspeed protection (:mod:`.underspeed`): 1.0 while it acts, the last time [s] the
+#: airspeed was below its entry speed
+M_US, M_US_T = 14, 15
+N_MEM = 16
 #: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step, the
-#: position error exceeds ``par[A_FS_TRK_ERR]`` (> 0; the autopilot times it, FS_TRK_TIME)
-PHASE_CHANGED, REJOINED, TRACK_LOST = 1, 2, 4
+#: position error exceeds ``par[A_FS_TRK_ERR]`` (> 0; the autopilot times it, FS_TRK_TIME), the
+#: underspeed protection began or ended at this step
+PHASE_CHANGED, REJOINED, TRACK_LOST, UNDERSPEED = 1, 2, 4, 8
 #: ``out``: the step's reference point (cycle, cycle time, phase, position, motor-on fraction,
 #: path rate), the guidance's command, the motor, fold, throttle and winch commands
 (O_CYCLE, O_TC, O_PHASE, O_SEG, O_RX, O_RY, O_RZ, O_RATE, O_ALPHA, O_MU, O_THRUST, O_ROLL, O_PITCH, O_YAW, O_CL,
@@ -104,7 +111,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     writes ``out`` and advances ``mem``, the guidance's position-error ``integral``
     (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
     ``motor_mem`` (:mod:`.motor`); ``rrow`` receives the reference's row (:data:`N_REF` values).
-    Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`, :data:`TRACK_LOST`; 0: none)."""
+    Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`, :data:`TRACK_LOST`,
+    :data:`UNDERSPEED`; 0: none)."""
     t = row[0]
     t_last = mem[M_TLAST]
     dt = 0.0 if t_last != t_last else max(0.0, t - t_last)
@@ -118,16 +126,33 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     wx = vx - (vx - row[WIND_NORTH] * kw)
     wy = vy - (vy - row[WIND_EAST] * kw)
     wz = vz - (vz - row[WIND_DOWN] * kw)
+    fold = row[FOLD]
+    polar = polar_at(cu, cf, par[A_RATIO], par[A_S_U], fold)
     # the reference point at the path parameter, and the parameter one step later
     s_par = mem[M_SREF]
     k, tc, phase, seg, _ = cycle_evaluate(ref_t, ref_table, par[A_T1], par[A_PERIOD], s_par, rrow)
+    # the underspeed protection: the airspeed against the stall speed of the fold state
+    vax, vay, vaz = vx - wx, vy - wy, vz - wz
+    was = mem[M_US] != 0.0
+    protect, mem[M_US_T] = underspeed_update(was, mem[M_US_T], t, math.sqrt(vax * vax + vay * vay + vaz * vaz),
+                                             stall_speed(par[A_MASS], par[A_RHO], par[A_G], polar[P_CLMAX]),
+                                             rrow[R_AIRSPEED], fold, gk[GK_US_ENTER], gk[GK_US_EXIT],
+                                             gk[GK_US_HOLD])
+    mem[M_US] = 1.0 if protect else 0.0
     flags = 0
+    if protect != was:
+        flags = UNDERSPEED
+        if was and mem[M_RJ] == 0.0:
+            # protection over: back to the path over a rejoin segment from the glider's state
+            mem[M_RJ], mem[M_RJ_T0] = 1.0, t
+            mem[M_RJ_DP], mem[M_RJ_DP + 1], mem[M_RJ_DP + 2] = px - rrow[R_PX], py - rrow[R_PY], pz - rrow[R_PZ]
+            mem[M_RJ_DV], mem[M_RJ_DV + 1], mem[M_RJ_DV + 2] = vx - rrow[R_VX], vy - rrow[R_VY], vz - rrow[R_VZ]
     if mem[M_RJ] != 0.0:
         # the rejoin segment: the path's point plus a vanishing offset, the parameter at flight time
         done, w, w1, w2, e, e1, e2 = rejoin_weights(t, mem[M_RJ_T0], par[A_RJ_TIME])
         if done != 0.0:
             mem[M_RJ] = 0.0
-            flags = REJOINED
+            flags |= REJOINED
         else:
             for j in range(3):
                 dp, dv = mem[M_RJ_DP + j], mem[M_RJ_DV + j]
@@ -153,10 +178,11 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         tx, ty, tz = gso[GS_FX], gso[GS_FY], gso[GS_FZ]
     else:
         tx, ty, tz = 0.0, 0.0, 0.0
+    us = 0.0  # the protection: 0 off, 1 on, 2 on with the line slack
+    if protect:
+        us = 2.0 if valid and gso[GS_SLACK] != 0.0 else 1.0
     # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
     motor = motor_update(segs[SEG_RUN], seg, t, mem[M_ERR], gate, motor_mem) != 0.0
-    fold = row[FOLD]
-    polar = polar_at(cu, cf, par[A_RATIO], par[A_S_U], fold)
     if motor:
         t_max = gk[GK_THRUST_MAX]
     elif par[A_THRUSTER] != 0.0:
@@ -166,7 +192,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(
         gk, integral, polar, par[A_MASS], par[A_RHO], par[A_G], par[A_S_U], par[A_S_F],
         rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, rrow[R_AX], rrow[R_AY], rrow[R_AZ], rrow[R_TENSION],
-        px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max, ref_pull)
+        px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max, ref_pull, us)
     mem[M_ERR] = err
     if par[A_FS_TRK_ERR] > 0.0 and err > par[A_FS_TRK_ERR]:
         flags |= TRACK_LOST
@@ -218,5 +244,5 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
-          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values) + GUIDANCE_CALLED + (
+          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update) + GUIDANCE_CALLED + (
               polar_at, guidance_step, reference_pull, auto_guide)

@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from ..definitions.aircraft import Glider
+from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.row import WOW
@@ -56,7 +56,7 @@ from .attitude import AttitudeLoops
 from .auto_mode import AutoStep
 from .auto_step import M_ERR, M_SREF, M_TLAST
 from .fold import fold_command, reference_fold_time
-from .guidance import Guidance, GuidanceCommand, GuidanceGains, norm3
+from .guidance import P_CLMAX, Guidance, GuidanceCommand, GuidanceGains, norm3
 from .modes import MODE_NUMBERS
 from .motor import MotorGate, MotorSwitch
 from .params import ParamStore
@@ -182,7 +182,16 @@ class Autopilot:
             energy_trade=p["GUID_ETRADE"], negative_lift=p["GUID_NEGLIFT"] > 0.5, phi_max_vertical=p["LIM_BANK_VERT"],
             curv_scale_max=p["GUID_CURVMAX"],
             overspeed_tension=p["GUID_VTENS"], overspeed_margin=p["GUID_VMARGIN"],
+            us_enter=p["US_V_ENTER"], us_exit=p["US_V_EXIT"], us_hold=p["US_HOLD"], us_alpha_margin=p["US_ALPHA_MARG"],
+            us_speed_gain=p["US_KV"], us_slack_acc=p["US_SLACK_A"], us_margin_speed=p["US_AMARG_V"],
         )
+
+    def stall_speed(self, fold: float) -> float:
+        """The 1 g stall speed [m/s] of the wing at fold state ``fold`` (0 unfolded .. 1 folded),
+        as the underspeed protection counts it (:func:`~fdm_awe.definitions.aircraft.stall_speed`
+        of the guidance's blended polar)."""
+        g = self.guidance
+        return stall_speed(g.m, g.rho, g.g, g.polar(fold)[P_CLMAX])
 
     def _on_param(self, name: str, value: float) -> None:
         self.auto.invalidate()

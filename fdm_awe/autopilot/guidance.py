@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..pointmass.aero import POLAR_FIELDS, blend_coefficient
-from ..definitions.aircraft import AeroParams
+from ..definitions.aircraft import AeroParams, stall_speed
 from .tracking import RefPoint
 
 #: a 3-vector as three floats (the guidance's arithmetic is written on scalars)
@@ -40,6 +40,10 @@ Floats = np.ndarray | list[float] | tuple[float, ...]
 #: ``GK_BODY_AXIS`` 0.0/1.0
 (GK_KP, GK_KD, GK_KI, GK_AMAX, GK_IMAX, GK_ALPHA_MIN, GK_ALPHA_MAX, GK_PHI_MAX, GK_THRUST_MAX,
  GK_ETRADE, GK_NEGLIFT, GK_CURVMAX, GK_VTENS, GK_VMARGIN, GK_PHI_MAX_VERT, GK_BODY_AXIS) = range(16)
+#: then the underspeed protection's (:mod:`.underspeed`): entry and exit airspeeds in stall
+#: speeds, hold time, alpha margin below the stall, speed gain, pull away from the winch, the
+#: airspeed in stall speeds up to which the alpha margin acts
+GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, GK_US_AMARGIN, GK_US_KV, GK_US_SLACK, GK_US_AMARGV = range(16, 23)
 #: layout of the position-error integral (NED, m s) that :func:`guidance_step` advances in place
 (I_X, I_Y, I_Z) = range(3)
 #: layout of a polar (:func:`polar_at`) and of the coefficients it blends (:func:`polar_coefficients`,
@@ -70,16 +74,29 @@ class GuidanceGains:
     #: thruster), alpha above the air velocity: it is inverted as such (False: along the air
     #: velocity, the point-mass model's thrust)
     thrust_on_body_axis: bool = True
+    #: underspeed protection (:mod:`.underspeed`): entered below this times the stall speed of
+    #: the current fold state [-] (0: off)
+    us_enter: float = 0.0
+    us_exit: float = 1.3  #: left above this times the stall speed [-] ...
+    us_hold: float = 2.0  #: ... at the earliest this long after the airspeed was last below the entry speed [s]
+    us_alpha_margin: float = 0.04  #: while protected, alpha is capped this far below the stall [rad]
+    us_speed_gain: float = 1.0  #: while protected, along-path acceleration per m/s below the exit speed [1/s]
+    us_slack_acc: float = 2.0  #: while protected on a slack line, horizontal acceleration away from the winch [m/s^2]
+    #: with the protection on, alpha stays us_alpha_margin below the stall up to this airspeed in
+    #: stall speeds [-] (faster, a pull-out needs the whole lift and an overshoot past the stall is brief)
+    us_margin_speed: float = 2.0
 
     def vector(self) -> np.ndarray:
-        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_BODY_AXIS`` (the field
+        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_US_AMARGV`` (the field
         order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`guidance_step`."""
         nan = math.nan
         return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
                          self.phi_max, self.thrust_max, self.energy_trade, float(self.negative_lift),
                          nan if self.curv_scale_max is None else self.curv_scale_max, self.overspeed_tension,
                          self.overspeed_margin, nan if self.phi_max_vertical is None else self.phi_max_vertical,
-                         float(self.thrust_on_body_axis)), dtype=np.float64)
+                         float(self.thrust_on_body_axis), self.us_enter, self.us_exit, self.us_hold,
+                         self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc, self.us_margin_speed),
+                        dtype=np.float64)
 
 
 @dataclass(frozen=True)
@@ -196,6 +213,7 @@ class Guidance:
         taut: bool = False,
         thrust_max: float | None = None,
         ref_pull: bool = False,
+        underspeed: float = 0.0,
     ) -> GuidanceCommand:
         """``taut``: the line is taut, so the radial motion is the winch's: the position loop
         then acts only on the sphere's tangent plane, and the radial aerodynamic force is the
@@ -204,7 +222,8 @@ class Guidance:
         available this step (None: the gains' ``thrust_max``; 0 with the motor stopped, so an
         along-path force the glider lacks is traded through the flight path). ``ref_pull``: on a
         line that is not taut, the line's radial pull in the force balance is the reference's
-        tension, not the measured one (see :func:`guidance_step`)."""
+        tension, not the measured one (see :func:`guidance_step`). ``underspeed``: the underspeed
+        protection acts (0 no, 1 yes, 2 yes on a slack line; :func:`guidance_step`'s ``us``)."""
         gk = self.gains_vector()
         rpx, rpy, rpz = _xyz(ref.pos)
         rvx, rvy, rvz = _xyz(ref.vel)
@@ -217,7 +236,7 @@ class Guidance:
         return GuidanceCommand(*guidance_step(
             gk, self.integral, self.polar(fold), self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S,
             rpx, rpy, rpz, rvx, rvy, rvz, rax, ray, raz, ref.tension, px, py, pz, vx, vy, vz, wx, wy, wz,
-            tx, ty, tz, fold, dt, taut, t_max, ref_pull))
+            tx, ty, tz, fold, dt, taut, t_max, ref_pull, underspeed))
 
 
 # ------------------------------------------------------------------ the step as pure functions
@@ -229,7 +248,7 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
                   s_u: float, s_f: float, rpx: float, rpy: float, rpz: float, rvx: float, rvy: float, rvz: float,
                   rax: float, ray: float, raz: float, tension: float, px: float, py: float, pz: float,
                   vx: float, vy: float, vz: float, wx: float, wy: float, wz: float, tx: float, ty: float, tz: float,
-                  fold: float, dt: float, taut: bool, t_max: float, ref_pull: bool) -> tuple[float, ...]:
+                  fold: float, dt: float, taut: bool, t_max: float, ref_pull: bool, us: float) -> tuple[float, ...]:
     """One guidance step: the command ``(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)``
     [rad, rad, N, rad, rad, rad, -, m] (the fields of :class:`GuidanceCommand`).
 
@@ -244,7 +263,13 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     :meth:`Guidance.update`); ``t_max``: the thrust available this step [N]; ``ref_pull``: on a
     line that is not taut, the radial part of the measured line force is replaced by the
     reference's ``tension`` (the wing flies the reference's radial aerodynamic force, see
-    :func:`_air_force`)."""
+    :func:`_air_force`); ``us``: the underspeed protection (:mod:`.underspeed`) acts (0 no, 1
+    yes, 2 yes on a slack line): the path's acceleration demand becomes a speed recovery
+    (:func:`_underspeed_demand`, the integral held) and alpha is capped the gains' margin below
+    the stall, the thrust is all there is (``t_max``). With ``us`` 0 the step is the
+    protection-free one, bit for bit (but for the alpha margin where the gains turn the
+    protection on, ``GK_US_ENTER`` > 0: below ``GK_US_AMARGV`` stall speeds alpha stays
+    ``GK_US_AMARGIN`` below the stall)."""
     # e_p = p_ref - p, e_v = v_ref - v
     epx, epy, epz = rpx - px, rpy - py, rpz - pz
     evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
@@ -257,15 +282,46 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
         epx, epy, epz = epx - c * erx, epy - c * ery, epz - c * erz
         c = evx * erx + evy * ery + evz * erz
         evx, evy, evz = evx - c * erx, evy - c * ery, evz - c * erz
-    cx, cy, cz = _correction(gk, integral, epx, epy, epz, evx, evy, evz, dt)
+    cx, cy, cz = _correction(gk, integral, epx, epy, epz, evx, evy, evz, dt if us == 0.0 else 0.0)
     vrx, vry, vrz = rvx - wx, rvy - wy, rvz - wz  # reference air velocity
     vax, vay, vaz = vx - wx, vy - wy, vz - wz  # air velocity
     v_ref, v0 = _norm(vrx, vry, vrz), _norm(vax, vay, vaz)
     afx, afy, afz = _path_feed_forward(rax, ray, raz, vrx, vry, vrz, v_ref, vax, vay, vaz, v0, gk[GK_CURVMAX])
+    margin = 0.0
+    if gk[GK_US_ENTER] > 0.0:
+        v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
+        if v0 < gk[GK_US_AMARGV] * v_stall:
+            margin = gk[GK_US_AMARGIN]
+    if us != 0.0:
+        v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
+        afx, afy, afz = _underspeed_demand(gk, afx + cx, afy + cy, afz + cz, vax, vay, vaz, v0, v_stall, us == 2.0,
+                                           px, py)
+        cx, cy, cz = 0.0, 0.0, 0.0
     Fx, Fy, Fz = _air_force(gk, m, g, afx, afy, afz, cx, cy, cz, tx, ty, tz, taut, erx, ery, erz,
                             rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0, ref_pull)
-    alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max)
+    alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max,
+                                                       margin, us != 0.0)
     return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
+
+
+def _underspeed_demand(gk: Floats, ax: float, ay: float, az: float, vax: float, vay: float, vaz: float, v0: float,
+                       v_stall: float, slack: bool, px: float, py: float) -> Vec3:
+    """The acceleration demand [m/s^2] under the underspeed protection (TECS's speed priority)
+    from the path's demand ``a`` (feed-forward plus correction, NED): along the air velocity
+    ``va`` (airspeed ``v0`` [m/s]) ``US_KV (US_V_EXIT v_stall - v0)`` (>= 0; ``v_stall`` [m/s]
+    the stall speed of the fold state) instead of the path's; across it the path's; on a
+    ``slack`` line plus ``US_SLACK_A`` horizontally away from the winch (the glider at ``p*``
+    [m] from it) to take up the slack; then no upward part: height is given for speed, never
+    asked for. What the propeller cannot give of the along-path demand the energy trade takes
+    from height (:func:`_traded_lift`: the flight path bends down)."""
+    V = max(v0, 1.0)
+    e1x, e1y, e1z = vax / V, vay / V, vaz / V
+    c = max(gk[GK_US_KV] * (gk[GK_US_EXIT] * v_stall - v0), 0.0) - (ax * e1x + ay * e1y + az * e1z)
+    ax, ay, az = ax + c * e1x, ay + c * e1y, az + c * e1z
+    h = math.sqrt(px * px + py * py)
+    if slack and h > 1e-6:
+        ax, ay = ax + gk[GK_US_SLACK] * px / h, ay + gk[GK_US_SLACK] * py / h
+    return ax, ay, max(az, 0.0)
 
 
 def _correction(gk: Floats, integral: np.ndarray, epx: float, epy: float, epz: float, evx: float, evy: float,
@@ -335,13 +391,15 @@ def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: floa
 
 
 def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: float, vax: float,
-             vay: float, vaz: float, fold: float, s_u: float, s_f: float,
-             t_max: float) -> tuple[float, float, float, float, float, float, float]:
+             vay: float, vaz: float, fold: float, s_u: float, s_f: float, t_max: float, margin: float,
+             full: bool) -> tuple[float, float, float, float, float, float, float]:
     """The command ``(alpha, mu, thrust, roll, pitch, yaw, cl)`` flying force ``F`` [N]: split
     along the air velocity ``va`` [m/s] (thrust minus drag, at most ``t_max`` [N] of thrust) and
     across it (lift), with ``polar`` (:func:`polar_at` at fold state ``fold``) and air density
     ``rho`` [kg/m^3]; the attitude follows from the air velocity, alpha and bank (no sideslip);
-    ``cl`` on the blended reference area of ``s_u``, ``s_f`` [m^2]."""
+    ``cl`` on the blended reference area of ``s_u``, ``s_f`` [m^2]. Alpha stays ``margin`` [rad]
+    below the polar's stall; ``full``: all the thrust there is (TECS's full throttle in
+    underspeed)."""
     V = max(_norm(vax, vay, vaz), 1.0)
     e1x, e1y, e1z = vax / V, vay / V, vaz / V
     F_par = Fx * e1x + Fy * e1y + Fz * e1z
@@ -353,7 +411,7 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
         r0x, r0y, r0z = 0.0, 1.0, 0.0
     # up0 = right0 x e1 (= -c3 at zero bank: points up in level flight)
     u0x, u0y, u0z = r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x
-    alpha_stall = (polar[P_CLMAX] - polar[P_CL0]) / polar[P_CLA]
+    alpha_stall = (polar[P_CLMAX] - polar[P_CL0]) / polar[P_CLA] - margin
     Qx, Qy, Qz = _traded_lift(gk, Fx, Fy, Fz, F_par, e1x, e1y, e1z, u0x, u0y, u0z, q, polar, t_max, alpha_stall)
     L = _norm(Qx, Qy, Qz)
     # bank about the air velocity: lift direction relative to the unbanked "up"
@@ -367,7 +425,7 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
         # over (negative lift, wings banked the other way) instead of banking past it
         mu -= math.copysign(math.pi, mu)
         L = -L
-    alpha, thrust = _alpha_and_thrust(gk, L, F_par, q, polar, t_max, min(gk[GK_ALPHA_MAX], alpha_stall))
+    alpha, thrust = _alpha_and_thrust(gk, L, F_par, q, polar, t_max, min(gk[GK_ALPHA_MAX], alpha_stall), full)
     # the bank limit keeps the lift above the horizon in level flight; climbing or diving
     # steeply the wind-axis bank no longer says where the lift points relative to gravity
     # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical (NaN: off)
@@ -439,23 +497,24 @@ def _traded_lift(gk: Floats, Fx: float, Fy: float, Fz: float, F_par: float, e1x:
 
 
 def _alpha_and_thrust(gk: Floats, L: float, F_par: float, q: float, polar: Floats, t_max: float,
-                      a_hi: float) -> tuple[float, float]:
+                      a_hi: float, full: bool) -> tuple[float, float]:
     """Angle of attack [rad] for lift ``L`` [N] (linear lift, between ``alpha_min`` and ``a_hi``)
     and the thrust [N] (0 .. ``t_max``) for the along-path force ``F_par`` [N] against the drag at
     dynamic pressure ``q`` [Pa]. With the thrust on the body x-axis, alpha above the air velocity,
     ``T cos(alpha)`` acts along the path (against the drag) and ``T sin(alpha)`` along the lift,
     so the wing lifts only ``L - T sin(alpha)`` (fixed-point passes: ``T sin(alpha)`` is a few
-    percent of L, each pass shrinks the error by about that share)."""
+    percent of L, each pass shrinks the error by about that share). ``full``: the thrust is
+    ``t_max`` whatever the along-path force asks."""
     qS_cl0, qS_cla, qS_cd0, qS_cd1, qS_cd2 = polar[P_CL0], polar[P_CLA], polar[P_CD0], polar[P_CDA1], polar[P_CDA2]
     alpha = min(max((L / q - qS_cl0) / qS_cla, gk[GK_ALPHA_MIN]), a_hi)
     drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
     if gk[GK_BODY_AXIS] == 0.0:
-        return alpha, min(max(F_par + drag, 0.0), t_max)
+        return alpha, t_max if full else min(max(F_par + drag, 0.0), t_max)
     for _ in range(3):
-        thrust = min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
+        thrust = t_max if full else min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
         alpha = min(max(((L - thrust * math.sin(alpha)) / q - qS_cl0) / qS_cla, gk[GK_ALPHA_MIN]), a_hi)
         drag = q * (qS_cd0 + qS_cd1 * alpha + qS_cd2 * alpha * alpha)
-    return alpha, min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
+    return alpha, t_max if full else min(max((F_par + drag) / math.cos(alpha), 0.0), t_max)
 
 
 def _body_euler(e1x: float, e1y: float, e1z: float, r0x: float, r0y: float, r0z: float, u0x: float, u0y: float,
@@ -478,5 +537,5 @@ def _body_euler(e1x: float, e1y: float, e1z: float, r0x: float, r0y: float, r0z:
 
 #: the functions :func:`guidance_step` and :func:`polar_at` call (register them with numba's
 #: ``register_jitable`` before compiling either, e.g. through :func:`fdm_awe.jitcache.compile_cached`)
-CALLED = (blend_coefficient, _norm, _correction, _air_force, _path_feed_forward, _traded_lift, _alpha_and_thrust,
-          _body_euler, _command)
+CALLED = (blend_coefficient, stall_speed, _norm, _correction, _air_force, _path_feed_forward, _underspeed_demand,
+          _traded_lift, _alpha_and_thrust, _body_euler, _command)

@@ -82,6 +82,14 @@ FOLD_TIME_MAX_S = 60.0
 GROUND_CONTACT = "contact/wow"
 
 
+def stall_speed(mass: float, rho: float, g: float, s_clmax: float) -> float:
+    """The 1 g stall speed [m/s], ``sqrt(2 m g / (rho S CLmax))``, of a wing with ``s_clmax`` =
+    S CLmax [m^2] carrying ``mass`` [kg] (air density ``rho`` [kg/m^3], gravity ``g`` [m/s^2]).
+    A plain function of floats: the autopilot's compiled step runs it on the blended polar of
+    the current fold state."""
+    return math.sqrt(2.0 * mass * g / (rho * s_clmax))
+
+
 @dataclass(frozen=True)
 class AeroParams:
     """Wing geometry and the paper's polynomial aerodynamics of one configuration (SI)."""
@@ -104,6 +112,12 @@ class AeroParams:
     def alpha_max_lift(self) -> float:
         """Angle of attack [rad] at which the linear lift reaches ``CLmax``."""
         return (self.CLmax - self.CL0) / self.CLalpha
+
+    def stall_speed(self, mass: float, rho: float = 1.225, g: float = 9.81) -> float:
+        """Airspeed [m/s] at which the wing's ``CLmax`` just carries the weight of ``mass`` [kg]
+        in level flight (air density ``rho`` [kg/m^3], gravity ``g`` [m/s^2]):
+        :func:`stall_speed` of ``S CLmax``."""
+        return stall_speed(mass, rho, g, self.S * self.CLmax)
 
 
 @dataclass(frozen=True)

@@ -168,7 +168,8 @@ def compiled_autopilot_kernel() -> Callable | None:
     if compiled_kernel() is None:
         return None
     from .. import wind
-    from ..autopilot import attitude, auto_step, fold, guidance, motor, rejoin, thrust, winch
+    from ..autopilot import attitude, auto_step, fold, guidance, motor, rejoin, thrust, underspeed, winch
+    from ..definitions import aircraft
     from ..groundstation import lumped, lumped_state, station, substeps
     from ..groundstation import winch as gs_winch
     from ..jitcache import compile_cached
@@ -189,7 +190,7 @@ def compiled_autopilot_kernel() -> Callable | None:
         law_stale, command_values, track_error)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
     modules = (events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust,
-               winch, lumped, lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler,
+               underspeed, aircraft, winch, lumped, lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler,
                wind)
     return compile_cached(autopilot_steps, signature, helpers, modules, "fdm_awe.sim.autopilot_kernel")
 
