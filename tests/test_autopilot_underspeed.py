@@ -139,6 +139,7 @@ def _lull_flight(enter: float):
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps.json")
     params = autopilot_params()
     params.set("US_V_ENTER", enter)
+    params.set("US_AMARG_V", 2.0)  # the alpha margin below twice the stall speed (0, off, by default)
     for name in ("WINCH_TLO", "WINCH_THI", "WINCH_VCATCH"):
         params.set(name, 0.0)
     held = {}

@@ -1,8 +1,10 @@
 """A short turbulent flight with the winch's line limits against the law before them (the same
 flight with WINCH_TLO, WINCH_THI and WINCH_VCATCH at 0): light turbulence at 8 m/s on the
 stored nominal cycle, one cycle. The time the line hangs slack in generation (tension under 1
-N) and the peak tension both drop, by margins below what was measured (slack 8.1 -> 0.03 s,
-peak 39.6 -> 24.5 N)."""
+N) drops by more than half and the peak tension does not rise (with WINCH_TLO 2 N, the
+default: slack measured 8.1 s without the limits; peak 29.9 against 29.9 N; at WINCH_TLO 4 N
+slack 0.03 s and peak 24.5 N, but that limit reeled in the nominal cycle's planned low-tension
+climb in calm air)."""
 
 from __future__ import annotations
 
@@ -43,6 +45,6 @@ def test_line_limits_cut_slack_time_and_peak_tension_in_light_turbulence(flights
     assert rep.status == "ok" and rep.cycles[0].complete, rep.message
     assert slack0 > 2.0  # the law before the limits lets the line hang in the lulls
     assert slack < 0.5 * slack0
-    assert peak < peak0 - 5.0
+    assert peak <= peak0 + 1.0  # taking up the slack adds no snatch (measured 29.9 against 29.9 N)
     assert peak <= 1.2 * 50.0  # the issue's bound in light turbulence: 1.2 x the rating
     assert rep.ledger_residual_rel < 0.01
