@@ -207,6 +207,7 @@ def _check(args: argparse.Namespace) -> None:
         args.signing_key = load_key(args.mavlink_key)  # checked before any work (one line)
     # read now and written back on every PARAM_SET: a regular file or a new name in a writable folder
     chk.io_file(args.params, "--params", inputs=[args.reference, args.mavlink_key])
+    chk.input_dir(args.references, "--references")
     if args.references is not None and args.reference is not None:
         raise InputError("--references: not with --reference (the set's references are the flight's; drop one)")
     if args.start_wind is not None and args.references is None:
