@@ -241,6 +241,12 @@ def plan(d: DocLine) -> Plan:
             if ref:
                 argv += ["--reference", ref]
                 changes.append(f"--reference {ref} (the stored reference of this case) instead of optimising")
+        if Path(script).name == "wind_grid.py":
+            for opt, val in (("--refs", "tests/data/ref_physical_nominal_8mps_sized.json"), ("--air", "calm,light"),
+                             ("--seeds", "1"), ("--cycles", "1"), ("--workers", "1")):
+                if _value(argv, opt) != val:
+                    argv = _set(argv, opt, val)
+                    changes.append(f"{opt} {val}")
         if Path(script).name == "reproduce_table3.py" and "--no-zero-wind" not in args:
             argv.append("--no-zero-wind")
             changes.append("--no-zero-wind (the zero-wind check runs in the compare line of the README)")
