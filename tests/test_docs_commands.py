@@ -241,6 +241,11 @@ def plan(d: DocLine) -> Plan:
             if ref:
                 argv += ["--reference", ref]
                 changes.append(f"--reference {ref} (the stored reference of this case) instead of optimising")
+        if Path(script).name == "compare_tether.py":
+            for opt, val in (("--cycles", "1"), ("--models", "straight,lumped:10")):
+                if _value(argv, opt) != val:
+                    argv = _set(argv, opt, val)
+                    changes.append(f"{opt} {val}")
         if Path(script).name == "wind_grid.py":
             for opt, val in (("--refs", "tests/data/ref_physical_nominal_8mps_sized.json"), ("--air", "calm,light"),
                              ("--seeds", "1"), ("--cycles", "1"), ("--workers", "1")):

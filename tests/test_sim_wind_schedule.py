@@ -75,7 +75,7 @@ def test_a_set_of_8_and_12_ms_cycles_in_12_ms_switches_after_the_first_cycle_and
 
 
 def test_fly_refuses_bad_reference_set_options_with_one_line_and_exit_2(tmp_path, capsys):
-    for argv, words in ((["--references", str(tmp_path / "none")], ("--references", "not a folder")),
+    for argv, words in ((["--references", str(tmp_path / "none")], ("--references", "folder")),
                         (["--references", str(tmp_path)], ("--references", "no reference file")),
                         (["--start-wind", "8"], ("--start-wind", "only with --references")),
                         (["--references", str(tmp_path), "--reference", str(DATA / REF8)],

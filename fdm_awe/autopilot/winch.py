@@ -188,9 +188,10 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     if gs_valid:
         v += 0.5 * (length - gs_length)
         v_catch = lim[WL_VCATCH]
-        if v_catch > 0.0 and dist == dist:
+        if v_catch > 0.0 and not ideal and dist == dist:
             # at least the glider's approach where more line hangs than the reference plans,
-            # never much faster than the approach
+            # never much faster than the approach (the physical station's law: the paper
+            # plant's kinematic winch reels in as the paper's cycle says)
             kept = max(length - ref_dist, 0.0) + lim[WL_SLACK]
             slack = gs_length - dist
             if slack > kept:

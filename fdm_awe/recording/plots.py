@@ -268,6 +268,8 @@ def time_figure(s: Series, title: str, kind: str = "flight") -> Any:
             _legend_above(ax, min(len(cols) + robust, 3))
     for ax in axes.flat[len(panels):]:
         ax.set_visible(False)
+    if len(s.t) > 1 and s.t[-1] > s.t[0]:
+        axes.flat[0].set_xlim(float(s.t[0]), float(s.t[-1]))  # the time axis spans the run (shared)
     for ax in axes[-1]:
         ax.set_xlabel("time [s]")
     for i in range(len(panels), nrow * ncol):  # the panel above a hidden one carries the time axis
