@@ -1,8 +1,8 @@
 #!/usr/bin/env python
 """Flights in real wind: stored references x air x turbulence seeds, on Dask.
 
-Each reference (default: the stored sized-line physical cycles, nominal 8 and 12 m/s and foldable
-8 m/s) is flown by the autopilot for ``--cycles`` cycles in each air condition (``calm``, or a
+Each reference (default: the stored sized-line physical cycles of both gliders at 8, 10 and
+12 m/s, optimised with fly's flyable bounds) is flown by the autopilot for ``--cycles`` cycles in each air condition (``calm``, or a
 ``fly --turbulence`` form without its seed: ``light``, ``moderate``, ``iec:A`` ...) with seeds
 ``1..--seeds``, each flight one Dask task (processes). Per flight: status, complete cycles,
 mean net energy per complete cycle [J], mean tracking RMS [m], peak line tension [N] and peak
@@ -31,8 +31,8 @@ sys.path.insert(0, str(ROOT / "scripts"))
 
 from study_args import add_outputs, check_outputs  # noqa: E402
 
-REFS = ("tests/data/ref_physical_nominal_8mps_sized.json", "tests/data/ref_physical_nominal_12mps_sized.json",
-        "tests/data/ref_physical_foldable_8mps_sized.json")
+REFS = tuple(f"tests/data/ref_physical_{config}_{wind}mps_sized.json" for config in ("nominal", "foldable")
+             for wind in (8, 10, 12))
 
 
 def flight(ref_path: str, air: str, seed: int, cycles: int) -> dict[str, Any]:
