@@ -164,33 +164,30 @@ def _kind_or_error(p: Path, option: str) -> str | None:
         raise InputError(f"{option} {_show(p)}: cannot be examined ({exc.strerror or exc})") from None
 
 
-def check_input_file(path: str | os.PathLike, option: str) -> Path:
-    """Check that ``path`` names an existing regular file (not a folder, a device, a FIFO or a
-    socket, which a run would block on or read without end); returns it as a Path."""
+def _check_existing(path: str | os.PathLike, option: str, kind_wanted: str, noun: str) -> Path:
+    """Check that ``path`` names an existing ``kind_wanted`` (a :func:`file_kind` answer;
+    ``noun`` names it in messages); returns it as a Path."""
     p = Path(path)
     if str(path) == "":
-        raise InputError(f"{option} '': not a file name")
+        raise InputError(f"{option} '': not a {noun} name")
     check_name_length(p, option)
     kind = _kind_or_error(p, option)
     if kind is None:
-        raise InputError(f"{option} {p}: no such file")
-    if kind != "a regular file":
-        raise InputError(f"{option} {p}: is {kind}, not a regular file")
+        raise InputError(f"{option} {p}: no such {noun}")
+    if kind != kind_wanted:
+        raise InputError(f"{option} {p}: is {kind}, not {kind_wanted}")
     return p
+
+
+def check_input_file(path: str | os.PathLike, option: str) -> Path:
+    """Check that ``path`` names an existing regular file (not a folder, a device, a FIFO or a
+    socket, which a run would block on or read without end); returns it as a Path."""
+    return _check_existing(path, option, "a regular file", "file")
 
 
 def check_input_dir(path: str | os.PathLike, option: str) -> Path:
     """Check that ``path`` names an existing folder; returns it as a Path."""
-    p = Path(path)
-    if str(path) == "":
-        raise InputError(f"{option} '': not a folder name")
-    check_name_length(p, option)
-    kind = _kind_or_error(p, option)
-    if kind is None:
-        raise InputError(f"{option} {p}: no such folder")
-    if kind != "a folder":
-        raise InputError(f"{option} {p}: is {kind}, not a folder")
-    return p
+    return _check_existing(path, option, "a folder", "folder")
 
 
 def _probe(folder: Path, what: str) -> None:

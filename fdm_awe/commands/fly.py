@@ -203,7 +203,6 @@ def _check(args: argparse.Namespace) -> None:
             raise InputError("--mavlink-key: only with --mavlink (there is no link to sign)")
         from ..mavlink.signing import load_key
 
-        chk.input_file(args.mavlink_key, "--mavlink-key")
         args.signing_key = load_key(args.mavlink_key)  # checked before any work (one line)
     # read now and written back on every PARAM_SET: a regular file or a new name in a writable folder
     chk.io_file(args.params, "--params", inputs=[args.reference, args.mavlink_key])
@@ -395,15 +394,13 @@ def _autopilot_params(path: str | None, option: str = "--params") -> Any:
     from ..autopilot.config import autopilot_params
     from ..autopilot.params import ParamStore
     from ..errors import DefinitionError
+    from ..fileio import check_input_file
 
     if path is None:
         return autopilot_params()
     p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{option} {p}: is a folder (expected a JSON parameter file, created when missing)")
-    if p.exists() and not p.is_file():
-        raise InputError(f"{option} {p}: not a regular file (a device, FIFO or socket; expected a JSON parameter file, "
-                         f"created when missing)")
+    if p.exists():
+        check_input_file(p, option)  # a regular file (none yet: created at the first change)
     try:
         return autopilot_params(store=ParamStore(p))
     except DefinitionError as exc:

@@ -65,14 +65,9 @@ def passphrase_key(passphrase: str) -> bytes:
 def load_key(path: str | os.PathLike, option: str = "--mavlink-key") -> bytes:
     """The signing key in ``path`` (see module doc); InputError (one line naming ``option``)
     for a missing, unreadable, empty, all-zero or oversized file."""
-    p = Path(path)
-    if p.is_dir():
-        raise InputError(f"{option} {p}: is a folder (expected a file: a 32-byte key or a one-line passphrase)")
-    if p.exists() and not p.is_file():
-        raise InputError(f"{option} {p}: not a regular file (a device, FIFO or socket; expected a 32-byte key or a "
-                         f"one-line passphrase)")
-    if not p.is_file():
-        raise InputError(f"{option} {p}: no such file (a 32-byte key or a one-line passphrase)")
+    from fdm_awe.fileio import check_input_file
+
+    p = check_input_file(path, option)  # an existing regular file: a 32-byte key or a one-line passphrase
     try:
         data = p.read_bytes()
     except OSError as e:
