@@ -17,8 +17,11 @@ import test_groundstation_definitions as definitions
 from test_groundstation_substeps import _pair, _run
 
 P = load_ground_station(line="paper")
-#: the same station without a converter current limit (the behaviour before the ratings)
-UNLIMITED = dataclasses.replace(P, converter=dataclasses.replace(P.converter, current_limit=math.inf))
+#: the station without the converter's force limit (a prescribed tension above it is braked by
+#: the generator's law, not paid out: the motor mode's current limit under a steady pull)
+NOFORCE = dataclasses.replace(P, converter=dataclasses.replace(P.converter, tension_limit=math.inf))
+#: the same station without a converter current limit either (the behaviour before the ratings)
+UNLIMITED = dataclasses.replace(NOFORCE, converter=dataclasses.replace(NOFORCE.converter, current_limit=math.inf))
 GEN = WinchCommand("generator")
 REEL_IN = WinchCommand("motor", reel_speed_ref=-3.0)
 
@@ -41,7 +44,7 @@ def test_plugging_switch_at_fast_pay_out_is_held_at_the_limit():
     # 70 N: the drum pays out at 8.5 m/s when the PI takes over; without the limit the full
     # duty plus the back-EMF drive about 54 A through the armature
     _, v_switch, i_free, _ = _plugging(UNLIMITED, 70.0)
-    gs, _, i, duty = _plugging(P, 70.0)
+    gs, _, i, duty = _plugging(NOFORCE, 70.0)
     limit = P.converter.current_limit
     print(f"\nplugging at {v_switch:.2f} m/s pay-out: peak {i_free.max():.1f} A without the limit, "
           f"{i.max():.2f} A with it ({limit:g} A); duty down to {duty.min():.3f}, brake {gs.ledger.brake:.2f} J")
@@ -58,14 +61,14 @@ def test_plugging_switch_at_fast_pay_out_is_held_at_the_limit():
 def test_the_braking_path_has_its_bound():
     # 100 N pulls the drum out faster than even both switches open (-V_a) can hold at the limit:
     # the current is the EMF's, above the limit (the flight logs the rating)
-    gs, _, i, duty = _plugging(P, 100.0)
+    gs, _, i, duty = _plugging(NOFORCE, 100.0)
     assert duty.min() == -1.0 and i.max() > P.converter.current_limit
     assert gs.ledger.supply == 0.0 and gs.ledger.brake > 0.0
 
 
 @pytest.mark.parametrize("tension", [50.0, 70.0, 100.0])
 def test_ledger_closes_with_the_current_limit(tension):
-    gs, _, _, _ = _plugging(P, tension, dt=1 / 120)
+    gs, _, _, _ = _plugging(NOFORCE, tension, dt=1 / 120)
     L = gs.ledger
     assert abs(L.residual()) <= 1e-9 * L.largest_term()
     assert L.numerical <= 5e-3 * L.largest_term()  # as the mode switch of the dynamics tests
@@ -97,19 +100,73 @@ def test_pi_does_not_wind_up_against_the_current_limit():
 @pytest.mark.parametrize("RL,d2", [(1.5, 0.0), (0.2, 0.8)])
 def test_generator_passes_the_peak_current_only_beyond_twice_the_rated_tension(RL, d2):
     # steady generation: K i = r_w T - M_c - B omega whatever the load, so the passive
-    # rectifier's current passes the peak rating only above about 105 N (the rated 50 N: 12 A)
+    # rectifier's current passes the peak rating only above about 105 N (the rated 50 N: 12 A);
+    # with the converter's current limit in generator mode it stays at the limit there
     K, r, Mc, B = P.machine.k, P.winch.radius, P.winch.coulomb_friction, P.winch.viscous_friction
     cmd = WinchCommand("generator", load_resistance=RL, boost_duty=d2)
-    currents = {}
+    currents, limited = {}, {}
     for T in (50.0, 100.0, 110.0):
-        gs = GroundStation(P)
-        gs.reset(200.0, 0.0, "generator")
-        for _ in range(360):
-            out = gs.step_with_tension(1 / 120, T, cmd)
-        assert K * out.current == pytest.approx(r * T - Mc - B * out.omega, rel=1e-6)
-        currents[T] = out.current
-    assert currents[50.0] < P.machine.rated_current
-    assert currents[100.0] < P.machine.peak_current < currents[110.0]
+        for params, into in ((UNLIMITED, currents), (NOFORCE, limited)):
+            gs = GroundStation(params)
+            gs.reset(200.0, 0.0, "generator")
+            for _ in range(360):
+                out = gs.step_with_tension(1 / 120, T, cmd)
+            if params is UNLIMITED:
+                assert K * out.current == pytest.approx(r * T - Mc - B * out.omega, rel=1e-6)
+            into[T] = (out.current, out.reel_speed)
+            assert abs(gs.ledger.residual()) <= 1e-9 * gs.ledger.largest_term()
+    assert currents[50.0][0] < P.machine.rated_current
+    assert currents[100.0][0] < P.machine.peak_current < currents[110.0][0]
+    # below the converter's limit the same; above it (from about 95 N: K i_lim / r_w + M_c / r_w)
+    # the converter holds the limit, the drum turns faster (pays out faster), the current stays
+    # below the peak rating
+    assert limited[50.0] == currents[50.0]
+    for T in (100.0, 110.0):
+        assert currents[T][0] > P.converter.current_limit
+        assert limited[T][0] == pytest.approx(P.converter.current_limit, rel=1e-9)
+        assert limited[T][1] > currents[T][1]
+
+
+def _catch(params, v_out: float = 12.0, dt: float = 1 / 120):
+    """A catch: the glider runs out along the line at ``v_out`` m/s, 0.3 m of slack on a standing
+    drum in generator mode (default load), for 1.5 s. Returns the station and the step outputs'
+    tensions (N) and currents (A)."""
+    gs = GroundStation(params)
+    gs.reset(200.3, 0.0, "generator")
+    u = np.array([math.cos(math.radians(30.0)), 0.0, -math.sin(math.radians(30.0))])
+    outs = [gs.step(dt, tuple(u * (200.0 + v_out * k * dt)), tuple(u * v_out), GEN) for k in range(int(1.5 / dt))]
+    return gs, np.array([o.tension for o in outs]), np.array([o.current for o in outs])
+
+
+def test_the_force_limit_pays_out_a_catch_instead_of_braking_it():
+    # the upper-force controller (converter/tension_limit, 50 N, the line's rating) lowers the
+    # generator's current limit above the tension limit every sub-step: the snatch of a catch at
+    # 12 m/s on a standing drum is paid out, not braked (the rest is the drum's inertia and
+    # friction); the same catch without it passes the peak current
+    gs0, t0, i0 = _catch(NOFORCE)
+    gs, t, i = _catch(P)
+    print(f"\ncatch at 12 m/s: peak tension {t0.max():.1f} -> {t.max():.1f} N, current {i0.max():.1f} -> "
+          f"{i.max():.1f} A, steady {t0[-1]:.1f} -> {t[-1]:.1f} N")
+    limit = P.converter.tension_limit
+    assert t0[-1] > limit + P.converter.tension_limit_band  # the generator's law alone brakes above the band
+    assert t[-1] <= limit + P.converter.tension_limit_band  # the limit holds the steady pull in its band
+    assert t.max() < t0.max() - 5.0
+    assert i.max() <= P.converter.current_limit * (1.0 + 1e-12) < P.machine.peak_current
+    for g in (gs0, gs):
+        assert abs(g.ledger.residual()) <= 1e-9 * g.ledger.largest_term()
+        assert min(g.ledger.load, g.ledger.copper, g.ledger.semiconductor) >= 0.0
+
+
+def test_compiled_and_python_steps_alike_under_the_force_limit():
+    dt = 1 / 120
+    st = _pair()
+    for g in st:
+        g.reset(200.3, 0.0, "generator")
+    u = np.array([math.cos(math.radians(30.0)), 0.0, -math.sin(math.radians(30.0))])
+    steps = [(dt, tuple((u * (200.0 + 12.0 * k * dt)).tolist()), tuple((u * 12.0).tolist()), GEN) for k in range(180)]
+    steps += [(dt, 110.0, GEN)] * 60  # held at the current limit under a prescribed pull
+    assert _run(st, steps) == len(steps)
+    assert st[1].drivetrain.current <= P.converter.current_limit
 
 
 def test_compiled_and_python_steps_alike_under_the_limit():

@@ -16,6 +16,7 @@ one-line errors come from :mod:`fdm_awe.definitions.xmlutil`.
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -94,6 +95,11 @@ class ConverterParams:
     current_limit: float
     #: largest T2 duty in generator mode, - (the bound of the optimiser's boost-duty control)
     boost_duty_max: float = 0.8
+    #: the line tension above which the converter lowers its current limit (the upper-force
+    #: controller acting on the measured tension every sub-step), N; inf: off
+    tension_limit: float = math.inf
+    #: the tension above ``tension_limit`` over which that limit falls to 0 A, N
+    tension_limit_band: float = 10.0
 
 
 @dataclass(frozen=True)
@@ -167,6 +173,8 @@ def _same_dimension(a: str, b: str) -> bool:
 
 #: largest rated or peak armature current, A (a check of the typed number, not a machine's size)
 _CURRENT_MAX = 1000.0
+#: the largest tension limit and band a converter takes, N
+_TENSION_LIMIT_MAX = 1.0e5
 #: the section elements a line states when it is not sized from a material (Table 1's line)
 _STATED = ("mass_per_length", "diameter", "cd_perpendicular", "axial_stiffness", "breaking_load")
 #: largest line diameter, m (stated or derived)
@@ -336,6 +344,9 @@ def _read_converter(doc: XmlDoc, machine: DcMachineParams) -> ConverterParams:
         boost_duty=_value(doc, "converter/boost_duty", "ND", lo=0.0, hi=1.0),
         boost_duty_max=_value(doc, "converter/boost_duty_max", "ND", lo=0.0, hi=0.95),
         current_limit=_value(doc, "converter/current_limit", "A", lo=0.0, lo_open=True, hi=_CURRENT_MAX),
+        tension_limit=_value(doc, "converter/tension_limit", "N", lo=0.0, lo_open=True, hi=_TENSION_LIMIT_MAX),
+        tension_limit_band=_value(doc, "converter/tension_limit_band", "N", lo=0.0, lo_open=True,
+                                  hi=_TENSION_LIMIT_MAX),
     )
     if converter.current_limit > machine.peak_current:
         raise DefinitionError(doc.path, "converter/current_limit",

@@ -96,7 +96,8 @@ class Drivetrain:
         self._cl = [wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
                     tp.axial_stiffness, tp.breaking_load, tp.min_length, tp.max_length, mp.k, mp.resistance,
                     mp.inductance, 2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance, ctrl.kp, ctrl.ki,
-                    ctrl.duty_min, ctrl.duty_max, cp.current_limit]
+                    ctrl.duty_min, ctrl.duty_max, cp.current_limit, cp.tension_limit,
+                    cp.tension_limit_band]
         self._c = np.array(self._cl, dtype=float)  # and as an array (compiled)
         self.ledger = EnergyLedger(self._s[len(STATE):])
         self._kernel = compiled()  # substeps.advance compiled (None: Python runs it)

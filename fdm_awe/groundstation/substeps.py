@@ -48,9 +48,9 @@ _NS = len(STATE)
 #: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
 #: ``len(DRIVETRAIN_CONSTANTS)``.
 STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
-                     "C", "kp", "ki", "d_min", "d_max", "i_lim", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
+                     "C", "kp", "ki", "d_min", "d_max", "i_lim", "t_lim", "t_band", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
                      "weight_c", "g")
-DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:20]
+DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:22]
 #: positions in ``c`` of the station's wind (N; E, D follow) and its line-share factors
 C_WIND, C_DRAG, C_DRAG_ON, C_WEIGHT, C_G = (STATION_CONSTANTS.index(k)
                                            for k in ("wind_n", "drag_c", "drag_on", "weight_c", "g"))
@@ -119,6 +119,45 @@ def hold_current(J: float, Jb: float, w0: float, h: float, B: float, Mc: float, 
     return w1, mf, iA, iB
 
 
+def force_limited_current(i_lim: float, tension: float, t_lim: float, i_t: float, band: float) -> float:
+    """The converter's current limit [A] at the measured line tension ``tension`` [N]: the
+    armature current limit ``i_lim`` [A], and above the line's tension limit ``t_lim`` [N] the
+    current ``i_t`` [A] that holds ``t_lim`` on the drum (``(r_w t_lim - M_c) / K``), falling
+    to 0 over the next ``band`` [N] (the upper-force controller: the drum is braked less, it
+    pays out faster, the line's pull falls). A ``t_lim`` of infinity turns the force limit off."""
+    if tension <= t_lim:
+        return i_lim
+    f = i_t * (1.0 - (tension - t_lim) / band)
+    return min(max(f, 0.0), i_lim)
+
+
+def hold_generator(J: float, Jb: float, w0: float, h: float, B: float, Mc: float, r: float, K: float, hr: float,
+                   hK: float, hM: float, tA: float, tB: float, t_on: bool, i_max: float, i0: float, u0: float,
+                   L: float, R: float, two_ud: float, s: float, C: float) -> tuple[float, float, float, float, float,
+                                                                                   float]:
+    """The converter's current limit ``i_max`` (A) in generator mode, for a sub-step whose
+    armature current would exceed it: the drum's step (:func:`.winch.drum_step`, arguments as
+    there) with the current held at ``i_max``, the DC link taking the voltage that holds it (the
+    converter draws less load current from the link: its load resistance rises above R_L, the
+    link charges). ``i0`` A and ``u0`` V the sub-step's starting current and link voltage,
+    ``L`` H, ``R`` ohm, ``two_ud`` V, ``s`` the link coupling (1 - T2 duty), ``C`` F. Where the
+    link would have to charge faster than the current alone charges it (the load off), the
+    load is off and the current is what that leaves (above the limit). Returns ``(w1 rad/s,
+    M_f N m, a, b, u1 V, load current A)``: the drum's current ``a + b w1`` (A); ``b`` 0 where
+    the current is held (then ``u1`` and the load current are the sub-step's), else the load
+    is off and the link voltage follows from the current (``u0 + h s i1 / C``)."""
+    w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, i_max, 0.0, t_on, True)
+    u1 = (K * w1 - R * i_max - two_ud - L * (i_max - i0) / h) / s
+    i_load = s * i_max - C * (u1 - u0) / h
+    if i_load >= 0.0:
+        return w1, mf, i_max, 0.0, u1, i_load
+    D = L + h * R + h * h * s * s / C  # the load off: C (u1 - u0) = h s i1
+    iA = (L * i0 - h * (two_ud + s * u0)) / D
+    iB = h * K / D
+    w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, True)
+    return w1, mf, iA, iB, 0.0, 0.0
+
+
 def cross_flow_drag(ux: float, uy: float, uz: float, vax: float, vay: float, vaz: float,
                     c_l: float) -> tuple[float, float, float]:
     """Cross-flow drag of a line (or a segment of it) along the unit vector ``(ux, uy, uz)``,
@@ -148,18 +187,23 @@ def machine_mode_code(omega: float, current: float, K: float) -> int:
 
 def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,  # noqa: C901
              l0, w0, i0, u0, integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, fixed_tension, e_glider,
-             r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aS, iB, kp, ki, d_min, d_max, i_lim):
+             r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aS, iB, kp, ki, d_min, d_max, i_lim,
+             L, R, C, s_cpl, RL, t_lim, i_t, band):
     """``n`` backward-Euler sub-steps of ``h`` s of line, drum, armature and link (see
     :mod:`.drivetrain` for the model and the names).
 
     The glider moves from ``(px, py, pz)`` by ``(hvx, hvy, hvz)`` per sub-step (m); ``pi`` the
     PI runs, else ``v_src`` (V) is the open-loop source; ``fixed`` a prescribed tension
-    ``fixed_tension`` (N) replaces the line. In motor mode the converter holds the current at
-    ``i_lim`` (A, :func:`hold_current`; the PI's integrator then stops where it would push on).
+    ``fixed_tension`` (N) replaces the line. The converter holds the current at ``i_lim`` (A):
+    in motor mode through the source (:func:`hold_current`; the PI's integrator then stops where
+    it would push on); in generator mode through the link (:func:`hold_generator`: ``L`` H,
+    ``R`` ohm, ``C`` F, the link coupling ``s_cpl``), there also below it above the line's
+    tension limit ``t_lim`` (N; the last sub-step's tension measured), at
+    :func:`force_limited_current` (``i_t`` A, ``band`` N). ``RL`` ohm the commanded load.
     ``e_glider`` the glider work booked before the loop (J). Returns the end states ``(l, omega,
     i, u_L, integ, duty, broken, at_stop, s, k)`` (``duty`` the one in effect), the event code
     (index into :data:`EVENTS`), and the step's energy sums ``(e_glider, e_supply, e_brake,
-    e_stop, e_brk, e_numel, S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2,
+    e_stop, e_brk, e_numel, S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2,
     t_sum)``.
 
     Over 80 lines on purpose: one loop whose sums live in local variables (registers, compiled);
@@ -168,9 +212,12 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
     hr, hK, hM = h * r, h * K, h * Mc
     event = 0
     e_supply = e_brake = e_stop = e_brk = e_numel = 0.0
-    S_u2 = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
+    S_load = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
     t_sum = 0.0
     line = not (fixed or broken)
+    # the tension the converter measured last (the line's stretch at the start, or the prescribed one)
+    t_meas = 0.0 if broken else (fixed_tension if fixed else (k * s0 if s0 > 0.0 else 0.0))
+    u_h = i_load = 0.0
     t_on = i_on = True
     d1 = 0.0
     held = False  # the current limit held the last sub-step's current
@@ -194,11 +241,18 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         w1, mf = drum_step(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, i_on)
         ia, ib = iA, iB  # the current the drum sees: ia + ib w1
         held = motor and iA + iB * w1 > i_lim
+        held_g = False
+        if not motor and s_cpl > 0.0:
+            i_max = force_limited_current(i_lim, t_meas, t_lim, i_t, band)
+            held_g = iA + iB * w1 > i_max
         if held:  # the converter's current limit
             w1, mf, ia, ib = hold_current(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, iA, iB, t_on, aH, v_src, Va,
                                           i_lim)
             if pi and w0 > omega_ref:  # conditional integration: no wind-up against the limit
                 integ = integ0
+        elif held_g:  # the generator's current limit, through the link
+            w1, mf, ia, ib, u_h, i_load = hold_generator(J, Jb, w0, h, B, Mc, r, K, hr, hK, hM, tA, tB, t_on, i_max,
+                                                         i0, u0, L, R, two_ud, s_cpl, C)
         l1 = l0 + hr * w1
         if (l1 < lmin and w1 < 0.0) or (l1 > lmax and w1 > 0.0):  # drum end stops
             w1, l1, mf, e = end_stop(J, w0, w1, l0, l1, h, hr, r, B, K, Mc, lmin, lmax, tA, tB, ia, ib)
@@ -216,13 +270,20 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         va = v_src  # the source in effect: held at the limit (ib 0), the one that passes i1; else -V_a
         if held:
             va = v_src + (i1 - iA - iB * w1) / aH if ib == 0.0 else -Va
-        u1 = cu * u0 + q * i1
+        if not held_g:
+            u1 = cu * u0 + q * i1
+            S_load += u1 * u1 / RL
+        elif ib == 0.0:  # held at the limit: the link's voltage and load current that hold it
+            u1 = u_h
+            S_load += u1 * i_load
+        else:  # the load off: the current charges the link
+            u1 = u0 + h * s_cpl * i1 / C
         T1 = tA - tB * w1
         t_on = T1 > 0.0
         if not t_on:
             T1 = 0.0
+        t_meas = T1
         # ledger sums (end-of-sub-step powers, backward-Euler consistent)
-        S_u2 += u1 * u1
         S_i2 += i1 * i1
         S_i += i1
         S_iw += i1 * w1
@@ -262,7 +323,7 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
         duty = va / Va
     return (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, event,
             e_glider, e_supply, e_brake, e_stop, e_brk, e_numel,
-            S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)
+            S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)
 
 
 def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, fixed, fixed_tension):
@@ -278,7 +339,8 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     """
     r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
     K, R, L, two_ud, Va, C, kp, ki, d_min, d_max = c[9], c[10], c[11], c[12], c[13], c[14], c[15], c[16], c[17], c[18]
-    i_lim = c[19]
+    i_lim, t_lim, band = c[19], c[20], c[21]
+    i_t = (r * t_lim - Mc) / K  # the current that holds the tension limit on the drum
     h = dt / n
     if motor != (s[9] != 0.0):  # mode switch: the PI integrator restarts at 0
         if motor:
@@ -313,11 +375,11 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     else:
         duty = boost_duty
     (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_brake, e_stop, e_brk, e_numel,
-     S_u2, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(
+     S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(
         n, h, x, y, z, h * vx, h * vy, h * vz, pi, motor, fixed, broken, at_stop, l_start, float(s[1]),
         float(s[2]), float(s[3]), integ, duty, v_src, d0, s0, k, tB, J, J + h * B, omega_ref, fixed_tension,
         e_glider, r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aH * s_cpl * cu, iB, kp, ki, d_min,
-        d_max, i_lim)
+        d_max, i_lim, L, R, C, s_cpl, RL, t_lim, i_t, band)
     stretch = s0 if not broken else 0.0  # (0 with a prescribed tension)
     s[0], s[1], s[2], s[3], s[4], s[5] = l0, w0, i0, u0, integ, duty
     s[6], s[7], s[8] = 1.0 if broken else 0.0, 1.0 if at_stop else 0.0, stretch
@@ -329,7 +391,7 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     sp = stretch if stretch > 0.0 else 0.0
     k_end = 0.0 if broken else EA / l0
     s[_STRAIN] += 0.5 * (k_end - k) * sp * sp
-    s[_LOAD] += h * S_u2 / RL
+    s[_LOAD] += h * S_load
     s[_COPPER] += h * R * S_i2
     s[_SEMI] += h * two_ud * S_i
     s[_BRAKE] += h * e_brake
@@ -341,7 +403,7 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     s[_DRUM] += h * r * S_Tw
     s[_AIRGAP] += h * K * S_iw
     s[_SK], s[_SI], s[_SC], s[_SE] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
-    return t_sum / n, S_u2 / (RL * n), e_supply / n, ev
+    return t_sum / n, S_load / n, e_supply / n, ev
 
 
 def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
@@ -381,7 +443,8 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
 
 
 #: the functions called by :func:`advance` and :func:`station_step` (compiled with them)
-_CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, *DRUM_RELATIONS, cross_flow_drag, weight_share,
+_CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, force_limited_current, hold_generator,
+           *DRUM_RELATIONS, cross_flow_drag, weight_share,
            machine_mode_code, substeps, advance)
 
 
@@ -434,5 +497,6 @@ def compiled_station() -> Callable | None:
 
 
 __all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
-           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "drum_speed", "hold_current",
+           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "drum_speed", "force_limited_current",
+           "hold_current", "hold_generator",
            "machine_mode_code", "pi_step", "station_step", "substeps"]
