@@ -187,3 +187,8 @@ def test_info_shows_what_the_drive_allows(tmp_path, capsys):
     assert d["supply_needed_V"] == pytest.approx(full, rel=1e-12)
     assert (d["supply_needed_V"] > d["supply_voltage_V"]) == (d["design_reel_in_speed_mps"] > d[
         "reel_in_max_at_lower_tension_mps"])
+    # the converter's tension limit: the line's rating, and the current that holds it on the drum
+    assert "tension limit 50 N" in text and d["tension_limit_N"] == gs.converter.tension_limit
+    k, r, mc = gs.machine.k, gs.winch.radius, gs.winch.coulomb_friction
+    assert k * d["tension_limit_current_A"] + mc == pytest.approx(r * d["tension_limit_N"], rel=1e-12)
+    assert d["generator_brake_max_N"] > d["tension_limit_N"] + d["tension_limit_band_N"]

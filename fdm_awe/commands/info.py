@@ -23,8 +23,10 @@ def drive_info(gs: Any) -> dict[str, float]:
     largest reel-in speed [m/s] on a slack line and against the autopilot's lower line tension
     (WINCH_TLO), the line tensions [N] the rated and peak currents and the motor's current
     limit hold on the drum (``K i / r_w``, friction aside; the motor's pull less its Coulomb
-    friction), the drive's design reel-in speed [m/s] and the supply it needs against
-    WINCH_TLO [V] (NaN where the file gives no design speed)."""
+    friction, the generator's largest brake at the current limit with it), the converter's
+    tension limit and band [N] with the current [A] that holds the limit on a standing drum,
+    the drive's design reel-in speed [m/s] and the supply it needs against WINCH_TLO [V] (NaN
+    where the file gives no design speed)."""
     from ..autopilot.config import autopilot_params
     from ..groundstation.steady import motor_max_reel_in_speed, motor_supply_needed
 
@@ -37,17 +39,23 @@ def drive_info(gs: Any) -> dict[str, float]:
             "peak_current_A": m.peak_current, "peak_tension_N": m.k * m.peak_current / w.radius,
             "motor_current_limit_A": c.current_limit,
             "motor_pull_max_N": (m.k * c.current_limit - w.coulomb_friction) / w.radius,
+            "generator_brake_max_N": (m.k * c.current_limit + w.coulomb_friction) / w.radius,
+            "tension_limit_N": c.tension_limit, "tension_limit_band_N": c.tension_limit_band,
+            "tension_limit_current_A": (w.radius * c.tension_limit - w.coulomb_friction) / m.k,
             "design_reel_in_speed_mps": v_design,
             "supply_needed_V": float(motor_supply_needed(v_design, t_lo, gs)) if v_design == v_design else math.nan}
 
 
 def drive_text(d: dict[str, float]) -> str:
-    """:func:`drive_info` as two lines."""
+    """:func:`drive_info` as three or four lines."""
     text = (f"drive: supply {d['supply_voltage_V']:g} V: reel-in at most {d['reel_in_max_mps']:.2f} m/s "
             f"({d['reel_in_max_at_lower_tension_mps']:.2f} m/s against the lower line tension "
             f"{d['lower_tension_N']:g} N); rated {d['rated_current_A']:g} A = {d['rated_tension_N']:.1f} N of "
             f"line tension, peak {d['peak_current_A']:g} A = {d['peak_tension_N']:.1f} N, motor current limit "
             f"{d['motor_current_limit_A']:g} A pulls {d['motor_pull_max_N']:.1f} N")
+    text += (f"\n       tension limit {d['tension_limit_N']:g} N: above it the converter's current limit falls from "
+             f"{d['tension_limit_current_A']:.1f} A to 0 A over {d['tension_limit_band_N']:g} N (the drum pays out); "
+             f"at the current limit the generator brakes at most {d['generator_brake_max_N']:.1f} N")
     v = d["design_reel_in_speed_mps"]
     if v == v:
         text += (f"\n       design reel-in speed {v:g} m/s (the glider's fall-back) needs "
