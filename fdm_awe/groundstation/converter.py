@@ -26,17 +26,21 @@ Motor mode (T2 on, T1 PWM with duty ``d1``), fed from the supply ``V_a``:
 
 :func:`link_coefficients` (:mod:`.substeps`) gives the link's terms of one backward-Euler
 sub-step; the step takes ``v_src = d1 V_a, s = 0`` in motor mode and ``v_src = 0, s = 1 - d2``
-in generator mode. The passive rectifier of the generator mode has no current limit: in
-steady state its current is the torque balance's, ``K i = r_w T - M_c - B omega``, so it
-passes the machine's peak current only under a line tension of about 105 N (docs/design.md 5).
+in generator mode. In generator mode the same current limit acts through the link
+(:func:`.substeps.hold_generator`): the converter draws less load current than ``R_L`` would,
+the link charges to the voltage that holds the current (or, where it cannot charge that
+fast, the load is off). Above the line's tension limit (``converter/tension_limit``, on the
+tension measured every sub-step) the generator's limit falls to 0 A over
+``converter/tension_limit_band`` (:func:`.substeps.force_limited_current`): the upper-force
+controller, the drum pays out instead of braking (docs/design.md 5).
 """
 
 from __future__ import annotations
 
-from .substeps import hold_current, link_coefficients
+from .substeps import force_limited_current, hold_current, hold_generator, link_coefficients
 
 GENERATOR = "generator"
 MOTOR = "motor"
 MODES = (GENERATOR, MOTOR)
 
-__all__ = ["GENERATOR", "MODES", "MOTOR", "hold_current", "link_coefficients"]
+__all__ = ["GENERATOR", "MODES", "MOTOR", "force_limited_current", "hold_current", "hold_generator", "link_coefficients"]
