@@ -43,4 +43,5 @@ GENERATOR = "generator"
 MOTOR = "motor"
 MODES = (GENERATOR, MOTOR)
 
-__all__ = ["GENERATOR", "MODES", "MOTOR", "force_limited_current", "hold_current", "hold_generator", "link_coefficients"]
+__all__ = ["GENERATOR", "MODES", "MOTOR", "force_limited_current", "hold_current", "hold_generator",
+           "link_coefficients"]

@@ -7,7 +7,8 @@ executions on the same scenarios and compares every state and ledger term for ex
 (no fast-math: the compiled code rounds as Python does).
 
 The relations (the modules that describe them in parentheses): :func:`pi_step` (:mod:`.controller`),
-:func:`link_coefficients` and the current limit :func:`hold_current` (:mod:`.converter`),
+:func:`link_coefficients`, the current limits :func:`hold_current` (motor mode) and
+:func:`hold_generator` (generator mode) and the tension limit :func:`force_limited_current` (:mod:`.converter`),
 :func:`armature_coefficients` and :func:`machine_mode_code` (:mod:`.machine`),
 :func:`cross_flow_drag` and :func:`weight_share` (:mod:`.tether`); the drum's (``drum_speed``, ``drum_step``, ``end_stop``) live in :mod:`.winch`;
 the sub-step loop :func:`substeps`, one drivetrain step with its ledger :func:`advance`
@@ -48,8 +49,8 @@ _NS = len(STATE)
 #: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
 #: ``len(DRIVETRAIN_CONSTANTS)``.
 STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
-                     "C", "kp", "ki", "d_min", "d_max", "i_lim", "t_lim", "t_band", "wind_n", "wind_e", "wind_d", "drag_c", "drag_on",
-                     "weight_c", "g")
+                     "C", "kp", "ki", "d_min", "d_max", "i_lim", "t_lim", "t_band", "wind_n", "wind_e", "wind_d",
+                     "drag_c", "drag_on", "weight_c", "g")
 DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:22]
 #: positions in ``c`` of the station's wind (N; E, D follow) and its line-share factors
 C_WIND, C_DRAG, C_DRAG_ON, C_WEIGHT, C_G = (STATION_CONSTANTS.index(k)
