@@ -20,8 +20,8 @@ import numpy as np
 from ..sixdof.state import SixDofState, Surfaces
 from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT,
                         A_GEN_RL_KP, A_IDEAL_WINCH, A_LINE_EA, A_MASS, A_PATH_TAU, A_PERIOD, A_RATIO, A_REC_TENSION,
-                        A_REF_PULL, A_RHO, A_RJ_TIME, A_RJ_TRK_ERR, A_RJ_TRK_MAX, A_RL, A_S_F, A_S_U, A_T1, A_THR_KI, A_THR_KP, A_THR_VZERO,
-                        A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, A_WLIM, GS_FX, GS_FZ,
+                        A_REF_PULL, A_RHO, A_RJ_TIME, A_RJ_TRK_ERR, A_RJ_TRK_MAX, A_RL, A_S_F, A_S_U, A_T1,
+                        A_THR_KI, A_THR_KP, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, A_WLIM, GS_FX, GS_FZ,
                         GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT, M_ERR, M_PHASE, M_RJ, M_RJ_DP, M_RJ_DV,
                         M_RJ_T0, M_TLAST, N_GSO, N_MEM, N_OUT, N_PAR, N_REF, O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD,
                         O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL, O_SEG, O_TC, O_THROTTLE, O_THRUST,

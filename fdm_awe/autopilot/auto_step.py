@@ -45,7 +45,7 @@ from .guidance import (CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, GK_US_ENTER, GK
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import T_LAST, T_THRUST, throttle_step
-from .underspeed import underspeed_update
+from .underspeed import FOLD_OPEN, underspeed_update
 from .winch import N_LIMITS, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
@@ -169,11 +169,14 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         rejoin = was and mem[M_RJ] == 0.0
     if mem[M_RJ_K] != k:
         mem[M_RJ_N], mem[M_RJ_K] = 0.0, k
-    if (not protect and par[A_RJ_TRK_ERR] > 0.0 and mem[M_ERR] > par[A_RJ_TRK_ERR]
-            and mem[M_RJ_N] < par[A_RJ_TRK_MAX] and (mem[M_RJ] == 0.0 or t - mem[M_RJ_T0] >= RJ_SETTLE)):
+    if (not protect and (phase == 0 or fold < FOLD_OPEN) and par[A_RJ_TRK_ERR] > 0.0
+            and mem[M_ERR] > par[A_RJ_TRK_ERR] and mem[M_RJ_N] < par[A_RJ_TRK_MAX]
+            and (mem[M_RJ] == 0.0 or t - mem[M_RJ_T0] >= RJ_SETTLE)):
         # the path is lost (the last step's error; a rejoin under way counts after RJ_SETTLE, the
         # error of its first step may be the one before it began): rejoin the path where it
-        # passes nearest the glider, not at a point the path parameter froze or ran away with
+        # passes nearest the glider, not at a point the path parameter froze or ran away with.
+        # Not in a folded recovery: the folded wing cannot fly back onto its dive, a rejoin
+        # there pushed it over into the ground (foldable, 8 m/s, moderate seed 9)
         flags |= PATH_REJOIN
         mem[M_RJ_N] += 1.0
         s_par = k * par[A_PERIOD] + nearest_on_phase(ref_t, ref_table, par[A_T1], par[A_PERIOD], tc, px, py, pz,
@@ -196,9 +199,10 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
                 rrow[R_PX + j] = rrow[R_PX + j] + (1.0 - w) * dp + e * dv
                 rrow[R_VX + j] = rrow[R_VX + j] - w1 * dp + e1 * dv
                 rrow[R_AX + j] = rrow[R_AX + j] - w2 * dp + e2 * dv
-        # the parameter at flight time, held back where the glider lags the segment's point (a
-        # rejoin into a headwind would otherwise run away from the glider)
-        rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 1.0)
+        # the parameter at flight time, in generation held back where the glider lags the
+        # segment's point (a rejoin into a headwind would otherwise run away from the glider;
+        # held in a folded recovery's dive, the reference pushed the wing over into the ground)
+        rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 1.0) if phase == 0 else 1.0
     else:
         rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 3.0)
     mem[M_SREF] = s_par + rate * dt
