@@ -201,8 +201,10 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
                 rrow[R_AX + j] = rrow[R_AX + j] - w2 * dp + e2 * dv
         # the parameter at flight time, in generation held back where the glider lags the
         # segment's point (a rejoin into a headwind would otherwise run away from the glider;
-        # held in a folded recovery's dive, the reference pushed the wing over into the ground)
-        rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 1.0) if phase == 0 else 1.0
+        # held in a folded recovery's dive, the reference pushed the wing over into the ground);
+        # with the path rejoin off (RJ_TRK_ERR 0) at flight time throughout, as before it
+        hold = phase == 0 and par[A_RJ_TRK_ERR] > 0.0
+        rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 1.0) if hold else 1.0
     else:
         rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 3.0)
     mem[M_SREF] = s_par + rate * dt
