@@ -288,13 +288,15 @@ NO_LINE_LIMITS = {"WINCH_TLO": 0.0, "WINCH_THI": 0.0, "WINCH_VCATCH": 0.0}
 
 def test_moderate_turbulence_the_cycle_cannot_be_flown_in_ends_parked():
     """Moderate turbulence on the sized line at 8 m/s (seed 1), with a winch that lets the line
-    hang slack in the lulls (its line limits off) and without the underspeed protection
-    (US_V_ENTER 0), throws the nominal glider 70 m off its path within 25 s (without the
-    failsafe it wandered at the stall speed with a slack line for 100 s): the default failsafe
-    (50 m for 5 s) takes it to RECOVER, which parks. (With the line limits on, the default, the
-    winch keeps the line taut and this cycle is flown:
-    :func:`test_the_line_limits_fly_the_cycle_the_slack_line_lost`.)"""
-    rep, ap = _lost_path_flight({**NO_LINE_LIMITS, "US_V_ENTER": 0.0}, cycles=1, turbulence=("moderate", 1))
+    hang slack in the lulls (its line limits off), without the underspeed protection
+    (US_V_ENTER 0) and without the rejoin of the lost path (RJ_TRK_ERR 0), throws the nominal
+    glider 70 m off its path within 25 s (without the failsafe it wandered at the stall speed
+    with a slack line for 100 s): the default failsafe (50 m for 5 s) takes it to RECOVER, which
+    parks. (With the line limits on, the default, the winch keeps the line taut and this cycle
+    is flown: :func:`test_the_line_limits_fly_the_cycle_the_slack_line_lost`; with the path
+    rejoin on, the default, it is flown too.)"""
+    rep, ap = _lost_path_flight({**NO_LINE_LIMITS, "US_V_ENTER": 0.0, "RJ_TRK_ERR": 0.0}, cycles=1,
+                                turbulence=("moderate", 1))
     assert (ap.params["FS_TRK_ERR"], ap.params["FS_TRK_TIME"]) == (50.0, 5.0)
     fs = [t for t, m in ap.log if m.startswith("failsafe")]
     assert len(fs) == 1 and rep.status == "parked", (rep.status, rep.message)

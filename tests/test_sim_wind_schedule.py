@@ -85,3 +85,29 @@ def test_fly_refuses_bad_reference_set_options_with_one_line_and_exit_2(tmp_path
         assert main(["fly", *argv]) == 2, argv
         err = capsys.readouterr().err.strip()
         assert "\n" not in err and all(w in err for w in words), (argv, err)
+
+
+REF10 = "ref_physical_nominal_10mps_sized.json"
+
+
+@pytest.mark.parametrize("wind", [{"wind_ned_mps": [8.0, 0.0, 0.0], "wind_mps": 8.0,
+                                   "wind_profile": {"kind": "log", "ref_height_m": 10.0, "z0_m": 0.1}},
+                                  {"wind_ned_mps": [12.0, 0.0, 0.0], "wind_mps": 12.0}],
+                         ids=["log-8-at-10m", "uniform-12"])
+def test_the_8_ms_cycle_in_a_stronger_wind_takes_the_sets_12_ms_cycle_and_flies_three(wind):
+    """Issue 27's acceptance: the cycle optimised for uniform 8 m/s, flown in a log profile
+    (open country, z0 0.1 m) with 8 m/s at 10 m height (12.4 m/s measured at the glider's mean
+    height) and in uniform 12 m/s, with the set of 8, 10 and 12 m/s cycles: every one of 3
+    cycles complete, the second and third on the 12 m/s cycle, and each cycle's onboard wind
+    estimate within 10 % of the true mean wind at the glider (measured 0.0-1.2 % off)."""
+    refs = ReferenceSet([scheduled(_ref(n), n) for n in (REF8, REF10, REF12)])
+    rep = fly(refs.entries[0].reference, config="nominal", cycles=3, references=refs, flight_wind=wind)
+    assert rep.status == "ok", rep.message
+    assert [c.complete for c in rep.cycles] == [True, True, True]
+    recs = rep.wind_estimates
+    assert [r["reference_wind_mps"] for r in recs] == [8.0, 12.0, 12.0]
+    for rec in recs:
+        true = rec["true_at_glider"]["speed_mps"]
+        assert 11.0 < true < 14.0  # the stronger wind the 8 m/s cycle was not made for
+        assert abs(rec["speed_error_rel"]) < 0.10 and abs(rec["vector_error_rel"]) < 0.10
+    assert not [text for _, text in rep.autopilot_log if text.startswith("failsafe")]

@@ -20,14 +20,14 @@ import numpy as np
 from ..sixdof.state import SixDofState, Surfaces
 from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT,
                         A_GEN_RL_KP, A_IDEAL_WINCH, A_LINE_EA, A_MASS, A_PATH_TAU, A_PERIOD, A_RATIO, A_REC_TENSION,
-                        A_REF_PULL, A_RHO, A_RJ_TIME, A_RL, A_S_F, A_S_U, A_T1, A_THR_KI, A_THR_KP, A_THR_VZERO,
-                        A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, A_WLIM, GS_FX, GS_FZ,
+                        A_REF_PULL, A_RHO, A_RJ_TIME, A_RJ_TRK_ERR, A_RJ_TRK_MAX, A_RL, A_S_F, A_S_U, A_T1,
+                        A_THR_KI, A_THR_KP, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, A_WLIM, GS_FX, GS_FZ,
                         GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT, M_ERR, M_PHASE, M_RJ, M_RJ_DP, M_RJ_DV,
                         M_RJ_T0, M_TLAST, N_GSO, N_MEM, N_OUT, N_PAR, N_REF, O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD,
                         O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL, O_SEG, O_TC, O_THROTTLE, O_THRUST,
                         O_W_D2, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_YAW, PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX,
                         R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED, R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS,
-                        REF_WHERE, REJOINED, TRACK_LOST, M_US, UNDERSPEED, auto_guide)
+                        REF_WHERE, REJOINED, TRACK_LOST, M_US, PATH_REJOIN, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
 from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
@@ -50,6 +50,8 @@ class AutoStep:
         self._gso = np.zeros(N_GSO)
         #: the last step's position error exceeded FS_TRK_ERR (:data:`~.auto_step.TRACK_LOST`)
         self.track_lost = False
+        #: the position error of the step before the last one [m] (NaN before it; the path rejoin's note)
+        self.last_error = math.nan
         self._cache: tuple | None = None  # (reference, gate, arrays)
 
     def invalidate(self) -> None:
@@ -108,6 +110,7 @@ class AutoStep:
         par[A_FS_TRK_ERR] = p["FS_TRK_ERR"]
         par[A_WLIM:A_WLIM + N_LIMITS] = limit_vector(p, ap.reel_in_max)
         par[A_REF_PULL], par[A_CATCH_TIME] = p["GUID_REFPULL"], p["GUID_CATCH_T"]
+        par[A_RJ_TRK_ERR], par[A_RJ_TRK_MAX] = p["RJ_TRK_ERR"], p["RJ_TRK_MAX"]
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,
                   np.asarray(g.k.vector(), float), cu, cf, gate.vector(), par, ap.att.law.gains.vector())
         self._cache = (ref, gate, arrays)
@@ -126,10 +129,14 @@ class AutoStep:
             gso[GS_VALID] = 0.0
         mem, out = self.mem, self.out
         mem[M_PHASE] = PHASE_CODES.get(ap.phase, -1.0)
+        self.last_error = float(mem[M_ERR])
         flags = auto_guide(s._r, s._k, s._o, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem,
                            ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem, self.rrow, out)
         notes = []
         self.track_lost = bool(flags & TRACK_LOST)
+        if flags & PATH_REJOIN:
+            notes.append(f"rejoin: the path lost ({self.last_error:.1f} m, RJ_TRK_ERR {ap.params['RJ_TRK_ERR']:g} m), "
+                         f"rejoining at its nearest point (t_cycle {out[O_TC]:.2f} s)")
         if flags & UNDERSPEED:
             if mem[M_US] != 0.0:
                 notes.append(f"underspeed: airspeed {s.airspeed:.1f} m/s, speed before path "

@@ -43,9 +43,9 @@ from .fold import fold_command
 from .guidance import (CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, P_CLMAX,
                        guidance_step, polar_at)
 from .motor import motor_ceiling, motor_spin_down, motor_update
-from .rejoin import rejoin_weights
+from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import T_LAST, T_THRUST, throttle_step
-from .underspeed import underspeed_update
+from .underspeed import FOLD_OPEN, underspeed_update
 from .winch import N_LIMITS, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
@@ -70,7 +70,12 @@ N_GSO = 7
  A_CATCH_TIME) = range(31)
 #: then the winch's line limits (:func:`.winch.limit_vector`, :data:`.winch.N_LIMITS` values)
 A_WLIM = 31
-N_PAR = A_WLIM + N_LIMITS
+#: then the path rejoin (:mod:`.rejoin`): the position error [m] above which AUTO rejoins its
+#: path at the point nearest the glider (RJ_TRK_ERR, 0 off), at most this many times a cycle
+#: (RJ_TRK_MAX)
+A_RJ_TRK_ERR = A_WLIM + N_LIMITS
+A_RJ_TRK_MAX = A_RJ_TRK_ERR + 1
+N_PAR = A_RJ_TRK_MAX + 1
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
 #: of the last step [m] (NaN before the first), phase of the last step (0 generation, 1
 #: recovery, -1 another mode), the last step's length [s]; the guidance's integral, the thrust
@@ -84,11 +89,15 @@ M_WLOW = 13
 #: then the underspeed protection (:mod:`.underspeed`): 1.0 while it acts, the last time [s] the
 #: airspeed was below its entry speed
 M_US, M_US_T = 14, 15
-N_MEM = 16
+#: then the path rejoins: how many began in the cycle of index M_RJ_K
+M_RJ_N, M_RJ_K = 16, 17
+N_MEM = 18
+#: a rejoin segment younger than this [s] is not begun again for the path error
+RJ_SETTLE = 1.0
 #: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step, the
 #: position error exceeds ``par[A_FS_TRK_ERR]`` (> 0; the autopilot times it, FS_TRK_TIME), the
-#: underspeed protection began or ended at this step
-PHASE_CHANGED, REJOINED, TRACK_LOST, UNDERSPEED = 1, 2, 4, 8
+#: underspeed protection began or ended at this step, a rejoin of the lost path began at this step
+PHASE_CHANGED, REJOINED, TRACK_LOST, UNDERSPEED, PATH_REJOIN = 1, 2, 4, 8, 16
 #: ``out``: the step's reference point (cycle, cycle time, phase, position, motor-on fraction,
 #: path rate), the guidance's command, the motor, fold, throttle and winch commands
 (O_CYCLE, O_TC, O_PHASE, O_SEG, O_RX, O_RY, O_RZ, O_RATE, O_ALPHA, O_MU, O_THRUST, O_ROLL, O_PITCH, O_YAW, O_CL,
@@ -104,6 +113,19 @@ def reference_pull(on: bool, phase: int, tc: float, catch_time: float) -> bool:
     return on and (phase != 0 or tc < catch_time)
 
 
+def path_rate(px: float, py: float, pz: float, rrow: Arr, tau: float, hi: float) -> float:
+    """The path parameter's rate [-] for the glider at ``p*`` [m] and the reference row ``rrow``
+    (position, velocity): ``1 + e_at / (v_ref tau)``, ``e_at`` [m] how far the glider is ahead
+    of the reference point along its velocity ``v_ref`` [m/s], ``tau`` [s] (PATH_TAU) the time
+    constant of the catch-up; between 0 and ``hi``; 1 where the reference stands (below 0.5 m/s)."""
+    rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
+    vr = math.sqrt(rvx * rvx + rvy * rvy + rvz * rvz)
+    if vr > 0.5:
+        e_at = ((px - rrow[R_PX]) * rvx + (py - rrow[R_PY]) * rvy + (pz - rrow[R_PZ]) * rvz) / vr
+        return min(max(1.0 + e_at / (vr * tau), 0.0), hi)
+    return 1.0
+
+
 def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_table: Arr, segs: Arr, gk: Arr, cu: Arr,
                cf: Arr, gate: Arr, par: Arr, mem: Arr, integral: Arr, thr_state: Arr, motor_mem: Arr, rrow: Arr,
                out: Arr) -> int:
@@ -112,7 +134,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
     ``motor_mem`` (:mod:`.motor`); ``rrow`` receives the reference's row (:data:`N_REF` values).
     Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`, :data:`TRACK_LOST`,
-    :data:`UNDERSPEED`; 0: none)."""
+    :data:`UNDERSPEED`, :data:`PATH_REJOIN`; 0: none)."""
     t = row[0]
     t_last = mem[M_TLAST]
     dt = 0.0 if t_last != t_last else max(0.0, t - t_last)
@@ -140,13 +162,31 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
                                              gk[GK_US_HOLD])
     mem[M_US] = 1.0 if protect else 0.0
     flags = 0
+    rejoin = False
     if protect != was:
         flags = UNDERSPEED
-        if was and mem[M_RJ] == 0.0:
-            # protection over: back to the path over a rejoin segment from the glider's state
-            mem[M_RJ], mem[M_RJ_T0] = 1.0, t
-            mem[M_RJ_DP], mem[M_RJ_DP + 1], mem[M_RJ_DP + 2] = px - rrow[R_PX], py - rrow[R_PY], pz - rrow[R_PZ]
-            mem[M_RJ_DV], mem[M_RJ_DV + 1], mem[M_RJ_DV + 2] = vx - rrow[R_VX], vy - rrow[R_VY], vz - rrow[R_VZ]
+        # protection over: back to the path over a rejoin segment from the glider's state
+        rejoin = was and mem[M_RJ] == 0.0
+    if mem[M_RJ_K] != k:
+        mem[M_RJ_N], mem[M_RJ_K] = 0.0, k
+    if (not protect and (phase == 0 or fold < FOLD_OPEN) and par[A_RJ_TRK_ERR] > 0.0
+            and mem[M_ERR] > par[A_RJ_TRK_ERR] and mem[M_RJ_N] < par[A_RJ_TRK_MAX]
+            and (mem[M_RJ] == 0.0 or t - mem[M_RJ_T0] >= RJ_SETTLE)):
+        # the path is lost (the last step's error; a rejoin under way counts after RJ_SETTLE, the
+        # error of its first step may be the one before it began): rejoin the path where it
+        # passes nearest the glider, not at a point the path parameter froze or ran away with.
+        # Not in a folded recovery: the folded wing cannot fly back onto its dive, a rejoin
+        # there pushed it over into the ground (foldable, 8 m/s, moderate seed 9)
+        flags |= PATH_REJOIN
+        mem[M_RJ_N] += 1.0
+        s_par = k * par[A_PERIOD] + nearest_on_phase(ref_t, ref_table, par[A_T1], par[A_PERIOD], tc, px, py, pz,
+                                                     vx, vy, vz)
+        k, tc, phase, seg, _ = cycle_evaluate(ref_t, ref_table, par[A_T1], par[A_PERIOD], s_par, rrow)
+        rejoin = True
+    if rejoin:
+        mem[M_RJ], mem[M_RJ_T0] = 1.0, t
+        mem[M_RJ_DP], mem[M_RJ_DP + 1], mem[M_RJ_DP + 2] = px - rrow[R_PX], py - rrow[R_PY], pz - rrow[R_PZ]
+        mem[M_RJ_DV], mem[M_RJ_DV + 1], mem[M_RJ_DV + 2] = vx - rrow[R_VX], vy - rrow[R_VY], vz - rrow[R_VZ]
     if mem[M_RJ] != 0.0:
         # the rejoin segment: the path's point plus a vanishing offset, the parameter at flight time
         done, w, w1, w2, e, e1, e2 = rejoin_weights(t, mem[M_RJ_T0], par[A_RJ_TIME])
@@ -159,17 +199,15 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
                 rrow[R_PX + j] = rrow[R_PX + j] + (1.0 - w) * dp + e * dv
                 rrow[R_VX + j] = rrow[R_VX + j] - w1 * dp + e1 * dv
                 rrow[R_AX + j] = rrow[R_AX + j] - w2 * dp + e2 * dv
-        rate = 1.0
-        mem[M_SREF] = s_par + dt
+        # the parameter at flight time, in generation held back where the glider lags the
+        # segment's point (a rejoin into a headwind would otherwise run away from the glider;
+        # held in a folded recovery's dive, the reference pushed the wing over into the ground);
+        # with the path rejoin off (RJ_TRK_ERR 0) at flight time throughout, as before it
+        hold = phase == 0 and par[A_RJ_TRK_ERR] > 0.0
+        rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 1.0) if hold else 1.0
     else:
-        rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
-        vr = math.sqrt(rvx * rvx + rvy * rvy + rvz * rvz)
-        if vr > 0.5:
-            e_at = ((px - rrow[R_PX]) * rvx + (py - rrow[R_PY]) * rvy + (pz - rrow[R_PZ]) * rvz) / vr
-            rate = min(max(1.0 + e_at / (vr * par[A_PATH_TAU]), 0.0), 3.0)
-        else:
-            rate = 1.0
-        mem[M_SREF] = s_par + rate * dt
+        rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 3.0)
+    mem[M_SREF] = s_par + rate * dt
     rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
     valid = gso[GS_VALID] != 0.0
     taut = valid and gso[GS_SLACK] == 0.0 and phase == 0
@@ -244,5 +282,6 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
-          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update) + GUIDANCE_CALLED + (
+          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
+          nearest_on_phase, path_rate) + GUIDANCE_CALLED + (
               polar_at, guidance_step, reference_pull, auto_guide)

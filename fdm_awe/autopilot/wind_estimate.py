@@ -156,3 +156,46 @@ def _residuals(v: np.ndarray, tas: np.ndarray, by: np.ndarray, f: np.ndarray,
     r = np.concatenate((va - tas, np.sum(a * by, axis=1)))
     J = np.concatenate((-(f / va)[:, None] * a[:, :2], -f[:, None] * by[:, :2]))
     return r, J
+
+
+#: the wind before a failsafe (:func:`wind_before`): the window [s] before it, the slices [s]
+#: whose lowest estimate it names, and the share of the cycle's wind below which a slice is a lull
+LULL_WINDOW, LULL_SLICE, LULL_SHARE = 20.0, 5.0, 0.75
+
+
+def wind_before(t: np.ndarray, vel_ned: np.ndarray, airspeed: np.ndarray, euler: np.ndarray, heights: np.ndarray,
+                factor: Callable[[Any], Any] | None, t_end: float, wind_cycle: float) -> dict[str, float] | None:
+    """The onboard wind estimate (:func:`estimate_wind`, sensed quantities only) over the
+    :data:`LULL_WINDOW` before time ``t_end`` [s] of the samples at times ``t`` [s] (the other
+    arguments as :func:`estimate_wind`'s): ``window_s``, ``at_glider_mps`` (the window's mean wind
+    at the glider), ``lowest_mps`` (the lowest of its :data:`LULL_SLICE` slices), ``lull_s``
+    (how long the slices were below :data:`LULL_SHARE` of ``wind_cycle`` [m/s], the wind the
+    cycle flown was made for) and ``threshold_mps``; None without enough samples. What made a
+    failsafe: a lull (the wind below what the cycle flies in) or not (a gust, a turn of the wind)."""
+    t = np.asarray(t, float)
+    sel = (t > t_end - LULL_WINDOW) & (t <= t_end)
+
+    def est(m: np.ndarray) -> WindEstimate | None:
+        return estimate_wind(vel_ned[m], airspeed[m], euler[m], heights[m], factor)
+
+    whole = est(sel)
+    if whole is None:
+        return None
+    lows = []
+    for a in np.arange(t_end - LULL_WINDOW, t_end - 1e-9, LULL_SLICE):
+        e = est(sel & (t > a) & (t <= a + LULL_SLICE))
+        if e is not None:
+            lows.append(e.at_glider)
+    threshold = LULL_SHARE * wind_cycle
+    return {"window_s": LULL_WINDOW, "at_glider_mps": whole.at_glider,
+            "lowest_mps": min(lows) if lows else whole.at_glider,
+            "lull_s": LULL_SLICE * sum(w < threshold for w in lows), "threshold_mps": threshold}
+
+
+def wind_before_text(w: dict[str, float], wind_cycle: float) -> str:
+    """The failsafe's wind (:func:`wind_before`) in words: a lull named by its wind and length, or none."""
+    head = (f"onboard wind {w['at_glider_mps']:.1f} m/s at the glider over the {w['window_s']:.0f} s before "
+            f"(the cycle's {wind_cycle:g} m/s), {w['lowest_mps']:.1f} m/s at its lowest")
+    if w["lull_s"] > 0.0:
+        return f"a lull: {head}, below {w['threshold_mps']:.1f} m/s for {w['lull_s']:.0f} s"
+    return f"no lull: {head}"

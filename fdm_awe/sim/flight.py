@@ -70,6 +70,7 @@ from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
 from ..autopilot.schedule import ReferenceSet, ScheduledReference
 from ..autopilot.shaping import flyable_reference
+from ..autopilot.wind_estimate import wind_before, wind_before_text
 from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
 from ..groundstation import GroundStation, GroundStationParams, load_ground_station
@@ -88,7 +89,7 @@ from .events import machine_current
 from .flight_log import LINE_SHAPE_HZ, FlightLog
 from .glider_ledger import GliderLedger
 from .loop import COLUMNS, CoSim, FlightResult, Limits
-from .onboard_wind import CycleWind, note_text
+from .onboard_wind import SENSE_HZ, CycleWind, note_text
 from .propulsion import logged_propulsion
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
 from .report import FLIGHT_STATUSES, PLANT_NOTES, CycleMetrics, FlightReport
@@ -366,6 +367,8 @@ def fly(
         cw.close(mets[-1].index, float(res.t[-1]), mets[-1].complete)
     ledger, rel = _ledger(gl, rig.gs, float(e_thrust[k_end]), bool(nseg))
     status, msg = _status(res, ap, interrupted, flown[0] or t_end is not None, T_total, cycles, mets)
+    if ap.mode == "RECOVER" and ap.recover_cause is not None and "FS_TRK_ERR" in ap.recover_cause:
+        msg += _failsafe_wind(res, ap, cw.profile, dt)
     m = gsp.machine  # the armature current against the machine's ratings (the paper plant's winch has none)
     i_pk, above, rated = (None, None, []) if paper else machine_current(res.t, res.current, m.rated_current,
                                                                           m.peak_current)
@@ -549,6 +552,21 @@ def _ledger(gl: GliderLedger, gs: Any, thrust_electrical: float, lumped: bool) -
         ledger.update({f"line_{k}_J": v for k, v in ll.as_dict().items() if k != "relative_residual"})
         rel = max(rel, ll.relative_residual())
     return ledger, rel
+
+
+def _failsafe_wind(res: FlightResult, ap: Autopilot, profile: WindProfile, dt: float) -> str:
+    """What the lost-path failsafe met, for the flight's message: the onboard wind estimate over
+    the window before it (:func:`fdm_awe.autopilot.wind_estimate.wind_before`, samples at
+    :data:`~fdm_awe.sim.onboard_wind.SENSE_HZ`), a lull named by its wind and length; "" when
+    it cannot tell."""
+    t_fs = [t for t, text in ap.log if text.startswith("failsafe")]
+    w_cycle = float(ap.reference.meta.get("wind_mps", math.nan)) if ap.reference is not None else math.nan
+    if not t_fs or not w_cycle > 0.0:
+        return ""
+    k = slice(None, None, max(1, int(round(1.0 / (SENSE_HZ * dt)))))
+    w = wind_before(res.t[k], res.vel[k], res.airspeed[k], res.euler[k], -res.pos[k][:, 2],
+                    None if profile.uniform else profile.factor, t_fs[-1], w_cycle)
+    return "" if w is None else f"; {wind_before_text(w, w_cycle)}"
 
 
 def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_total: float, cycles: int,
