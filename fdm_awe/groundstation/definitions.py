@@ -50,6 +50,13 @@ class TetherParams:
     rated_tension: float | None = None  #: working tension the line is rated for, N
     material: LineMaterial | None = None  #: what a sized line is made of (None: section as stated)
     sizing: LineSizing | None = None  #: what a sized line was sized for (None: section as stated)
+    #: the optimiser's calibrated straight-line model (``tether/calibrated``, :mod:`.line`): the
+    #: glider's shares of the line drag from its own air velocity, of the line weight, and of the
+    #: drag of the still line in the wind, fitted to flights on the lumped line (absent: the
+    #: straight line's 1/4 and 1/2, no wind term)
+    calibrated_shares: tuple[float, float, float] = (0.25, 0.5, 0.0)
+    #: the calibrated model's line tension at the winch while reeling in, N (absent: 0, slack)
+    calibrated_recovery_tension: float = 0.0
 
     @property
     def safety_factor(self) -> float | None:
@@ -289,11 +296,26 @@ def _read_tether(doc: XmlDoc, name: str) -> TetherParams:
         rated_tension=rated,
         material=material,
         sizing=sizing,
+        calibrated_shares=_calibrated_shares(doc),
+        calibrated_recovery_tension=(_value(doc, "tether/calibrated/recovery_tension", "N", lo=0.0, hi=1e4)
+                                     if doc.root.find("tether/calibrated/recovery_tension") is not None else 0.0),
     )
     if tether.max_length <= tether.min_length:
         raise DefinitionError(doc.path, "tether/max_length",
                               f"value {tether.max_length:g} must exceed tether/min_length {tether.min_length:g}")
     return tether
+
+
+def _calibrated_shares(doc: XmlDoc) -> tuple[float, float, float]:
+    """``tether/calibrated``: the drag, weight and wind shares of the optimiser's calibrated
+    line model (each 0..1; the block is optional: absent, the straight line's 1/4, 1/2 and 0)."""
+    if doc.root.find("tether/calibrated") is None:
+        return (0.25, 0.5, 0.0)
+    for n in ("drag", "weight", "wind"):
+        if doc.root.find(f"tether/calibrated/{n}_share") is None:
+            raise DefinitionError(doc.path, f"tether/calibrated/{n}_share", "missing element")
+    return tuple(_value(doc, f"tether/calibrated/{n}_share", "ND", lo=0.0, hi=1.0)  # type: ignore[return-value]
+                 for n in ("drag", "weight", "wind"))
 
 
 def _read_winch(doc: XmlDoc) -> WinchParams:
