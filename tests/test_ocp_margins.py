@@ -104,3 +104,28 @@ def test_fly_shows_the_margins_of_the_reference_it_loads(capsys, tmp_path):
     assert "tension <= 50 N (rating 50 N, margin 0), C_L <= 0.85 C_Lmax (stall margin 0.15); line model straight" in err
     doc = json.loads((tmp_path / "run.json").read_text())
     assert doc["reference_margins"] is None and doc["reference_line_model"] == "straight"
+
+
+def test_sweep_points_carry_margins_and_line_model_and_keep_their_ids_by_default():
+    from fdm_awe.commands import sweep as sweep_cmd
+    from fdm_awe.sweep.runner import base_record, point_problem
+    from fdm_awe.sweep.spec import SweepSpec
+
+    plain = SweepSpec(winds=(8.0,), configs=("nominal",), mesh=Mesh(10, 8, 3))
+    assert plain.points()[0].id == SweepSpec(winds=(8.0,), configs=("nominal",), mesh=Mesh(10, 8, 3),
+                                             tension_margin=0.0, stall_margin=0.0, line_model="straight").points()[0].id
+    p = replace(plain, tension_margin=MARGIN, stall_margin=0.15, line_model="calibrated").points()[0]
+    assert p.id != plain.points()[0].id and "margins=0.25/0.15" in p.label() and "line_model=calibrated" in p.label()
+    pr = point_problem(p)
+    assert (pr.bounds.G_cycle_max, pr.bounds.cl_margin, pr.line_model) == (pytest.approx(40.0), 0.85, "calibrated")
+    rec = base_record(p)
+    assert (rec["tension_margin"], rec["stall_margin"], rec["line_model"]) == (MARGIN, 0.15, "calibrated")
+    with pytest.raises(InputError, match=r"tension_margin = -1 out of range \(allowed 0 \.\. 4\)"):
+        replace(plain, tension_margin=-1).validate()
+    parser = __import__("argparse").ArgumentParser()
+    sweep_cmd.add_arguments(parser)
+    spec = sweep_cmd.build_spec(parser.parse_args(["--out", "x", "--wind", "8", "--config", "nominal", "--tension-margin",
+                                                   "0.25", "--stall-margin", "0.15", "--line-model", "calibrated"]))
+    assert (spec.tension_margin, spec.stall_margin, spec.line_model) == (0.25, 0.15, "calibrated")
+    with pytest.raises(InputError, match=r"--stall-margin 0\.9 .*out of range"):
+        sweep_cmd.build_spec(parser.parse_args(["--out", "x", "--stall-margin", "0.9"]))
