@@ -89,6 +89,20 @@ def test_bad_margin_options_are_one_line_errors(capsys, cmd):
     _refused(capsys, [cmd, "--tension-margin", "-0.5"], "--tension-margin -0.5", "allowed 0..4")
     _refused(capsys, [cmd, "--tension-margin", "nan"], "--tension-margin nan")
     _refused(capsys, [cmd, "--stall-margin", "0.8"], "--stall-margin 0.8", "allowed 0..0.7")
+    _refused(capsys, [cmd, "--reel-in-margin", "1.5"], "--reel-in-margin 1.5", "allowed 0..1")
+
+
+def test_fly_optimises_its_reference_with_its_margins():
+    from fdm_awe.commands.fly import FLY_REEL_IN_MARGIN, flyable_bounds
+    from fdm_awe.commands.optimize import drive_reel_in_speed
+
+    b = flyable_bounds()
+    assert (b.G_cycle_max, b.cl_margin) == (pytest.approx(40.0), 0.85)
+    assert 5.3 < drive_reel_in_speed() < 5.4  # the 24 V drive's fastest reel-in ('fdm-awe info': 5.36 m/s)
+    assert b.reel_in_speed_max == pytest.approx(drive_reel_in_speed() / (1 + FLY_REEL_IN_MARGIN), rel=1e-12)
+    # given margins replace fly's: no reel-in bound without a reel-in margin (the drive's own)
+    b0 = flyable_bounds(margins={"tension_margin": 0.0, "cl_margin": 0.85})
+    assert b0.reel_in_speed_max is None and b0.G_cycle_max == 50.0
 
 
 def test_fly_refuses_margins_with_a_reference(capsys):

@@ -75,7 +75,8 @@ REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "-
                    "generator": "--generator", "wind_profile": "--wind-profile",
                    "wind_ref_height": "--wind-ref-height", "v_min": "--v-min", "bank_rate_max": "--bank-rate-max",
                    "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max",
-                   "tension_margin": "--tension-margin", "stall_margin": "--stall-margin"}
+                   "tension_margin": "--tension-margin", "stall_margin": "--stall-margin",
+                   "reel_in_margin": "--reel-in-margin"}
 
 
 #: the margins of a reference that ``fly`` optimises (``--tension-margin``, ``--stall-margin``):
@@ -87,6 +88,13 @@ REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "-
 #: so 40 N keeps the flown peak at about 1.2 x the rating (60 N) in calm and light air
 FLY_TENSION_MARGIN = 0.25
 FLY_STALL_MARGIN = 0.15
+#: the reel-in margin (``--reel-in-margin``): the reference reels in at most the drive's fastest
+#: (5.36 m/s) / 1.1 = 4.87 m/s. The flown winch still pays out when the reference's recovery
+#: starts (it follows the glider, not the reference's instant reversal); a reference that then
+#: reels in at the drive's limit leaves it no speed to catch up: the nominal 12 m/s cycle's line
+#: ended each recovery 6, 10 and 15 m longer than planned (the drift adds up, the glider met the
+#: next generation off its path and paid 200-450 J more thrust a cycle)
+FLY_REEL_IN_MARGIN = 0.1
 
 
 def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
@@ -106,7 +114,12 @@ def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] 
     # --alpha-rate-max, --catch-speed-max; none by default); ``v_min`` [m/s] (--v-min): the
     # airspeed bound, Table 3's 5 m/s when None; ``margins``: Bounds fields ``tension_margin`` and
     # ``cl_margin`` (:func:`fdm_awe.commands.optimize.margin_bounds`; None: fly's defaults).
-    m = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN, **(margins or {})}
+    if margins is None:
+        from .optimize import drive_reel_in_speed
+
+        margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN,
+                   "reel_in_speed_max": drive_reel_in_speed() / (1.0 + FLY_REEL_IN_MARGIN)}
+    m = dict(margins)
     return Bounds(phi_max=0.8, **m, **({} if gamma_max is None else {"gamma_max": gamma_max}),
                   **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
 
@@ -156,7 +169,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_smoothness_args(p, prefix="when it optimises the reference (not with --reference): ")
     add_margin_args(p, prefix="when it optimises the reference (not with --reference; a reference's own are shown): ",
                     tension_default=FLY_TENSION_MARGIN, stall_default=FLY_STALL_MARGIN,
-                    why=", fly's flyable margins")
+                    reel_in_default=FLY_REEL_IN_MARGIN, why=", fly's flyable margins")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
@@ -280,7 +293,8 @@ def reference_problem(args: argparse.Namespace):
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
                         bounds=flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min,
-                                              margin_bounds(args, FLY_TENSION_MARGIN, FLY_STALL_MARGIN)),
+                                              margin_bounds(args, FLY_TENSION_MARGIN, FLY_STALL_MARGIN,
+                                                            FLY_REEL_IN_MARGIN)),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
                         generator=args.generator, line_model=args.line_model or "straight",
@@ -294,7 +308,8 @@ def optimise_reference(problem):
     b = problem.bounds
     print(f"optimising a {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s (flyable bounds: "
           f"C_L <= {b.cl_margin:g} C_Lmax, tension <= {b.G_cycle_max:.3g} N (rating {b.G_max:g} N / "
-          f"{1 + b.tension_margin:g}), |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad, "
+          f"{1 + b.tension_margin:g}), "
+          f"{'' if b.reel_in_speed_max is None else f'reel-in <= {b.reel_in_speed_max:.3g} m/s, '}|bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad, "
           f"V >= {b.V_min:g} m/s; "
           f"line drag x {problem.tether_drag_scale:g}{_smoothness_text(b)}) ...", file=sys.stderr)
     res = solve_cycle(problem)

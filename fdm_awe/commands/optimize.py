@@ -143,11 +143,13 @@ MARGIN_OPTIONS = {"tension_margin": "--tension-margin", "stall_margin": "--stall
 
 
 def add_margin_args(p: argparse.ArgumentParser, prefix: str = "", tension_default: float = 0.0,
-                    stall_default: float = 0.0, why: str = "") -> None:
+                    stall_default: float = 0.0, why: str = "", reel_in: bool = True, reel_in_default: float = 0.0) -> None:
     """``--tension-margin`` and ``--stall-margin``: the margins the optimised cycle keeps below
     the line's rating and below the stall (:class:`fdm_awe.ocp.problem.Bounds`: ``tension_margin``
     and ``cl_margin = 1 - stall margin``), each None (the command's default) unless given;
-    ``prefix`` opens the help texts, ``why`` ends the defaults' text."""
+    ``prefix`` opens the help texts, ``why`` ends the defaults' text; ``reel_in``: also
+    ``--reel-in-margin`` (:data:`REEL_IN_MARGIN_MAX`; ``Bounds.reel_in_speed_max`` = the drive's
+    fastest reel-in / (1 + M))."""
     from ..ocp.problem import STALL_MARGIN_MAX, TENSION_MARGIN_MAX
 
     p.add_argument("--tension-margin", type=float, default=None, metavar="M",
@@ -157,11 +159,19 @@ def add_margin_args(p: argparse.ArgumentParser, prefix: str = "", tension_defaul
     p.add_argument("--stall-margin", type=float, default=None, metavar="M",
                    help=prefix + f"C_L stays at most (1 - M) x each wing's C_Lmax, 0..{STALL_MARGIN_MAX:g} "
                                  f"(default {stall_default:g}{why})")
+    if reel_in:
+        p.add_argument("--reel-in-margin", type=float, default=None, metavar="M",
+                       help=prefix + "the cycle reels in at most the drive's fastest reel-in (slack line, full duty: "
+                                     f"'fdm-awe info') / (1 + M), 0..{REEL_IN_MARGIN_MAX:g} (default "
+                                     f"{reel_in_default:g}{why}): room for the flown winch to catch up after the "
+                                     "phase switch")
 
 
-def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_default: float = 0.0) -> dict[str, float]:
-    """The margins of ``--tension-margin`` / ``--stall-margin`` (checked; the defaults where not
-    given) as :class:`~fdm_awe.ocp.problem.Bounds` fields ``tension_margin`` and ``cl_margin``."""
+def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_default: float = 0.0,
+                  reel_in_default: float = 0.0) -> dict[str, float]:
+    """The margins of ``--tension-margin`` / ``--stall-margin`` / ``--reel-in-margin`` (checked;
+    the defaults where not given) as :class:`~fdm_awe.ocp.problem.Bounds` fields
+    ``tension_margin``, ``cl_margin`` and, for a reel-in margin above 0, ``reel_in_speed_max``."""
     from ..ocp.problem import STALL_MARGIN_MAX, TENSION_MARGIN_MAX
     from . import _checks as chk
 
@@ -169,8 +179,28 @@ def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_
                     what="tension margin below the rating")
     sm = chk.number(getattr(args, "stall_margin", None), "--stall-margin", 0.0, STALL_MARGIN_MAX,
                     what="stall margin (share of C_Lmax kept unused)")
-    return {"tension_margin": tension_default if tm is None else tm,
-            "cl_margin": 1.0 - (stall_default if sm is None else sm)}
+    out = {"tension_margin": tension_default if tm is None else tm,
+           "cl_margin": 1.0 - (stall_default if sm is None else sm)}
+    rm = chk.number(getattr(args, "reel_in_margin", None), "--reel-in-margin", 0.0, REEL_IN_MARGIN_MAX,
+                    what="reel-in speed margin below the drive's fastest")
+    rm = reel_in_default if rm is None else rm
+    if rm > 0.0:
+        out["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + rm)
+    return out
+
+
+#: largest ``--reel-in-margin``: the cycle may reel in at half the drive's fastest
+REEL_IN_MARGIN_MAX = 1.0
+
+
+def drive_reel_in_speed() -> float:
+    """The drive's fastest reel-in [m/s]: a slack line at full duty from the supply of the
+    ground-station definition (:func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`;
+    what the optimiser's reel-in bound is without a margin)."""
+    from ..groundstation import load_ground_station
+    from ..groundstation.steady import motor_max_reel_in_speed
+
+    return float(motor_max_reel_in_speed(0.0, load_ground_station()))
 
 
 def _range(spec: tuple) -> str:

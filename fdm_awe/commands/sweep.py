@@ -66,7 +66,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     add_plant_model_args(p, line_axis=True, generators=())
     add_wind_profile_args(p, prefix="every point: ")
-    add_margin_args(p, prefix="every point: ")
+    add_margin_args(p, prefix="every point: ", reel_in=False)
     p.add_argument("--workers", type=int, default=None,
                    help=f"local Dask worker processes, 1..{MAX_WORKERS} (default: number of cores; not with --scheduler)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",

@@ -281,7 +281,9 @@ def _check_geometry(src: str, md: dict[str, Any]) -> None:
 
 #: the recorded margins (metadata ``margins``, :func:`fdm_awe.trajectory.files.margins_record`): field -> allowed range
 MARGIN_RANGES = {"tension_rating_N": (0.0, 1e5), "tension_margin": (0.0, 4.0), "tension_bound_N": (0.0, 1e5),
-                 "stall_margin": (0.0, 0.7), "cl_max_share": (0.3, 1.0)}
+                 "stall_margin": (0.0, 0.7), "cl_max_share": (0.3, 1.0), "reel_in_speed_max_m_s": (0.0, 100.0)}
+#: recorded margins a file may leave out (a cycle without that margin)
+OPTIONAL_MARGINS = frozenset({"reel_in_speed_max_m_s"})
 
 
 def _check_summaries(src: str, md: dict[str, Any]) -> None:
@@ -291,7 +293,7 @@ def _check_summaries(src: str, md: dict[str, Any]) -> None:
         if md.get(key) is not None and not isinstance(md[key], dict):
             raise InputError(f"{src}: metadata.{key}: {_kind(md[key])}, expected an object")
     for k, (lo, hi) in MARGIN_RANGES.items():  # shown by fly when it loads the reference
-        if md.get("margins") is not None:
+        if md.get("margins") is not None and (k in md["margins"] or k not in OPTIONAL_MARGINS):
             v = md["margins"].get(k)
             if not (_is_number(v) and math.isfinite(v) and lo <= v <= hi):
                 raise InputError(f"{src}: metadata.margins.{k}: {_show(v)} not allowed (allowed a number {lo:g} .. {hi:g})")

@@ -19,10 +19,14 @@ def margins_record(bounds: Any) -> dict[str, float]:
     """The margins a cycle keeps, as the reference file records them (metadata ``margins``) from
     its :class:`~fdm_awe.ocp.problem.Bounds`: the tension rating [N], the tension margin and the
     cycle's tension bound ``rating / (1 + margin)`` [N], the stall margin and the share of C_Lmax
-    the cycle may use (``1 - stall margin``)."""
-    return {"tension_rating_N": float(bounds.G_max), "tension_margin": float(bounds.tension_margin),
-            "tension_bound_N": float(bounds.G_cycle_max), "stall_margin": float(bounds.stall_margin),
-            "cl_max_share": float(bounds.cl_margin)}
+    the cycle may use (``1 - stall margin``), and the reel-in speed bound [m/s] where one is set
+    (a reel-in margin)."""
+    out = {"tension_rating_N": float(bounds.G_max), "tension_margin": float(bounds.tension_margin),
+           "tension_bound_N": float(bounds.G_cycle_max), "stall_margin": float(bounds.stall_margin),
+           "cl_max_share": float(bounds.cl_margin)}
+    if bounds.reel_in_speed_max is not None:  # a reel-in margin: the bound below the drive's fastest [m/s]
+        out["reel_in_speed_max_m_s"] = float(bounds.reel_in_speed_max)
+    return out
 
 
 def margins_text(md: dict[str, Any]) -> str:
@@ -37,8 +41,11 @@ def margins_text(md: dict[str, Any]) -> str:
              "cl_max_share": b.get("cl_margin", 1.0)}
         m["tension_bound_N"] = m["tension_rating_N"] / (1.0 + m["tension_margin"])
         m["stall_margin"] = 1.0 - m["cl_max_share"]
-    return (f"tension <= {m['tension_bound_N']:.3g} N (rating {m['tension_rating_N']:g} N, margin "
+    text = (f"tension <= {m['tension_bound_N']:.3g} N (rating {m['tension_rating_N']:g} N, margin "
             f"{m['tension_margin']:g}), C_L <= {m['cl_max_share']:.3g} C_Lmax (stall margin {m['stall_margin']:.3g})")
+    if m.get("reel_in_speed_max_m_s") is not None:
+        text += f", reel-in <= {m['reel_in_speed_max_m_s']:.3g} m/s"
+    return text
 
 
 def reference_document(result: Any) -> dict[str, Any]:
