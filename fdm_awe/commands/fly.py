@@ -384,6 +384,11 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
             ref_path = Path(args.reference or args.reference_flown)
             ref_label = str(ref_path)
         scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
+        if refs is not None:  # what each reference was optimised with (after the checks: bad input stays one line)
+            for e in refs.entries:
+                print_reference_margins(e.reference.meta, e.source)
+        elif args.reference:
+            print_reference_margins(ref.meta, ref_label)
         from ..recording.stream import open_live
 
         live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
@@ -467,7 +472,6 @@ def _read_reference(args: argparse.Namespace) -> Any:
 
     ref = TrackingReference.from_ocp_file(args.reference)
     check_reference_options(args, ref.meta, args.reference)
-    print_reference_margins(ref.meta, args.reference)
     if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
         from ..sim.flight import turbulence_setting
 
@@ -496,8 +500,6 @@ def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any]
     refs = ReferenceSet.from_folder(args.references)
     first = refs.entries[0]
     check_reference_options(args, first.reference.meta, first.source)
-    for e in refs.entries:
-        print_reference_margins(e.reference.meta, e.source)
     args.config = args.config or (first.reference.meta.get("config") if first.reference.meta.get("config") in
                                   ("foldable", "nominal") else DEFAULT_CONFIG)
     start_w = args.start_wind if args.start_wind is not None else args.wind
