@@ -127,8 +127,8 @@ class Bounds:
     @property
     def stall_margin(self) -> float:
         """The stall margin [-]: the share of each wing's C_Lmax the cycle keeps unused,
-        ``1 - cl_margin``."""
-        return 1.0 - self.cl_margin
+        ``1 - cl_margin`` (to 12 digits: 0.85 gives 0.15, not 0.15000000000000002)."""
+        return round(1.0 - self.cl_margin, 12)
 
     def validate(self) -> None:
         def pos(name: str, v: float) -> None:
