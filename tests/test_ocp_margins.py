@@ -53,6 +53,13 @@ def test_reference_optimised_with_a_margin_stays_below_its_bound_and_records_it(
                                            "tension_bound_N": bound, "stall_margin": 0.15, "cl_max_share": 0.85})
     assert md["bounds"]["tension_margin"] == MARGIN and md["line_model"] == "straight"
     assert "tension <= 40 N (rating 50 N, margin 0.25), C_L <= 0.85 C_Lmax (stall margin 0.15)" == margins_text(md)
+    import io
+
+    from fdm_awe.commands.optimize import print_summary
+
+    out = io.StringIO()
+    print_summary(res, file=out)
+    assert "  margins: tension <= 40 N (rating 50 N, margin 0.25), C_L <= 0.85 C_Lmax" in out.getvalue()
     # without the margin the same cycle pulls harder than the margin allows: the bound acts
     res0 = solve_cycle(replace(pr, bounds=flyable).validate())
     assert res0.ok and np.max(res0.columns["tension"]) > bound + 3.0

@@ -376,6 +376,11 @@ def print_summary(res, file=sys.stdout) -> None:
           f"E_reel_in {s['E_reel_in_J']:9.1f} J", file=file)
     print(f"  E_net       {s['E_net_J']:9.1f} J   P_avg {s['P_avg_W']:8.2f} W "
           f"({'net gain' if s['E_net_J'] > 0 else 'net loss'})", file=file)
+    b = res.problem.bounds if res.problem is not None else None
+    if b is not None and (b.tension_margin or b.cl_margin < 1.0 or b.reel_in_speed_max is not None):
+        from ..trajectory.files import margins_record, margins_text
+
+        print(f"  margins: {margins_text({'margins': margins_record(b)})}", file=file)
 
 
 def plant_text(problem) -> str:
