@@ -108,3 +108,21 @@ def test_fly_refuses_a_line_model_with_a_reference(capsys):
     rc = main(["fly", "--reference", "tests/data/ref_physical_nominal_8mps_sized.json", "--line-model", "calibrated"])
     err = capsys.readouterr().err.strip()
     assert rc == 2 and "--line-model" in err and "fixes this" in err, err
+
+
+def test_the_fixed_weight_fit_recovers_the_shares_it_was_given():
+    """scripts/compare_tether.py's calibration fit: line forces made from known drag and wind
+    shares (weight share 1/2) give those shares back, even where the weight and the wind's
+    normal parts point the same way (the glider straight downwind)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("compare_tether", ROOT / "scripts" / "compare_tether.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)  # type: ignore[union-attr]
+    rng = np.random.default_rng(1)
+    n = 400
+    D, W, Dw = rng.normal(size=(n, 3)), rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    Dw[: n // 2] = W[: n // 2] * 3.0  # collinear half: only the held weight share separates them
+    F = 0.21 * D + 0.5 * W + 0.47 * Dw
+    a, c = mod.fixed_weight_fit(D, W, Dw, F, 0.5)
+    assert (a, c) == (pytest.approx(0.21, abs=1e-12), pytest.approx(0.47, abs=1e-12))
