@@ -96,7 +96,8 @@ def markdown(rows: list[dict], tether: str, cycles: int, line_model: str) -> str
            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if r.get("status") == "no optimum":
-            out.append(f"| {r['config']} | {r['wind_mps']:g} | no optimum ({r['reason']}) | - | - | - | - | - | - | - | no |")
+            why = str(r["reason"]).split(";")[0][:120]  # the first start's reason (the JSON holds all)
+            out.append(f"| {r['config']} | {r['wind_mps']:g} | no optimum ({why}) | - | - | - | - | - | - | - | no |")
             continue
         meets = "yes" if r["all_cycles"] and r["rms_ok"] and r["energy_ok"] else (
             "no (" + ", ".join(w for w, ok in (("cycles", r["all_cycles"]), ("RMS", r["rms_ok"]),
