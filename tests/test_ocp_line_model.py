@@ -5,7 +5,6 @@ the still line's drag in the wind and the reel-in tension: ``tether/calibrated``
 from __future__ import annotations
 
 import math
-import shutil
 
 import numpy as np
 import pytest
@@ -33,20 +32,37 @@ def _models():
 
 def test_the_definition_holds_the_calibrated_shares():
     t = load_ground_station().tether
-    a, b, c = t.calibrated_shares
-    assert 0.15 <= a <= 0.25 and b == 0.5 and 0.3 <= c <= 0.6  # the fit's ranges (tether/ground_station.xml)
-    assert 0.0 < t.calibrated_recovery_tension < 10.0
+    for config in ("nominal", "foldable"):
+        a, b, c, g = t.calibrated_line(config)
+        assert 0.15 <= a <= 0.25 and b == 0.5 and 0.3 <= c <= 0.6  # the fit's ranges (tether/ground_station.xml)
+        assert 0.0 < g < 10.0
+    # the folded recovery drags less of its line along: lower shares than the nominal glider's
+    assert t.calibrated_line("foldable")[0] < t.calibrated_line("nominal")[0]
+    assert t.calibrated_line("foldable")[2] < t.calibrated_line("nominal")[2]
     assert (t.drag_share, t.weight_share) == (0.25, 0.5)  # the straight line keeps its shares
+    assert WinchElectrics.from_ground_station(line="paper").calibrated_line("nominal") == t.calibrated_line("nominal")
 
 
-def test_a_calibrated_block_without_a_share_is_refused(tmp_path):
+def _without(text: str, start_tag: str, end_tag: str) -> str:
+    start = text.index(start_tag)
+    return text[:start] + text[text.index(end_tag, start) + len(end_tag):]
+
+
+def test_a_bad_calibrated_block_is_refused(tmp_path):
     text = (ROOT / "tether" / "ground_station.xml").read_text()
-    start = text.index("<wind_share")
-    end = text.index("</wind_share>") + len("</wind_share>")
     p = tmp_path / "gs.xml"
-    p.write_text(text[:start] + text[end:])
-    with pytest.raises(DefinitionError, match="tether/calibrated/wind_share.*missing element"):
+    p.write_text(_without(text, "<wind_share", "</wind_share>"))
+    with pytest.raises(DefinitionError, match=r"tether/calibrated\[nominal\]/wind_share.*missing element"):
         load_ground_station(p)
+    p.write_text(text.replace('<calibrated config="foldable">', '<calibrated config="nominal">'))
+    with pytest.raises(DefinitionError, match="defined twice"):
+        load_ground_station(p)
+    p.write_text(text.replace('<calibrated config="foldable">', '<calibrated config="folded">'))
+    with pytest.raises(DefinitionError, match="config attribute 'folded' not allowed"):
+        load_ground_station(p)
+    # no block for a configuration: the straight line's shares
+    p.write_text(_without(text, '<calibrated config="foldable">', "</calibrated>"))
+    assert load_ground_station(p).tether.calibrated_line("foldable") == (0.25, 0.5, 0.0, 0.0)
 
 
 def test_the_straight_model_has_no_wind_term_and_the_calibrated_one_pushes_downwind_normal_to_the_line():
@@ -58,7 +74,7 @@ def test_the_straight_model_has_no_wind_term_and_the_calibrated_one_pushes_downw
     w = np.array([*WIND, 0.0])
     w_n = w - (w @ u) * u
     t = load_ground_station().tether
-    c = t.calibrated_shares[2]
+    c = t.calibrated_line("nominal")[2]
     expect = c * 0.5 * t.air_density * t.cd_perpendicular * t.diameter * 230.0 * math.hypot(float(np.linalg.norm(w_n)), 0.1) * w_n
     assert f == pytest.approx(expect, rel=1e-12)
     assert abs(f @ u) < 1e-12 * np.linalg.norm(f)  # normal to the line
@@ -70,7 +86,7 @@ def test_the_straight_model_has_no_wind_term_and_the_calibrated_one_pushes_downw
 
 def test_the_calibrated_shares_enter_the_phase_blocks():
     straight, cal, winch = _models()
-    a, b, c = winch.calibrated_shares
+    a, b, c, g_rec = winch.calibrated_line("nominal")
     u = [0.1, 0.2, 0.5, 0.5]
     d = float(np.linalg.norm(STATE[:3]))
     cdt_s, _ = straight._tether_drag(straight.gen_airframe.aero, STATE, d, d, 1.0)
@@ -85,8 +101,8 @@ def test_the_calibrated_shares_enter_the_phase_blocks():
     rec = STATE + [230.0]
     r_s, r_c = straight.recovery(rec, [0.1, 0.2, 0.5, -4.0, 1.0], WIND), cal.recovery(rec, [0.1, 0.2, 0.5, -4.0, 1.0], WIND)
     assert float(r_s["P_rw"]) == pytest.approx(float(motor_supply_power(-4.0, winch)), rel=1e-15)
-    assert float(r_c["P_rw"]) == pytest.approx(float(motor_supply_power(-4.0, winch, winch.calibrated_recovery_tension)))
-    assert float(r_c["P_rw"]) > float(r_s["P_rw"]) + winch.calibrated_recovery_tension * 4.0  # the work and its losses
+    assert float(r_c["P_rw"]) == pytest.approx(float(motor_supply_power(-4.0, winch, g_rec)))
+    assert float(r_c["P_rw"]) > float(r_s["P_rw"]) + g_rec * 4.0  # the work and its losses
 
 
 def test_the_line_model_is_part_of_the_problem():

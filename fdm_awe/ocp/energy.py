@@ -61,12 +61,9 @@ class WinchElectrics:
     boost_duty_max: float = 0.0  #: largest T2 duty of the generator mode [-] (the converter definition's)
     #: weight per metre of the whole paid-out line, mass per length x g [N/m]
     line_weight_total_per_length: float = 0.0
-    #: the calibrated line model's drag, weight and wind shares [-] (the definition's
-    #: ``tether/calibrated``; :data:`fdm_awe.groundstation.line.LINE_MODELS`)
-    calibrated_shares: tuple[float, float, float] = (0.25, 0.5, 0.0)
-    #: the calibrated line model's line tension at the winch while reeling in [N] (the
-    #: definition's ``tether/calibrated/recovery_tension``)
-    calibrated_recovery_tension: float = 0.0
+    #: the calibrated line model per glider configuration (the definition's ``tether/calibrated``:
+    #: :attr:`fdm_awe.groundstation.definitions.TetherParams.calibrated`)
+    calibrated: tuple = ()
 
     @classmethod
     def from_ground_station(cls, params: Any = None, line: str | None = None) -> "WinchElectrics":
@@ -84,12 +81,19 @@ class WinchElectrics:
                    tether_cd_perp=t.cd_perpendicular, line_weight_per_length=t.weight_share * t.mass_per_length * t.gravity,
                    gs_params=gs, R_load=c.load_resistance, boost_duty_max=c.boost_duty_max,
                    line_weight_total_per_length=t.mass_per_length * t.gravity,
-                   calibrated_shares=tuple(getattr(t, "calibrated_shares", (0.25, 0.5, 0.0))),
-                   calibrated_recovery_tension=float(getattr(t, "calibrated_recovery_tension", 0.0)))
+                   calibrated=tuple(getattr(t, "calibrated", ())))
 
     @property
     def R_sum(self) -> float:
         return self.R + self.R_L
+
+    def calibrated_line(self, config: str) -> tuple[float, float, float, float]:
+        """The calibrated line model of glider configuration ``config``: drag, weight and wind
+        shares [-] and the recovery tension [N] (the straight line's where none is defined)."""
+        for c, *values in self.calibrated:
+            if c == config:
+                return tuple(values)  # type: ignore[return-value]
+        return (0.25, 0.5, 0.0, 0.0)
 
     def reel_in_speed_max(self) -> float:
         """Largest reel-in speed [m/s] the motor reaches at full duty with a slack tether."""

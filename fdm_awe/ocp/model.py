@@ -128,10 +128,10 @@ class CycleModel:
             fold_time = definition_fold_time(Path(glider.unfolded.source).resolve().parents[2]) if t is None else float(t)
         line: dict[str, Any] = {}
         if getattr(problem, "line_model", "straight") == "calibrated":
-            a, b, c = winch.calibrated_shares
+            a, b, c, g_rec = winch.calibrated_line(problem.config)
             line = {"line_drag_share": float(a), "line_wind_share": float(c),
                     "line_weight_per_length": float(b) * winch.line_weight_total_per_length,
-                    "line_recovery_tension": float(winch.calibrated_recovery_tension)}
+                    "line_recovery_tension": float(g_rec)}
         return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive,
                    line_weight=problem.line_weight, fold_time=fold_time, motor_off=spec.propeller in MOTOR_OFF_MODELS,
                    wind_profile=getattr(problem, "wind_profile", None) or WindProfile(), **line)
