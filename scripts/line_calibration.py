@@ -2,8 +2,8 @@
 """References optimised with the calibrated line model, flown on the lumped line.
 
 For each configuration and wind (default: nominal and foldable at 8, 10 and 12 m/s) the physical
-cycle is optimised as ``fdm-awe fly`` optimises its reference (fly's flyable bounds and margins)
-with the optimiser's line model ``calibrated`` (the straight line's shares fitted to flights on
+cycle is optimised as ``fdm-awe fly`` optimises its reference (fly's flyable bounds and margins,
+and the reel-in margin 0.1: ``fdm-awe fly --reel-in-margin 0.1``) with the optimiser's line model ``calibrated`` (the straight line's shares fitted to flights on
 the lumped line, with the still line's drag in the wind: ``tether/calibrated`` of the
 ground-station definition) and flown by the autopilot on ``--tether`` (default ``lumped:30``) in
 calm air for ``--cycles`` cycles. Per flight: cycles completed, tracking RMS over the flight,
@@ -41,15 +41,25 @@ RMS_MAX_M = 5.0
 ENERGY_REL_TOL = 0.10
 
 
-def optimise(config: str, wind: float, line_model: str, out_dir: str) -> tuple[object, str]:
-    """The flyable reference of ``config`` at ``wind`` [m/s] with ``line_model``, optimised and
-    written into ``out_dir``; returns (result, file)."""
-    from fdm_awe.commands.fly import flyable_bounds
+#: the reel-in margin of the references (``--reel-in-margin`` of ``fdm-awe fly``): the flown
+#: winch can catch up after the phase switch (docs/design.md section 10)
+REEL_IN_MARGIN = 0.1
+
+
+def optimise(config: str, wind: float, line_model: str, out_dir: str,
+             reel_in_margin: float = REEL_IN_MARGIN) -> tuple[object, str]:
+    """The flyable reference of ``config`` at ``wind`` [m/s] with ``line_model``, optimised with
+    fly's margins and ``reel_in_margin``, and written into ``out_dir``; returns (result, file)."""
+    from fdm_awe.commands.fly import FLY_STALL_MARGIN, FLY_TENSION_MARGIN, flyable_bounds
+    from fdm_awe.commands.optimize import drive_reel_in_speed
     from fdm_awe.ocp.problem import CycleProblem
     from fdm_awe.ocp.solve import solve_cycle
     from fdm_awe.trajectory import write_reference
 
-    problem = CycleProblem(scenario="physical", config=config, wind_speed=wind, bounds=flyable_bounds(),
+    margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN}
+    if reel_in_margin > 0.0:
+        margins["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + reel_in_margin)
+    problem = CycleProblem(scenario="physical", config=config, wind_speed=wind, bounds=flyable_bounds(margins=margins),
                            line_model=line_model).validate()
     res = solve_cycle(problem)
     path = os.path.join(out_dir, f"ref_{config}_{wind:g}mps_{line_model}.json")

@@ -88,13 +88,15 @@ REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "-
 #: so 40 N keeps the flown peak at about 1.2 x the rating (60 N) in calm and light air
 FLY_TENSION_MARGIN = 0.25
 FLY_STALL_MARGIN = 0.15
-#: the reel-in margin (``--reel-in-margin``): the reference reels in at most the drive's fastest
-#: (5.36 m/s) / 1.1 = 4.87 m/s. The flown winch still pays out when the reference's recovery
-#: starts (it follows the glider, not the reference's instant reversal); a reference that then
-#: reels in at the drive's limit leaves it no speed to catch up: the nominal 12 m/s cycle's line
-#: ended each recovery 6, 10 and 15 m longer than planned (the drift adds up, the glider met the
-#: next generation off its path and paid 200-450 J more thrust a cycle)
-FLY_REEL_IN_MARGIN = 0.1
+#: the reel-in margin (``--reel-in-margin``): off by default. The flown winch still pays out
+#: when the reference's recovery starts (it follows the glider, not the reference's instant
+#: reversal); a reference that reels in at the drive's limit (5.36 m/s) leaves it no speed to
+#: catch up: the nominal 12 m/s cycle's line ended each recovery 6, 10 and 15 m longer than
+#: planned, and on the lumped line the drift cost 200-450 J of thrust a cycle, which a margin of
+#: 0.1 (4.87 m/s) removes (docs/design.md section 10). But the foldable glider's folded recovery
+#: needs the fast reel-in: at 8 m/s a margin of 0.1 costs it 1400 J a cycle (-4440 J against
+#: -3090 J flown), so it is an option (scripts/line_calibration.py sets 0.1), not a default
+FLY_REEL_IN_MARGIN = 0.0
 
 
 def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
@@ -115,10 +117,11 @@ def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] 
     # airspeed bound, Table 3's 5 m/s when None; ``margins``: Bounds fields ``tension_margin`` and
     # ``cl_margin`` (:func:`fdm_awe.commands.optimize.margin_bounds`; None: fly's defaults).
     if margins is None:
-        from .optimize import drive_reel_in_speed
+        margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN}
+        if FLY_REEL_IN_MARGIN > 0.0:
+            from .optimize import drive_reel_in_speed
 
-        margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN,
-                   "reel_in_speed_max": drive_reel_in_speed() / (1.0 + FLY_REEL_IN_MARGIN)}
+            margins["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + FLY_REEL_IN_MARGIN)
     m = dict(margins)
     return Bounds(phi_max=0.8, **m, **({} if gamma_max is None else {"gamma_max": gamma_max}),
                   **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
