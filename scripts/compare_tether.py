@@ -18,7 +18,17 @@ the drag of the whole line standing still in the wind, ``0.5 rho C_D_perp d_t l 
 standing in a cross wind puts half of it on each end). Writes JSON and a
 markdown table (default ``runs/compare_tether.json`` / ``.md``, atomically).
 
-Usage: python scripts/compare_tether.py [--cycles 2] [--models straight,lumped:10,lumped:30] [--json FILE]
+The fixed-weight fit (weight share held at 1/2, drag and wind shares fitted) and the recovery
+tension (the reel-in's work per metre reeled in) on ``lumped:30`` over the six stored sized-line
+references are the calibrated line model of the optimiser (``tether/calibrated`` of the
+ground-station definition)::
+
+    python scripts/compare_tether.py --cycles 2 --models straight,lumped:30 --references \
+        ref_physical_nominal_8mps_sized.json,ref_physical_foldable_8mps_sized.json,ref_physical_nominal_10mps_sized.json,\
+ref_physical_foldable_10mps_sized.json,ref_physical_nominal_12mps_sized.json,ref_physical_foldable_12mps_sized.json
+
+Usage: python scripts/compare_tether.py [--cycles 2] [--models straight,lumped:10,lumped:30] [--references LIST]
+[--json FILE]
 """
 
 from __future__ import annotations
@@ -39,10 +49,12 @@ REFERENCES = (("demo (nominal)", "ref_physical_nominal_8mps_sized.json"),
 MODELS = ("straight", "lumped:10", "lumped:30")
 
 
-def carried_shares(rep) -> tuple[float, float, float, float, float]:
+def carried_shares(rep) -> tuple[float, ...]:
     """Least-squares drag and weight shares of the line force on the glider over the cycling
     steps (see the module docstring), then the three shares of the fit that adds the drag of
-    the whole line standing still in the wind (``0.5 rho C_D_perp d_t l |w_perp| w_perp``)."""
+    the whole line standing still in the wind (``0.5 rho C_D_perp d_t l |w_perp| w_perp``), then
+    the drag and wind shares of that fit with the weight share held at the straight line's 1/2
+    (:func:`fixed_weight_fit`)."""
     from fdm_awe.groundstation import load_ground_station
 
     res = rep.result
@@ -66,7 +78,30 @@ def carried_shares(rep) -> tuple[float, float, float, float, float]:
     (a, b), *_ = np.linalg.lstsq(A, F.ravel(), rcond=None)
     A3 = np.stack([D.ravel(), W.ravel(), Dw.ravel()], axis=1)
     (a3, b3, c3), *_ = np.linalg.lstsq(A3, F.ravel(), rcond=None)
-    return float(a), float(b), float(a3), float(b3), float(c3)
+    a2, c2 = fixed_weight_fit(D, W, Dw, F, tp.weight_share)
+    return float(a), float(b), float(a3), float(b3), float(c3), a2, c2
+
+
+def fixed_weight_fit(D: np.ndarray, W: np.ndarray, Dw: np.ndarray, F: np.ndarray, weight_share: float) -> tuple[float, float]:
+    """Drag and wind shares ``(a, c)`` of the fit ``F = a D + weight_share W + c Dw`` (N, one row
+    per step, NED): the weight share held at the straight line's (1/2). Where the glider flies
+    downwind of the winch, the normal parts of the line's weight and of its drag in the wind
+    point the same way (down and downwind, normal to the line), so the free three-term fit
+    trades one against the other (its weight share came out negative); holding the weight's
+    moment share at 1/2 leaves the wind term what the straight line leaves out."""
+    A = np.stack([D.ravel(), Dw.ravel()], axis=1)
+    (a, c), *_ = np.linalg.lstsq(A, (F - weight_share * W).ravel(), rcond=None)
+    return float(a), float(c)
+
+
+def recovery_tension(res) -> float:
+    """The line tension at the winch while reeling in [N], as one number: the work of reeling in
+    per metre reeled in, ``int G |v| dt / int |v| dt`` over the recovery phases' reel-in (the
+    calibrated line model's ``recovery_tension``: the constant tension that costs the reel-in
+    the same mechanical work)."""
+    rec = (np.asarray(res.phase) == "recovery") & (res.reel_speed < 0.0)
+    v = -res.reel_speed[rec]
+    return float(np.sum(res.tension[rec] * v) / np.sum(v)) if np.any(v > 0) else float("nan")
 
 
 def fly_one(ref_file: str, model: str, cycles: int) -> dict:
@@ -80,9 +115,9 @@ def fly_one(ref_file: str, model: str, cycles: int) -> dict:
     done = [c for c in rep.cycles if c.complete]
     res = rep.result
     k = np.isfinite(rep.track_error)
-    a, b, a3, b3, c3 = carried_shares(rep)
+    a, b, a3, b3, c3, a2, c2 = carried_shares(rep)
     led = rep.ledger
-    row = {
+    row = {"recovery_tension_N": recovery_tension(res),
         "model": model, "status": rep.status, "cycles_complete": len(done),
         "E_net_J": float(np.mean([c.E_net_J for c in done])) if done else float("nan"),
         "E_generated_J": float(np.mean([c.E_generated_J for c in done])) if done else float("nan"),
@@ -93,6 +128,7 @@ def fly_one(ref_file: str, model: str, cycles: int) -> dict:
         "track_rms_m": float(np.sqrt(np.nanmean(rep.track_error[k] ** 2))),
         "track_max_m": float(np.nanmax(rep.track_error[k])),
         "drag_share": a, "weight_share": b, "fit3_drag_share": a3, "fit3_weight_share": b3, "fit3_wind_share": c3,
+        "fitw_drag_share": a2, "fitw_wind_share": c2,
         "ledger_residual_rel": rep.ledger_residual_rel,
         "line_drag_loss_J": led.get("line_drag_J"), "line_residual_J": led.get("line_residual_J"),
         "line_hook_work_J": led.get("line_hook_work_J"),
@@ -105,12 +141,13 @@ def fly_one(ref_file: str, model: str, cycles: int) -> dict:
 
 
 def markdown(rows: dict, cycles: int) -> str:
-    out = [f"Straight line against lumped line, 8 m/s references, {cycles} cycle(s) per flight (means over complete "
-           "cycles). Shares: least-squares fit of the glider's line force normal to the chord.", "",
+    out = [f"Straight line against lumped line, {cycles} cycle(s) per flight (means over complete "
+           "cycles). Shares: least-squares fit of the glider's line force normal to the chord; weight 1/2: the fit "
+           "with the weight share held at 1/2 (drag / wind); recovery tension: reel-in work per metre reeled in.", "",
            "| cycle | line | status | E_net J | E_gen J | E_thrust J | E_reel-in J | T peak winch N | F peak glider N "
-           "| track rms m | track max m | drag share | weight share | 3-term fit: drag / weight / wind | line drag loss J "
-           "| ledger rel |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+           "| track rms m | track max m | drag share | weight share | 3-term fit: drag / weight / wind | weight 1/2: drag / wind "
+           "| recovery tension N | line drag loss J | ledger rel |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for label, rs in rows.items():
         for r in rs:
             dl = r["line_drag_loss_J"]
@@ -119,6 +156,7 @@ def markdown(rows: dict, cycles: int) -> str:
                        f"{r['tension_peak_winch_N']:.1f} | {r['force_peak_glider_N']:.1f} | {r['track_rms_m']:.2f} | "
                        f"{r['track_max_m']:.1f} | {r['drag_share']:.3f} | {r['weight_share']:.3f} | "
                        f"{r['fit3_drag_share']:.3f} / {r['fit3_weight_share']:.2f} / {r['fit3_wind_share']:.3f} | "
+                       f"{r['fitw_drag_share']:.3f} / {r['fitw_wind_share']:.3f} | {r['recovery_tension_N']:.2f} | "
                        f"{'-' if dl is None else f'{dl:.0f}'} | {r['ledger_residual_rel']:.1e} |")
     return "\n".join(out) + "\n"
 
@@ -127,6 +165,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cycles", type=int, default=2, help="cycles per flight (1..10, default 2)")
     ap.add_argument("--models", default=",".join(MODELS), help="comma-separated line models")
+    ap.add_argument("--references", default=None, metavar="LIST",
+                    help="comma-separated reference files of tests/data to fly (default: the two 8 m/s cycles)")
     ap.add_argument("--json", default=os.path.join("runs", "compare_tether.json"),
                     help="output JSON file (default runs/compare_tether.json; its folder is made)")
     a = ap.parse_args(argv)
@@ -138,13 +178,16 @@ def main(argv: list[str] | None = None) -> int:
     for m in models:
         parse_tether(m)
     rows: dict[str, list[dict]] = {}
-    for label, f in REFERENCES:
+    refs = REFERENCES if a.references is None else [(f, f) for f in a.references.split(",")]
+    for label, f in refs:
         rows[label] = []
         for m in models:
             r = fly_one(f, m, a.cycles)
             rows[label].append(r)
             print(f"{label:>15} {m:>10}: {r['status']} net {r['E_net_J']:.0f} J, T peak {r['tension_peak_winch_N']:.1f} N, "
-                  f"track rms {r['track_rms_m']:.2f} m, shares drag {r['drag_share']:.3f} weight {r['weight_share']:.3f}",
+                  f"track rms {r['track_rms_m']:.2f} m, shares drag {r['drag_share']:.3f} weight {r['weight_share']:.3f}, "
+                  f"weight 1/2 fixed: drag {r['fitw_drag_share']:.3f} wind {r['fitw_wind_share']:.3f}, "
+                  f"recovery tension {r['recovery_tension_N']:.2f} N",
                   flush=True)
     md = markdown(rows, a.cycles)
     print(md)

@@ -54,8 +54,8 @@ from typing import Any, Callable
 from ..errors import EXIT_INTERRUPTED, InputError
 from ..fileio import write_json
 from . import _checks as chk
-from .optimize import (NOMINAL_DEFAULT_WHY, add_plant_model_args, add_smoothness_args, add_wind_profile_args,
-                       check_plant_args, smoothness_bounds, wind_profile_from_args)
+from .optimize import (NOMINAL_DEFAULT_WHY, add_margin_args, add_plant_model_args, add_smoothness_args,
+                       add_wind_profile_args, check_plant_args, margin_bounds, smoothness_bounds, wind_profile_from_args)
 
 # The modules of the work (the optimiser, JSBSim, numba, the recordings, MAVLink) are imported in
 # the functions that use them: the command line imports every command module at its start.
@@ -71,27 +71,59 @@ DEFAULT_SCENARIO = "physical"
 
 #: the options a reference fixes (only used when optimising): attribute -> option
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
-                   "line": "--line", "propeller": "--propeller", "line_weight": "--line-weight",
+                   "line": "--line", "line_model": "--line-model", "propeller": "--propeller", "line_weight": "--line-weight",
                    "generator": "--generator", "wind_profile": "--wind-profile",
                    "wind_ref_height": "--wind-ref-height", "v_min": "--v-min", "bank_rate_max": "--bank-rate-max",
-                   "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max"}
+                   "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max",
+                   "tension_margin": "--tension-margin", "stall_margin": "--stall-margin",
+                   "reel_in_margin": "--reel-in-margin"}
+
+
+#: the margins of a reference that ``fly`` optimises (``--tension-margin``, ``--stall-margin``):
+#: the stall margin keeps C_L at most 85 % of each wing's C_Lmax (the flyable margin the stored
+#: references were made with). The tension margin keeps the cycle's tension at most the 50 N
+#: rating / 1.25 = 40 N: the flown peaks of the stored sized-line cycles at 8-12 m/s, made with
+#: the whole rating, came to 1.15-1.32 x the optimum's peak in calm air (the catch at the start
+#: of generation) and up to 1.5 x in light turbulence (nominal 12 m/s: 74.7 N on a 50 N optimum),
+#: so 40 N keeps the flown peak at about 1.2 x the rating (60 N) in calm and light air
+FLY_TENSION_MARGIN = 0.25
+FLY_STALL_MARGIN = 0.15
+#: the reel-in margin (``--reel-in-margin``): off by default. The flown winch still pays out
+#: when the reference's recovery starts (it follows the glider, not the reference's instant
+#: reversal); a reference that reels in at the drive's limit (5.36 m/s) leaves it no speed to
+#: catch up: the nominal 12 m/s cycle's line ended each recovery 6, 10 and 15 m longer than
+#: planned, and on the lumped line the drift cost 200-450 J of thrust a cycle, which a margin of
+#: 0.1 (4.87 m/s) removes (docs/design.md section 10). But the foldable glider's folded recovery
+#: needs the fast reel-in: at 8 m/s a margin of 0.1 costs it 1400 J a cycle (-4440 J against
+#: -3090 J flown), so it is an option (scripts/line_calibration.py sets 0.1), not a default
+FLY_REEL_IN_MARGIN = 0.0
 
 
 def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
-                   v_min: float | None = None):
+                   v_min: float | None = None, margins: dict[str, float] | None = None):
     """The bounds of a reference that ``fly`` optimises to fly it (below), as a
     :class:`~fdm_awe.ocp.problem.Bounds`."""
     from ..ocp.problem import Bounds
 
     # A reference to be flown keeps margins the optimiser's own optimum does not: C_L at most
-    # 85 % of each wing's C_Lmax and the bank 0.2 rad inside the Table-3 limit, leaving the
-    # autopilot room to correct. ``gamma_max`` [rad] (--gamma-max) bounds the flight-path angle
-    # below Table 3's 1 rad: the paper nominal cycle at 3 m/s dives at -1 rad and climbs at +1 rad
-    # within its 9.8 s recovery, which the 6-DOF glider does not follow (it stalls in the
-    # climb); with 0.7 rad it is flown within 2 m RMS. ``smoothness``: the reference's rate and
-    # catch bounds given (--bank-rate-max, --alpha-rate-max, --catch-speed-max; none by default);
-    # ``v_min`` [m/s] (--v-min): the airspeed bound, Table 3's 5 m/s when None.
-    return Bounds(cl_margin=0.85, phi_max=0.8, **({} if gamma_max is None else {"gamma_max": gamma_max}),
+    # 85 % of each wing's C_Lmax (``margins``: --stall-margin, default FLY_STALL_MARGIN), the
+    # tension at most the rating / (1 + --tension-margin, default FLY_TENSION_MARGIN) and the bank
+    # 0.2 rad inside the Table-3 limit, leaving the autopilot room to correct. ``gamma_max`` [rad]
+    # (--gamma-max) bounds the flight-path angle below Table 3's 1 rad: the paper nominal cycle at
+    # 3 m/s dives at -1 rad and climbs at +1 rad within its 9.8 s recovery, which the 6-DOF glider
+    # does not follow (it stalls in the climb); with 0.7 rad it is flown within 2 m RMS.
+    # ``smoothness``: the reference's rate and catch bounds given (--bank-rate-max,
+    # --alpha-rate-max, --catch-speed-max; none by default); ``v_min`` [m/s] (--v-min): the
+    # airspeed bound, Table 3's 5 m/s when None; ``margins``: Bounds fields ``tension_margin`` and
+    # ``cl_margin`` (:func:`fdm_awe.commands.optimize.margin_bounds`; None: fly's defaults).
+    if margins is None:
+        margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN}
+        if FLY_REEL_IN_MARGIN > 0.0:
+            from .optimize import drive_reel_in_speed
+
+            margins["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + FLY_REEL_IN_MARGIN)
+    m = dict(margins)
+    return Bounds(phi_max=0.8, **m, **({} if gamma_max is None else {"gamma_max": gamma_max}),
                   **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
 
 
@@ -138,6 +170,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="minimum airspeed of the optimised reference, 1..20 m/s (default 5, Table 3's; not with "
                         "--reference): a margin above the open wing's stall speed")
     add_smoothness_args(p, prefix="when it optimises the reference (not with --reference): ")
+    add_margin_args(p, prefix="when it optimises the reference (not with --reference; a reference's own are shown): ",
+                    tension_default=FLY_TENSION_MARGIN, stall_default=FLY_STALL_MARGIN,
+                    reel_in_default=FLY_REEL_IN_MARGIN, why=", fly's flyable margins")
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
@@ -189,6 +224,7 @@ def _check(args: argparse.Namespace) -> None:
     chk.number(args.v_min, "--v-min", 1.0, 20.0, unit="m/s", what="minimum airspeed of the reference")
     chk.number(args.start_wind, "--start-wind", 0.0, 25.0, unit="m/s", what="wind of the first reference")
     smoothness_bounds(args)
+    margin_bounds(args)
     args.turbulence = chk.turbulence(args.turbulence)
     from ..groundstation.lumped import parse_tether
 
@@ -259,10 +295,12 @@ def reference_problem(args: argparse.Namespace):
     return CycleProblem(scenario=args.scenario, config=args.config,
                         wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
                         wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
-                        bounds=flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min),
+                        bounds=flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min,
+                                              margin_bounds(args, FLY_TENSION_MARGIN, FLY_STALL_MARGIN,
+                                                            FLY_REEL_IN_MARGIN)),
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
-                        generator=args.generator,
+                        generator=args.generator, line_model=args.line_model or "straight",
                         wind_profile=wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)).validate()
 
 
@@ -272,7 +310,9 @@ def optimise_reference(problem):
 
     b = problem.bounds
     print(f"optimising a {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s (flyable bounds: "
-          f"C_L <= {b.cl_margin:g} C_Lmax, |bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad, "
+          f"C_L <= {b.cl_margin:g} C_Lmax, tension <= {b.G_cycle_max:.3g} N (rating {b.G_max:g} N / "
+          f"{1 + b.tension_margin:g}), "
+          f"{'' if b.reel_in_speed_max is None else f'reel-in <= {b.reel_in_speed_max:.3g} m/s, '}|bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad, "
           f"V >= {b.V_min:g} m/s; "
           f"line drag x {problem.tether_drag_scale:g}{_smoothness_text(b)}) ...", file=sys.stderr)
     res = solve_cycle(problem)
@@ -347,6 +387,11 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
             ref_path = Path(args.reference or args.reference_flown)
             ref_label = str(ref_path)
         scale = flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
+        if refs is not None:  # what each reference was optimised with (after the checks: bad input stays one line)
+            for e in refs.entries:
+                print_reference_margins(e.reference.meta, e.source)
+        elif args.reference:
+            print_reference_margins(ref.meta, ref_label)
         from ..recording.stream import open_live
 
         live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
@@ -437,6 +482,14 @@ def _read_reference(args: argparse.Namespace) -> Any:
     args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
                                   else DEFAULT_CONFIG)
     return ref
+
+
+def print_reference_margins(meta: dict, source: object) -> None:
+    """One line on stderr: the margins the reference ``source`` (metadata ``meta``) was optimised
+    with and its line model (:func:`fdm_awe.trajectory.files.margins_text`)."""
+    from ..trajectory.files import margins_text
+
+    print(f"{source}: {margins_text(meta)}; line model {meta.get('line_model', 'straight')}", file=sys.stderr)
 
 
 def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any], str]:
@@ -616,6 +669,8 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
 
     doc = report.as_json()
     doc["reference"] = None if ref_path is None else str(ref_path)
+    doc["reference_margins"] = ref.meta.get("margins")  # as the reference recorded them (None: not recorded)
+    doc["reference_line_model"] = ref.meta.get("line_model", "straight")
     doc["references"] = getattr(args, "references", None)
     rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
     written: dict[str, object] = {}

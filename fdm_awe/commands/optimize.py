@@ -40,6 +40,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_plant_model_args(p)
     add_wind_profile_args(p)
     add_smoothness_args(p)
+    add_margin_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
                    help="collocation intervals in generation, recovery and the Radau degree (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help=f"successful starts to compare, 1..{MAX_STARTS} (default 1), on meshes solved "
@@ -73,7 +74,7 @@ def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis
     ``line_axis``: ``--line`` takes a comma list of line names (a sweep axis). ``generators``:
     the ``--generator`` choices (None: every generator of
     :data:`fdm_awe.ocp.problem.GENERATORS`; empty: no such option, the sweep's case)."""
-    from ..groundstation.line import LINES  # plain module: no CasADi import
+    from ..groundstation.line import LINE_MODELS, LINES  # plain module: no CasADi import
     from ..ocp.problem import GENERATORS, PROPELLERS
 
     gens = GENERATORS if generators is None else generators
@@ -95,6 +96,12 @@ def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis
                        help=prefix + "tether line of the ground-station definition: sized (sized for the 50 N rated "
                                      "tension x 4.5, 'fdm-awe info' shows it) or paper (Table 1's 0.72 mm line); "
                                      "default sized in the physical scenario, paper in the paper scenario")
+    p.add_argument("--line-model", choices=LINE_MODELS, default=None,
+                   help=prefix + "the line force on the glider in the physical scenario: straight (the default: the "
+                                 "glider carries 1/4 of the drag of the line moving like it and 1/2 of its weight, as "
+                                 "the ground station's straight line) or calibrated (the shares fitted to flights on "
+                                 "the lumped line, with the drag of the still line in the wind: a reference to be "
+                                 "flown on --tether lumped:N; tether/ground_station.xml holds the shares)")
     p.add_argument("--propeller", choices=PROPELLERS, default=None,
                    help=prefix + "propeller model of the physical scenario: engine, the 6-DOF glider's own motor and 9x5 "
                                  "propeller (what a flight draws; the default), or momentum, momentum theory + "
@@ -128,6 +135,72 @@ def add_smoothness_args(p: argparse.ArgumentParser, prefix: str = "") -> None:
                    help=prefix + "bound the speed at which the slack line goes taut at the end of recovery (the "
                                  f"glider's distance rate minus the reel speed), {_range(o['catch_speed_max'])} "
                                  "(default: any)")
+
+
+#: the margin options: Bounds field -> (option, lower, upper, what); the upper limits are the
+#: problem's (:data:`fdm_awe.ocp.problem.TENSION_MARGIN_MAX`, :data:`~fdm_awe.ocp.problem.STALL_MARGIN_MAX`)
+MARGIN_OPTIONS = {"tension_margin": "--tension-margin", "stall_margin": "--stall-margin"}
+
+
+def add_margin_args(p: argparse.ArgumentParser, prefix: str = "", tension_default: float = 0.0,
+                    stall_default: float = 0.0, why: str = "", reel_in: bool = True, reel_in_default: float = 0.0) -> None:
+    """``--tension-margin`` and ``--stall-margin``: the margins the optimised cycle keeps below
+    the line's rating and below the stall (:class:`fdm_awe.ocp.problem.Bounds`: ``tension_margin``
+    and ``cl_margin = 1 - stall margin``), each None (the command's default) unless given;
+    ``prefix`` opens the help texts, ``why`` ends the defaults' text; ``reel_in``: also
+    ``--reel-in-margin`` (:data:`REEL_IN_MARGIN_MAX`; ``Bounds.reel_in_speed_max`` = the drive's
+    fastest reel-in / (1 + M))."""
+    from ..ocp.problem import STALL_MARGIN_MAX, TENSION_MARGIN_MAX
+
+    p.add_argument("--tension-margin", type=float, default=None, metavar="M",
+                   help=prefix + "the cycle's line tension stays at most the 50 N rating / (1 + M), "
+                                 f"0..{TENSION_MARGIN_MAX:g} (default {tension_default:g}{why}): room for the catch "
+                                 "of the line and for gusts, which the flown cycle adds to the optimum's tension")
+    p.add_argument("--stall-margin", type=float, default=None, metavar="M",
+                   help=prefix + f"C_L stays at most (1 - M) x each wing's C_Lmax, 0..{STALL_MARGIN_MAX:g} "
+                                 f"(default {stall_default:g}{why})")
+    if reel_in:
+        p.add_argument("--reel-in-margin", type=float, default=None, metavar="M",
+                       help=prefix + "the cycle reels in at most the drive's fastest reel-in (slack line, full duty: "
+                                     f"'fdm-awe info') / (1 + M), 0..{REEL_IN_MARGIN_MAX:g} (default "
+                                     f"{reel_in_default:g}{why}): room for the flown winch to catch up after the "
+                                     "phase switch")
+
+
+def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_default: float = 0.0,
+                  reel_in_default: float = 0.0) -> dict[str, float]:
+    """The margins of ``--tension-margin`` / ``--stall-margin`` / ``--reel-in-margin`` (checked;
+    the defaults where not given) as :class:`~fdm_awe.ocp.problem.Bounds` fields
+    ``tension_margin``, ``cl_margin`` and, for a reel-in margin above 0, ``reel_in_speed_max``."""
+    from ..ocp.problem import STALL_MARGIN_MAX, TENSION_MARGIN_MAX
+    from . import _checks as chk
+
+    tm = chk.number(getattr(args, "tension_margin", None), "--tension-margin", 0.0, TENSION_MARGIN_MAX,
+                    what="tension margin below the rating")
+    sm = chk.number(getattr(args, "stall_margin", None), "--stall-margin", 0.0, STALL_MARGIN_MAX,
+                    what="stall margin (share of C_Lmax kept unused)")
+    out = {"tension_margin": tension_default if tm is None else tm,
+           "cl_margin": 1.0 - (stall_default if sm is None else sm)}
+    rm = chk.number(getattr(args, "reel_in_margin", None), "--reel-in-margin", 0.0, REEL_IN_MARGIN_MAX,
+                    what="reel-in speed margin below the drive's fastest")
+    rm = reel_in_default if rm is None else rm
+    if rm > 0.0:
+        out["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + rm)
+    return out
+
+
+#: largest ``--reel-in-margin``: the cycle may reel in at half the drive's fastest
+REEL_IN_MARGIN_MAX = 1.0
+
+
+def drive_reel_in_speed() -> float:
+    """The drive's fastest reel-in [m/s]: a slack line at full duty from the supply of the
+    ground-station definition (:func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`;
+    what the optimiser's reel-in bound is without a margin)."""
+    from ..groundstation import load_ground_station
+    from ..groundstation.steady import motor_max_reel_in_speed
+
+    return float(motor_max_reel_in_speed(0.0, load_ground_station()))
 
 
 def _range(spec: tuple) -> str:
@@ -196,6 +269,10 @@ def check_plant_args(args: argparse.Namespace, scenario: str | None = None) -> N
     if getattr(args, "line_weight", None):
         raise InputError(f"--line-weight: only the physical scenario has a line model (the {scn} scenario's line is "
                          f"massless)")
+    lm = getattr(args, "line_model", None)
+    if lm not in (None, "straight"):
+        raise InputError(f"--line-model {lm}: only the physical scenario has a line model (the {scn} scenario's line "
+                         f"has no drag; allowed straight)")
     gen = getattr(args, "generator", None)
     if gen is not None:
         raise InputError(f"--generator {gen}: only the physical scenario has a generator model (the {scn} scenario's "
@@ -272,13 +349,15 @@ def problem_from_args(args: argparse.Namespace):
                what="ground clearance")
     chk.number(args.t_max, "--t-max", 0.0, T_MAX_LIMIT, lo_open=True, unit="s", what="longest cycle")
     mesh = parse_mesh(args.mesh)
-    bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args))
+    bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args),
+                    **margin_bounds(args))
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
                         line=getattr(args, "line", None), generator=getattr(args, "generator", None),
-                        wind_profile=wind_profile_from_args(args)).validate()
+                        wind_profile=wind_profile_from_args(args),
+                        line_model=getattr(args, "line_model", None) or "straight").validate()
 
 
 def print_summary(res, file=sys.stdout) -> None:
@@ -297,13 +376,19 @@ def print_summary(res, file=sys.stdout) -> None:
           f"E_reel_in {s['E_reel_in_J']:9.1f} J", file=file)
     print(f"  E_net       {s['E_net_J']:9.1f} J   P_avg {s['P_avg_W']:8.2f} W "
           f"({'net gain' if s['E_net_J'] > 0 else 'net loss'})", file=file)
+    b = res.problem.bounds if res.problem is not None else None
+    if b is not None and (b.tension_margin or b.cl_margin < 1.0 or b.reel_in_speed_max is not None):
+        from ..trajectory.files import margins_record, margins_text
+
+        print(f"  margins: {margins_text({'margins': margins_record(b)})}", file=file)
 
 
 def plant_text(problem) -> str:
     """The plant model of ``problem`` in a few words: line, propeller, line weight."""
     if problem.scenario != "physical":
         return f"line {problem.line}"
-    return (f"line {problem.line}, propeller {problem.propeller}, "
+    return (f"line {problem.line}" + ("" if problem.line_model == "straight" else f" ({problem.line_model} model)")
+            + f", propeller {problem.propeller}, "
             f"line weight {'on' if problem.line_weight else 'off'}, generator {problem.generator}")
 
 

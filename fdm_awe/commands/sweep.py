@@ -62,10 +62,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "sized again from its material, so mass per length, breaking load and EA scale with d^2 "
                         "(a diameter whose breaking load falls below the 50 N rated tension is refused; default: as "
                         "defined, 'fdm-awe info' shows it)")
-    from .optimize import add_plant_model_args, add_wind_profile_args
+    from .optimize import add_margin_args, add_plant_model_args, add_wind_profile_args
 
     add_plant_model_args(p, line_axis=True, generators=())
     add_wind_profile_args(p, prefix="every point: ")
+    add_margin_args(p, prefix="every point: ", reel_in=False)
     p.add_argument("--workers", type=int, default=None,
                    help=f"local Dask worker processes, 1..{MAX_WORKERS} (default: number of cores; not with --scheduler)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
@@ -159,10 +160,11 @@ def build_spec(args: argparse.Namespace):
     configs = parse_names(args.config, "--config", CONFIGS)
     designs = design_axes(args)
 
-    from .optimize import check_plant_args, wind_profile_from_args
+    from .optimize import check_plant_args, margin_bounds, wind_profile_from_args
 
     check_plant_args(args)
     profile = wind_profile_from_args(args)
+    margins = margin_bounds(args)
     diameters: tuple = (None,)
     if getattr(args, "line_diameter", None) is not None:
         from ..sweep.design import line_station
@@ -187,6 +189,8 @@ def build_spec(args: argparse.Namespace):
         # --cold has no warm starts to check: its points keep the ids of points without the check
         cold_check=not (getattr(args, "no_cold_check", False) or getattr(args, "cold", False)),
         wind_profile=profile.label(),
+        tension_margin=margins["tension_margin"], stall_margin=float(args.stall_margin or 0.0),  # checked above
+        line_model=getattr(args, "line_model", None) or "straight",
     ).validate()
     return canonical_spec(spec)
 

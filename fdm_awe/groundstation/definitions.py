@@ -51,6 +51,21 @@ class TetherParams:
     rated_tension: float | None = None  #: working tension the line is rated for, N
     material: LineMaterial | None = None  #: what a sized line is made of (None: section as stated)
     sizing: LineSizing | None = None  #: what a sized line was sized for (None: section as stated)
+    #: the optimiser's calibrated straight-line model (``tether/calibrated``, one per glider
+    #: configuration, :mod:`.line`): ``(config, drag share, weight share, wind share, recovery
+    #: tension N)`` each: the glider's shares of the line drag from its own air velocity, of the
+    #: line weight and of the drag of the still line in the wind, and the line tension at the
+    #: winch while reeling in, fitted to flights on the lumped line (none: the straight line's)
+    calibrated: tuple[tuple[str, float, float, float, float], ...] = ()
+
+    def calibrated_line(self, config: str) -> tuple[float, float, float, float]:
+        """The calibrated model's (drag share, weight share, wind share, recovery tension N) of
+        the glider configuration ``config``; the straight line's (1/4, 1/2, 0, 0 N) where the
+        definition holds none for it."""
+        for c, *values in self.calibrated:
+            if c == config:
+                return tuple(values)  # type: ignore[return-value]
+        return (0.25, 0.5, 0.0, 0.0)
 
     @property
     def safety_factor(self) -> float | None:
@@ -297,11 +312,37 @@ def _read_tether(doc: XmlDoc, name: str) -> TetherParams:
         rated_tension=rated,
         material=material,
         sizing=sizing,
+        calibrated=_calibrated(doc),
     )
     if tether.max_length <= tether.min_length:
         raise DefinitionError(doc.path, "tether/max_length",
                               f"value {tether.max_length:g} must exceed tether/min_length {tether.min_length:g}")
     return tether
+
+
+#: the glider configurations a ``tether/calibrated`` block names (the reference files' configurations)
+CALIBRATED_CONFIGS = ("nominal", "foldable")
+
+
+def _calibrated(doc: XmlDoc) -> tuple[tuple[str, float, float, float, float], ...]:
+    """The ``tether/calibrated`` blocks (optional; at most one per configuration, named by their
+    ``config`` attribute): drag, weight and wind shares (0..1 each) and the recovery tension
+    (N, >= 0) of the optimiser's calibrated line model."""
+    out: list[tuple[str, float, float, float, float]] = []
+    for el in doc.root.findall("tether/calibrated"):
+        config = el.attrib.get("config")
+        where = f"tether/calibrated[{config}]"
+        if config not in CALIBRATED_CONFIGS:
+            raise DefinitionError(doc.path, "tether/calibrated",
+                                  f"config attribute {config!r} not allowed (allowed {', '.join(CALIBRATED_CONFIGS)})")
+        if any(c == config for c, *_ in out):
+            raise DefinitionError(doc.path, where, "defined twice (allowed once per configuration)")
+        values = []
+        for tag, unit, hi in (("drag_share", "ND", 1.0), ("weight_share", "ND", 1.0), ("wind_share", "ND", 1.0),
+                              ("recovery_tension", "N", 1e4)):
+            values.append(_element_value(doc.path, f"{where}/{tag}", _child(doc.path, el, where, tag), unit, lo=0.0, hi=hi))
+        out.append((config, *values))  # type: ignore[arg-type]
+    return tuple(out)
 
 
 def _read_winch(doc: XmlDoc) -> WinchParams:

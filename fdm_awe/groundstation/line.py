@@ -38,6 +38,16 @@ from ..pointmass.aero import tether_drag_coefficient
 if TYPE_CHECKING:  # pragma: no cover - typing only (definitions imports this module)
     from .definitions import GroundStationParams, TetherParams
 
+#: the optimiser's models of the line force on the glider (``CycleProblem.line_model``):
+#: ``straight``, the straight line's shares (the glider carries 1/4 of the drag of the whole
+#: line moving like it, from its own air velocity, and 1/2 of the line's weight: the ground
+#: station's straight line); ``calibrated``, the shares fitted to flights on the lumped line,
+#: with the share of the drag of the still line in the wind that the straight line leaves out
+#: (``tether/calibrated`` of the ground-station definition, its provenance there)
+LINE_MODELS = ("straight", "calibrated")
+#: the glider's share of the line drag in the straight line model (the ``4`` of ``C_D,t``)
+STRAIGHT_DRAG_SHARE = 0.25
+
 #: line names a ground-station definition holds and a caller may select
 LINES = ("sized", "paper")
 #: the line of :func:`fdm_awe.groundstation.load_ground_station` when none is named
@@ -46,6 +56,14 @@ DEFAULT_LINE = "sized"
 TEX = 1e-6
 #: N m/kg per N/tex (specific strength and modulus: 1 N/tex = 1 N / TEX)
 N_PER_TEX = 1e6
+
+
+def check_line_model(model: object, what: str = "line_model") -> str:
+    """``model`` if it names a line model of :data:`LINE_MODELS`, else a one-line
+    :class:`~fdm_awe.errors.InputError` naming the field ``what`` and the allowed names."""
+    if not isinstance(model, str) or model not in LINE_MODELS:
+        raise InputError(f"{what} {model!r} unknown (allowed: {', '.join(LINE_MODELS)})")
+    return model
 
 
 def check_line(line: object, what: str = "line") -> str:

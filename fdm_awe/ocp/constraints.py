@@ -5,8 +5,9 @@
   bank, thrust, tension, reel-in speed); a fold transition interval's angle of attack is bounded
   by the stall limits of every wing it passes through;
 - path constraints at the phase start and every collocation point (:func:`point_path`,
-  :func:`add_path`): ``ddot >= 0`` and, where tension follows the generator, ``G <= G_max``
-  in generation (the ``ideal`` generator: a current of one direction); ``d <= l`` in recovery;
+  :func:`add_path`): ``ddot >= 0`` and, where tension follows the generator, ``G`` at most
+  the cycle's tension bound ``G_max / (1 + tension_margin)`` (:attr:`Bounds.G_cycle_max`: the
+  rating less the margin for the catch and gusts) in generation (the ``ideal`` generator: a current of one direction); ``d <= l`` in recovery;
   in the ``physical`` scenario the thrust at most what the propeller gives at the airspeed
   (``T <= T_avail(V)`` from the aircraft definition);
 - boundaries (:func:`add_boundaries`): start position fixed, ``d(T_1) = d_tf``, continuity
@@ -70,7 +71,7 @@ def control_bounds(model: CycleModel, bnd: Bounds, ip: int, T_max: float, v_in: 
     a_hi = model.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
     a_lo = model.alpha_lower(ip, bnd.alpha_max, bnd.cl_margin)
     return {"alpha": (a_lo, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
-            "G": (bnd.G_min, bnd.G_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0),
+            "G": (bnd.G_min, bnd.G_cycle_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0),
             "D2": (0.0, model.winch.boost_duty_max)}
 
 
@@ -107,7 +108,7 @@ def add_path(cs: Constraints, model: CycleModel, bnd: Bounds, ip: int, path: Any
     if ip == 0:
         cs.add(path[0] / 5.0, 0.0, ca.inf, f"ddot_{tag}")
         if not model.scenario.tension_control:
-            cs.add(path[1] / 30.0, bnd.G_min / 30.0, bnd.G_max / 30.0, f"G_{tag}")
+            cs.add(path[1] / 30.0, bnd.G_min / 30.0, bnd.G_cycle_max / 30.0, f"G_{tag}")
         if model.scenario.generator == "ideal":
             cs.add(path[2] / 10.0, 0.0, ca.inf, f"current_{tag}")
     else:

@@ -59,6 +59,11 @@ class WinchElectrics:
     gs_params: Any = None  #: the full ground-station parameters, when read from the definition
     R_load: float | None = None  #: the load resistor itself [ohm] (None: R_L, a definition without boost duty)
     boost_duty_max: float = 0.0  #: largest T2 duty of the generator mode [-] (the converter definition's)
+    #: weight per metre of the whole paid-out line, mass per length x g [N/m]
+    line_weight_total_per_length: float = 0.0
+    #: the calibrated line model per glider configuration (the definition's ``tether/calibrated``:
+    #: :attr:`fdm_awe.groundstation.definitions.TetherParams.calibrated`)
+    calibrated: tuple = ()
 
     @classmethod
     def from_ground_station(cls, params: Any = None, line: str | None = None) -> "WinchElectrics":
@@ -74,11 +79,21 @@ class WinchElectrics:
         return cls(r_w=w.radius, B=w.viscous_friction, M_c=w.coulomb_friction, K_e=m.k, K_t=m.k, R=m.resistance,
                    U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,
                    tether_cd_perp=t.cd_perpendicular, line_weight_per_length=t.weight_share * t.mass_per_length * t.gravity,
-                   gs_params=gs, R_load=c.load_resistance, boost_duty_max=c.boost_duty_max)
+                   gs_params=gs, R_load=c.load_resistance, boost_duty_max=c.boost_duty_max,
+                   line_weight_total_per_length=t.mass_per_length * t.gravity,
+                   calibrated=tuple(getattr(t, "calibrated", ())))
 
     @property
     def R_sum(self) -> float:
         return self.R + self.R_L
+
+    def calibrated_line(self, config: str) -> tuple[float, float, float, float]:
+        """The calibrated line model of glider configuration ``config``: drag, weight and wind
+        shares [-] and the recovery tension [N] (the straight line's where none is defined)."""
+        for c, *values in self.calibrated:
+            if c == config:
+                return tuple(values)  # type: ignore[return-value]
+        return (0.25, 0.5, 0.0, 0.0)
 
     def reel_in_speed_max(self) -> float:
         """Largest reel-in speed [m/s] the motor reaches at full duty with a slack tether."""
@@ -137,14 +152,19 @@ def ideal_generator_power(G: Any, v_reel: Any, w: WinchElectrics) -> Any:
     return (w.K_e * omega - 2 * w.U_d) * i - w.R * i * i
 
 
-def motor_supply_power(v_reel: Any, w: WinchElectrics) -> Any:
-    """Power drawn from the supply [W] reeling in at ``v_reel <= 0`` [m/s] with a slack tether.
+def motor_supply_power(v_reel: Any, w: WinchElectrics, tension: float = 0.0) -> Any:
+    """Power drawn from the supply [W] reeling in at ``v_reel <= 0`` [m/s] with a slack tether
+    (``tension`` 0) or against the line tension ``tension`` [N] at the winch (the calibrated
+    line model's recovery tension).
 
     Uses :func:`fdm_awe.groundstation.steady.motor_steady` when the ground-station definition
     is at hand (the same relation the co-simulation's ground station is built on).
     """
     if w.gs_params is not None:
-        return motor_steady(-v_reel, 0.0, w.gs_params).p_supply
+        return motor_steady(-v_reel, tension, w.gs_params).p_supply
+    if tension:
+        i = motor_current(v_reel, w) + w.r_w * tension / w.K_t
+        return (w.K_e * (-v_reel / w.r_w) + w.R * i + 2 * w.U_d) * i
     return motor_voltage(v_reel, w) * motor_current(v_reel, w)
 
 

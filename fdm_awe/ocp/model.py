@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from ..pointmass import mathops as mo
+from ..groundstation.line import STRAIGHT_DRAG_SHARE
 from ..pointmass.aero import fold_blend, tether_drag_coefficient
 from ..pointmass.fold import fold_fraction  # the fold law, one source with the autopilot
 from ..definitions.aircraft import FOLD_TIME_MAX_S, AeroParams, Airframe, Glider, aircraft_path
@@ -102,6 +103,18 @@ class CycleModel:
     motor_off: bool = False
     #: wind speed over height (module docstring); the blocks' wind is the reference height's
     wind_profile: WindProfile = WindProfile()
+    #: the glider's share of the drag of the whole line moving like it (line model, module
+    #: docstring): the straight line's 1/4, or the calibrated model's
+    line_drag_share: float = STRAIGHT_DRAG_SHARE
+    #: the glider's share of the drag of the whole line standing still in the wind (0: the
+    #: straight line, which leaves it out)
+    line_wind_share: float = 0.0
+    #: the line's weight the glider carries per metre of paid-out line [N/m] (None: the winch's
+    #: ``line_weight_per_length``, the straight line's share)
+    line_weight_per_length: float | None = None
+    #: the line tension at the winch while reeling in [N] (calibrated model; 0: the slack
+    #: straight line): the reel-in pays it
+    line_recovery_tension: float = 0.0
 
     @classmethod
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
@@ -113,9 +126,15 @@ class CycleModel:
         if foldable:
             t = getattr(problem, "fold_time", None)
             fold_time = definition_fold_time(Path(glider.unfolded.source).resolve().parents[2]) if t is None else float(t)
+        line: dict[str, Any] = {}
+        if getattr(problem, "line_model", "straight") == "calibrated":
+            a, b, c, g_rec = winch.calibrated_line(problem.config)
+            line = {"line_drag_share": float(a), "line_wind_share": float(c),
+                    "line_weight_per_length": float(b) * winch.line_weight_total_per_length,
+                    "line_recovery_tension": float(g_rec)}
         return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive,
                    line_weight=problem.line_weight, fold_time=fold_time, motor_off=spec.propeller in MOTOR_OFF_MODELS,
-                   wind_profile=getattr(problem, "wind_profile", None) or WindProfile())
+                   wind_profile=getattr(problem, "wind_profile", None) or WindProfile(), **line)
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
@@ -211,6 +230,8 @@ class CycleModel:
             return 0.0, 0.0
         w = self.winch
         cdt = drag_factor * self.tether_drag_scale * tether_drag_coefficient(length, w.tether_diameter, w.tether_cd_perp, aero.S)
+        if self.line_drag_share != STRAIGHT_DRAG_SHARE:  # the calibrated line model's share
+            cdt = cdt * (self.line_drag_share / STRAIGHT_DRAG_SHARE)
         V, gamma, psi = x[3], x[4], x[5]
         cg = mo.cos(gamma)
         va = (V * cg * mo.cos(psi), V * cg * mo.sin(psi), -V * mo.sin(gamma))
@@ -227,7 +248,29 @@ class CycleModel:
 
     def _line_weight(self, length: Any) -> Any:
         """Downward force [N] of the line's weight share on the glider at paid-out ``length`` [m]."""
-        return self.winch.line_weight_per_length * length if self.line_weight else 0.0
+        if not self.line_weight:
+            return 0.0
+        per_m = self.winch.line_weight_per_length if self.line_weight_per_length is None else self.line_weight_per_length
+        return per_m * length
+
+    def _line_wind_force(self, x: Sequence[Any], d: Any, length: Any, wind: Sequence[Any], drag_factor: Any) -> list[Any] | None:
+        """The glider's share of the drag of the whole line standing still in the wind, NED [N]
+        (the calibrated line model; None where the model has none):
+        ``c 0.5 rho C_D_perp d_t l |w_n| w_n`` with ``c`` :attr:`line_wind_share`, ``l`` the
+        paid-out ``length`` [m] and ``w_n`` the wind normal to the line (the wind at the line's
+        height, :func:`fdm_awe.wind.line_height`, for a profile; ``wind`` the reference height's,
+        north and east [m/s]); ``drag_factor`` and the line-drag factor scale it with the line's
+        other drag. It pushes the glider downwind, normal to the line; the straight line's share,
+        taken from the glider's air velocity, leaves it out."""
+        if self.line_wind_share <= 0.0 or not self.scenario.tether_drag:
+            return None
+        w = self.winch
+        wx, wy = self.wind_profile.wind_at((wind[0], wind[1]), line_height(-x[2]))
+        w_r = (x[0] * wx + x[1] * wy) / d  # the wind along the line (away from the winch)
+        w_n = (wx - w_r * x[0] / d, wy - w_r * x[1] / d, -w_r * x[2] / d)
+        mag = mo.sqrt(w_n[0] * w_n[0] + w_n[1] * w_n[1] + w_n[2] * w_n[2] + TETHER_VN_EPS**2)
+        k = drag_factor * self.tether_drag_scale * self.line_wind_share * 0.5 * self.rho * w.tether_cd_perp * w.tether_diameter
+        return [k * length * mag * c for c in w_n]
 
     def _thrust_power(self, T: Any, V: Any, s: Any = None) -> Any:
         """Drive power [W] at thrust ``T`` (while the motor runs) and airspeed ``V``; ``s`` the
@@ -252,7 +295,8 @@ class CycleModel:
             G = generator_tension(ddot, self.winch, duty)
         cd_t, G_t = self._tether_drag(self.gen_airframe.aero, x, d, d, drag_factor, dw)
         on = self.on_fraction(0, u)
-        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(0, u), G + G_t), cd_t, self._line_weight(d))
+        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(0, u), G + G_t), cd_t, self._line_weight(d),
+                        self._line_wind_force(x, d, d, wind, drag_factor))
         if self.scenario.electrical and self.scenario.generator == "ideal":
             P_gen = ideal_generator_power(G, ddot, self.winch)
         elif self.scenario.electrical:
@@ -295,9 +339,10 @@ class CycleModel:
         d = mo.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
         v_reel = u[3]
         cd_t, G_t = self._tether_drag(aero, x, d, l, drag_factor, dw)
-        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(1, u), G_t), cd_t, self._line_weight(l))
+        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(1, u), G_t), cd_t, self._line_weight(l),
+                        self._line_wind_force(x, d, l, wind, drag_factor))
         if self.scenario.electrical:
-            P_rw = motor_supply_power(v_reel, self.winch)
+            P_rw = motor_supply_power(v_reel, self.winch, self.line_recovery_tension)
         else:
             P_rw = self.scenario.P_rw + 0.0 * x[3]
         return {"f": [*f, v_reel], "G": 0.0 * x[3], "v_reel": v_reel, "d": d, "l": l, "P_gen": 0.0 * x[3],

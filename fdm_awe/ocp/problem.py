@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, fields, replace
 
 from ..definitions.aircraft import FOLD_TIME_MAX_S
 from ..errors import InputError
-from ..groundstation.line import check_line
+from ..groundstation.line import check_line, check_line_model
 from ..groundstation.tether import check_tether_drag_scale
 from ..trajectory.schema import CONFIGS, GENERATORS, PROPELLERS, SCENARIOS
 from ..wind import WindProfile
@@ -70,6 +70,12 @@ class Scenario:
         raise InputError(f"scenario {name!r} unknown (allowed: {', '.join(SCENARIOS)})")
 
 
+#: largest tension margin (``Bounds.tension_margin``): the cycle's bound at least a fifth of the rating
+TENSION_MARGIN_MAX = 4.0
+#: largest stall margin (``1 - Bounds.cl_margin``): the cycle keeps at least 30 % of C_Lmax usable
+STALL_MARGIN_MAX = 0.7
+
+
 @dataclass(frozen=True)
 class Bounds:
     """Path and time bounds (Table 3 plus the corrections of docs/design.md section 4).
@@ -96,6 +102,11 @@ class Bounds:
     #: be reproduced by integrating its controls)
     gamma_max: float = 1.0
     cl_margin: float = 1.0  #: usable share of C_Lmax (1 = up to stall); < 1 keeps a margin for a reference to be flown
+    #: tension margin below the rating ``G_max`` [-]: the cycle's tension stays at most
+    #: ``G_max / (1 + tension_margin)`` (:attr:`G_cycle_max`), leaving room for what the flown
+    #: cycle adds to the optimum's tension (the catch of the line at the phase switch, gusts).
+    #: 0: the optimiser may use the whole rating
+    tension_margin: float = 0.0
     #: how fast the reference may change its bank [rad/s] and its angle of attack [rad/s]: each
     #: control's change between neighbouring intervals, across both phase switches too, at most
     #: the rate times the mean of the two intervals' lengths (None: unbounded, the optimiser's
@@ -107,6 +118,17 @@ class Bounds:
     #: rate minus the reel speed of the last interval (None: any speed; the point mass switches
     #: to the generator's tension at once, the elastic line of the 6-DOF plant snaps taut)
     catch_speed_max: float | None = None
+
+    @property
+    def G_cycle_max(self) -> float:
+        """The cycle's tension bound [N]: the rating ``G_max`` over ``1 + tension_margin``."""
+        return self.G_max / (1.0 + self.tension_margin)
+
+    @property
+    def stall_margin(self) -> float:
+        """The stall margin [-]: the share of each wing's C_Lmax the cycle keeps unused,
+        ``1 - cl_margin`` (to 12 digits: 0.85 gives 0.15, not 0.15000000000000002)."""
+        return round(1.0 - self.cl_margin, 12)
 
     def validate(self) -> None:
         def pos(name: str, v: float) -> None:
@@ -122,7 +144,12 @@ class Bounds:
         if self.phi_max >= math.pi / 2:
             raise InputError(f"phi_max = {self.phi_max:g} rad out of range (allowed 0 < phi_max < pi/2)")
         if not (math.isfinite(self.cl_margin) and 0.3 <= self.cl_margin <= 1.0):
-            raise InputError(f"cl_margin = {self.cl_margin!r} out of range (allowed 0.3 .. 1)")
+            raise InputError(f"cl_margin = {self.cl_margin!r} out of range (allowed {1 - STALL_MARGIN_MAX:g} .. 1: "
+                             f"a stall margin of 0 .. {STALL_MARGIN_MAX:g})")
+        if not (isinstance(self.tension_margin, (int, float)) and math.isfinite(self.tension_margin)
+                and 0.0 <= self.tension_margin <= TENSION_MARGIN_MAX):
+            raise InputError(f"tension_margin = {self.tension_margin!r} out of range (allowed 0 .. {TENSION_MARGIN_MAX:g}: "
+                             f"the cycle's tension bound G_max / (1 + margin))")
         if self.gamma_max >= math.pi / 2:
             raise InputError(f"gamma_max = {self.gamma_max:g} rad out of range (allowed 0 < gamma_max < pi/2)")
         if self.T_max is not None and not (math.isfinite(self.T_max) and self.T_max >= 0):
@@ -221,6 +248,11 @@ class CycleProblem:
     #: paper's), ``log`` (roughness length) or ``power`` (exponent), each with the reference
     #: height at which ``wind_speed`` holds. The ``paper`` scenario's wind is uniform
     wind_profile: WindProfile = field(default_factory=WindProfile)
+    #: the line force on the glider (physical scenario, :data:`fdm_awe.groundstation.line.LINE_MODELS`):
+    #: ``straight`` (the straight line's 1/4 drag and 1/2 weight shares, the ground station's
+    #: straight line) or ``calibrated`` (the shares fitted to flights on the lumped line, with the
+    #: still line's drag in the wind: ``tether/calibrated`` of the ground-station definition)
+    line_model: str = "straight"
 
     def __post_init__(self) -> None:
         # None = the scenario's default; an unknown scenario is left for validate() to name
@@ -249,6 +281,10 @@ class CycleProblem:
             raise InputError(f"azimuth0 = {self.azimuth0_deg!r} deg out of range (allowed |azimuth| < 90)")
         check_tether_drag_scale(self.tether_drag_scale)
         check_line(self.line, "line")
+        check_line_model(self.line_model, "line_model")
+        if self.line_model != "straight" and self.scenario != "physical":
+            raise InputError(f"line_model {self.line_model!r}: only the physical scenario has a line model (the paper's "
+                             f"line has no drag; allowed straight)")
         if not isinstance(self.line_weight, bool):
             raise InputError(f"line_weight {self.line_weight!r} invalid (allowed true or false)")
         if self.propeller is not None:

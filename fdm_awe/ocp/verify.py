@@ -167,7 +167,7 @@ def _dense_check(model: CycleModel, pr: Any, rows: list, wind: tuple[float, floa
         viol["h_min"] = max(viol["h_min"], b.h_min + s[2])
         if ip == 0:
             viol["ddot"] = max(viol["ddot"], -float(out["v_reel"]))
-            viol["tension"] = max(viol["tension"], float(out["G"]) - b.G_max, b.G_min - float(out["G"]))
+            viol["tension"] = max(viol["tension"], float(out["G"]) - b.G_cycle_max, b.G_min - float(out["G"]))
         else:
             viol["slack"] = max(viol["slack"], float(out["d"] - out["l"]))
     return {k: max(v, 0.0) for k, v in viol.items()}

@@ -65,26 +65,32 @@ class PointMassModel:
     aero: AeroParams
     env: Environment = Environment()
 
-    def forces(self, x: Sequence[Any], u: Sequence[Any], cd_extra: Any = 0.0) -> dict[str, Any]:
-        """Lift, drag [N] and the tether force in N and C components [N]."""
+    def forces(self, x: Sequence[Any], u: Sequence[Any], cd_extra: Any = 0.0,
+               f_line: Sequence[Any] | None = None) -> dict[str, Any]:
+        """Lift, drag [N] and the tether force in N and C components [N]; ``f_line`` a further
+        line force on the glider, NED [N] (None: none), added to the tension's."""
         px, py, pz, V, gamma, psi = x
         alpha, phi, T, G = u
         L, D = lift_drag(V, alpha, self.aero, self.env.rho, cd_extra)
         e = tether_direction_ned(px, py, pz)
         G_n = [G * e[0], G * e[1], G * e[2]]
+        if f_line is not None:
+            G_n = [G_n[i] + f_line[i] for i in range(3)]
         G_c = n_to_c(G_n, gamma, psi, phi)
         return {"L": L, "D": D, "G_n": G_n, "G_c": G_c}
 
-    def dynamics(self, x: Sequence[Any], u: Sequence[Any], cd_extra: Any = 0.0, f_down: Any = 0.0) -> list[Any]:
+    def dynamics(self, x: Sequence[Any], u: Sequence[Any], cd_extra: Any = 0.0, f_down: Any = 0.0,
+                 f_line: Sequence[Any] | None = None) -> list[Any]:
         """State derivative (eq. 13 corrected) as a list of 6 expressions. ``f_down`` [N] an
         extra downward force on the glider that adds no mass (e.g. the share of the line's
-        weight it carries): it enters like gravity, ``g + f_down / m``."""
+        weight it carries): it enters like gravity, ``g + f_down / m``. ``f_line`` a further
+        line force, NED [N] (e.g. the share of the still line's drag in the wind; None: none)."""
         px, py, pz, V, gamma, psi = x
         alpha, phi, T, G = u
         m, g = self.mass, self.env.g
         if not (isinstance(f_down, (int, float)) and f_down == 0.0):
             g = g + f_down / m
-        f = self.forces(x, u, cd_extra)
+        f = self.forces(x, u, cd_extra, f_line)
         L, D = f["L"], f["D"]
         Gxc, Gyc, Gzc = f["G_c"]
         cg, sg = mo.cos(gamma), mo.sin(gamma)

@@ -40,6 +40,7 @@ RECORD_FIELDS = (
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
     "line_d_m", "line_mu_kg_per_m", "line_breaking_load_N",
     "cold_check", "kept", "P_warm_W", "P_cold_W", "family", "cold_family", "wind_profile",
+    "tension_margin", "stall_margin", "line_model",
 )
 
 #: |warm - cold| [W] above which a point's two solutions count as different in the summary
@@ -136,17 +137,20 @@ def point_glider(point: Point) -> Any:
 def point_problem(point: Point) -> Any:
     """The :class:`~fdm_awe.ocp.problem.CycleProblem` of ``point`` (a resized line's numbers are
     in :func:`point_winch`, not in the problem)."""
-    from ..ocp.problem import CycleProblem, Mesh
+    from ..ocp.problem import Bounds, CycleProblem, Mesh
     from ..wind import WindProfile
 
     n_gen, n_rec, deg = point.mesh
+    margins = {} if not (point.tension_margin or point.stall_margin) else {
+        "bounds": Bounds(tension_margin=point.tension_margin, cl_margin=1.0 - point.stall_margin)}
     # a point's propeller None is momentum theory in the physical scenario (the model before the choice)
     prop = point.propeller or ("momentum" if point.scenario == "physical" else None)
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
                         d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=prop,
                         line_weight=point.line_weight, line=point.line,
                         fold_time=point.fold_time if point.config == "foldable" else None,
-                        wind_profile=WindProfile.parse(point.wind_profile, option="point wind profile"))
+                        wind_profile=WindProfile.parse(point.wind_profile, option="point wind profile"),
+                        line_model=point.line_model, **margins)
 
 
 @functools.lru_cache(maxsize=16)
@@ -176,7 +180,8 @@ def base_record(point: Point) -> dict[str, Any]:
                 "warm_fallback": point.warm_fallback,
                 "propeller": point.propeller or ("momentum" if point.scenario == "physical" else "paper"),
                 "line_weight": point.line_weight, "line": point.line, "line_diameter_m": point.line_diameter,
-                "wind_profile": point.wind_profile})
+                "wind_profile": point.wind_profile, "tension_margin": point.tension_margin,
+                "stall_margin": point.stall_margin, "line_model": point.line_model})
     return rec
 
 

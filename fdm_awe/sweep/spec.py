@@ -100,7 +100,7 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 #: of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
                 "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False,
-                "wind_profile": "uniform"}
+                "wind_profile": "uniform", "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight"}
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -135,6 +135,12 @@ class Point:
     #: wind speed over height (:meth:`fdm_awe.wind.WindProfile.label`: ``uniform``, ``log:Z0@H``
     #: or ``power:ALPHA@H``); ``wind`` is the speed at the reference height H
     wind_profile: str = "uniform"
+    #: the cycle's margins (:class:`fdm_awe.ocp.problem.Bounds`): tension bound rating / (1 +
+    #: ``tension_margin``), C_L at most (1 - ``stall_margin``) C_Lmax; 0: none (as before them)
+    tension_margin: float = 0.0
+    stall_margin: float = 0.0
+    #: the optimiser's line model (:data:`fdm_awe.groundstation.line.LINE_MODELS`)
+    line_model: str = "straight"
 
     @property
     def id(self) -> str:
@@ -165,6 +171,10 @@ class Point:
         parts.append(f"line={self.line}" + ("" if self.line_diameter is None else f"@{self.line_diameter * 1e3:.3g}mm"))
         if self.wind_profile != "uniform":
             parts.append(f"wind={self.wind_profile}")
+        if self.tension_margin or self.stall_margin:
+            parts.append(f"margins={self.tension_margin:g}/{self.stall_margin:g}")
+        if self.line_model != "straight":
+            parts.append(f"line_model={self.line_model}")
         return " ".join(parts)
 
 
@@ -195,6 +205,10 @@ class SweepSpec:
     #: wind profile of every point (:meth:`fdm_awe.wind.WindProfile.label`; ``winds`` are the
     #: speeds at its reference height)
     wind_profile: str = "uniform"
+    #: every point's margins and line model (:class:`Point`)
+    tension_margin: float = 0.0
+    stall_margin: float = 0.0
+    line_model: str = "straight"
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -268,6 +282,16 @@ class SweepSpec:
             raise InputError(f"wind profile {self.wind_profile!r} not canonical (allowed e.g. uniform, log:0.1@10, power:0.143@10)")
         if self.scenario == "paper" and not prof.uniform:
             raise InputError(f"wind profile {self.wind_profile!r}: the paper scenario's wind is uniform (allowed uniform)")
+        from ..groundstation.line import check_line_model
+        from ..ocp.problem import STALL_MARGIN_MAX, TENSION_MARGIN_MAX
+
+        for name, hi in (("tension_margin", TENSION_MARGIN_MAX), ("stall_margin", STALL_MARGIN_MAX)):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and 0.0 <= v <= hi):
+                raise InputError(f"{name} = {v!r} out of range (allowed 0 .. {hi:g})")
+        check_line_model(self.line_model)
+        if self.line_model != "straight" and self.scenario != "physical":
+            raise InputError(f"line_model {self.line_model!r}: only the physical scenario has a line model (allowed straight)")
         lo, hi = ANCHOR_EVERY_RANGE
         if not (isinstance(self.anchor_every, int) and lo <= self.anchor_every <= hi):
             raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer {lo}..{hi}; 0 = one anchor per line)")
@@ -297,7 +321,9 @@ class SweepSpec:
                                           self.max_iter, self.max_iter_total, self.warm_fallback, propeller=prop,
                                           line_weight=bool(plant["line_weight"]), line=line,
                                           line_diameter=None if dl is None else float(dl),
-                                          cold_check=bool(self.cold_check), wind_profile=self.wind_profile)
+                                          cold_check=bool(self.cold_check), wind_profile=self.wind_profile,
+                                          tension_margin=float(self.tension_margin),
+                                          stall_margin=float(self.stall_margin), line_model=self.line_model)
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)

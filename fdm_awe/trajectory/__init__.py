@@ -56,7 +56,14 @@ generation phase; absent means ``passive``, and then ``boost_duty`` (if present)
 throughout. ``wind_profile`` (:meth:`fdm_awe.wind.WindProfile.as_dict`: ``kind`` uniform | log |
 power, with ``ref_height_m`` and ``z0_m`` or ``exponent``) says how the wind varies with height;
 ``wind_mps`` / ``wind_ned_mps`` are then the wind at ``ref_height_m``; absent means uniform, the
-wind of every file written before profiles existed.
+wind of every file written before profiles existed. ``line_model`` (physical scenario:
+:data:`fdm_awe.groundstation.line.LINE_MODELS`) is the optimiser's line model; absent means
+``straight``. ``margins`` (an object, :func:`~fdm_awe.trajectory.files.margins_record`:
+``tension_rating_N``, ``tension_margin``, ``tension_bound_N``, ``stall_margin``,
+``cl_max_share`` and, with a reel-in margin, ``reel_in_speed_max_m_s``; each a number within
+:data:`~fdm_awe.trajectory.checks.MARGIN_RANGES`) are the margins the cycle keeps below the
+line's rating, the stall and the drive's fastest reel-in; absent in files written before they
+were recorded (their ``bounds`` say the same).
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,

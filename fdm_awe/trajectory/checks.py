@@ -254,6 +254,13 @@ def _check_plant(src: str, md: dict[str, Any], scenario: str, config: str) -> No
                          f"physical scenario only; absent = passive)")
     if scenario == "physical":
         md["generator"] = "passive" if gen is None else gen
+    from ..groundstation.line import LINE_MODELS
+
+    lm = md.get("line_model")  # absent: the straight line model, that of every file written before it was named
+    if lm is not None and (not isinstance(lm, str) or lm not in LINE_MODELS or (lm != "straight" and scenario != "physical")):
+        raise InputError(f"{src}: metadata.line_model: {_show(lm)} not allowed (allowed {', '.join(LINE_MODELS)}; "
+                         f"calibrated in the physical scenario only; absent = straight)")
+    md["line_model"] = "straight" if lm is None else lm
     lw = md.get("line_weight")
     if lw is not None and (not isinstance(lw, bool) or (lw and scenario != "physical")):
         raise InputError(f"{src}: metadata.line_weight: {_show(lw)} not allowed (allowed true or false; true only in the physical scenario)")
@@ -272,12 +279,24 @@ def _check_geometry(src: str, md: dict[str, Any]) -> None:
         raise InputError(f"{src}: metadata.k_wrap: {_show(kw)}, expected an integer")
 
 
+#: the recorded margins (metadata ``margins``, :func:`fdm_awe.trajectory.files.margins_record`): field -> allowed range
+MARGIN_RANGES = {"tension_rating_N": (0.0, 1e5), "tension_margin": (0.0, 4.0), "tension_bound_N": (0.0, 1e5),
+                 "stall_margin": (0.0, 0.7), "cl_max_share": (0.3, 1.0), "reel_in_speed_max_m_s": (0.0, 100.0)}
+#: recorded margins a file may leave out (a cycle without that margin)
+OPTIONAL_MARGINS = frozenset({"reel_in_speed_max_m_s"})
+
+
 def _check_summaries(src: str, md: dict[str, Any]) -> None:
     """The optimiser's summaries: ``mesh``, ``bounds``, ``energies`` objects (energies: named
     finite numbers or null)."""
-    for key in ("mesh", "bounds", "energies"):
+    for key in ("mesh", "bounds", "energies", "margins"):
         if md.get(key) is not None and not isinstance(md[key], dict):
             raise InputError(f"{src}: metadata.{key}: {_kind(md[key])}, expected an object")
+    for k, (lo, hi) in MARGIN_RANGES.items():  # shown by fly when it loads the reference
+        if md.get("margins") is not None and (k in md["margins"] or k not in OPTIONAL_MARGINS):
+            v = md["margins"].get(k)
+            if not (_is_number(v) and math.isfinite(v) and lo <= v <= hi):
+                raise InputError(f"{src}: metadata.margins.{k}: {_show(v)} not allowed (allowed a number {lo:g} .. {hi:g})")
     for k, v in (md.get("energies") or {}).items():  # shown in reports beside the other summary numbers
         if not (isinstance(k, str) and k.startswith(("E_", "P_"))) or not (v is None or (_is_number(v) and math.isfinite(v))):
             raise InputError(f"{src}: metadata.energies.{k}: {_show(v)} not allowed (allowed: E_*_J / P_*_W names "

@@ -15,13 +15,51 @@ from .checks import check_reference, check_reference_document
 from .reference import ReferenceTrajectory
 from .schema import COLUMN_UNITS, FORMAT, MAX_FILE_BYTES, OPTIONAL_COLUMN_UNITS, VERSION
 
+def margins_record(bounds: Any) -> dict[str, float]:
+    """The margins a cycle keeps, as the reference file records them (metadata ``margins``) from
+    its :class:`~fdm_awe.ocp.problem.Bounds`: the tension rating [N], the tension margin and the
+    cycle's tension bound ``rating / (1 + margin)`` [N], the stall margin and the share of C_Lmax
+    the cycle may use (``1 - stall margin``), and the reel-in speed bound [m/s] where one is set
+    (a reel-in margin)."""
+    out = {"tension_rating_N": float(bounds.G_max), "tension_margin": float(bounds.tension_margin),
+           "tension_bound_N": float(bounds.G_cycle_max), "stall_margin": float(bounds.stall_margin),
+           "cl_max_share": float(bounds.cl_margin)}
+    if bounds.reel_in_speed_max is not None:  # a reel-in margin: the bound below the drive's fastest [m/s]
+        out["reel_in_speed_max_m_s"] = float(bounds.reel_in_speed_max)
+    return out
+
+
+def margins_text(md: dict[str, Any]) -> str:
+    """The margins recorded in reference metadata ``md`` in a few words (what ``fdm-awe fly``
+    shows when it loads a reference); for files that record none, what their bounds say."""
+    m = md.get("margins")
+    if not isinstance(m, dict):
+        b = md.get("bounds") if isinstance(md.get("bounds"), dict) else {}
+        if not b:
+            return "margins not recorded (a file written before they were)"
+        m = {"tension_rating_N": b.get("G_max", 50.0), "tension_margin": b.get("tension_margin", 0.0),
+             "cl_max_share": b.get("cl_margin", 1.0)}
+        m["tension_bound_N"] = m["tension_rating_N"] / (1.0 + m["tension_margin"])
+        m["stall_margin"] = 1.0 - m["cl_max_share"]
+    text = (f"tension <= {m['tension_bound_N']:.3g} N (rating {m['tension_rating_N']:g} N, margin "
+            f"{m['tension_margin']:g}), C_L <= {m['cl_max_share']:.3g} C_Lmax (stall margin {m['stall_margin']:.3g})")
+    if m.get("reel_in_speed_max_m_s") is not None:
+        text += f", reel-in <= {m['reel_in_speed_max_m_s']:.3g} m/s"
+    return text
+
+
 def reference_document(result: Any) -> dict[str, Any]:
     """The JSON document of the reference file of an ``ok`` cycle result
     (:class:`~fdm_awe.ocp.result.CycleResult`): what :func:`write_reference` writes."""
     if not result.ok:
         raise InputError(f"no reference trajectory for a {result.status} result ({result.reason})")
+    md = result.metadata()
+    pr = getattr(result, "problem", None)
+    if pr is not None:
+        md["line_model"] = pr.line_model
+        md["margins"] = margins_record(pr.bounds)
     return {
-        "format": FORMAT, "version": VERSION, "metadata": result.metadata(),
+        "format": FORMAT, "version": VERSION, "metadata": md,
         "units": {k: COLUMN_UNITS.get(k, OPTIONAL_COLUMN_UNITS.get(k, "")) for k in result.columns},
         "columns": {k: [float(v) for v in np.asarray(a, float)] for k, a in result.columns.items()},
     }
