@@ -54,6 +54,9 @@ NUMERIC = [
     (["optimize", "--tether-drag-scale", "11"], ("--tether-drag-scale", "0..10")),
     (["optimize", "--mesh", "2,20,4"], ("--mesh", "4..1000")),
     (["optimize", "--mesh", "60,20"], ("--mesh", "NG,NR,DEG")),
+    (["optimize", "--reel-in-speed-max", "0"], ("--reel-in-speed-max", "> 0 and <= 50 m/s")),
+    (["optimize", "--reel-in-speed-max", "nan"], ("--reel-in-speed-max", "> 0 and <= 50 m/s")),
+    (["optimize", "--fold-time", "-1"], ("--fold-time", "0..60")),
     # compare
     (["compare", "--starts", "0"], ("--starts", "1..100")),
     (["compare", "--time-budget", "nan"], ("--time-budget", "> 0")),

@@ -37,6 +37,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s], > 0")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
+    p.add_argument("--reel-in-speed-max", type=float, default=None, metavar="M_S",
+                   help=f"fastest reel-in [m/s], 0..{REEL_IN_LIMIT:g} (default: what the winch's drive reaches at full "
+                        "duty with a slack line, from the ground-station definition's supply voltage; 'fdm-awe info' "
+                        "shows it)")
+    p.add_argument("--fold-time", type=float, default=None, metavar="S",
+                   help="foldable configuration: the wing's full fold (and unfold) travel at the start (end) of "
+                        "recovery [s], 0 (an instantaneous switch) .. 60 (default: the aircraft definition's "
+                        "fcs/wing-fold-time-s)")
     add_plant_model_args(p)
     add_wind_profile_args(p)
     add_smoothness_args(p)
@@ -243,6 +251,8 @@ def check_solver_args(args: argparse.Namespace) -> None:
 V_MAX_LIMIT = 50.0
 #: longest ``--t-max`` [s]: ten times the paper's 60 s cycle (the mesh's intervals stretch with it)
 T_MAX_LIMIT = 600.0
+#: fastest ``--reel-in-speed-max`` [m/s]
+REEL_IN_LIMIT = 50.0
 
 
 def _drum_capacity() -> float:
@@ -271,17 +281,28 @@ def problem_from_args(args: argparse.Namespace):
     chk.number(args.h_min, "--h-min", 0.0, h0, unit="m (below the start altitude --d0 x sin(elevation))",
                what="ground clearance")
     chk.number(args.t_max, "--t-max", 0.0, T_MAX_LIMIT, lo_open=True, unit="s", what="longest cycle")
+    reel_in = getattr(args, "reel_in_speed_max", None)
+    if reel_in is not None:
+        chk.number(reel_in, "--reel-in-speed-max", 0.0, REEL_IN_LIMIT, lo_open=True, unit="m/s", what="fastest reel-in")
+    fold_time = getattr(args, "fold_time", None)
+    if fold_time is not None:
+        from ..definitions.aircraft import FOLD_TIME_MAX_S
+
+        chk.number(fold_time, "--fold-time", 0.0, FOLD_TIME_MAX_S, unit="s", what="fold travel")
     mesh = parse_mesh(args.mesh)
-    bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args))
+    bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max,
+                    reel_in_speed_max=reel_in, **smoothness_bounds(args))
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
                         line=getattr(args, "line", None), generator=getattr(args, "generator", None),
-                        wind_profile=wind_profile_from_args(args)).validate()
+                        fold_time=fold_time, wind_profile=wind_profile_from_args(args)).validate()
 
 
-def print_summary(res, file=sys.stdout) -> None:
+def print_summary(res, file=None) -> None:
+    """The report of result ``res`` on ``file`` (None: the standard output at the call)."""
+    file = file if file is not None else sys.stdout
     s = res.summary()
     head = f"{res.scenario} / {res.config} / wind {res.wind_mps:g} m/s from {res.wind_from_deg:g} deg"
     if res.problem is not None and not res.problem.wind_profile.uniform:
@@ -297,6 +318,11 @@ def print_summary(res, file=sys.stdout) -> None:
           f"E_reel_in {s['E_reel_in_J']:9.1f} J", file=file)
     print(f"  E_net       {s['E_net_J']:9.1f} J   P_avg {s['P_avg_W']:8.2f} W "
           f"({'net gain' if s['E_net_J'] > 0 else 'net loss'})", file=file)
+    if res.active_bounds:
+        from ..ocp.active import format_active
+        print(f"  binding bounds ({len(res.active_bounds)}, strongest first):", file=file)
+        for line in format_active(res.active_bounds):
+            print(line, file=file)
 
 
 def plant_text(problem) -> str:
