@@ -262,7 +262,9 @@ def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():
     opt = sub["optimize"]
     pr = problem_from_args(opt.parse_args([]))
     assert (pr.scenario, pr.line, pr.propeller, pr.line_weight) == ("physical", "sized", "engine", True)
-    legacy = problem_from_args(opt.parse_args(["--line", "paper", "--propeller", "momentum", "--no-line-weight"]))
+    legacy = problem_from_args(opt.parse_args(["--line", "paper", "--propeller", "momentum", "--no-line-weight",
+                                               "--recovery-tension", "slack"]))
+    assert pr.recovery_tension == "free"
     assert {k: getattr(legacy, k) for k in LEGACY_PHYSICAL_PLANT} == LEGACY_PHYSICAL_PLANT
     paper = problem_from_args(opt.parse_args(["--scenario", "paper", "--no-line-weight"]))
     assert (paper.line, paper.propeller, paper.line_weight) == ("paper", None, False)

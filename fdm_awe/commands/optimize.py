@@ -46,6 +46,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "recovery [s], 0 (an instantaneous switch) .. 60 (default: the aircraft definition's "
                         "fcs/wing-fold-time-s)")
     add_plant_model_args(p)
+    p.add_argument("--recovery-tension", choices=("free", "slack"), default=None,
+                   help="the line's tension in recovery (physical scenario): free, a control >= 0 the winch's motor "
+                        "holds while it reels in (the drive's supply power and full-duty speed; the line taut "
+                        "wherever it pulls), so the optimum chooses between a taut reel-in and a slack glide-back "
+                        "(the default), or slack, fixed at zero (the earlier published numbers; always slack in "
+                        "the paper scenario)")
     add_wind_profile_args(p)
     add_smoothness_args(p)
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG",
@@ -197,6 +203,9 @@ def check_plant_args(args: argparse.Namespace, scenario: str | None = None) -> N
     scn = scenario or getattr(args, "scenario", None)
     if scn == "physical":
         return
+    if getattr(args, "recovery_tension", None) == "free":
+        raise InputError(f"--recovery-tension free: only the physical scenario has the winch's motor relations (the "
+                         f"{scn} scenario's reel-in power is a constant; allowed: slack)")
     prop = getattr(args, "propeller", None)
     if prop is not None:
         raise InputError(f"--propeller {prop}: only the physical scenario has a propeller choice (the {scn} scenario "
@@ -297,7 +306,8 @@ def problem_from_args(args: argparse.Namespace):
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
                         line=getattr(args, "line", None), generator=getattr(args, "generator", None),
-                        fold_time=fold_time, wind_profile=wind_profile_from_args(args)).validate()
+                        fold_time=fold_time, recovery_tension=getattr(args, "recovery_tension", None),
+                        wind_profile=wind_profile_from_args(args)).validate()
 
 
 def print_summary(res, file=None) -> None:
