@@ -144,10 +144,18 @@ class CycleModel:
         return ("alpha", "phi", "T", "v_reel") + (("G",) if self.recovery_tension else ()) + \
             ((ON_FRACTION,) if self.motor_off else ())
 
+    def full_controls(self, index: int, u: Sequence[Any]) -> Sequence[Any]:
+        """Controls ``u`` of phase ``index`` with the recovery's tension ``G = 0`` inserted where
+        it is a control and ``u`` is given without it (shorter than :meth:`controls`: the slack
+        model's controls, with or without the on-fraction)."""
+        if index == 1 and self.recovery_tension and 4 <= len(u) < len(self.rec_controls):
+            return [*u[:4], 0.0, *u[4:]]
+        return u
+
     def recovery_pull(self, u: Sequence[Any]) -> Any:
         """The line's tension [N] in recovery controls ``u``: the control ``G`` where the
         recovery tension is free (0 for controls given without it), else 0."""
-        return u[4] if self.recovery_tension and len(u) > 4 and (not self.motor_off or len(u) > 5) else 0.0
+        return self.full_controls(1, u)[4] if self.recovery_tension else 0.0
 
     def controls(self, index: int) -> tuple[str, ...]:
         """Control names of phase ``index`` (0 generation, 1 recovery)."""
@@ -169,6 +177,7 @@ class CycleModel:
         """The motor's on-fraction in controls ``u`` of phase ``index``: None without the mode,
         and for controls given without it (the motor runs throughout)."""
         n = len(self.controls(index))
+        u = self.full_controls(index, u)
         return u[n - 1] if self.motor_off and len(u) >= n else None
 
     def mean_thrust(self, index: int, u: Sequence[Any]) -> Any:
