@@ -16,7 +16,7 @@ the cycle): ``constraint`` (the variable or the row's name without its point tag
 whole cycle), ``t_start_s``/``t_end_s`` (time from the start of generation [s]; None for a
 row of the whole cycle), ``points``,
 ``multiplier`` (the sum of IPOPT's multipliers over the span, scaled NLP: the objective is
-``-P_avg / P_SCALE``), and for the variable bounds and ``t_max`` ``gain_W_per_unit``: the
+``-P_avg / P_SCALE``), and for the variable bounds, ``t_max`` and ``reel_in`` ``gain_W_per_unit``: the
 average power [W] the optimum gains per unit [SI] the bound is relaxed at every point of the
 span (first-order sensitivity).
 """
@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from .collocation import P_SCALE, CycleNLP
+from .constraints import REEL_IN_ROW_SCALE
 from .layout import CONTROL_SCALE, STATE_SCALE, TIME_SCALE
 
 #: a bound binds when its multiplier exceeds this (scaled NLP)
@@ -36,6 +37,8 @@ MIN_MULTIPLIER = 1e-6
 #: ... and the solution is this close to it (scaled units)
 ON_BOUND = 1e-4
 PHASES = ("generation", "recovery")
+#: the rows whose scale is known [SI]: their multipliers also give the power per unit relaxed
+ROW_SCALES = {"t_max": TIME_SCALE, "reel_in": REEL_IN_ROW_SCALE}
 _TAG = re.compile(r"^(?P<name>.+?)_p(?P<ip>[01])_(?:(?P<start>start)|(?P<k>\d+)(?:_(?P<j>\d+))?)$")
 
 
@@ -111,7 +114,8 @@ def active_bounds(nlp: CycleNLP, w: np.ndarray, lam_x: np.ndarray | None, lam_g:
         if not np.isfinite(bound) or abs(g[r] - bound) > ON_BOUND:
             continue
         constraint, ip, t = _row_place(nlp, name, t_nodes)
-        gain = P_SCALE * abs(lam) / TIME_SCALE if name == "t_max" else float("nan")
+        scale = ROW_SCALES.get(constraint)
+        gain = P_SCALE * abs(lam) / scale if scale else float("nan")
         add(constraint, "upper" if lam > 0 else "lower", ip, t, lam, gain)
 
     out = []

@@ -28,7 +28,8 @@ def structure_key(problem: CycleProblem) -> tuple:
     """Everything that shapes the NLP except the wind (a parameter)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
-            problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile)
+            problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile,
+            problem.recovery_tension)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,

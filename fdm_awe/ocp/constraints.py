@@ -42,6 +42,8 @@ from .problem import Bounds, CycleProblem
 #: slack length <= this [N m] (the relaxed complementarity of a pull and a slack line: 0.01 N on
 #: 1 m of slack, 10 N on 1 mm)
 TAUT_NM = 0.01
+#: scale [m/s] of the recovery's reel-in rows (``reel_in_*``, the full-duty speed against the pull)
+REEL_IN_ROW_SCALE = 5.0
 
 
 @dataclass
@@ -126,7 +128,7 @@ def add_path(cs: Constraints, model: CycleModel, bnd: Bounds, ip: int, path: Any
         if model.recovery_tension:
             cs.add(path[1] / TAUT_NM, -ca.inf, 1.0, f"taut_{tag}")
             v_in = bnd.reel_in_speed_max if bnd.reel_in_speed_max is not None else model.winch.reel_in_speed_max()
-            cs.add(path[2] / 5.0, -ca.inf, v_in / 5.0, f"reel_in_{tag}")
+            cs.add(path[2] / REEL_IN_ROW_SCALE, -ca.inf, v_in / REEL_IN_ROW_SCALE, f"reel_in_{tag}")
     if model.scenario.propeller in ("physical", "engine"):
         cs.add(path[-1] / 5.0, 0.0, ca.inf, f"thrust_avail_{tag}")
 
