@@ -145,17 +145,22 @@ def _free_from_slack(problem: CycleProblem, how: dict[str, Any], limits: dict[st
     the strategy's arguments), then the free problem warm from its optimum, primal-dual
     (:mod:`fdm_awe.ocp.transfer`; the slack recovery is one admissible recovery of the free
     problem, so the answer is at least the slack line's: where the warm solve fails or ends
-    worse, the slack optimum itself is the answer). A cold solve of the free problem from the
+    worse, the slack optimum itself is the answer). Where the global strategy ran, the warm solve
+    has the polish's tolerances (:data:`POLISH_OPTIONS`) and replaces its polish. A cold solve of
+    the free problem from the
     loop starts takes far more iterations (2249 against 66 + 22 at 8 m/s, foldable, mesh 20/10/3)
     and ends in no better optimum."""
-    slack = solve_cycle(replace(problem, recovery_tension="slack"), **how, **limits)
+    # the global strategy's polish is the free solve's (one tight solve instead of two)
+    slack = solve_cycle(replace(problem, recovery_tension="slack"), **{**how, "polish": False}, **limits)
     if not slack.ok:
         slack.problem, slack.key = problem, structure_key(problem)
         return slack
     nlp, b = get_nlp(problem, limits["glider"], limits["winch"], limits["cache"])
     budget = max(limits["max_iter_total"] - slack.iterations, 1)
+    tight = {**(limits["ipopt_options"] or {}), **POLISH_OPTIONS} if how["polish"] and slack.strategy else \
+        limits["ipopt_options"]
     free = solve_cycle(problem, warm=slack, coarse=None, strategy="first", warm_fallback="none",
-                       **{**limits, "max_iter_total": budget})
+                       **{**limits, "max_iter_total": budget, "ipopt_options": tight})
     record = {"slack_P_avg_W": round(slack.P_avg_W, 6), "status": free.status, "iterations": int(free.iterations),
               "solve_s": round(free.solve_s, 4)}
     if free.ok and free.P_avg_W >= slack.P_avg_W:
