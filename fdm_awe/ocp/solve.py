@@ -152,7 +152,7 @@ def _free_from_slack(problem: CycleProblem, how: dict[str, Any], limits: dict[st
     and ends in no better optimum."""
     # the global strategy's polish is the free solve's (one tight solve instead of two)
     slack = solve_cycle(replace(problem, recovery_tension="slack"), **{**how, "polish": False}, **limits)
-    if not slack.ok:
+    if not slack.ok or slack.w is None:  # no cycle, or none to start from (nothing to carry over)
         slack.problem, slack.key = problem, structure_key(problem)
         return slack
     nlp, b = get_nlp(problem, limits["glider"], limits["winch"], limits["cache"])
