@@ -57,6 +57,8 @@ NUMERIC = [
     (["optimize", "--reel-in-speed-max", "0"], ("--reel-in-speed-max", "> 0 and <= 50 m/s")),
     (["optimize", "--reel-in-speed-max", "nan"], ("--reel-in-speed-max", "> 0 and <= 50 m/s")),
     (["optimize", "--fold-time", "-1"], ("--fold-time", "0..60")),
+    (["optimize", "--supply-voltage", "5"], ("--supply-voltage", "6..200")),
+    (["optimize", "--supply-voltage", "48", "--scenario", "paper"], ("--supply-voltage", "physical scenario")),
     # compare
     (["compare", "--starts", "0"], ("--starts", "1..100")),
     (["compare", "--time-budget", "nan"], ("--time-budget", "> 0")),

@@ -41,6 +41,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"fastest reel-in [m/s], 0..{REEL_IN_LIMIT:g} (default: what the winch's drive reaches at full "
                         "duty with a slack line, from the ground-station definition's supply voltage; 'fdm-awe info' "
                         "shows it)")
+    p.add_argument("--supply-voltage", type=float, default=None, metavar="V",
+                   help="physical scenario: the winch's supply voltage [V], 6..200 (default: the ground-station "
+                        "definition's 24 V): a design variable of the drive, it sets the full-duty reel-in speed; "
+                        "the optimiser's only (a flight flies the definition's drive)")
     p.add_argument("--fold-time", type=float, default=None, metavar="S",
                    help="foldable configuration: the wing's full fold (and unfold) travel at the start (end) of "
                         "recovery [s], 0 (an instantaneous switch) .. 60 (default: the aircraft definition's "
@@ -298,6 +302,15 @@ def problem_from_args(args: argparse.Namespace):
         from ..definitions.aircraft import FOLD_TIME_MAX_S
 
         chk.number(fold_time, "--fold-time", 0.0, FOLD_TIME_MAX_S, unit="s", what="fold travel")
+    volts = getattr(args, "supply_voltage", None)
+    if volts is not None:
+        from ..errors import InputError
+        from ..ocp.problem import SUPPLY_VOLTAGE_RANGE
+
+        chk.number(volts, "--supply-voltage", *SUPPLY_VOLTAGE_RANGE, unit="V", what="winch supply")
+        if args.scenario != "physical":
+            raise InputError("--supply-voltage: only the physical scenario has the winch's drive (the paper scenario's "
+                             "reel-in power is a constant)")
     mesh = parse_mesh(args.mesh)
     bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max,
                     reel_in_speed_max=reel_in, **smoothness_bounds(args))
@@ -307,6 +320,7 @@ def problem_from_args(args: argparse.Namespace):
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
                         line=getattr(args, "line", None), generator=getattr(args, "generator", None),
                         fold_time=fold_time, recovery_tension=getattr(args, "recovery_tension", None),
+                        supply_voltage=volts,
                         wind_profile=wind_profile_from_args(args)).validate()
 
 

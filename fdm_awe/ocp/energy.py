@@ -27,7 +27,7 @@ The diode threshold ``max(0, .)`` is smoothed as ``(a + sqrt(a^2 + eps^2)) / 2``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..groundstation import load_ground_station
@@ -76,6 +76,14 @@ class WinchElectrics:
                    U_d=c.device_drop, V_a=c.supply_voltage, R_L=(1.0 - c.boost_duty) ** 2 * c.load_resistance, tether_diameter=t.diameter,
                    tether_cd_perp=t.cd_perpendicular, line_weight_per_length=t.weight_share * t.mass_per_length * t.gravity,
                    gs_params=gs, R_load=c.load_resistance, boost_duty_max=c.boost_duty_max)
+
+    def with_supply_voltage(self, volts: float) -> "WinchElectrics":
+        """The same winch on a supply of ``volts`` [V] (the ground-station parameters too, when
+        at hand)."""
+        gs = self.gs_params
+        if gs is not None:
+            gs = replace(gs, converter=replace(gs.converter, supply_voltage=float(volts)))
+        return replace(self, V_a=float(volts), gs_params=gs)
 
     @property
     def R_sum(self) -> float:

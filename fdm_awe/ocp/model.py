@@ -113,6 +113,9 @@ class CycleModel:
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
         foldable = problem.config == "foldable"
         rec = glider.folded if foldable else glider.unfolded
+        volts = getattr(problem, "supply_voltage", None)
+        if volts is not None:
+            winch = winch.with_supply_voltage(volts)
         spec = problem.scenario_spec
         drive = load_electric_drive() if spec.propeller == "engine" else None
         fold_time = 0.0
