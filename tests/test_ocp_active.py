@@ -56,6 +56,10 @@ def test_binding_bounds_are_listed_with_place_and_multiplier(foldable8):
     assert ("v_reel", "lower", "recovery") in names or ("reel_in", "upper", "recovery") in names
     # the airspeed bound (25 m/s) does not bind: the folded recovery flies slower
     assert not any(e["constraint"] == "V" and e["side"] == "upper" for e in act)
+    # a cold solve of the free recovery tension starts from the slack line's optimum and is at
+    # least as good
+    rt = s["strategy"]["recovery_tension"]
+    assert rt["slack_P_avg_W"] <= s["P_avg_W"] + 1e-6 and rt["kept"] in ("free", "slack")
     # listed strongest first
     mult = [abs(e["multiplier"]) for e in act]
     assert mult == sorted(mult, reverse=True)
