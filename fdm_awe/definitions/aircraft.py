@@ -155,8 +155,14 @@ class PropulsionParams:
         Never negative: above the speed where the fit crosses zero (27.35 m/s for the 9x5
         propeller) the running propeller gives no thrust, and a stopped one limits nothing, so
         the bound ``T <= T_avail(V)`` only holds the thrust at zero there and caps no airspeed."""
-        from ..pointmass.mathops import fmax  # the same expression on floats and CasADi symbols
-        return fmax(self.T_max + self.T_avail_c1 * V + self.T_avail_c2 * V * V, 0.0)
+        T = self.T_max + self.T_avail_c1 * V + self.T_avail_c2 * V * V
+        if isinstance(T, (int, float)):
+            return max(float(T), 0.0)
+        if type(T).__module__.startswith("casadi"):
+            import casadi
+
+            return casadi.fmax(T, 0.0)
+        return T.clip(min=0.0)  # NumPy arrays and scalars
 
 
 @dataclass(frozen=True)
