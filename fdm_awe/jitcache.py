@@ -6,11 +6,20 @@ the lumped line holds the wind profile) would then run stale code after an edit 
 modules. :func:`follow_sources` adds their modification times and sizes to the cache's stamp,
 so an edit of any of them compiles the kernel anew. Where numba's cache object does not look as
 expected (another numba version), nothing changes.
+
+First use: a fresh install has no cached kernels, and compiling them takes tens of seconds.
+:func:`compile_cached` says so on the standard error (:data:`COMPILE_MESSAGE`) when a kernel has
+no cached copy, so the first flight does not sit in silence, and :data:`SLOW_MESSAGE` when a
+cached one takes longer than :data:`COMPILE_NOTICE_S` (a stale copy compiles anew); a kernel
+loaded from the cache in time prints nothing.
 """
 
 from __future__ import annotations
 
 import os
+import sys
+import threading
+import time
 from types import ModuleType
 from typing import Any, Iterable
 
@@ -23,6 +32,54 @@ def follow_sources(kern: Any, modules: Iterable[ModuleType]) -> None:
         return
     deps = tuple((st.st_mtime, st.st_size) for st in (os.stat(m.__file__) for m in modules))
     cache_file._source_stamp = (stamp, deps)
+
+
+#: seconds a kernel whose cached copy exists may take to load before :data:`SLOW_MESSAGE` is
+#: printed (a stale copy is compiled anew; a loaded machine loads slowly)
+COMPILE_NOTICE_S = 5.0
+#: what the standard error says when a kernel has no cached copy ({what}: the kernel's name)
+COMPILE_MESSAGE = ("fdm-awe: compiling {what} with numba (first use after an install or an update; "
+                   "cached for the next runs) ...")
+#: ... and when loading a kernel takes longer than :data:`COMPILE_NOTICE_S`
+SLOW_MESSAGE = "fdm-awe: preparing {what} with numba (compiled anew after a change of its sources) ..."
+
+
+def has_cached_copy(kern: Any) -> bool | None:
+    """Whether numba's on-disk cache holds an index for dispatcher ``kern`` (False: it certainly
+    compiles; True: it loads unless the copy is stale; None: unknown, another numba version)."""
+    path = getattr(getattr(getattr(kern, "_cache", None), "_cache_file", None), "_index_path", None)
+    return None if path is None else os.path.exists(path)
+
+
+def compile_with_notice(kern: Any, sig: Any, what: str, stream: Any = None) -> float:
+    """``kern.compile(sig)``, saying so on ``stream`` (None: the standard error at the call):
+    :data:`COMPILE_MESSAGE` at once when the kernel has no cached copy
+    (:func:`has_cached_copy`), :data:`SLOW_MESSAGE` when it takes longer than
+    :data:`COMPILE_NOTICE_S` otherwise, and the time it took after either. Returns the time [s]."""
+    out = stream if stream is not None else sys.stderr
+    said = threading.Event()
+
+    def notice(text: str) -> None:
+        said.set()
+        print(text.format(what=what), file=out, flush=True)
+
+    timer = None
+    if has_cached_copy(kern) is False:
+        notice(COMPILE_MESSAGE)
+    else:
+        timer = threading.Timer(COMPILE_NOTICE_S, notice, (SLOW_MESSAGE,))
+        timer.daemon = True
+        timer.start()
+    t0 = time.perf_counter()
+    try:
+        kern.compile(sig)
+    finally:
+        if timer is not None:
+            timer.cancel()
+    dt = time.perf_counter() - t0
+    if said.is_set():
+        print(f"fdm-awe: {what} ready in {dt:.0f} s", file=out, flush=True)
+    return dt
 
 
 def compile_cached(fn: Any, signature: Any, helpers: Iterable[Any], sources: Iterable[ModuleType], what: str) -> Any:
@@ -41,7 +98,8 @@ def compile_cached(fn: Any, signature: Any, helpers: Iterable[Any], sources: Ite
             register_jitable(g)
         kern = numba.njit(cache=True)(fn)
         follow_sources(kern, sources)
-        kern.compile(signature(numba))  # its one signature, compiled or loaded from the cache here
+        # its one signature, compiled or loaded from the cache here (a note while it compiles)
+        compile_with_notice(kern, signature(numba), what)
         kern.disable_compile()
         return kern
     except Exception as exc:

@@ -16,7 +16,9 @@ the end whatever happens (``--keep`` keeps it):
 5. from a working directory outside the checkout: ``import fdm_awe`` resolves the package and
    its ``ROOT`` inside the new environment, and JSBSim loads every aircraft from there;
    ``fdm-awe info``; a short ``fdm-awe optimize`` (paper, nominal, 3 m/s, coarse mesh) with
-   ``--json``; ``fdm-awe fly --cycles 1`` on a stored reference copied out of ``tests/data/``;
+   ``--json``; ``fdm-awe fly --cycles 1`` on a stored reference copied out of ``tests/data/``,
+   twice: the first compiles numba's kernels and must say so, the second must load them (the
+   last lines print both times);
    ``fdm-awe fly --cycles 1`` with no reference (it optimises its own, with the defaults). Each
    must exit 0, report status ``ok`` in its JSON and write nothing but the files it was told to
    write.
@@ -209,6 +211,14 @@ print(fdm_awe.ROOT)
 """
 
 
+#: the steps of the first flight of the fresh install (numba compiles, and says so) and of the
+#: same flight again (the kernels load from the install's cache)
+FIRST_FLY = f"fdm-awe fly --cycles 1 --reference ({REFERENCE.name}), first (numba compiles)"
+SECOND_FLY = f"fdm-awe fly --cycles 1 --reference ({REFERENCE.name}), second (cached)"
+#: a first flight this much longer [s] than the second compiled something: it must have said so
+SILENT_COMPILE_S = 5.0
+
+
 def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
     """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed."""
     times: list[tuple[str, float]] = []
@@ -254,15 +264,26 @@ def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
 
     step("fdm-awe optimize (paper nominal 3 m/s, mesh 10,8,3)", optimize)
 
-    def fly_reference():
+    def fly_reference(first: bool):
         shutil.copy(REFERENCE, work / "ref.json")
-        run("fdm-awe fly", [str(cli), "fly", "--reference", "ref.json", "--cycles", "1", "--quiet", "--json", "fly.json"],
-            work, env)
+        out = run("fdm-awe fly", [str(cli), "fly", "--reference", "ref.json", "--cycles", "1", "--quiet", "--json",
+                                  "fly.json"], work, env, merged=True)
         doc = json_status("fdm-awe fly", work / "fly.json")
         only_files("fdm-awe fly", work, {"opt.json", "opt.trajectory.json", "ref.json", "fly.json"})
-        return f"{len(doc['cycles'])} cycle, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
+        said = "fdm-awe: compiling" in out
+        if not first and said:
+            raise CheckFailed("fdm-awe fly (second): compiled again (the numba cache of the install was not used)")
+        compiled[first] = said
+        return (f"{len(doc['cycles'])} cycle, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
+                + (", said it compiles" if said else ""))
 
-    step(f"fdm-awe fly --cycles 1 --reference ({REFERENCE.name})", fly_reference)
+    compiled: dict[bool, bool] = {}
+    step(FIRST_FLY, lambda: fly_reference(True))
+    step(SECOND_FLY, lambda: fly_reference(False))
+    t = dict(times)
+    if t[FIRST_FLY] - t[SECOND_FLY] > SILENT_COMPILE_S and not compiled[True]:
+        raise CheckFailed(f"fdm-awe fly (first): {t[FIRST_FLY] - t[SECOND_FLY]:.0f} s longer than the second without "
+                          "a message while numba compiles (fdm_awe/jitcache.py)")
 
     def fly_plain():
         plain = work / "default"
@@ -300,8 +321,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"wheel check: kept {tmp}")
         else:
             shutil.rmtree(tmp, ignore_errors=True)
+    t = dict(times)
+    print(f"wheel check: first fly {t[FIRST_FLY]:.1f} s, second fly {t[SECOND_FLY]:.1f} s "
+          f"(first use costs {t[FIRST_FLY] - t[SECOND_FLY]:.1f} s of compiling)", flush=True)
     print(f"wheel check: ok, {len(times)} steps in {time.perf_counter() - t0:.0f} s "
-          f"(install {dict(times)['install the wheel with its dependencies']:.0f} s)", flush=True)
+          f"(install {t['install the wheel with its dependencies']:.0f} s)", flush=True)
     return 0
 
 

@@ -54,6 +54,11 @@ NUMERIC = [
     (["optimize", "--tether-drag-scale", "11"], ("--tether-drag-scale", "0..10")),
     (["optimize", "--mesh", "2,20,4"], ("--mesh", "4..1000")),
     (["optimize", "--mesh", "60,20"], ("--mesh", "NG,NR,DEG")),
+    (["optimize", "--reel-in-speed-max", "0"], ("--reel-in-speed-max", "> 0 and <= 50 m/s")),
+    (["optimize", "--reel-in-speed-max", "nan"], ("--reel-in-speed-max", "> 0 and <= 50 m/s")),
+    (["optimize", "--fold-time", "-1"], ("--fold-time", "0..60")),
+    (["optimize", "--supply-voltage", "5"], ("--supply-voltage", "6..200")),
+    (["optimize", "--supply-voltage", "48", "--scenario", "paper"], ("--supply-voltage", "physical scenario")),
     # compare
     (["compare", "--starts", "0"], ("--starts", "1..100")),
     (["compare", "--time-budget", "nan"], ("--time-budget", "> 0")),
@@ -259,7 +264,9 @@ def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():
     opt = sub["optimize"]
     pr = problem_from_args(opt.parse_args([]))
     assert (pr.scenario, pr.line, pr.propeller, pr.line_weight) == ("physical", "sized", "engine", True)
-    legacy = problem_from_args(opt.parse_args(["--line", "paper", "--propeller", "momentum", "--no-line-weight"]))
+    legacy = problem_from_args(opt.parse_args(["--line", "paper", "--propeller", "momentum", "--no-line-weight",
+                                               "--recovery-tension", "slack"]))
+    assert pr.recovery_tension == "free"
     assert {k: getattr(legacy, k) for k in LEGACY_PHYSICAL_PLANT} == LEGACY_PHYSICAL_PLANT
     paper = problem_from_args(opt.parse_args(["--scenario", "paper", "--no-line-weight"]))
     assert (paper.line, paper.propeller, paper.line_weight) == ("paper", None, False)

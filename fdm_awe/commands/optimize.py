@@ -37,7 +37,25 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s], > 0")
     p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
                    help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
+    p.add_argument("--reel-in-speed-max", type=float, default=None, metavar="M_S",
+                   help=f"fastest reel-in [m/s], 0..{REEL_IN_LIMIT:g} (default: what the winch's drive reaches at full "
+                        "duty with a slack line, from the ground-station definition's supply voltage; 'fdm-awe info' "
+                        "shows it)")
+    p.add_argument("--supply-voltage", type=float, default=None, metavar="V",
+                   help="physical scenario: the winch's supply voltage [V], 6..200 (default: the ground-station "
+                        "definition's 24 V): a design variable of the drive, it sets the full-duty reel-in speed; "
+                        "the optimiser's only (a flight flies the definition's drive)")
+    p.add_argument("--fold-time", type=float, default=None, metavar="S",
+                   help="foldable configuration: the wing's full fold (and unfold) travel at the start (end) of "
+                        "recovery [s], 0 (an instantaneous switch) .. 60 (default: the aircraft definition's "
+                        "fcs/wing-fold-time-s)")
     add_plant_model_args(p)
+    p.add_argument("--recovery-tension", choices=("free", "slack"), default=None,
+                   help="the line's tension in recovery (physical scenario): free, a control >= 0 the winch's motor "
+                        "holds while it reels in (the drive's supply power and full-duty speed; the line taut "
+                        "wherever it pulls), so the optimum chooses between a taut reel-in and a slack glide-back "
+                        "(the default), or slack, fixed at zero (the earlier published numbers; always slack in "
+                        "the paper scenario)")
     add_wind_profile_args(p)
     add_smoothness_args(p)
     add_margin_args(p)
@@ -262,6 +280,9 @@ def check_plant_args(args: argparse.Namespace, scenario: str | None = None) -> N
     scn = scenario or getattr(args, "scenario", None)
     if scn == "physical":
         return
+    if getattr(args, "recovery_tension", None) == "free":
+        raise InputError(f"--recovery-tension free: only the physical scenario has the winch's motor relations (the "
+                         f"{scn} scenario's reel-in power is a constant; allowed: slack)")
     prop = getattr(args, "propeller", None)
     if prop is not None:
         raise InputError(f"--propeller {prop}: only the physical scenario has a propeller choice (the {scn} scenario "
@@ -320,6 +341,8 @@ def check_solver_args(args: argparse.Namespace) -> None:
 V_MAX_LIMIT = 50.0
 #: longest ``--t-max`` [s]: ten times the paper's 60 s cycle (the mesh's intervals stretch with it)
 T_MAX_LIMIT = 600.0
+#: fastest ``--reel-in-speed-max`` [m/s]
+REEL_IN_LIMIT = 50.0
 
 
 def _drum_capacity() -> float:
@@ -348,19 +371,43 @@ def problem_from_args(args: argparse.Namespace):
     chk.number(args.h_min, "--h-min", 0.0, h0, unit="m (below the start altitude --d0 x sin(elevation))",
                what="ground clearance")
     chk.number(args.t_max, "--t-max", 0.0, T_MAX_LIMIT, lo_open=True, unit="s", what="longest cycle")
+    reel_in = getattr(args, "reel_in_speed_max", None)
+    if reel_in is not None:
+        chk.number(reel_in, "--reel-in-speed-max", 0.0, REEL_IN_LIMIT, lo_open=True, unit="m/s", what="fastest reel-in")
+    fold_time = getattr(args, "fold_time", None)
+    if fold_time is not None:
+        from ..definitions.aircraft import FOLD_TIME_MAX_S
+
+        chk.number(fold_time, "--fold-time", 0.0, FOLD_TIME_MAX_S, unit="s", what="fold travel")
+    volts = getattr(args, "supply_voltage", None)
+    if volts is not None:
+        from ..errors import InputError
+        from ..ocp.problem import SUPPLY_VOLTAGE_RANGE
+
+        chk.number(volts, "--supply-voltage", *SUPPLY_VOLTAGE_RANGE, unit="V", what="winch supply")
+        if args.scenario != "physical":
+            raise InputError("--supply-voltage: only the physical scenario has the winch's drive (the paper scenario's "
+                             "reel-in power is a constant)")
     mesh = parse_mesh(args.mesh)
+    margins = margin_bounds(args)
+    if reel_in is not None:  # the explicit bound and the margin's: the tighter one
+        margins["reel_in_speed_max"] = min(reel_in, margins.get("reel_in_speed_max", reel_in))
     bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args),
-                    **margin_bounds(args))
+                    **margins)
     return CycleProblem(scenario=args.scenario, config=args.config, wind_speed=args.wind, wind_from_deg=args.wind_from,
                         d0=args.d0, d_tf=args.d_tf, bounds=bounds, mesh=mesh,
                         tether_drag_scale=getattr(args, "tether_drag_scale", 1.0),
                         propeller=getattr(args, "propeller", None), line_weight=getattr(args, "line_weight", None),
                         line=getattr(args, "line", None), generator=getattr(args, "generator", None),
+                        fold_time=fold_time, recovery_tension=getattr(args, "recovery_tension", None),
+                        supply_voltage=volts,
                         wind_profile=wind_profile_from_args(args),
                         line_model=getattr(args, "line_model", None) or "straight").validate()
 
 
-def print_summary(res, file=sys.stdout) -> None:
+def print_summary(res, file=None) -> None:
+    """The report of result ``res`` on ``file`` (None: the standard output at the call)."""
+    file = file if file is not None else sys.stdout
     s = res.summary()
     head = f"{res.scenario} / {res.config} / wind {res.wind_mps:g} m/s from {res.wind_from_deg:g} deg"
     if res.problem is not None and not res.problem.wind_profile.uniform:
@@ -381,6 +428,11 @@ def print_summary(res, file=sys.stdout) -> None:
         from ..trajectory.files import margins_record, margins_text
 
         print(f"  margins: {margins_text({'margins': margins_record(b)})}", file=file)
+    if res.active_bounds:
+        from ..ocp.active import format_active
+        print(f"  binding bounds ({len(res.active_bounds)}, strongest first):", file=file)
+        for line in format_active(res.active_bounds):
+            print(line, file=file)
 
 
 def plant_text(problem) -> str:

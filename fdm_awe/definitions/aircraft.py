@@ -150,8 +150,19 @@ class PropulsionParams:
     T_avail_c2: float = 0.0  #: quadratic fall of full-throttle thrust with airspeed [N/(m/s)^2]
 
     def thrust_available(self, V):  # noqa: ANN001,ANN201 - floats and CasADi symbols alike
-        """Full-throttle thrust [N] at airspeed ``V`` [m/s]: ``T_max + c1 V + c2 V^2``."""
-        return self.T_max + self.T_avail_c1 * V + self.T_avail_c2 * V * V
+        """Full-throttle thrust [N] at airspeed ``V`` [m/s]: ``max(T_max + c1 V + c2 V^2, 0)``.
+
+        Never negative: above the speed where the fit crosses zero (27.35 m/s for the 9x5
+        propeller) the running propeller gives no thrust, and a stopped one limits nothing, so
+        the bound ``T <= T_avail(V)`` only holds the thrust at zero there and caps no airspeed."""
+        T = self.T_max + self.T_avail_c1 * V + self.T_avail_c2 * V * V
+        if isinstance(T, (int, float)):
+            return max(float(T), 0.0)
+        if type(T).__module__.startswith("casadi"):
+            import casadi
+
+            return casadi.fmax(T, 0.0)
+        return T.clip(min=0.0)  # NumPy arrays and scalars
 
 
 @dataclass(frozen=True)

@@ -28,7 +28,7 @@ import os
 import warnings
 from typing import Callable
 
-from ..jitcache import follow_sources
+from ..jitcache import compile_with_notice, follow_sources
 from . import winch
 from .winch import DRUM_RELATIONS, drum_speed, drum_step, end_stop
 
@@ -473,7 +473,7 @@ def _njit(f: Callable, sig: tuple) -> Callable | None:
         args = tuple({"f": f8, "b": b1, "a": f8[::1], "i": numba.int64}[ch] for ch in sig)
         kern = numba.njit(cache=True)(f)
         follow_sources(kern, (winch,))  # the drum's relations compiled into it
-        kern.compile(args)
+        compile_with_notice(kern, args, f"fdm_awe.groundstation.substeps ({f.__name__})")
         kern.disable_compile()  # its one signature, as numba.njit(args) gives it
         return kern
     except Exception as exc:  # a broken numba install must not stop a simulation

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from .active import active_bounds
 from .build import structure_key
 from .collocation import CycleNLP, RawSolution
 from .problem import CycleProblem
@@ -47,6 +48,7 @@ def ok_result(problem: CycleProblem, nlp: CycleNLP, k: int, label: str, r: RawSo
                       en["E_reel_in_J"], k, label, viol, trajectory_columns(nlp, phases, r.params), r.w, r.lam_x,
                       r.lam_g, structure_key(problem), phases, problem=problem,
                       fold_time_s=nlp.model.fold_time, motor_off=nlp.model.motor_off)
+    res.active_bounds = active_bounds(nlp, r.w, r.lam_x, r.lam_g, r.params)
     return res
 
 

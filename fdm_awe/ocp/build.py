@@ -29,7 +29,7 @@ def structure_key(problem: CycleProblem) -> tuple:
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
             problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile,
-            problem.line_model)
+            problem.line_model, problem.recovery_tension, problem.supply_voltage)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,

@@ -7,7 +7,11 @@
 - path constraints at the phase start and every collocation point (:func:`point_path`,
   :func:`add_path`): ``ddot >= 0`` and, where tension follows the generator, ``G`` at most
   the cycle's tension bound ``G_max / (1 + tension_margin)`` (:attr:`Bounds.G_cycle_max`: the
-  rating less the margin for the catch and gusts) in generation (the ``ideal`` generator: a current of one direction); ``d <= l`` in recovery;
+  rating less the margin for the catch and gusts) in generation (the ``ideal`` generator: a
+  current of one direction); ``d <= l`` in recovery, and where its tension is free (a control
+  ``G >= 0``) the line pulls only where it is taut (``G (l - d) <= TAUT_NM``) and the reel-in
+  speed falls with the pull as the drive's full duty allows (``|v_reel| + c G <= v_in``,
+  :func:`fdm_awe.ocp.energy.reel_in_speed_loss`);
   in the ``physical`` scenario the thrust at most what the propeller gives at the airspeed
   (``T <= T_avail(V)`` from the aircraft definition);
 - boundaries (:func:`add_boundaries`): start position fixed, ``d(T_1) = d_tf``, continuity
@@ -30,10 +34,18 @@ from typing import Any
 
 import casadi as ca
 
-from .energy import ideal_generator_current
+from .energy import ideal_generator_current, reel_in_speed_loss
 from .layout import CONTROL_SCALE, STATE_SCALE, TIME_SCALE, PhaseLayout
 from .model import GEN_STATES, CycleModel
 from .problem import Bounds, CycleProblem
+
+
+#: how much the line may pull while it is slack in recovery (free recovery tension): tension x
+#: slack length <= this [N m] (the relaxed complementarity of a pull and a slack line: 0.01 N on
+#: 1 m of slack, 10 N on 1 mm)
+TAUT_NM = 0.01
+#: scale [m/s] of the recovery's reel-in rows (``reel_in_*``, the full-duty speed against the pull)
+REEL_IN_ROW_SCALE = 5.0
 
 
 @dataclass
@@ -67,11 +79,11 @@ def state_bounds(problem: CycleProblem) -> dict[str, tuple[float, float]]:
 def control_bounds(model: CycleModel, bnd: Bounds, ip: int, T_max: float, v_in: float) -> dict[str, tuple[float, float]]:
     """Bounds of each control of phase ``ip`` in value units [rad, N, m/s, -]: angle of attack
     within the phase's stall limits, thrust up to ``T_max`` [N], reel-in speed up to ``v_in``
-    [m/s]."""
+    [m/s], tension within ``G_min .. G_cycle_max`` in generation and ``0 .. G_cycle_max`` in recovery [N]."""
     a_hi = model.alpha_upper(ip, bnd.alpha_max, bnd.cl_margin)
     a_lo = model.alpha_lower(ip, bnd.alpha_max, bnd.cl_margin)
     return {"alpha": (a_lo, a_hi), "phi": (-bnd.phi_max, bnd.phi_max), "T": (0.0, T_max),
-            "G": (bnd.G_min, bnd.G_cycle_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0),
+            "G": (bnd.G_min if ip == 0 else 0.0, bnd.G_cycle_max), "v_reel": (-v_in, 0.0), "s": (0.0, 1.0),
             "D2": (0.0, model.winch.boost_duty_max)}
 
 
@@ -94,6 +106,8 @@ def point_path(model: CycleModel, ip: int, out: dict[str, Any], s: Any, u: Any, 
             path.append(ideal_generator_current(out["G"], out["v_reel"], model.winch))
     else:
         path = [out["l"] - out["d"]]
+        if model.recovery_tension:  # the line pulls only where it is taut; the drive's speed falls with the pull
+            path += [out["G"] * (out["l"] - out["d"]), -out["v_reel"] + reel_in_speed_loss(model.winch) * out["G"]]
     if model.scenario.propeller in ("physical", "engine"):
         # thrust within what the propeller gives at this airspeed (full throttle); p[6] < 1
         # blends the bound towards the static T_max (a homotopy path only)
@@ -113,6 +127,10 @@ def add_path(cs: Constraints, model: CycleModel, bnd: Bounds, ip: int, path: Any
             cs.add(path[2] / 10.0, 0.0, ca.inf, f"current_{tag}")
     else:
         cs.add(path[0] / 100.0, 0.0, ca.inf, f"slack_{tag}")
+        if model.recovery_tension:
+            cs.add(path[1] / TAUT_NM, -ca.inf, 1.0, f"taut_{tag}")
+            v_in = bnd.reel_in_speed_max if bnd.reel_in_speed_max is not None else model.winch.reel_in_speed_max()
+            cs.add(path[2] / REEL_IN_ROW_SCALE, -ca.inf, v_in / REEL_IN_ROW_SCALE, f"reel_in_{tag}")
     if model.scenario.propeller in ("physical", "engine"):
         cs.add(path[-1] / 5.0, 0.0, ca.inf, f"thrust_avail_{tag}")
 

@@ -15,8 +15,9 @@ Quasi-static winch + DC machine + converter (paper eqs. 14-19 with ``di/dt = 0``
 - generation through an ideal converter (a bound, not the half-bridge): any tension ``G``; the
   current follows from the drum's torque balance, ``i = (r_w G - M_c - B omega) / K_t``, and the
   converter delivers ``(K_e omega - 2 U_d) i - R i^2``;
-- recovery, motor reels in at ``v_reel < 0`` against friction only (slack tether, G = 0):
-  ``i = (M_c + B |omega|) / K_t``, supply power ``P_supply = (K_e |omega| + R i + 2 U_d) i``;
+- recovery, motor reels in at ``v_reel < 0`` against friction and the line's tension ``G``
+  (0 on a slack tether; a control where the recovery tension is free):
+  ``i = (r_w G + M_c + B |omega|) / K_t``, supply power ``P_supply = (K_e |omega| + R i + 2 U_d) i``;
   the speed is limited by full duty: ``K_e |omega| + R i + 2 U_d <= V_a``.
 
 The diode threshold ``max(0, .)`` is smoothed as ``(a + sqrt(a^2 + eps^2)) / 2`` with
@@ -26,7 +27,7 @@ The diode threshold ``max(0, .)`` is smoothed as ``(a + sqrt(a^2 + eps^2)) / 2``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from ..groundstation import load_ground_station
@@ -82,6 +83,14 @@ class WinchElectrics:
                    gs_params=gs, R_load=c.load_resistance, boost_duty_max=c.boost_duty_max,
                    line_weight_total_per_length=t.mass_per_length * t.gravity,
                    calibrated=tuple(getattr(t, "calibrated", ())))
+
+    def with_supply_voltage(self, volts: float) -> "WinchElectrics":
+        """The same winch on a supply of ``volts`` [V] (the ground-station parameters too, when
+        at hand)."""
+        gs = self.gs_params
+        if gs is not None:
+            gs = replace(gs, converter=replace(gs.converter, supply_voltage=float(volts)))
+        return replace(self, V_a=float(volts), gs_params=gs)
 
     @property
     def R_sum(self) -> float:
@@ -152,32 +161,37 @@ def ideal_generator_power(G: Any, v_reel: Any, w: WinchElectrics) -> Any:
     return (w.K_e * omega - 2 * w.U_d) * i - w.R * i * i
 
 
-def motor_supply_power(v_reel: Any, w: WinchElectrics, tension: float = 0.0) -> Any:
-    """Power drawn from the supply [W] reeling in at ``v_reel <= 0`` [m/s] with a slack tether
-    (``tension`` 0) or against the line tension ``tension`` [N] at the winch (the calibrated
-    line model's recovery tension).
+def motor_supply_power(v_reel: Any, w: WinchElectrics, G: Any = 0.0) -> Any:
+    """Power drawn from the supply [W] reeling in at ``v_reel <= 0`` [m/s] against line tension
+    ``G`` [N] (0: a slack tether).
 
     Uses :func:`fdm_awe.groundstation.steady.motor_steady` when the ground-station definition
     is at hand (the same relation the co-simulation's ground station is built on).
     """
     if w.gs_params is not None:
-        return motor_steady(-v_reel, tension, w.gs_params).p_supply
-    if tension:
-        i = motor_current(v_reel, w) + w.r_w * tension / w.K_t
-        return (w.K_e * (-v_reel / w.r_w) + w.R * i + 2 * w.U_d) * i
-    return motor_voltage(v_reel, w) * motor_current(v_reel, w)
+        return motor_steady(-v_reel, G, w.gs_params).p_supply
+    return motor_voltage(v_reel, w, G) * motor_current(v_reel, w, G)
 
 
-def motor_current(v_reel: Any, w: WinchElectrics) -> Any:
-    """Armature current [A] reeling in at ``v_reel <= 0`` [m/s] against friction (slack tether)."""
+def motor_current(v_reel: Any, w: WinchElectrics, G: Any = 0.0) -> Any:
+    """Armature current [A] reeling in at ``v_reel <= 0`` [m/s] against friction and line
+    tension ``G`` [N] (0: a slack tether)."""
     omega_abs = -v_reel / w.r_w
-    return (w.M_c + w.B * omega_abs) / w.K_t
+    return (w.r_w * G + w.M_c + w.B * omega_abs) / w.K_t
 
 
-def motor_voltage(v_reel: Any, w: WinchElectrics) -> Any:
-    """Mean armature-side voltage [V] the converter must apply reeling in at ``v_reel <= 0``."""
+def motor_voltage(v_reel: Any, w: WinchElectrics, G: Any = 0.0) -> Any:
+    """Mean armature-side voltage [V] the converter must apply reeling in at ``v_reel <= 0``
+    against line tension ``G`` [N]."""
     omega_abs = -v_reel / w.r_w
-    return w.K_e * omega_abs + w.R * motor_current(v_reel, w) + 2 * w.U_d
+    return w.K_e * omega_abs + w.R * motor_current(v_reel, w, G) + 2 * w.U_d
+
+
+def reel_in_speed_loss(w: WinchElectrics) -> float:
+    """How much the full-duty reel-in speed falls per newton of line tension [m/s per N]: the
+    armature's resistive drop ``R r_w G / K_t`` taken from the speed (the slope of
+    :func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed` in the tension)."""
+    return w.r_w * w.r_w * w.R / (w.K_t * w.K_e + w.R * w.B)
 
 
 def thrust_power(T: Any, V: Any, prop: PropulsionParams, rho: float, scenario: str, drive: Any = None) -> Any:

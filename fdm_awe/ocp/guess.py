@@ -143,7 +143,8 @@ def loop_guess(problem: CycleProblem, model: CycleModel, start: LoopStart, wind_
             extra = {"G": [G], "D2": [np.zeros(n)]}
             U = np.column_stack([alpha, phi, np.full(n, 1.0)] + [c for name in model.gen_controls[3:] for c in extra.get(name, [])])
         else:
-            U = np.column_stack([alpha, phi, np.full(n, 1.0), np.full(n, -(d1 - d0) / T)])
+            U = np.column_stack([alpha, phi, np.full(n, 1.0), np.full(n, -(d1 - d0) / T)]
+                                + ([np.zeros(n)] if "G" in model.rec_controls else []))  # a slack start
         phases.append({"T": T, "state": _interp(t, X), "control": _interp(t, U)})
     k = int(round((psi_last - psi_first) / (2 * math.pi)))
     return phases, k

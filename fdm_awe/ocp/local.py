@@ -29,6 +29,7 @@ from .collocation import DEFAULT_MAX_CPU_S, DEFAULT_MAX_ITER, CycleNLP, RawSolut
 from .guess import LoopStart, default_starts, guess_from_result, loop_guess
 from .problem import CycleProblem
 from .result import CycleResult
+from .transfer import same_but_recovery_tension, transfer_result
 
 #: IPOPT iterations per attempt (one NLP solve) and over all attempts of one ``solve_cycle``
 MAX_ITER = DEFAULT_MAX_ITER
@@ -123,6 +124,13 @@ class LocalSolve:
         if warm.key == structure_key(self.problem) and warm.w is not None:
             label, k = "warm start", warm.k_wrap
             r = self.run(warm.w, k, 1.0, 1.0, warm.lam_x, warm.lam_g, WARM_OPTIONS)
+        elif warm.w is not None and warm.problem is not None and same_but_recovery_tension(warm.problem, self.problem):
+            # the same mesh with the recovery's tension fixed or free: primal-dual, by name
+            from .build import get_nlp
+
+            label, k = "warm start", warm.k_wrap
+            w0, lx, lg = transfer_result(warm, nlp, get_nlp(warm.problem)[0])
+            r = self.run(w0, k, 1.0, 1.0, lx, lg, WARM_OPTIONS)
         else:
             label = "from a previous solution"
             phases, k = guess_from_result(warm, nlp.model)

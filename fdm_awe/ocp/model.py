@@ -9,7 +9,11 @@ sees, :mod:`fdm_awe.ocp.energy`), ``(alpha, phi, T, G)`` with the ``ideal`` gene
 (tension free, power through a loss-free converter). The motor-off mode appends ``s``.
 
 Recovery (phase 2): state ``(x, y, z, V, gamma, psi, l)`` with tether length ``l`` [m],
-``ldot = v_reel``; tether slack (``G = 0``, ``d <= l``). Controls ``(alpha, phi, T, v_reel)``.
+``ldot = v_reel``, ``d <= l``. Controls ``(alpha, phi, T, v_reel)``, and ``G`` where the recovery
+tension is free (``CycleProblem.recovery_tension``, physical scenario): the tension [N] >= 0 the
+winch's motor holds while it reels in (supply power :func:`fdm_awe.ocp.energy.motor_supply_power`
+with that tension, the full-duty speed falling with it, the line taut wherever it pulls:
+:mod:`fdm_awe.ocp.constraints`); otherwise the line is slack (``G = 0``).
 
 Fold (foldable configuration): the wing folds through the 6-DOF glider's rate-limited actuator
 in ``fold_time`` seconds (``fcs/wing-fold-time-s`` of ``aircraft/glider_foldable``), commanded
@@ -115,11 +119,16 @@ class CycleModel:
     #: the line tension at the winch while reeling in [N] (calibrated model; 0: the slack
     #: straight line): the reel-in pays it
     line_recovery_tension: float = 0.0
+    #: the line's tension in recovery is a control >= 0 the winch's motor holds (module docstring)
+    recovery_tension: bool = False
 
     @classmethod
     def build(cls, problem: CycleProblem, glider: Glider, winch: WinchElectrics) -> "CycleModel":
         foldable = problem.config == "foldable"
         rec = glider.folded if foldable else glider.unfolded
+        volts = getattr(problem, "supply_voltage", None)
+        if volts is not None:
+            winch = winch.with_supply_voltage(volts)
         spec = problem.scenario_spec
         drive = load_electric_drive() if spec.propeller == "engine" else None
         fold_time = 0.0
@@ -134,7 +143,8 @@ class CycleModel:
                     "line_recovery_tension": float(g_rec)}
         return cls(spec, glider.unfolded, rec, winch, tether_drag_scale=problem.tether_drag_scale, drive=drive,
                    line_weight=problem.line_weight, fold_time=fold_time, motor_off=spec.propeller in MOTOR_OFF_MODELS,
-                   wind_profile=getattr(problem, "wind_profile", None) or WindProfile(), **line)
+                   wind_profile=getattr(problem, "wind_profile", None) or WindProfile(),
+                   recovery_tension=getattr(problem, "recovery_tension", None) == "free" and spec.electrical, **line)
 
     @property
     def gen_controls(self) -> tuple[str, ...]:
@@ -153,7 +163,21 @@ class CycleModel:
 
     @property
     def rec_controls(self) -> tuple[str, ...]:
-        return ("alpha", "phi", "T", "v_reel") + ((ON_FRACTION,) if self.motor_off else ())
+        return ("alpha", "phi", "T", "v_reel") + (("G",) if self.recovery_tension else ()) + \
+            ((ON_FRACTION,) if self.motor_off else ())
+
+    def full_controls(self, index: int, u: Sequence[Any]) -> Sequence[Any]:
+        """Controls ``u`` of phase ``index`` with the recovery's tension ``G = 0`` inserted where
+        it is a control and ``u`` is given without it (shorter than :meth:`controls`: the slack
+        model's controls, with or without the on-fraction)."""
+        if index == 1 and self.recovery_tension and 4 <= len(u) < len(self.rec_controls):
+            return [*u[:4], 0.0, *u[4:]]
+        return u
+
+    def recovery_pull(self, u: Sequence[Any]) -> Any:
+        """The line's tension [N] in recovery controls ``u``: the control ``G`` where the
+        recovery tension is free (0 for controls given without it), else 0."""
+        return self.full_controls(1, u)[4] if self.recovery_tension else 0.0
 
     def controls(self, index: int) -> tuple[str, ...]:
         """Control names of phase ``index`` (0 generation, 1 recovery)."""
@@ -175,6 +199,7 @@ class CycleModel:
         """The motor's on-fraction in controls ``u`` of phase ``index``: None without the mode,
         and for controls given without it (the motor runs throughout)."""
         n = len(self.controls(index))
+        u = self.full_controls(index, u)
         return u[n - 1] if self.motor_off and len(u) >= n else None
 
     def mean_thrust(self, index: int, u: Sequence[Any]) -> Any:
@@ -339,13 +364,14 @@ class CycleModel:
         d = mo.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
         v_reel = u[3]
         cd_t, G_t = self._tether_drag(aero, x, d, l, drag_factor, dw)
-        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(1, u), G_t), cd_t, self._line_weight(l),
+        G = self.recovery_pull(u)
+        f = pm.dynamics(x, (u[0], u[1], self.mean_thrust(1, u), G + G_t), cd_t, self._line_weight(l),
                         self._line_wind_force(x, d, l, wind, drag_factor))
         if self.scenario.electrical:
-            P_rw = motor_supply_power(v_reel, self.winch, self.line_recovery_tension)
+            P_rw = motor_supply_power(v_reel, self.winch, G + self.line_recovery_tension)
         else:
             P_rw = self.scenario.P_rw + 0.0 * x[3]
-        return {"f": [*f, v_reel], "G": 0.0 * x[3], "v_reel": v_reel, "d": d, "l": l, "P_gen": 0.0 * x[3],
+        return {"f": [*f, v_reel], "G": G + 0.0 * x[3], "v_reel": v_reel, "d": d, "l": l, "P_gen": 0.0 * x[3],
                 "P_thr": self._thrust_power(u[2], x[3], self.on_fraction(1, u)), "P_rw": P_rw}
 
     def phase(self, index: int):

@@ -28,13 +28,20 @@ from ..wind import WindProfile
 #: ``paper`` scenario keeps Table 1's line and its own massless line and eq. 39 propeller fit.
 #: ``propeller`` None is the paper scenario's eq. 39 fit (it has no choice).
 PLANT_DEFAULTS: dict[str, dict[str, object]] = {
-    "physical": {"line": "sized", "propeller": "engine", "line_weight": True, "generator": "passive"},
-    "paper": {"line": "paper", "propeller": None, "line_weight": False, "generator": None},
+    "physical": {"line": "sized", "propeller": "engine", "line_weight": True, "generator": "passive",
+                 "recovery_tension": "free"},
+    "paper": {"line": "paper", "propeller": None, "line_weight": False, "generator": None,
+              "recovery_tension": "slack"},
 }
+#: the line's tension in recovery (:attr:`CycleProblem.recovery_tension`)
+RECOVERY_TENSIONS = ("free", "slack")
+#: allowed winch supply voltages [V] (:attr:`CycleProblem.supply_voltage`)
+SUPPLY_VOLTAGE_RANGE = (6.0, 200.0)
 #: The plant model of the physical numbers published before the defaults above (Table 1's line,
-#: momentum-theory propeller, massless line): ``CycleProblem(**LEGACY_PHYSICAL_PLANT, ...)``
-#: reproduces them (``--line paper --propeller momentum --no-line-weight``)
-LEGACY_PHYSICAL_PLANT: dict[str, object] = {"line": "paper", "propeller": "momentum", "line_weight": False}
+#: momentum-theory propeller, massless line, slack recovery): ``CycleProblem(**LEGACY_PHYSICAL_PLANT,
+#: ...)`` reproduces them (``--line paper --propeller momentum --no-line-weight --recovery-tension slack``)
+LEGACY_PHYSICAL_PLANT: dict[str, object] = {"line": "paper", "propeller": "momentum", "line_weight": False,
+                                            "recovery_tension": "slack"}
 
 
 @dataclass(frozen=True)
@@ -244,6 +251,18 @@ class CycleProblem:
     #: rectifier, the T2 duty as a control (``boost``) or the ``ideal`` bound. None: the scenario's
     #: default ("passive" in ``physical``; always None in ``paper``, whose tension is free)
     generator: str | None = None
+    #: the line's tension in recovery (:data:`RECOVERY_TENSIONS`): ``free``, a control >= 0 the
+    #: winch's motor holds while it reels in (its supply power and its full-duty speed follow the
+    #: drive's relations; the line is taut wherever it pulls), so the taut reel-in and the slack
+    #: glide-back are both admissible cycles and the optimum decides; ``slack``, fixed at zero
+    #: (the line never pulls in recovery). None: the scenario's default (``free`` in
+    #: ``physical``; always ``slack`` in ``paper``, whose reel-in power is a constant)
+    recovery_tension: str | None = None
+    #: the winch's supply voltage V_a [V] (physical scenario; None: the ground-station
+    #: definition's, 24 V, an estimate: the paper gives none). A design variable of the drive: it
+    #: sets the full-duty reel-in speed (5.36 m/s at 24 V on a slack line). The optimiser's only;
+    #: a flight flies the definition's drive
+    supply_voltage: float | None = None
     #: wind speed over height (:class:`fdm_awe.wind.WindProfile`): uniform (the default, the
     #: paper's), ``log`` (roughness length) or ``power`` (exponent), each with the reference
     #: height at which ``wind_speed`` holds. The ``paper`` scenario's wind is uniform
@@ -298,6 +317,19 @@ class CycleProblem:
         if self.scenario != "physical" and self.generator is not None:
             raise InputError(f"generator {self.generator!r}: only the physical scenario has a generator model "
                              f"(the paper scenario's tension is a free control)")
+        if self.recovery_tension not in RECOVERY_TENSIONS:
+            raise InputError(f"recovery_tension {self.recovery_tension!r} unknown (allowed: {', '.join(RECOVERY_TENSIONS)})")
+        if self.scenario != "physical" and self.recovery_tension != "slack":
+            raise InputError(f"recovery_tension {self.recovery_tension!r}: only the physical scenario has the winch's motor "
+                             f"relations (allowed: slack)")
+        if self.supply_voltage is not None:
+            v = self.supply_voltage
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and SUPPLY_VOLTAGE_RANGE[0] <= v <= SUPPLY_VOLTAGE_RANGE[1]):
+                raise InputError(f"supply_voltage = {v!r} V out of range (allowed {SUPPLY_VOLTAGE_RANGE[0]:g}.."
+                                 f"{SUPPLY_VOLTAGE_RANGE[1]:g} V)")
+            if self.scenario != "physical":
+                raise InputError("supply_voltage: only the physical scenario has the winch's drive (the paper scenario's "
+                                 "reel-in power is a constant)")
         if self.line_weight and self.scenario != "physical":
             raise InputError("line_weight: only the physical scenario has a line model (the paper's line is massless)")
         if not isinstance(self.wind_profile, WindProfile):

@@ -52,6 +52,9 @@ class CycleResult:
     fold_time_s: float | None = None
     #: the optimiser could stop the motor (column ``motor_on``; None: unknown)
     motor_off: bool | None = None
+    #: the bounds that bind at the optimum (:func:`fdm_awe.ocp.active.active_bounds`): which
+    #: constraint, phase, where in the cycle, IPOPT's multiplier; strongest first
+    active_bounds: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -81,6 +84,7 @@ class CycleResult:
             "P_avg_W": num(self.P_avg_W) if ok else None, "k_wrap": self.k_wrap, "max_violation": num(self.max_violation),
             "trajectory": self.trajectory_path,
             "strategy": self.strategy or None,
+            "active_bounds": self.active_bounds if ok else [],
         }
 
     def metadata(self) -> dict[str, Any]:

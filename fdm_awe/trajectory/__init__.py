@@ -30,7 +30,7 @@ appears twice, once per phase):
   ``gamma, psi`` [rad] air-path angles (``psi`` continuous, not wrapped);
 - ``alpha, phi`` [rad], ``T`` [N] controls (piecewise constant per mesh interval: each row
   carries the value of the interval that starts at or contains it);
-- ``tension`` [N] tether tension (0 in recovery), ``tether_length`` [m], ``reel_speed`` [m/s]
+- ``tension`` [N] tether tension (in recovery the winch's pull, 0 on a slack line), ``tether_length`` [m], ``reel_speed`` [m/s]
   (> 0 paid out), ``fold`` (0 unfolded, 1 folded);
 - ``p_generated_W, p_thrust_W, p_reel_in_W`` [W] the scenario's power terms;
 - optional ``motor_on`` (0 .. 1): the motor's on-fraction of the interval (motor-off mode;
