@@ -40,6 +40,7 @@ RECORD_FIELDS = (
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
     "line_d_m", "line_mu_kg_per_m", "line_breaking_load_N",
     "cold_check", "kept", "P_warm_W", "P_cold_W", "family", "cold_family", "wind_profile",
+    "bounds",
 )
 
 #: |warm - cold| [W] above which a point's two solutions count as different in the summary
@@ -142,11 +143,16 @@ def point_problem(point: Point) -> Any:
     n_gen, n_rec, deg = point.mesh
     # a point's propeller None is momentum theory in the physical scenario (the model before the choice)
     prop = point.propeller or ("momentum" if point.scenario == "physical" else None)
+    extra = {}
+    if point.bounds == "flyable":  # the bounds fdm-awe fly optimises a reference to fly with
+        from ..commands.fly import flyable_bounds
+
+        extra["bounds"] = flyable_bounds()
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
                         d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=prop,
                         line_weight=point.line_weight, line=point.line,
                         fold_time=point.fold_time if point.config == "foldable" else None,
-                        wind_profile=WindProfile.parse(point.wind_profile, option="point wind profile"))
+                        wind_profile=WindProfile.parse(point.wind_profile, option="point wind profile"), **extra)
 
 
 @functools.lru_cache(maxsize=16)
@@ -176,7 +182,7 @@ def base_record(point: Point) -> dict[str, Any]:
                 "warm_fallback": point.warm_fallback,
                 "propeller": point.propeller or ("momentum" if point.scenario == "physical" else "paper"),
                 "line_weight": point.line_weight, "line": point.line, "line_diameter_m": point.line_diameter,
-                "wind_profile": point.wind_profile})
+                "wind_profile": point.wind_profile, "bounds": point.bounds})
     return rec
 
 

@@ -100,7 +100,11 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 #: of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
                 "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False,
-                "wind_profile": "uniform"}
+                "wind_profile": "uniform", "bounds": "table3"}
+
+#: bounds a point is optimised with: ``table3`` (the optimiser's own, Table 3) or ``flyable``
+#: (``fdm-awe fly``'s: C_L at most 0.85 C_Lmax, |bank| at most 0.8 rad; what ``sweep --fly`` flies)
+BOUNDS = ("table3", "flyable")
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -135,6 +139,7 @@ class Point:
     #: wind speed over height (:meth:`fdm_awe.wind.WindProfile.label`: ``uniform``, ``log:Z0@H``
     #: or ``power:ALPHA@H``); ``wind`` is the speed at the reference height H
     wind_profile: str = "uniform"
+    bounds: str = "table3"  #: :data:`BOUNDS` the cycle is optimised with
 
     @property
     def id(self) -> str:
@@ -165,6 +170,8 @@ class Point:
         parts.append(f"line={self.line}" + ("" if self.line_diameter is None else f"@{self.line_diameter * 1e3:.3g}mm"))
         if self.wind_profile != "uniform":
             parts.append(f"wind={self.wind_profile}")
+        if self.bounds != "table3":
+            parts.append(f"bounds={self.bounds}")
         return " ".join(parts)
 
 
@@ -195,6 +202,7 @@ class SweepSpec:
     #: wind profile of every point (:meth:`fdm_awe.wind.WindProfile.label`; ``winds`` are the
     #: speeds at its reference height)
     wind_profile: str = "uniform"
+    bounds: str = "table3"  #: :data:`BOUNDS` of every point
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -268,6 +276,8 @@ class SweepSpec:
             raise InputError(f"wind profile {self.wind_profile!r} not canonical (allowed e.g. uniform, log:0.1@10, power:0.143@10)")
         if self.scenario == "paper" and not prof.uniform:
             raise InputError(f"wind profile {self.wind_profile!r}: the paper scenario's wind is uniform (allowed uniform)")
+        if self.bounds not in BOUNDS:
+            raise InputError(f"bounds {self.bounds!r} unknown (allowed: {', '.join(BOUNDS)})")
         lo, hi = ANCHOR_EVERY_RANGE
         if not (isinstance(self.anchor_every, int) and lo <= self.anchor_every <= hi):
             raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer {lo}..{hi}; 0 = one anchor per line)")
@@ -297,7 +307,8 @@ class SweepSpec:
                                           self.max_iter, self.max_iter_total, self.warm_fallback, propeller=prop,
                                           line_weight=bool(plant["line_weight"]), line=line,
                                           line_diameter=None if dl is None else float(dl),
-                                          cold_check=bool(self.cold_check), wind_profile=self.wind_profile)
+                                          cold_check=bool(self.cold_check), wind_profile=self.wind_profile,
+                                          bounds=self.bounds)
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)

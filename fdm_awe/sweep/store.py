@@ -43,7 +43,8 @@ REQUIRED_FIELDS: dict[str, tuple[type, ...]] = {
 #: :data:`~fdm_awe.sweep.runner.RECORD_FIELDS` is a number or null (records written before a
 #: field existed lack it: read as null).
 TEXT_FIELDS = frozenset({"id", "scenario", "config", "mesh", "warm_fallback", "propeller", "line", "status", "reason", "worker",
-                         "warm_from", "start", "kept", "family", "cold_family", "wind_profile"})
+                         "warm_from", "start", "kept", "family", "cold_family", "wind_profile",
+                         "bounds"})
 #: Record fields holding a boolean (or null).
 BOOL_FIELDS = frozenset({"line_weight", "cold_check"})
 #: Arrays of a warm-start file.
