@@ -7,6 +7,13 @@ are warm-started from their neighbour. Every finished point is written at once t
 Outputs in ``OUT``: ``points.csv`` (every point, failed ones with their reason),
 ``power_curve.png``, ``folding_map.png``, ``summary.md``; ``--json FILE`` writes the numbers.
 
+``--fly`` flies every optimised point in 6-DOF (:mod:`fdm_awe.sweep.flown`, one Dask task per
+flight, stored in ``OUT/flights/`` and resumed like the points) and writes the power-curve
+report (:mod:`fdm_awe.sweep.curve_report`: ``power_curve.csv``, ``power_curve_flown.png``,
+``power_curve.md``); ``--yield`` adds the energy yield at a site (``yield.csv``,
+:mod:`fdm_awe.sweep.energy_yield`), also from a finished folder with ``--report-only``. Exit 1
+also when some flights have no result.
+
 Warm-started points are also solved cold with the optimiser's global strategy and keep the
 better solution (``--no-cold-check`` turns this off); the summary lists every point where the
 two differ by more than 0.5 W.
@@ -321,9 +328,9 @@ def _run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> 
     records = list(res.records.values())
     rep = write_outputs(spec, records, args.out)
     extras = extras or {"fly": None, "dists": []}
-    fly_res = None
+    fly_res, curve = None, None
     if extras["fly"] is not None or extras["dists"]:
-        fly_res = _fly_and_report(args, spec, res, records, extras, rep)
+        fly_res, curve = _fly_and_report(args, spec, res, records, extras, rep)
     where = f"{res.workers} worker(s) on {res.scheduler}" if res.workers else "nothing to compute"
     print(f"points: {res.n_points} total, {res.n_cached} already done, {res.n_computed} computed now "
           f"({res.n_failed_now} failed) in {res.wall_s:.1f} s with {where}")
@@ -347,6 +354,8 @@ def _run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> 
                "failed": [{"id": r["id"], "config": r["config"], "wind_mps": r["wind_mps"], "b_f_m": r.get("b_f_m"),
                            "reason": r["reason"]} for r in records if r["status"] != "ok"],
                "points": records}
+        if curve is not None:
+            doc.update(curve)
         write_json(args.json, doc, indent=1)
     if fly_res is not None and not fly_res.complete:
         return 1
@@ -356,7 +365,7 @@ def _run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> 
 def _fly_and_report(args: argparse.Namespace, spec, res, records: list, extras: dict, rep):
     """Fly the missing flights (``--fly``, not with ``--report-only``), then write the
     power-curve report and the yield; returns the :class:`~fdm_awe.sweep.flown.FlyRun` (None
-    without ``--fly``)."""
+    without ``--fly``) and the numbers for the ``--json`` document."""
     from ..fileio import atomic_write_text
     from ..sweep.curve_report import (curve_files, curve_markdown, curve_plot, curve_rows, write_curve_csv,
                                       write_yield_csv, yields)
@@ -418,4 +427,8 @@ def _fly_and_report(args: argparse.Namespace, spec, res, records: list, extras: 
             print(f"yield {source} {name} {y.distribution}: {y.mean_power_W:.2f} W, {y.aep_kWh:.1f} kWh/yr"
                   + ("" if y.capacity_factor is None else f", CF {y.capacity_factor:.3f}")
                   + (" (curve outside the distribution's mass)" if y.outside_mass else ""))
-    return run
+    curve = {"power_curve": rows, "fly": None if fly is None else fly.as_dict(),
+             "flights": None if run is None else {"n_flights": run.n_flights, "n_cached": run.n_cached,
+                                                  "n_flown": run.n_flown, "complete": run.complete},
+             "yield": None if not ys else [{"curve": n, "source": src, **y.as_dict()} for n, src, y in ys]}
+    return run, curve

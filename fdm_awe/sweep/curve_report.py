@@ -152,6 +152,42 @@ def _f(v: Any, fmt: str = ".1f") -> str:
     return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, fmt)
 
 
+#: the flown mean agrees with the optimised power within this fraction where the optimum is above
+#: :data:`AGREEMENT_MIN_W`
+AGREEMENT_REL = 0.10
+AGREEMENT_MIN_W = 10.0
+
+
+def agreement_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """Where the flown mean is within :data:`AGREEMENT_REL` of an optimum above
+    :data:`AGREEMENT_MIN_W`, and for every other flown point what its flights say (completion,
+    parking, tracking, peaks against the ratings)."""
+    ok, other = [], []
+    for r in rows:
+        if r["P_flown_mean_W"] is None or r["P_opt_W"] is None:
+            continue
+        d = r["P_flown_mean_W"] - r["P_opt_W"]
+        if r["P_opt_W"] > AGREEMENT_MIN_W and abs(d) <= AGREEMENT_REL * r["P_opt_W"]:
+            ok.append(f"{r['curve']} {r['wind_mps']:g} m/s")
+            continue
+        why = []
+        if r["completion"] is not None and r["completion"] < 1:
+            why.append(f"completion {r['completion']:.2f}")
+        if r["park_fraction"]:
+            why.append(f"parked {r['park_fraction']:.2f}")
+        if r["track_rms_m"] is not None:
+            why.append(f"tracking RMS {r['track_rms_m']:.1f} m")
+        if r["peak_tension_N"] is not None and r["rated_tension_N"] and r["peak_tension_N"] > r["rated_tension_N"]:
+            why.append(f"peak tension {r['peak_tension_N']:.0f} N over the rated {r['rated_tension_N']:g} N")
+        if r["P_opt_W"] <= AGREEMENT_MIN_W:
+            why.insert(0, f"optimum {r['P_opt_W']:.1f} W at most {AGREEMENT_MIN_W:g} W (a small difference is a large fraction)")
+        other.append(f"- {r['curve']} {r['wind_mps']:g} m/s: flown {r['P_flown_mean_W']:.1f} W against "
+                     f"{r['P_opt_W']:.1f} W optimised ({d:+.1f} W); " + ", ".join(why))
+    head = (f"Within {100 * AGREEMENT_REL:g} % of an optimum above {AGREEMENT_MIN_W:g} W: "
+            + (", ".join(ok) if ok else "none") + ".")
+    return [head] + (["", "Elsewhere (what the flights say):", ""] + other if other else [])
+
+
 def fold_differences(rows: list[dict[str, Any]], records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """Flown foldable minus nominal per wind (pairs as the folding map pairs them), with the
     standard error sqrt(se_f^2 + se_n^2) of the flights' means (None with one flight each)."""
@@ -244,6 +280,8 @@ def curve_markdown(rows: list[dict[str, Any]], records: Sequence[dict[str, Any]]
             for d in diffs:
                 L.append(f"| {d['curve']} | {d['wind_mps']:g} | {d['dP_flown_W']:+.1f} | {_f(d['se_W'])} | "
                          f"{'-' if d['dP_opt_W'] is None else format(d['dP_opt_W'], '+.1f')} |")
+    if fly is not None:
+        L += ["", "## Flown against optimised", ""] + agreement_lines(rows)
     if skipped:
         L += ["", "## Not flown", ""] + [f"- {s}" for s in skipped]
     if ys:
