@@ -424,7 +424,7 @@ def _fly_and_report(args: argparse.Namespace, spec, res, records: list, extras: 
         print(f"{k}: {files[k]}")
     if ys:
         for name, source, y in ys:
-            print(f"yield {source} {name} {y.distribution}: {y.mean_power_W:.2f} W, {y.aep_kWh:.1f} kWh/yr"
+            print(f"yield {source} {name} {y.distribution}: {y.mean_power_W:.3f} W, {y.aep_kWh:.2f} kWh/yr"
                   + ("" if y.capacity_factor is None else f", CF {y.capacity_factor:.3f}")
                   + (" (curve outside the distribution's mass)" if y.outside_mass else ""))
     curve = {"power_curve": rows, "fly": None if fly is None else fly.as_dict(),

@@ -180,7 +180,7 @@ def agreement_lines(rows: list[dict[str, Any]]) -> list[str]:
         if r["peak_tension_N"] is not None and r["rated_tension_N"] and r["peak_tension_N"] > r["rated_tension_N"]:
             why.append(f"peak tension {r['peak_tension_N']:.0f} N over the rated {r['rated_tension_N']:g} N")
         if r["P_opt_W"] <= AGREEMENT_MIN_W:
-            why.insert(0, f"optimum {r['P_opt_W']:.1f} W at most {AGREEMENT_MIN_W:g} W (a small difference is a large fraction)")
+            why.insert(0, f"optimum at most {AGREEMENT_MIN_W:g} W (outside the {100 * AGREEMENT_REL:g} % criterion)")
         other.append(f"- {r['curve']} {r['wind_mps']:g} m/s: flown {r['P_flown_mean_W']:.1f} W against "
                      f"{r['P_opt_W']:.1f} W optimised ({d:+.1f} W); " + ", ".join(why))
     head = (f"Within {100 * AGREEMENT_REL:g} % of an optimum above {AGREEMENT_MIN_W:g} W: "
@@ -290,7 +290,7 @@ def curve_markdown(rows: list[dict[str, Any]], records: Sequence[dict[str, Any]]
               "above range | not operated (P <= 0) |", "|---|---|---|---|---|---|---|---|---|"]
         for name, source, y in ys:
             flag = " (curve outside the distribution's mass)" if y.outside_mass else ""
-            L.append(f"| {name} | {source} | {y.distribution}{flag} | {y.mean_power_W:.2f} | {y.aep_kWh:.1f} | "
+            L.append(f"| {name} | {source} | {y.distribution}{flag} | {y.mean_power_W:.3f} | {y.aep_kWh:.2f} | "
                      f"{_f(y.capacity_factor, '.3f')} | {y.mass_below:.3f} | {y.mass_above:.3f} | "
                      f"{y.mass_not_operated:.3f} |")
         if any(y.outside_mass for _, _, y in ys):
