@@ -120,3 +120,36 @@ def test_bad_fly_and_yield_options_exit_2_before_work(tmp_path, capsys, argv, ma
     err = capsys.readouterr().err
     assert rc == 2 and match in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "o" / "points").exists()
+
+
+# --------------------------------------------------------------------------- flown statistics
+def _flight(status, powers, complete=None, T=30.0):
+    complete = complete or [True] * len(powers)
+    return {"status": status, "peak_tension_N": 40.0, "peak_current_A": 9.0, "rated_tension_N": 50.0,
+            "rated_current_A": 12.1,
+            "cycle_list": [{"complete": c, "P_W": p, "E_net_J": p * T, "T_s": T, "track_rms_m": 2.0}
+                           for p, c in zip(powers, complete)]}
+
+
+def test_flown_point_statistics_by_hand():
+    from fdm_awe.sweep.flown import flown_point
+
+    # seed 1: 10, 12, 14 W; seed 2: 4 W then parked (2 cycles incomplete); seed 3: 6, 8, 10 W
+    fl = [_flight("ok", [10.0, 12.0, 14.0]), _flight("parked", [4.0, -50.0, 0.0], [True, False, False]),
+          _flight("ok", [6.0, 8.0, 10.0])]
+    s = flown_point(fl, 3)
+    P = [10.0, 12.0, 14.0, 4.0, 6.0, 8.0, 10.0]  # the complete cycles
+    assert s["cycles_complete"] == 7 and s["cycles_asked"] == 9 and s["completion"] == pytest.approx(7 / 9)
+    assert s["park_fraction"] == pytest.approx(1 / 3)
+    assert s["P_flown_mean_W"] == pytest.approx(sum(P) / 7, rel=1e-12)
+    assert s["P_flown_std_W"] == pytest.approx(float(np.std(P, ddof=1)), rel=1e-12)
+    assert (s["P_flown_min_W"], s["P_flown_max_W"]) == (4.0, 14.0)
+    means = [12.0, 4.0, 8.0]  # each flight's complete cycles
+    assert s["P_flight_mean_W"] == pytest.approx(8.0, rel=1e-12)
+    assert s["P_flight_se_W"] == pytest.approx(float(np.std(means, ddof=1)) / math.sqrt(3), rel=1e-12)
+    # one flight: no standard error, no std from a single cycle
+    one = flown_point([_flight("ok", [5.0])], 1)
+    assert one["P_flight_se_W"] is None and one["P_flown_std_W"] is None and one["P_flown_mean_W"] == 5.0
+    # no complete cycle: no power, completion 0
+    none = flown_point([_flight("ground_contact", [3.0], [False])], 1)
+    assert none["P_flown_mean_W"] is None and none["completion"] == 0.0

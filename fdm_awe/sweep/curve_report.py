@@ -29,7 +29,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..fileio import atomic_path, atomic_write_text
+from ..fileio import atomic_path
 from .energy_yield import Distribution, YieldResult, cut_in_wind, energy_yield, rated_wind
 from .flown import FlySpec, flown_point
 from .outputs import _group_key, _line_label, _save
