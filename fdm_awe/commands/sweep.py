@@ -129,9 +129,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="positive (default): not operated where the net power is <= 0 (it would buy energy to fly); "
                         "none: negative power counts as negative")
     g.add_argument("--rated-power", type=float, default=None, metavar="W",
-                   help="rated power [W] for the capacity factor and the rated wind, > 0 (default: the curve's "
-                        "largest power)")
+                   help="rated power [W] for the capacity factor and the rated wind, > 0 and <= 100000 (default: the "
+                        "curve's largest power)")
 
+
+#: ``--rated-power`` upper limit [W] (a rated power far beyond any glider of this package)
+RATED_POWER_MAX_W = 1e5
 
 #: ``--workers`` upper limit (local worker processes)
 MAX_WORKERS = 1024
@@ -153,8 +156,9 @@ def check_args(args: argparse.Namespace) -> None:
     from ..sweep.energy_yield import HEIGHT_RANGE
 
     chk.number(getattr(args, "yield_height", None), "--yield-height", *HEIGHT_RANGE, unit="m", what="height")
-    if getattr(args, "rated_power", None) is not None and not (math.isfinite(args.rated_power) and args.rated_power > 0):
-        raise InputError(f"--rated-power {args.rated_power:g}: out of range (allowed > 0 W)")
+    if getattr(args, "rated_power", None) is not None and not (math.isfinite(args.rated_power)
+                                                                and 0 < args.rated_power <= RATED_POWER_MAX_W):
+        raise InputError(f"--rated-power {args.rated_power:g}: out of range (allowed > 0 and <= {RATED_POWER_MAX_W:g} W)")
     if args.scheduler is not None and args.workers is not None:
         raise InputError("--workers: not with --scheduler (the external cluster has its own workers)")
 
@@ -267,10 +271,12 @@ def extra_settings(args: argparse.Namespace, spec) -> dict:
     from ..sweep.flown import FlySpec
     from ..wind import WindProfile
 
-    fly = None
-    if args.fly:
-        fly = FlySpec(air=args.fly_air.strip().lower(), seeds=args.fly_seeds, cycles=args.fly_cycles,
-                      tether=args.fly_tether.strip()).validate()
+    # checked with or without --fly: a bad value is refused whether or not it is used
+    fly = FlySpec(air=args.fly_air.strip().lower(), seeds=args.fly_seeds, cycles=args.fly_cycles,
+                  tether=args.fly_tether.strip()).validate()
+    if not args.fly:
+        fly = None
+    else:
         if spec.scenario == "paper" and fly.tether != "straight":
             from ..errors import InputError
 
