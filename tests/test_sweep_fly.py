@@ -120,3 +120,10 @@ def test_rebuilt_reference_is_the_optimised_cycle(tmp_path):
     res = point_result(p, warm)
     assert res.ok and res.P_avg_W == rec["P_avg_W"] and res.T1_s == rec["T1_s"] and res.T2_s == rec["T2_s"]
     assert res.problem.bounds.cl_margin == 0.85 and res.problem.bounds.phi_max == 0.8
+
+
+def test_flyable_points_have_the_bounds_fly_optimises_with():
+    from fdm_awe.commands.fly import flyable_bounds
+    from fdm_awe.sweep import runner
+
+    assert runner.flyable_bounds() == flyable_bounds()

@@ -134,6 +134,15 @@ def point_glider(point: Point) -> Any:
     return design_glider(_base_glider(), point_design(point))
 
 
+def flyable_bounds() -> Any:
+    """The :class:`~fdm_awe.ocp.problem.Bounds` of a ``flyable`` point: those ``fdm-awe fly``
+    optimises a reference with at its defaults (C_L at most 0.85 C_Lmax, |bank| at most 0.8 rad;
+    ``fdm_awe.commands.fly.flyable_bounds()``, a higher layer; a test holds them equal)."""
+    from ..ocp.problem import Bounds
+
+    return Bounds(cl_margin=0.85, phi_max=0.8)
+
+
 def point_problem(point: Point) -> Any:
     """The :class:`~fdm_awe.ocp.problem.CycleProblem` of ``point`` (a resized line's numbers are
     in :func:`point_winch`, not in the problem)."""
@@ -145,8 +154,6 @@ def point_problem(point: Point) -> Any:
     prop = point.propeller or ("momentum" if point.scenario == "physical" else None)
     extra = {}
     if point.bounds == "flyable":  # the bounds fdm-awe fly optimises a reference to fly with
-        from ..commands.fly import flyable_bounds
-
         extra["bounds"] = flyable_bounds()
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
                         d_tf=point.d_tf, mesh=Mesh(n_gen=n_gen, n_rec=n_rec, degree=deg), propeller=prop,
