@@ -60,8 +60,8 @@ EXTRA = {("fly", "--mavlink"): ["udpin:192.0.2.1:14550", "tcpin:192.0.2.1:14550"
          ("fly", "--tether"): ["lumped:1", "lumped:201"]}
 
 #: (command, option, value) cases that are valid by design: ``--stop-after N`` counts points and
-#: has no upper limit (a huge N never stops the sweep)
-VALID = {("sweep", "--stop-after", str(10**30))}
+#: ``--fly-stop-after N`` flights, without upper limit (a huge N never stops the sweep)
+VALID = {("sweep", "--stop-after", str(10**30)), ("sweep", "--fly-stop-after", str(10**30))}
 
 
 def _commands() -> dict[str, argparse.ArgumentParser]:

@@ -302,6 +302,11 @@ def plan(d: DocLine) -> Plan:
         if _value(args, "--config") is None:
             argv = _set(argv, "--config", "nominal")
             changes.append("--config nominal")
+        if "--fly" in args:  # one short flight per point
+            for opt in ("--fly-seeds", "--fly-cycles"):
+                if _value(args, opt) != "1":
+                    argv = _set(argv, opt, "1")
+                    changes.append(f"{opt} 1")
     plan_.argv = argv
     if changes:
         plan_.how, plan_.changes = "variant", changes

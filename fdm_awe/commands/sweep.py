@@ -7,6 +7,13 @@ are warm-started from their neighbour. Every finished point is written at once t
 Outputs in ``OUT``: ``points.csv`` (every point, failed ones with their reason),
 ``power_curve.png``, ``folding_map.png``, ``summary.md``; ``--json FILE`` writes the numbers.
 
+``--fly`` flies every optimised point in 6-DOF (:mod:`fdm_awe.sweep.flown`, one Dask task per
+flight, stored in ``OUT/flights/`` and resumed like the points) and writes the power-curve
+report (:mod:`fdm_awe.sweep.curve_report`: ``power_curve.csv``, ``power_curve_flown.png``,
+``power_curve.md``); ``--yield`` adds the energy yield at a site (``yield.csv``,
+:mod:`fdm_awe.sweep.energy_yield`), also from a finished folder with ``--report-only``. Exit 1
+also when some flights have no result.
+
 Warm-started points are also solved cold with the optimiser's global strategy and keep the
 better solution (``--no-cold-check`` turns this off); the summary lists every point where the
 two differ by more than 0.5 W.
@@ -30,6 +37,7 @@ quietly (no tracebacks) and the points finished so far are kept for a rerun.
 from __future__ import annotations
 
 import argparse
+import math
 
 HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
 
@@ -91,7 +99,44 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "differences over 0.5 W with their explanation from the records; --json writes the comparison; "
                         "exit 0 when every point agrees or is explained, 1 otherwise")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    g = p.add_argument_group("flown power curve (--fly) and energy yield (--yield); see docs/sweep.md")
+    g.add_argument("--fly", action="store_true",
+                   help="fly every optimised point in 6-DOF with the autopilot (one Dask task per flight, stored in "
+                        "OUT/flights/, resumed like the points); the points are then optimised with fly's flyable "
+                        "bounds (--bounds flyable)")
+    g.add_argument("--bounds", default=None, choices=("table3", "flyable"),
+                   help="bounds of every optimisation: table3 (the optimiser's own) or flyable (fly's: |bank| <= 0.8 rad "
+                        "and fly's margins, C_L <= 0.85 C_Lmax and tension <= rating / 1.25, where --stall-margin / "
+                        "--tension-margin are not given); default flyable with --fly, table3 otherwise")
+    g.add_argument("--fly-cycles", type=int, default=3, metavar="K", help="cycles per flight, 1..20 (default 3)")
+    g.add_argument("--fly-seeds", type=int, default=5, metavar="S",
+                   help="turbulence seeds 1..S per point, S 1..100 (default 5; calm air is flown once)")
+    g.add_argument("--fly-air", default="light", metavar="AIR",
+                   help="calm, or a turbulence form without seed: light, moderate, severe, milspec:SEVERITY, "
+                        "iec:CLASS (default light)")
+    g.add_argument("--fly-tether", default="straight", metavar="MODEL",
+                   help="line model of the flights: straight (default) or lumped:N")
+    g.add_argument("--fly-stop-after", type=int, default=None, metavar="N",
+                   help="stop after N >= 1 newly flown flights (as an interruption would; for testing resume)")
+    g.add_argument("--yield", dest="yield_", action="append", metavar="DIST",
+                   help="energy yield of the curves at a site: rayleigh:MEAN[,MEAN...] (annual means, m/s) or "
+                        "weibull:K:C (shape, scale m/s); may be repeated; works with --report-only on a finished sweep")
+    g.add_argument("--yield-height", type=float, default=None, metavar="M",
+                   help="height [m] of the site's wind distribution, 1..1000 (default: the sweep's reference height, "
+                        "10 m)")
+    g.add_argument("--yield-profile", default=None, metavar="KIND",
+                   help="wind profile carrying the site's wind to the curve's height: log:Z0 or power:ALPHA "
+                        "(default: the sweep's --wind-profile; uniform: no change with height)")
+    g.add_argument("--yield-clip", default="positive", choices=("positive", "none"),
+                   help="positive (default): not operated where the net power is <= 0 (it would buy energy to fly); "
+                        "none: negative power counts as negative")
+    g.add_argument("--rated-power", type=float, default=None, metavar="W",
+                   help="rated power [W] for the capacity factor and the rated wind, > 0 and <= 100000 (default: the "
+                        "curve's largest power)")
 
+
+#: ``--rated-power`` upper limit [W] (a rated power far beyond any glider of this package)
+RATED_POWER_MAX_W = 1e5
 
 #: ``--workers`` upper limit (local worker processes)
 MAX_WORKERS = 1024
@@ -108,7 +153,14 @@ def check_args(args: argparse.Namespace) -> None:
     chk.integer(args.anchor_every, "--anchor-every", *ANCHOR_EVERY_RANGE, what="winds between anchors")
     chk.integer(args.workers, "--workers", 1, MAX_WORKERS, what="local worker processes")
     chk.integer(args.stop_after, "--stop-after", 1, None, what="newly finished points")
+    chk.integer(getattr(args, "fly_stop_after", None), "--fly-stop-after", 1, None, what="newly flown flights")
     chk.scheduler_address(args.scheduler)
+    from ..sweep.energy_yield import HEIGHT_RANGE
+
+    chk.number(getattr(args, "yield_height", None), "--yield-height", *HEIGHT_RANGE, unit="m", what="height")
+    if getattr(args, "rated_power", None) is not None and not (math.isfinite(args.rated_power)
+                                                                and 0 < args.rated_power <= RATED_POWER_MAX_W):
+        raise InputError(f"--rated-power {args.rated_power:g}: out of range (allowed > 0 and <= {RATED_POWER_MAX_W:g} W)")
     if args.scheduler is not None and args.workers is not None:
         raise InputError("--workers: not with --scheduler (the external cluster has its own workers)")
 
@@ -152,6 +204,7 @@ def build_spec(args: argparse.Namespace):
     from ..sweep.runner import canonical_spec
     from ..errors import InputError
     from ..groundstation.line import LINES
+    from ..sweep.runner import FLYABLE_STALL_MARGIN, FLYABLE_TENSION_MARGIN
     from ..sweep.spec import (DEFAULT_MAX_ITER, DEFAULT_MAX_ITER_TOTAL, LINE_DIAMETER_RANGE, WIND_RANGE, SweepSpec,
                               parse_floats, parse_names, parse_tether_ranges)
     from .optimize import parse_mesh
@@ -165,6 +218,8 @@ def build_spec(args: argparse.Namespace):
     check_plant_args(args)
     profile = wind_profile_from_args(args)
     margins = margin_bounds(args)
+    # a flyable point takes fly's margins where --tension-margin / --stall-margin are not given
+    bounds = args.bounds or ("flyable" if getattr(args, "fly", False) else "table3")
     diameters: tuple = (None,)
     if getattr(args, "line_diameter", None) is not None:
         from ..sweep.design import line_station
@@ -189,8 +244,12 @@ def build_spec(args: argparse.Namespace):
         # --cold has no warm starts to check: its points keep the ids of points without the check
         cold_check=not (getattr(args, "no_cold_check", False) or getattr(args, "cold", False)),
         wind_profile=profile.label(),
-        tension_margin=margins["tension_margin"], stall_margin=float(args.stall_margin or 0.0),  # checked above
+        tension_margin=margins["tension_margin"] if bounds == "table3" or args.tension_margin is not None
+        else FLYABLE_TENSION_MARGIN,
+        stall_margin=(float(args.stall_margin or 0.0) if bounds == "table3" or args.stall_margin is not None
+                      else FLYABLE_STALL_MARGIN),  # checked above
         line_model=getattr(args, "line_model", None) or "straight",
+        bounds=bounds,
     ).validate()
     return canonical_spec(spec)
 
@@ -207,13 +266,42 @@ def run(args: argparse.Namespace) -> int:
         chk.outputs(files=[("--json", args.json)])
         return run_compare(args.out, args.compare, args.json)
     spec = build_spec(args)
+    extras = extra_settings(args, spec)
     from ..sweep.report import output_files
 
     _check_not_in_points(args)
     locks = chk.outputs(files=[("--json", args.json)], dirs=[("--out", args.out)],
                         dir_files=[("--out", p) for p in output_files(args.out).values()])
     with locks:  # --out locked until the last file is written: a second sweep into it is refused
-        return _run_checked(args, spec)
+        return _run_checked(args, spec, extras)
+
+
+def extra_settings(args: argparse.Namespace, spec) -> dict:
+    """The ``--fly`` and ``--yield`` settings, checked (one-line errors naming the option)."""
+    from ..sweep.energy_yield import parse_distributions
+    from ..sweep.flown import FlySpec
+    from ..wind import WindProfile
+
+    # checked with or without --fly: a bad value is refused whether or not it is used
+    fly = FlySpec(air=args.fly_air.strip().lower(), seeds=args.fly_seeds, cycles=args.fly_cycles,
+                  tether=args.fly_tether.strip()).validate()
+    if not args.fly:
+        fly = None
+    else:
+        if spec.scenario == "paper" and fly.tether != "straight":
+            from ..errors import InputError
+
+            raise InputError(f"--fly-tether {fly.tether}: a lumped line only on the physical plant (allowed straight "
+                             f"with --scenario paper)")
+    dists = parse_distributions(args.yield_) if args.yield_ else []
+    sweep_prof = WindProfile.parse(spec.wind_profile, option="wind profile")
+    prof = sweep_prof if args.yield_profile is None else WindProfile.parse(
+        args.yield_profile, sweep_prof.ref_height if not sweep_prof.uniform else None, "--yield-profile")
+    curve_h = float(sweep_prof.ref_height) if not sweep_prof.uniform else 10.0
+    site_h = curve_h if args.yield_height is None else float(args.yield_height)
+    ratio = 1.0 if prof.uniform else float(prof.factor(curve_h)) / float(prof.factor(site_h))
+    return {"fly": fly, "dists": dists, "clip": args.yield_clip == "positive", "rated": args.rated_power,
+            "site_height": site_h, "curve_height": curve_h, "ratio": ratio, "profile": prof}
 
 
 def _check_not_in_points(args: argparse.Namespace) -> None:
@@ -230,7 +318,7 @@ def _check_not_in_points(args: argparse.Namespace) -> None:
                          f"files; choose another path")
 
 
-def _run_checked(args: argparse.Namespace, spec) -> int:
+def _run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> int:
     """The work of :func:`run` once every option and output is checked: solve the missing
     points (or none, ``--report-only``), write the outputs; returns the exit code."""
     from pathlib import Path
@@ -256,6 +344,10 @@ def _run_checked(args: argparse.Namespace, spec) -> int:
                         progress=not args.no_progress, stop_after=args.stop_after, warm_start=not args.cold)
     records = list(res.records.values())
     rep = write_outputs(spec, records, args.out)
+    extras = extras or {"fly": None, "dists": []}
+    fly_res, curve = None, None
+    if extras["fly"] is not None or extras["dists"]:
+        fly_res, curve = _fly_and_report(args, spec, res, records, extras, rep)
     where = f"{res.workers} worker(s) on {res.scheduler}" if res.workers else "nothing to compute"
     print(f"points: {res.n_points} total, {res.n_cached} already done, {res.n_computed} computed now "
           f"({res.n_failed_now} failed) in {res.wall_s:.1f} s with {where}")
@@ -279,5 +371,81 @@ def _run_checked(args: argparse.Namespace, spec) -> int:
                "failed": [{"id": r["id"], "config": r["config"], "wind_mps": r["wind_mps"], "b_f_m": r.get("b_f_m"),
                            "reason": r["reason"]} for r in records if r["status"] != "ok"],
                "points": records}
+        if curve is not None:
+            doc.update(curve)
         write_json(args.json, doc, indent=1)
+    if fly_res is not None and not fly_res.complete:
+        return 1
     return 0 if res.complete else 1
+
+
+def _fly_and_report(args: argparse.Namespace, spec, res, records: list, extras: dict, rep):
+    """Fly the missing flights (``--fly``, not with ``--report-only``), then write the
+    power-curve report and the yield; returns the :class:`~fdm_awe.sweep.flown.FlyRun` (None
+    without ``--fly``) and the numbers for the ``--json`` document."""
+    from ..fileio import atomic_write_text
+    from ..sweep.curve_report import (curve_files, curve_markdown, curve_plot, curve_rows, write_curve_csv,
+                                      write_yield_csv, yields)
+    from ..sweep.flown import FlyRun, run_flights
+
+    fly = extras["fly"]
+    points = spec.points()
+    flights_by_point: dict = {}
+    run = None
+    if fly is not None:
+        if args.report_only or not res.complete and args.stop_after is not None:
+            from ..sweep.flown import FlightStore, flight_tasks
+
+            tasks, skipped = flight_tasks(points, res.records, fly)
+            st = FlightStore(args.out)
+            done = {t.id: r for t in tasks if (r := st.load(t.id)) is not None}
+            run = FlyRun(len(tasks), len(done), 0, [], done, skipped)
+        else:
+            run = run_flights(points, res.records, args.out, fly, workers=args.workers, scheduler=args.scheduler,
+                              progress=not args.no_progress, stop_after=getattr(args, "fly_stop_after", None))
+            print(f"flights: {run.n_flights} total, {run.n_cached} already done, {run.n_flown} flown now in "
+                  f"{run.wall_s:.1f} s")
+            for label, reason in run.errors or []:
+                print(f"not flown: {label}: {reason}")
+        for r in (run.records or {}).values():
+            flights_by_point.setdefault(r["point_id"], []).append(r)
+        if not run.complete:
+            print(f"INCOMPLETE: {run.n_flights - len(run.records or {})} flight(s) have no result; rerun the same "
+                  f"command to fly them")
+    files = curve_files(args.out)
+    rows = curve_rows(records, flights_by_point, fly, rep.refs)
+    write_curve_csv(rows, files["curve_table"])
+    title = f"{spec.scenario} scenario, bounds {spec.bounds}" + (
+        "" if fly is None else f", flown {fly.cycles} cycles, {fly.air}" + ("" if fly.air == "calm" else f" x {fly.seeds} seeds"))
+    curve_plot(rows, files["curve_plot"], title, "wind speed [m/s]" if spec.wind_profile == "uniform"
+               else f"wind speed at {extras['curve_height']:g} m [m/s]")
+    ys = None
+    note = ""
+    if extras["dists"]:
+        ys = yields(rows, extras["dists"], clip=extras["clip"], rated_power_W=extras["rated"], height_ratio=extras["ratio"])
+        write_yield_csv(ys, extras["site_height"], files["yield_table"])
+        prof = extras["profile"]
+        note = (f"Site distributions at {extras['site_height']:g} m; the curve's winds hold at "
+                f"{extras['curve_height']:g} m; wind profile {prof.describe() if not prof.uniform else 'uniform'} "
+                f"(site speeds x {extras['ratio']:.4f} at the curve's height). Linear interpolation between curve "
+                f"points; not operated (zero) outside the curve's wind range"
+                + ("; not operated where the net power is <= 0 (--yield-clip positive, the default: a system that "
+                   "loses energy at a wind speed is not run there)" if extras["clip"]
+                   else "; negative net power counted as negative (--yield-clip none)")
+                + f". AEP = mean power x 8766 h. Capacity factor against "
+                + (f"the rated power {extras['rated']:g} W." if extras["rated"] else "each curve's largest power."))
+    skipped = [] if run is None else [f"{p.label()}: {why}" for p, why in (run.skipped or [])]
+    md = curve_markdown(rows, records, fly, ys, note, skipped, extras["rated"])
+    atomic_write_text(files["curve_report"], md)
+    for k in ("curve_table", "curve_plot", "curve_report") + (("yield_table",) if ys else ()):
+        print(f"{k}: {files[k]}")
+    if ys:
+        for name, source, y in ys:
+            print(f"yield {source} {name} {y.distribution}: {y.mean_power_W:.3f} W, {y.aep_kWh:.2f} kWh/yr"
+                  + ("" if y.capacity_factor is None else f", CF {y.capacity_factor:.3f}")
+                  + (" (curve outside the distribution's mass)" if y.outside_mass else ""))
+    curve = {"power_curve": rows, "fly": None if fly is None else fly.as_dict(),
+             "flights": None if run is None else {"n_flights": run.n_flights, "n_cached": run.n_cached,
+                                                  "n_flown": run.n_flown, "complete": run.complete},
+             "yield": None if not ys else [{"curve": n, "source": src, **y.as_dict()} for n, src, y in ys]}
+    return run, curve

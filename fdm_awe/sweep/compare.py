@@ -39,12 +39,12 @@ TOLERANCE_W = 0.5
 #: record fields that make a point's physical identity (the problem solved, not how)
 PHYSICAL_FIELDS = ("scenario", "config", "wind_mps", "d0_m", "d_tf_m", "folded_span_m", "folded_drag_area_m2",
                    "wing_area_m2", "fold_time_s", "mesh", "propeller", "line_weight", "line", "line_diameter_m",
-                   "wind_profile", "tension_margin", "stall_margin", "line_model")
+                   "wind_profile", "tension_margin", "stall_margin", "line_model", "bounds")
 #: record fields that say how a point was solved (a difference is an explanation)
 SOLVER_FIELDS = ("max_iter", "max_iter_total", "warm_fallback", "cold_check")
 #: what a record lacks when it was written before the field existed
 _LEGACY = {"line": "paper", "line_weight": False, "fold_time_s": 0.0, "cold_check": False, "wind_profile": "uniform",
-           "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight"}
+           "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight", "bounds": "table3"}
 
 
 def _field(r: dict[str, Any], k: str) -> Any:

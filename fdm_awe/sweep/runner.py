@@ -40,7 +40,7 @@ RECORD_FIELDS = (
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
     "line_d_m", "line_mu_kg_per_m", "line_breaking_load_N",
     "cold_check", "kept", "P_warm_W", "P_cold_W", "family", "cold_family", "wind_profile",
-    "tension_margin", "stall_margin", "line_model",
+    "tension_margin", "stall_margin", "line_model", "bounds",
 )
 
 #: |warm - cold| [W] above which a point's two solutions count as different in the summary
@@ -134,6 +134,22 @@ def point_glider(point: Point) -> Any:
     return design_glider(_base_glider(), point_design(point))
 
 
+#: the margins of a ``flyable`` point where the sweep gives none: ``fdm-awe fly``'s defaults
+#: (``FLY_TENSION_MARGIN``, ``FLY_STALL_MARGIN`` of :mod:`fdm_awe.commands.fly`; a test holds them equal)
+FLYABLE_TENSION_MARGIN = 0.25
+FLYABLE_STALL_MARGIN = 0.15
+
+
+def flyable_bounds(tension_margin: float = FLYABLE_TENSION_MARGIN, stall_margin: float = FLYABLE_STALL_MARGIN) -> Any:
+    """The :class:`~fdm_awe.ocp.problem.Bounds` of a ``flyable`` point: those ``fdm-awe fly``
+    optimises a reference with (|bank| at most 0.8 rad, C_L at most (1 - ``stall_margin``)
+    C_Lmax, the tension at most the rating / (1 + ``tension_margin``); at the defaults
+    ``fdm_awe.commands.fly.flyable_bounds()``, a higher layer; a test holds them equal)."""
+    from ..ocp.problem import Bounds
+
+    return Bounds(cl_margin=1.0 - stall_margin, phi_max=0.8, tension_margin=tension_margin)
+
+
 def point_problem(point: Point) -> Any:
     """The :class:`~fdm_awe.ocp.problem.CycleProblem` of ``point`` (a resized line's numbers are
     in :func:`point_winch`, not in the problem)."""
@@ -143,6 +159,8 @@ def point_problem(point: Point) -> Any:
     n_gen, n_rec, deg = point.mesh
     margins = {} if not (point.tension_margin or point.stall_margin) else {
         "bounds": Bounds(tension_margin=point.tension_margin, cl_margin=1.0 - point.stall_margin)}
+    if point.bounds == "flyable":  # the bounds fdm-awe fly optimises a reference to fly with
+        margins["bounds"] = flyable_bounds(point.tension_margin, point.stall_margin)
     # a point's propeller None is momentum theory in the physical scenario (the model before the choice)
     prop = point.propeller or ("momentum" if point.scenario == "physical" else None)
     return CycleProblem(scenario=point.scenario, config=point.config, wind_speed=point.wind, d0=point.d0,
@@ -181,7 +199,7 @@ def base_record(point: Point) -> dict[str, Any]:
                 "propeller": point.propeller or ("momentum" if point.scenario == "physical" else "paper"),
                 "line_weight": point.line_weight, "line": point.line, "line_diameter_m": point.line_diameter,
                 "wind_profile": point.wind_profile, "tension_margin": point.tension_margin,
-                "stall_margin": point.stall_margin, "line_model": point.line_model})
+                "stall_margin": point.stall_margin, "line_model": point.line_model, "bounds": point.bounds})
     return rec
 
 

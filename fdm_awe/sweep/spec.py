@@ -100,7 +100,13 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 #: of earlier sweeps keep their ids
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
                 "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False,
-                "wind_profile": "uniform", "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight"}
+                "wind_profile": "uniform", "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight",
+                "bounds": "table3"}
+
+#: bounds a point is optimised with: ``table3`` (the optimiser's own, Table 3) or ``flyable``
+#: (``fdm-awe fly``'s: |bank| at most 0.8 rad and the point's margins, by default fly's C_L at most
+#: 0.85 C_Lmax and tension at most the rating / 1.25; what ``sweep --fly`` flies)
+BOUNDS = ("table3", "flyable")
 
 #: wind speed [m/s] at which a line's cold-started anchor sits (mid-range: easy cold solves)
 ANCHOR_WIND = 8.0
@@ -141,6 +147,7 @@ class Point:
     stall_margin: float = 0.0
     #: the optimiser's line model (:data:`fdm_awe.groundstation.line.LINE_MODELS`)
     line_model: str = "straight"
+    bounds: str = "table3"  #: :data:`BOUNDS` the cycle is optimised with
 
     @property
     def id(self) -> str:
@@ -175,6 +182,8 @@ class Point:
             parts.append(f"margins={self.tension_margin:g}/{self.stall_margin:g}")
         if self.line_model != "straight":
             parts.append(f"line_model={self.line_model}")
+        if self.bounds != "table3":
+            parts.append(f"bounds={self.bounds}")
         return " ".join(parts)
 
 
@@ -209,6 +218,7 @@ class SweepSpec:
     tension_margin: float = 0.0
     stall_margin: float = 0.0
     line_model: str = "straight"
+    bounds: str = "table3"  #: :data:`BOUNDS` of every point
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -292,6 +302,8 @@ class SweepSpec:
         check_line_model(self.line_model)
         if self.line_model != "straight" and self.scenario != "physical":
             raise InputError(f"line_model {self.line_model!r}: only the physical scenario has a line model (allowed straight)")
+        if self.bounds not in BOUNDS:
+            raise InputError(f"bounds {self.bounds!r} unknown (allowed: {', '.join(BOUNDS)})")
         lo, hi = ANCHOR_EVERY_RANGE
         if not (isinstance(self.anchor_every, int) and lo <= self.anchor_every <= hi):
             raise InputError(f"anchor_every = {self.anchor_every!r} out of range (allowed integer {lo}..{hi}; 0 = one anchor per line)")
@@ -323,7 +335,8 @@ class SweepSpec:
                                           line_diameter=None if dl is None else float(dl),
                                           cold_check=bool(self.cold_check), wind_profile=self.wind_profile,
                                           tension_margin=float(self.tension_margin),
-                                          stall_margin=float(self.stall_margin), line_model=self.line_model)
+                                          stall_margin=float(self.stall_margin), line_model=self.line_model,
+                                          bounds=self.bounds)
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)
