@@ -114,7 +114,7 @@ def test_rebuilt_reference_is_the_optimised_cycle(tmp_path):
     from fdm_awe.sweep.spec import Point
 
     p = Point("physical", "nominal", 10.0, 200.0, 250.0, mesh=(6, 4, 3), line="sized", line_weight=True,
-              propeller="engine", bounds="flyable")
+              propeller="engine", bounds="flyable", tension_margin=0.25, stall_margin=0.15)
     rec, warm = run_point(p)
     assert rec["status"] == "ok" and rec["bounds"] == "flyable"
     res = point_result(p, warm)
