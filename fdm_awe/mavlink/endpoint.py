@@ -72,8 +72,9 @@ from fdm_awe.mavlink.ftp import on_ftp  # noqa: E402
 from fdm_awe.mavlink.messages import NAMED_VALUES  # noqa: E402
 from fdm_awe.mavlink.mission import MissionProtocol  # noqa: E402
 from fdm_awe.mavlink.param_protocol import ParamProtocol  # noqa: E402
+from fdm_awe.mavlink.pilot import PilotInput  # noqa: E402
 from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
-from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule  # noqa: E402
+from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule, data_stream_rates  # noqa: E402
 from fdm_awe.mavlink.transport import Receiver, open_link  # noqa: E402
 from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
@@ -195,6 +196,12 @@ class MavlinkEndpoint:
         self._commands = CommandHandler(self)
         self._params = ParamProtocol(self)
         self._mission = MissionProtocol(self)
+        self._pilot = PilotInput(self)
+        #: the flight is over (:meth:`flight_ended`): the vehicle still answers, the commands that
+        #: would fly are refused with their reason
+        self.flight_over = False
+        #: a ground station asked for the shutdown (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) after the flight
+        self.shutdown_requested = False
         self._handlers = self._handler_table()
         self.info(f"MAVLink endpoint on {url} as system {sysid} component {self.compid} (winch component "
                    f"{WINCH_COMPID}); signing {'on' if self.signer.on else 'off'}")
@@ -231,6 +238,9 @@ class MavlinkEndpoint:
             "MISSION_ITEM": mis.on_item, "MISSION_ACK": mis.on_ack,
             "MISSION_CLEAR_ALL": mis.on_clear_all,
             "FILE_TRANSFER_PROTOCOL": lambda m: on_ftp(self, m),
+            "RC_CHANNELS_OVERRIDE": self._pilot.on_rc_override,
+            "MANUAL_CONTROL": self._pilot.on_manual_control,
+            "REQUEST_DATA_STREAM": self._on_request_data_stream,
             "SETUP_SIGNING": lambda m: _signing.on_setup_signing(self, m),
         }
 
@@ -260,6 +270,18 @@ class MavlinkEndpoint:
         """Current stream rates, Hz."""
         return self.streams.rates()
 
+    def _on_request_data_stream(self, m: Any) -> None:
+        """REQUEST_DATA_STREAM: the group's streams at the requested rate, or off
+        (:func:`~fdm_awe.mavlink.streams.data_stream_rates`)."""
+        if not self.for_me(m):
+            return
+        rates = data_stream_rates(m.req_stream_id, m.req_message_rate, bool(m.start_stop) and m.req_message_rate > 0)
+        for name, hz in rates.items():
+            self.set_rate(name, hz)
+        if rates:
+            self.info(f"MAVLink: data stream {m.req_stream_id} at {m.req_message_rate if m.start_stop else 0} Hz "
+                      f"({', '.join(rates)})")
+
     def statustext(self, text: str, severity: int = mav.MAV_SEVERITY_INFO) -> None:
         """Send a STATUSTEXT to the ground station; a text over 50 characters goes out in
         chunks (:func:`fdm_awe.mavlink.statustext.chunks`)."""
@@ -274,6 +296,12 @@ class MavlinkEndpoint:
         landing, WARNING for an incomplete or interrupted one)."""
         self._reporter.vehicle(self, self.vehicle)
         self.statustext(f"flight {status}: {message}", END_SEVERITY.get(status, mav.MAV_SEVERITY_CRITICAL))
+        self.flight_over = True
+
+    @property
+    def ever_linked(self) -> bool:
+        """A ground station has been heard on the link (:meth:`from_ground_station`) at least once."""
+        return self._ever_linked
 
     @property
     def link_lost(self) -> bool:
@@ -360,6 +388,8 @@ class MavlinkEndpoint:
                        f"{now - self._last_rx_wall:.1f} s); flight continues", limit=False)
         if self._mission.upload is not None:
             self._mission.check_timeout(now)
+        if self._pilot.last > -math.inf:
+            self._pilot.check_timeout(now)
 
     def _handle(self, m: Any) -> None:
         mtype = m.get_type()
