@@ -105,7 +105,7 @@ class CommandHandler:
             return
         self._why = ""
         if ep.flight_over:
-            result, self._why = mav.MAV_RESULT_FAILED, FLIGHT_OVER
+            result, self._why = mav.MAV_RESULT_FAILED, f"SET_MODE: {FLIGHT_OVER}"
         elif m.base_mode & mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
             result = self._set_mode_number(m.custom_mode)
         else:
@@ -118,8 +118,8 @@ class CommandHandler:
         """The STATUSTEXT that says why ``what`` was refused (nothing when it was accepted)."""
         if result in (mav.MAV_RESULT_ACCEPTED, mav.MAV_RESULT_IN_PROGRESS):
             return
-        why = self._why or _DEFAULT_WHY.get(result, f"result {result}")
-        self._ep.statustext(f"{what}: {why}"[:150], mav.MAV_SEVERITY_WARNING)
+        why = self._why or f"{what}: {_DEFAULT_WHY.get(result, f'result {result}')}"
+        self._ep.statustext(why[:150], mav.MAV_SEVERITY_WARNING)
 
     def _dispatch(self, m: Any, p: tuple[float, ...]) -> None:
         ep = self._ep
@@ -136,7 +136,7 @@ class CommandHandler:
         if handler is None:
             result = mav.MAV_RESULT_UNSUPPORTED
         elif ep.flight_over and m.command in _FLYING:
-            result, self._why = mav.MAV_RESULT_FAILED, FLIGHT_OVER
+            result, self._why = mav.MAV_RESULT_FAILED, f"{command_name(m.command)}: {FLIGHT_OVER}"
         else:
             try:
                 result, after = handler(self, p)
@@ -178,7 +178,7 @@ class CommandHandler:
         name = MODE_NAMES[int(nf)]
         vehicle = self._ep.vehicle
         if vehicle is None:
-            self._why = "no autopilot"
+            self._why = "mode change refused: no autopilot"
             return mav.MAV_RESULT_FAILED
         if name not in vehicle.modes:
             self._why = f"mode {int(nf)} ({name}) not offered (modes: {_mode_list(vehicle)})"
@@ -193,7 +193,7 @@ class CommandHandler:
     def _set_mode(self, p: tuple[float, ...]) -> Outcome:
         base = _f(p[0], -1.0)
         if base < 0 or base != int(base) or not int(base) & mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
-            self._why = "param1 without MAV_MODE_FLAG_CUSTOM_MODE_ENABLED (custom modes only)"
+            self._why = "DO_SET_MODE refused: custom modes only (param1 1)"
             return mav.MAV_RESULT_DENIED, None
         return self._set_mode_number(p[1]), None
 
@@ -204,7 +204,8 @@ class CommandHandler:
         ok = bool(vehicle.start_cycling())
         self._ep.info(f"MAVLink: start cycling {'accepted' if ok else 'refused'}")
         if not ok:
-            self._why = "no mission (reference path) loaded" if not vehicle.mission() else "refused by the autopilot"
+            self._why = ("mission start refused: no mission (reference path)" if not vehicle.mission()
+                         else "mission start refused by the autopilot")
         return _result(ok), None
 
     def _pause_continue(self, p: tuple[float, ...]) -> Outcome:
@@ -240,7 +241,7 @@ class CommandHandler:
         program ends (:attr:`~fdm_awe.mavlink.endpoint.MavlinkEndpoint.shutdown_requested`)."""
         ep = self._ep
         if p[0] != 2.0:
-            self._why = "only param1 2 (shut down) is supported: no reboot"
+            self._why = "reboot refused: only param1 2 (shut down)"
             return mav.MAV_RESULT_UNSUPPORTED, None
         if not ep.flight_over:
             self._why = "shutdown refused: in flight (RTL, or Ctrl-C ends the program)"
@@ -264,7 +265,7 @@ class CommandHandler:
             return mav.MAV_RESULT_ACCEPTED, lambda: send_autopilot_version(ep)
         name = stream_of_message(mid)
         if name is None:
-            self._why = f"message {mid:g} not sent by this vehicle"
+            self._why = f"REQUEST_MESSAGE: message {mid:g} not sent here"
             return mav.MAV_RESULT_UNSUPPORTED, None
         return mav.MAV_RESULT_ACCEPTED, lambda: ep.streams.send_now(ep, name)
 
@@ -273,10 +274,10 @@ class CommandHandler:
         mid, us = _f(p[0], -1.0), _f(p[1], math.nan)
         name = stream_of_message(mid)
         if name is None:
-            self._why = f"message {mid:g} not streamed by this vehicle"
+            self._why = f"SET_MESSAGE_INTERVAL: message {mid:g} not streamed"
             return mav.MAV_RESULT_UNSUPPORTED, None
         if math.isnan(us) or us < -1:
-            self._why = f"interval {us:g} us invalid (-1 off, 0 default, > 0 us)"
+            self._why = f"SET_MESSAGE_INTERVAL: {us:g} us invalid (-1, 0, > 0)"
             return mav.MAV_RESULT_DENIED, None
         if us == -1:
             hz = 0.0
@@ -285,7 +286,7 @@ class CommandHandler:
         else:
             hz = 1e6 / us
             if hz > MAX_RATE_HZ:
-                self._why = f"rate {hz:g} Hz above {MAX_RATE_HZ:g} Hz"
+                self._why = f"SET_MESSAGE_INTERVAL: {hz:g} Hz above {MAX_RATE_HZ:g} Hz"
                 return mav.MAV_RESULT_DENIED, None
         ep.set_rate(name, hz)
         ep.info(f"MAVLink: {name} rate set to {hz:g} Hz")
