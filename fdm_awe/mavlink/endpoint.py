@@ -31,6 +31,10 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
 - :mod:`~fdm_awe.mavlink.commands`: COMMAND_LONG, COMMAND_INT, SET_MODE (table of commands);
 - :mod:`~fdm_awe.mavlink.mission`: mission download and upload;
 - :mod:`~fdm_awe.mavlink.param_protocol`: PARAM_REQUEST_LIST/READ, PARAM_SET;
+- :mod:`~fdm_awe.mavlink.pilot`: RC_CHANNELS_OVERRIDE and MANUAL_CONTROL, the pilot's sticks;
+  REQUEST_DATA_STREAM sets ArduPlane's stream groups (:func:`~fdm_awe.mavlink.streams.data_stream_rates`);
+- :mod:`~fdm_awe.mavlink.boot`: the heartbeat sent while the flight loads, before this endpoint
+  runs;
 - :mod:`~fdm_awe.mavlink.ftp`: MAVFTP, answered with a NAK so ground stations fall back to
   the parameter protocol at once;
 - :mod:`~fdm_awe.mavlink.transport`: the connection (``tcpin:`` serves several ground
@@ -39,7 +43,9 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
   both resynchronising on the next frame after a bad one;
 - :mod:`~fdm_awe.mavlink.winch`: the winch, its own component (id 169) on this connection;
 - :mod:`~fdm_awe.mavlink.statustext`: STATUSTEXT of mode, arm, cycling, phase and winch
-  changes and of the flight's end (:meth:`MavlinkEndpoint.flight_ended`);
+  changes and of the flight's end (:meth:`MavlinkEndpoint.flight_ended`; afterwards
+  ``flight_over``: the vehicle still answers, the commands that would fly are refused with their
+  reason, and a ground station's shutdown sets ``shutdown_requested``);
 - :mod:`~fdm_awe.mavlink.signing`: MAVLink 2 signing (``signing_key``); messages refused by
   it are counted in ``stats["signing"]`` and SYS_STATUS ``errors_count3``.
 
