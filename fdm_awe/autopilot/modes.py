@@ -7,9 +7,9 @@ vehicle's ``custom_mode`` with ArduPlane's table: MANUAL shows as ``MANUAL``, AU
 RECOVER (the safe abort: brake the drum, reel in the slack, circle down and land at the winch
 or park in a hold) as ``RTL`` and LOITER (RECOVER's hold circle about the winch, never landing) as
 ``LOITER``. The MAVLink link declares the ArduPilot autopilot, so MAVSDK and QGroundControl read the
-same table: MAVSDK's flight modes MANUAL, FBWA (its "stabilized"), MISSION (AUTO), RETURN_TO_LAUNCH
-(RTL) and HOLD (LOITER); its ``hold()`` and ``pause_mission()`` ask for LOITER, ``start_mission()``
-for AUTO, ``return_to_launch()`` for RTL.
+same table: MAVSDK's flight modes MANUAL, MISSION (AUTO), RETURN_TO_LAUNCH (RTL) and HOLD
+(LOITER); its ``hold()`` and ``pause_mission()`` ask for LOITER, ``start_mission()`` for AUTO,
+``return_to_launch()`` for RTL.
 """
 
 from __future__ import annotations

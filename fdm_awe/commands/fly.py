@@ -659,7 +659,7 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
                             flight_wind=flight_wind)
         if hooks.endpoint is not None:
             hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
-            if (stay is not None and not args.exit_after_cycles and report.status != "interrupted"
+            if (stay is not None and not getattr(args, "exit_after_cycles", False) and report.status != "interrupted"
                     and hooks.telemetry is not None and hooks.endpoint.ever_linked):
                 tel = hooks.telemetry()
                 stay[:] = [hooks.endpoint, tel, float(tel.t)]
