@@ -93,6 +93,8 @@ async def _session(port: int, fly: subprocess.Popen) -> dict:
         seen["auto"] = await mode_is(FlightMode.MISSION, START_S)
         seen["flying_s"] = time.monotonic() - t0
         seen["in_air"] = await _first(tel.subscribe_in_air(), lambda v: True, 10.0)
+        seen["armable"] = (await _first(tel.subscribe_health(), lambda h: True, 10.0)).is_armable
+        seen["battery"] = await _first(tel.subscribe_battery(), lambda b: b.voltage_v == b.voltage_v, 10.0)
         seen["rec_land"] = await asyncio.wait_for(param.get_param_int("REC_LAND"), 15.0)
         # the mission round trip: download, then upload what came down
         items = await asyncio.wait_for(mission.download_mission(), 30.0)
@@ -135,10 +137,14 @@ def test_mavsdk_reads_and_commands_the_real_vehicle(tmp_path):
         _stop(fly)
         _stop(fly, signal.SIGKILL, 5.0)
     print(fly.stdout.read())
-    print({k: v for k, v in seen.items() if k != "texts"})
+    print({k: v for k, v in seen.items() if k not in ("texts", "battery")})
     print(seen["texts"])
     assert seen["autopilot_s"] < 5.0          # the heartbeat while the flight loads
     assert seen["in_air"] is True
+    assert seen["armable"] is True            # the pre-arm bit of SYS_STATUS
+    bat = seen["battery"]
+    assert 5.0 < bat.voltage_v < 60.0 and bat.voltage_v != 12.6   # the motor's supply, from its engine file
+    assert bat.current_battery_a >= 0.0
     assert seen["rec_land"] in (0, 1)         # an INT32 parameter (REC_LAND, on/off)
     assert seen["items"] == 60 and len(seen["current"]) == 1
     assert "mission is the vehicle's own path: cycle kept" in seen["texts"]
