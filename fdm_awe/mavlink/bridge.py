@@ -14,9 +14,9 @@ FULLY_IN_M = 0.5
 
 
 def nav_target(autopilot: Any, s: Any) -> NavTarget | None:
-    """What the autopilot's path follower aims at (None outside AUTO/RECOVER path following)."""
+    """What the autopilot's path follower aims at (None outside AUTO/RECOVER/LOITER path following)."""
     r, cmd = getattr(autopilot, "ref_point", None), getattr(autopilot, "last_guidance", None)
-    if r is None or cmd is None or autopilot.mode not in ("AUTO", "RECOVER"):
+    if r is None or cmd is None or autopilot.mode not in ("AUTO", "RECOVER", "LOITER"):
         return None
     p = np.asarray(s.pos_ned, float)
     d = np.asarray(r.pos, float) - p
