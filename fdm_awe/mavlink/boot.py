@@ -9,7 +9,8 @@ a thread on the opened link (fixed wing, the ArduPilot identity of
 with the link's key when there is one) until :meth:`BootBeacon.stop`, which the flight calls
 before its endpoint's first update, so only one thread ever writes to the link at a time. It
 answers nothing: parameters, missions and commands wait for the endpoint (a ground station
-asks again).
+asks again). On ``tcpin:`` it takes in the ground stations that connect meanwhile, so they see
+it too.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ class BootBeacon:
 
     def __init__(self, conn: Any, mode: str = "AUTO", sysid: int = 1, compid: int = mav.MAV_COMP_ID_AUTOPILOT1,
                  signing_key: bytes | None = None) -> None:
+        self._conn = conn
         self._codec = _signing.Codec(conn, srcSystem=sysid, srcComponent=compid)
         self._signer = _signing.Signer([self._codec], signing_key)
         self._custom = MODE_NUMBERS.get(mode, 0)
@@ -49,6 +51,9 @@ class BootBeacon:
     def _run(self) -> None:
         while not self._stop.is_set():
             try:
+                accept = getattr(self._conn, "accept_new", None)  # tcpin: ground stations connecting now
+                if accept is not None:
+                    accept()
                 self._signer.tick()
                 self._codec.heartbeat_send(mav.MAV_TYPE_FIXED_WING, mav.MAV_AUTOPILOT_ARDUPILOTMEGA,
                                            mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED, self._custom, mav.MAV_STATE_BOOT)
