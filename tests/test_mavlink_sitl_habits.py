@@ -82,7 +82,9 @@ def test_sitl_habits_manual_rc_override_stream_rates_refusal_reasons_and_staying
     try:
         t_launch = time.monotonic()
         first = gcs.wait(lambda m: m.get_type() == "HEARTBEAT", START_S)
-        assert first is not None and time.monotonic() - t_launch < START_S
+        # the heartbeat while the flight loads (before: the first came with the flight's first step)
+        assert first is not None and first.system_status == MAV.MAV_STATE_BOOT
+        assert time.monotonic() - t_launch < 5.0
         up = gcs.wait(lambda m: m.get_type() == "HEARTBEAT" and m.system_status != MAV.MAV_STATE_BOOT, START_S)
         assert up is not None and up.autopilot == MAV.MAV_AUTOPILOT_ARDUPILOTMEGA and up.custom_mode == 10
 

@@ -8,15 +8,19 @@ Every wait is bounded (a few wall seconds); the sockets are closed by each test.
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
 
 from flight_helpers import DATA
-from mavlink_helpers import Link, StandInVehicle
+from mavlink_helpers import Link, StandInVehicle, free_udp_port
+from pymavlink import mavutil
 from pymavlink.dialects.v20 import common as mav
 
 from fdm_awe.autopilot.tracking import TrackingReference
+from fdm_awe.mavlink.boot import BootBeacon
+from fdm_awe.mavlink.transport import close_link, open_link
 from fdm_awe.mavlink import pilot as pilot_mod
 from fdm_awe.mavlink.messages import euler_quaternion
 from fdm_awe.sim.flight import fly
@@ -187,6 +191,33 @@ def test_rc_override_and_manual_control_are_the_pilots_sticks(link, monkeypatch)
     monkeypatch.setattr(link.ep, "clock", lambda: now + pilot_mod.OVERRIDE_TIMEOUT_S + 1.0)
     link.step(3)
     assert v.sticks[-1] == (0.0, 0.0, 0.0, 0.0)
+
+
+def test_boot_heartbeat_each_second_until_stopped():
+    port = free_udp_port()
+    gcs = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}")
+    conn = open_link(f"udpout:127.0.0.1:{port}")
+    beacon = BootBeacon(conn, "RECOVER")
+    try:
+        t0 = time.monotonic()
+        beats = []
+        while time.monotonic() - t0 < 2.5:
+            m = gcs.recv_match(type="HEARTBEAT", blocking=True, timeout=0.5)
+            if m is not None:
+                beats.append(m)
+        assert 2 <= len(beats) <= 4                                       # one a second
+        assert all(b.system_status == mav.MAV_STATE_BOOT and b.autopilot == mav.MAV_AUTOPILOT_ARDUPILOTMEGA
+                   and b.type == mav.MAV_TYPE_FIXED_WING and b.custom_mode == 11 for b in beats)
+        t1 = time.monotonic()
+        beacon.stop()
+        assert time.monotonic() - t1 < 1.0
+        while gcs.recv_match(blocking=False) is not None:
+            pass                                                         # what was sent before the stop
+        assert gcs.recv_match(type="HEARTBEAT", blocking=True, timeout=1.5) is None
+    finally:
+        beacon.stop()
+        close_link(conn)
+        gcs.close()
 
 
 # ------------------------------------------------------------------ the autopilot's side
