@@ -62,7 +62,7 @@ async def _first(agen, pred, timeout: float):
         await agen.aclose()
 
 
-async def _session(port: int, fly: subprocess.Popen) -> dict:
+async def _ground_station(port: int, fly: subprocess.Popen) -> dict:
     from mavsdk.asyncio import ComponentType, Configuration, Mavsdk
     from mavsdk.asyncio.plugins.action import ActionAsync
     from mavsdk.asyncio.plugins.mission_raw import MissionRawAsync
@@ -132,7 +132,7 @@ def test_mavsdk_reads_and_commands_the_real_vehicle(tmp_path):
         stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
         env=dict(os.environ, JSBSIM_DEBUG="0"))
     try:
-        seen = asyncio.run(asyncio.wait_for(_session(port, fly), 150.0))
+        seen = asyncio.run(asyncio.wait_for(_ground_station(port, fly), 150.0))
     finally:
         _stop(fly)
         _stop(fly, signal.SIGKILL, 5.0)

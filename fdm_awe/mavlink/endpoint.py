@@ -32,7 +32,8 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
 - :mod:`~fdm_awe.mavlink.mission`: mission download and upload;
 - :mod:`~fdm_awe.mavlink.param_protocol`: PARAM_REQUEST_LIST/READ, PARAM_SET;
 - :mod:`~fdm_awe.mavlink.pilot`: RC_CHANNELS_OVERRIDE and MANUAL_CONTROL, the pilot's sticks;
-  REQUEST_DATA_STREAM sets ArduPlane's stream groups (:func:`~fdm_awe.mavlink.streams.data_stream_rates`);
+- REQUEST_DATA_STREAM: ArduPlane's stream groups at the asked rates
+  (:func:`~fdm_awe.mavlink.streams.data_stream_rates`);
 - :mod:`~fdm_awe.mavlink.boot`: the heartbeat sent while the flight loads, before this endpoint
   runs;
 - :mod:`~fdm_awe.mavlink.ftp`: MAVFTP, answered with a NAK so ground stations fall back to
