@@ -46,6 +46,7 @@ class _Gcs:
                                             source_component=GCS_COMPID)
         self._hb = 0.0
         self.texts: list[str] = []
+        self.states: list[int] = []  #: system_status of the autopilot's heartbeats, in order
 
     def recv(self, timeout: float = 0.2):
         now = time.monotonic()
@@ -55,6 +56,8 @@ class _Gcs:
         m = self.c.recv_match(blocking=True, timeout=timeout)
         if m is not None and m.get_type() == "STATUSTEXT":
             self.texts.append(m.text)
+        if m is not None and m.get_type() == "HEARTBEAT" and m.get_srcComponent() == 1:
+            self.states.append(m.system_status)
         return m
 
     def wait(self, pred, timeout: float):
@@ -171,6 +174,9 @@ def test_sitl_habits_manual_rc_override_stream_rates_refusal_reasons_and_staying
         assert ack is not None and ack.result == MAV.MAV_RESULT_ACCEPTED
         fly.wait(timeout=10.0)
         assert fly.returncode in (0, 1)
+        # the boot heartbeat stopped when the flight's began: none after the first of the flight's
+        first_up = next(i for i, st in enumerate(gcs.states) if st != MAV.MAV_STATE_BOOT)
+        assert MAV.MAV_STATE_BOOT not in gcs.states[first_up:] and len(gcs.states) - first_up > 20
         assert (tmp_path / "flight.json").exists()   # the outputs were written before the vehicle stayed
     finally:
         if fly.poll() is None:

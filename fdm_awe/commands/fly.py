@@ -586,11 +586,10 @@ class _FlightHooks:
             self.link = None  # the endpoint owns it now
             build = telemetry_builder(ap, sim)
 
-            beacon = self.beacon
-
             def link(k: int, s: Any, o: Any) -> None:
-                if beacon is not None and k == 0:
-                    beacon.stop()  # the endpoint sends from now on
+                if self.beacon is not None:  # the first step: the endpoint sends from now on
+                    self.beacon.stop()
+                    self.beacon = None
                 build.integrate(s)
                 self.telemetry = lambda: build(s, o)
                 endpoint.update(s.t, self.telemetry)
