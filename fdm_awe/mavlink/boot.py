@@ -1,4 +1,4 @@
-"""The vehicle's heartbeat while the rest loads: a ground station sees it within a second.
+"""The vehicle's heartbeat while the rest loads: a ground station sees it about a second after launch.
 
 Between opening the ``--mavlink`` link and the flight's first step the command reads the
 reference, optimises one when it has none, sets JSBSim up and compiles the step's kernels: 17.5 s
