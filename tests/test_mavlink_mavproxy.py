@@ -73,8 +73,12 @@ def test_mavproxy_reads_the_real_vehicles_parameters_and_mission(tmp_path):
     log = tmp_path / "mavproxy.txt"
     try:
         # wait for the vehicle's first heartbeat, then hand the port to MAVProxy
+        # (not one sent while the flight loads: MAV_STATE_BOOT, before the vehicle answers)
         probe = mavutil.mavlink_connection(f"udpin:127.0.0.1:{port}")
-        hb = probe.recv_match(type="HEARTBEAT", blocking=True, timeout=START_S)
+        t_end = time.monotonic() + START_S
+        hb = None
+        while time.monotonic() < t_end and (hb is None or hb.system_status == mavutil.mavlink.MAV_STATE_BOOT):
+            hb = probe.recv_match(type="HEARTBEAT", blocking=True, timeout=max(t_end - time.monotonic(), 0.1))
         probe.close()
         assert hb is not None, "the flight sent no heartbeat"
         wpl = tmp_path / "upload.txt"

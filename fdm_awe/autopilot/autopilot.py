@@ -28,6 +28,16 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NU
   motor runs only to hold the level floor circle and against a stall in the flare; the winch reels in whatever line hangs
   slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level and flare. Losing
   the reference in AUTO (mission cleared) switches to RECOVER.
+- ``LOITER``: hold (MAVLink's hold and pause, ArduPlane's LOITER number): RECOVER's path that never
+  lands: glide to the ``REC_RADIUS`` circle about the winch and circle there at ``REC_HOLD_ALT``
+  with the line reeled in to the distance (RECOVER with ``REC_LAND`` 0, the park). AUTO afterwards
+  rejoins the cycle where the glider is.
+
+Pilot sticks (:meth:`Autopilot.set_pilot`, from MAVLink's RC_CHANNELS_OVERRIDE or MANUAL_CONTROL):
+MANUAL flies them as surfaces and throttle; FBWA takes the roll stick as a bank of up to
+``LIM_BANK``, the pitch stick as an angle of attack from the trim's towards ``LIM_ALPHA_MAX``
+(pulled) or ``LIM_ALPHA_MIN`` (pushed), and the throttle stick as the throttle. Centred sticks and
+a closed throttle are the modes as they were without a pilot.
 
 Gains and limits come from the definition file ``aircraft/glider_foldable/autopilot.xml`` via a
 :class:`~fdm_awe.autopilot.params.ParamStore`; changes (e.g. MAVLink ``PARAM_SET``) take effect
@@ -65,7 +75,7 @@ from .thrust import ThrustLoop
 from .tracking import PHASE_NAMES, RefPoint, TrackingReference
 from .vehicle import Waypoint
 
-MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER")
+MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER", "LOITER")
 #: how far [m] an uploaded point may lie from the reference's own to be its own path
 #: (:meth:`Autopilot.own_path`)
 OWN_PATH_TOL_M = 1.0
@@ -146,6 +156,8 @@ class Autopilot:
         self._rec_ceiling = self._rec_throttle = 1.0
         self.phase = "generation" if reference is not None else "ground"
         self.manual = Surfaces()
+        #: FBWA's pilot sticks: roll -1..1 (+ right), pitch -1..1 (+ nose up), throttle 0..1 (:meth:`set_pilot`)
+        self.pilot = (0.0, 0.0, 0.0)
         self.log: list[tuple[float, str]] = []
         self._ref_point: RefPoint | None = None
         self._last_guidance: GuidanceCommand | None = None
@@ -292,9 +304,10 @@ class Autopilot:
         if name != self.mode:
             self._note(f"mode {self.mode} -> {name}")
             self._trk_since = math.nan  # the lost-path failsafe times from the new mode's steps
-            if name == "RECOVER":
+            if name in ("RECOVER", "LOITER"):
                 self.phase = "recovery"
                 self.recovery.stage = None  # a new recovery from wherever the glider is
+                self.recovery.hold_only = name == "LOITER"  # LOITER: the park, never the landing
                 self.recover_cause = self._failsafe_note or "commanded"
                 self._rec_ceiling = self._rec_throttle = 1.0  # the motor may be running: a soft stop
             else:
@@ -303,6 +316,37 @@ class Autopilot:
                 self._rejoin_pending = True  # rejoin the path from the glider's own state
         self.mode = name
         return True
+
+    def set_pilot(self, aileron: float, elevator: float, rudder: float, throttle: float) -> None:
+        """The pilot's sticks (see the module doc): surfaces -1..1 with :class:`Surfaces`' signs
+        (``elevator`` > 0 nose down, ``rudder`` > 0 nose left), ``throttle`` 0..1; values outside
+        are clipped. MANUAL flies them as they are (the fold command kept), FBWA as bank, angle of
+        attack and throttle."""
+        def clip(x: float, lo: float) -> float:
+            x = float(x)
+            return min(max(x, lo), 1.0) if x == x else 0.0
+        a, e, r, thr = clip(aileron, -1.0), clip(elevator, -1.0), clip(rudder, -1.0), clip(throttle, 0.0)
+        self.manual = Surfaces(a, e, r, thr, self.manual.fold_cmd)
+        self.pilot = (a, -e, thr)
+
+    def _fbwa(self, s: SixDofState, dt: float) -> Surfaces:
+        """FBWA's commands: the pilot's bank, angle of attack and throttle (:attr:`pilot`); wings
+        level at the trim angle of attack and no thrust with centred sticks and a closed throttle."""
+        p = self.params
+        roll_stick, pitch_stick, thr = self.pilot
+        alpha = self.glider.trim_alpha(max(s.airspeed, 8.0))
+        if pitch_stick > 0.0:
+            alpha += pitch_stick * max(p["LIM_ALPHA_MAX"] - alpha, 0.0)
+        elif pitch_stick < 0.0:
+            alpha += pitch_stick * max(alpha - p["LIM_ALPHA_MIN"], 0.0)
+        if thr > 0.0 and self.armed:
+            if self.thruster is not None:
+                self.thruster.command(thr * self.thruster.T_max)
+                thr = 0.0
+        else:
+            self.thrust_loop.propulsion(0.0, s, dt, self.armed)
+            thr = 0.0
+        return self._hold(s, min(alpha, p["LIM_ALPHA_MAX"]), roll_stick * p["LIM_BANK"], 0.0, dt, thr)
 
     def arm(self, on: bool, force: bool = False) -> bool:
         """Arm or disarm the motor. A disarm in flight is refused unless ``force`` (as
@@ -458,12 +502,10 @@ class Autopilot:
             if self.thruster is not None:
                 self.thruster.command(self.manual.throttle * self.thruster.T_max)
             return self.manual, WinchCommand(mode="generator", load_resistance=self.R_L)
-        if self.mode == "RECOVER":
+        if self.mode in ("RECOVER", "LOITER"):
             return self._recover(s, gs, dt)
-        # FBWA (or AUTO without a path): wings level, trim alpha, no thrust
-        alpha = self.glider.trim_alpha(max(s.airspeed, 8.0))
-        self.thrust_loop.propulsion(0.0, s, dt, self.armed)
-        return self._hold(s, min(alpha, self.params["LIM_ALPHA_MAX"]), 0.0, 0.0, dt), WinchCommand(mode="generator", load_resistance=self.R_L)
+        # FBWA (or AUTO without a path): the pilot's sticks; centred: wings level, trim alpha, no thrust
+        return self._fbwa(s, dt), WinchCommand(mode="generator", load_resistance=self.R_L)
 
     def _rejoin_start(self, ref: TrackingReference, s: SixDofState, t: float) -> None:
         """Begin a rejoin segment: the path parameter moves to the reference point nearest the
@@ -575,7 +617,8 @@ class Autopilot:
         return self.mode == "RECOVER" and rec.holds and rec.in_hold(self.glider.state())
 
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
-        """RECOVER's commands: the recovery's path flown by the guidance, or the flare (wings level)."""
+        """RECOVER's (and LOITER's) commands: the recovery's path flown by the guidance, or the flare
+        (wings level)."""
         p = self.params
         self.phase = "recovery"
         rec = self.recovery

@@ -4,8 +4,12 @@ Each mode has a number, the ``custom_mode`` a ground station sees in HEARTBEAT a
 ``DO_SET_MODE`` / ``SET_MODE`` (:mod:`fdm_awe.mavlink` carries it). Where the meaning matches,
 the number is ArduPlane's, because MAVProxy and other ArduPilot-aware tools name a fixed-wing
 vehicle's ``custom_mode`` with ArduPlane's table: MANUAL shows as ``MANUAL``, AUTO as ``AUTO``
-and RECOVER (the safe abort: brake the drum, reel in the slack, circle down and land at the winch
-or park in a hold) as ``RTL``.
+RECOVER (the safe abort: brake the drum, reel in the slack, circle down and land at the winch
+or park in a hold) as ``RTL`` and LOITER (RECOVER's hold circle about the winch, never landing) as
+``LOITER``. The MAVLink link declares the ArduPilot autopilot, so MAVSDK and QGroundControl read the
+same table: MAVSDK's flight modes MANUAL, MISSION (AUTO), RETURN_TO_LAUNCH (RTL) and HOLD
+(LOITER); its ``hold()`` and ``pause_mission()`` ask for LOITER, ``start_mission()`` for AUTO,
+``return_to_launch()`` for RTL.
 """
 
 from __future__ import annotations
@@ -20,8 +24,8 @@ MODE_NUMBERS: dict[str, int] = {
     "FBWA": 5,       # stabilised attitude, no path following
     "AUTO": 10,      # fly the mission (reference path) and run the pumping cycle
     "RECOVER": 11,   # safe abort: reel in, circle down, land or park (shown as RTL)
-    "LOITER": 12,    # circle on the tether at constant length
-    "GUIDED": 15,    # hold the current point of the path
+    "LOITER": 12,    # hold: RECOVER's circle about the winch, parked, never landing
+    "GUIDED": 15,    # not offered (refused with its reason)
 }
 
 #: ``custom_mode`` number -> mode name.

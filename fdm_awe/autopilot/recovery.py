@@ -58,6 +58,8 @@ class Recovery:
         #: the glider turns onto it, the turn's centre [m] and radius [m] (None, 0 on the line)
         self._final: tuple[np.ndarray, np.ndarray | None, float] | None = None
         self.park = False  #: the recovery parks in the hold instead of landing
+        #: the recovery is LOITER's: it parks in the hold whatever REC_LAND says
+        self.hold_only = False
         self._gust2 = 0.0  # mean square of the vertical wind [m^2/s^2], ~10 s filter
         #: the last step's path descended to the floor (stages ``return`` and ``hold`` above it):
         #: the motor is stopped, the glider glides (docs/design.md section 8b)
@@ -73,7 +75,7 @@ class Recovery:
         self.stage = "return"
         self._final = None
         self.gliding = False
-        self.park = self.params["REC_LAND"] < 0.5
+        self.park = self.hold_only or self.params["REC_LAND"] < 0.5
         self._gust2 = 0.0
         self.guidance.reset()
         self._note(f"recovery: return to the {self.params['REC_RADIUS']:.0f} m circle "

@@ -23,6 +23,7 @@
                                          # the vehicle's own path back, its cycle kept)
         clear_mission() -> None
         params: ParamStore               # gains etc.; a change calls their callbacks
+        set_pilot(aileron, elevator, rudder, throttle)  # optional: the pilot's sticks (MANUAL, FBWA)
 
     The MAVLink endpoint (:mod:`fdm_awe.mavlink`) adapts to it: every method is called from
     inside ``MavlinkEndpoint.update`` (the simulation thread), so no locking is needed; a method

@@ -201,6 +201,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mavlink-key", metavar="FILE",
                    help="MAVLink 2 signing key: a 32-byte key file, or a one-line passphrase (hashed with SHA-256 like "
                         "MAVProxy's 'signing setup'); only signed commands are obeyed (needs --mavlink)")
+    p.add_argument("--exit-after-cycles", action="store_true",
+                   help="with --mavlink: end the program when the flight ends (default: once a ground station was "
+                        "heard, the vehicle stays on the link, answering, until a ground station shuts it down "
+                        "(MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) or Ctrl-C, as SITL does)")
     p.add_argument("--realtime", metavar="FACTOR", type=float, nargs="?", const=1.0,
                    help="pace against the wall clock, > 0 and <= 1000 (default 1x)")
     p.add_argument("--params", metavar="FILE", help="autopilot parameter file (PARAM_SET changes are saved there)")
@@ -380,6 +384,8 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
     optimise the reference (without ``--reference`` or ``--references``; ``refs`` the set, ``flight_wind`` the wind it meets), fly, print, write the outputs; returns the
     exit code."""
     link = _open_link(args)  # the MAVLink transport: a ground station that is not there is said now
+    beacon = _boot_beacon(args, link)  # a heartbeat each second until the flight's endpoint takes the link
+    stay: list[Any] = []  # the endpoint kept on the link after the flight (--mavlink without --exit-after-cycles)
     try:
         if ref is None:
             ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
@@ -395,15 +401,55 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
         from ..recording.stream import open_live
 
         live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-        report = _fly(args, ref, params, plant, scale, live, link, refs, flight_wind)
-        link = None  # the flight's MAVLink endpoint took it and closed it
+        report = _fly(args, ref, params, plant, scale, live, link, refs, flight_wind, beacon, stay)
+        link = None  # the flight's MAVLink endpoint took it and closed it (or keeps it: ``stay``)
     finally:
+        if beacon is not None:
+            beacon.stop()
         if link is not None:
             from ..mavlink.transport import close_link
 
             close_link(link)
-    _print_summary(report, ref_label)
-    return _finish(args, report, ref, ref_path, out_dir)
+    try:
+        _print_summary(report, ref_label)
+        code = _finish(args, report, ref, ref_path, out_dir)
+        if stay:
+            _stay_on_link(*stay)
+    finally:
+        if stay:
+            stay[0].close()
+    return code
+
+
+def _boot_beacon(args: argparse.Namespace, link: Any) -> Any:
+    """The heartbeat sent while the rest loads (:class:`~fdm_awe.mavlink.boot.BootBeacon`) on the
+    opened ``--mavlink`` link, None without one."""
+    if link is None:
+        return None
+    from ..mavlink.boot import BootBeacon
+
+    return BootBeacon(link, args.mode, signing_key=getattr(args, "signing_key", None))
+
+
+def _stay_on_link(endpoint: Any, tel: Any, t_end: float) -> None:
+    """After the flight and its outputs: keep the vehicle on the MAVLink link, answering
+    (heartbeats and the streams of the last simulated state, parameters, the mission; the
+    commands that would fly refused with their reason), until a ground station shuts it down
+    (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) or Ctrl-C; the endpoint's clock runs on from the
+    flight's end time ``t_end`` [s] at wall-clock rate."""
+    print("flight over: the vehicle stays on the MAVLink link (the last simulated state) until a ground station "
+          "shuts it down (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) or Ctrl-C (--exit-after-cycles: end at once)",
+          file=sys.stderr, flush=True)
+    w0 = time.monotonic()
+    try:
+        while not endpoint.shutdown_requested:
+            endpoint.update(t_end + (time.monotonic() - w0), tel)
+            time.sleep(0.01)
+    except KeyboardInterrupt:
+        print("\nCtrl-C: the vehicle leaves the link", file=sys.stderr)
+        return
+    endpoint.update(t_end + (time.monotonic() - w0), tel)  # the COMMAND_ACK of the shutdown goes out
+    print("shut down by the ground station", file=sys.stderr)
 
 
 def flight_plant(args: argparse.Namespace, ref: Any) -> str:
@@ -562,11 +608,14 @@ class _FlightHooks:
     against the wall clock (``--realtime``) and the live viewer (``--spawn`` / ``--connect``,
     ``live``); all called after every step (:meth:`on_step`)."""
 
-    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None, link: Any = None) -> None:
+    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None, link: Any = None,
+                 beacon: Any = None) -> None:
         self.args = args
         self.live = live
         self.link = link  #: the --mavlink transport, opened before the work (None: opened at set-up)
+        self.beacon = beacon  #: the boot heartbeat on ``link``, stopped before the endpoint's first update
         self.endpoint: Any = None
+        self.telemetry: Any = None  #: the last step's telemetry, built when read (``--mavlink``)
         self.bar: Any = None
         self._hooks: list[Callable[[int, Any, Any], None]] = []
         if not args.quiet and sys.stderr.isatty():
@@ -591,8 +640,12 @@ class _FlightHooks:
             build = telemetry_builder(ap, sim)
 
             def link(k: int, s: Any, o: Any) -> None:
+                if self.beacon is not None:  # the first step: the endpoint sends from now on
+                    self.beacon.stop()
+                    self.beacon = None
                 build.integrate(s)
-                endpoint.update(s.t, lambda: build(s, o))
+                self.telemetry = lambda: build(s, o)
+                endpoint.update(s.t, self.telemetry)
                 ap.gcs_link(endpoint.link_up, s.t)  # the link-loss failsafe (FS_GCS_ENABL)
 
             self._hooks.append(link)
@@ -618,13 +671,16 @@ class _FlightHooks:
         for h in self._hooks:
             h(k, s, o)
 
-    def close(self) -> None:
-        """Close the progress bar, the MAVLink endpoint (or the link no endpoint took) and the
-        live viewer's stream."""
+    def close(self, keep_endpoint: bool = False) -> None:
+        """Close the progress bar, the MAVLink endpoint unless ``keep_endpoint`` (or the link no
+        endpoint took) and the live viewer's stream."""
         if self.bar is not None:
             self.bar.close()
+        if self.beacon is not None:
+            self.beacon.stop()
         if self.endpoint is not None:
-            self.endpoint.close()
+            if not keep_endpoint:
+                self.endpoint.close()
         elif self.link is not None:
             from ..mavlink.transport import close_link
 
@@ -635,14 +691,19 @@ class _FlightHooks:
 
 
 def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None,
-         link: Any = None, refs: Any = None, flight_wind: dict[str, Any] | None = None) -> Any:
+         link: Any = None, refs: Any = None, flight_wind: dict[str, Any] | None = None, beacon: Any = None,
+         stay: list[Any] | None = None) -> Any:
     """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
     the report's wall time is the whole flight's, hooks included. The ground station on the
-    MAVLink link (``link``, opened before the work; closed here) is told how the flight ended."""
+    MAVLink link (``link``, opened before the work, its boot heartbeat ``beacon``) is told how the
+    flight ended; the link is closed here, or, without ``--exit-after-cycles``, when the flight
+    ended by itself and a ground station was heard on the link during it, its endpoint, the last
+    telemetry and the end time go into ``stay`` (:func:`_stay_on_link`)."""
     from ..sim import flight
 
-    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live, link)
+    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live, link, beacon)
     t0 = time.perf_counter()
+    keep = False
     try:
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
                             on_step=hooks.on_step if hooks.per_step else None, params=params, setup=hooks.setup,
@@ -650,10 +711,15 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
                             flight_wind=flight_wind)
         if hooks.endpoint is not None:
             hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
+            if (stay is not None and not getattr(args, "exit_after_cycles", False) and report.status != "interrupted"
+                    and hooks.telemetry is not None and hooks.endpoint.ever_linked):
+                tel = hooks.telemetry()
+                stay[:] = [hooks.endpoint, tel, float(tel.t)]
+                keep = True
         if live is not None:
             live.finish(report)  # the last rows, the flown path, the events and the report
     finally:
-        hooks.close()
+        hooks.close(keep_endpoint=keep)
     report.wall_s = time.perf_counter() - t0
     return report
 

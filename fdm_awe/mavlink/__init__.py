@@ -1,4 +1,4 @@
-"""MAVLink link to ground stations (MAVProxy, QGroundControl).
+"""MAVLink link to ground stations (MAVProxy, MAVSDK, QGroundControl): an ArduPlane-like vehicle.
 
 - :mod:`fdm_awe.mavlink.vehicle`: Telemetry, Waypoint, VehicleInterface, mode table.
 - :mod:`fdm_awe.mavlink.params`: ParamStore (named parameters, ranges, callbacks, file).
@@ -12,8 +12,10 @@
   (MAVFTP NAK), :mod:`~fdm_awe.mavlink.transport` (the connection, read fairly; a TCP
   server for several ground stations; a tcp client tried once, bounded in time),
   :mod:`~fdm_awe.mavlink.framing` (datagram and stream parsing),
-  :mod:`~fdm_awe.mavlink.winch` (the winch component), :mod:`~fdm_awe.mavlink.statustext`
+  :mod:`~fdm_awe.mavlink.winch` (the winch component), :mod:`~fdm_awe.mavlink.statustext`,
+  :mod:`~fdm_awe.mavlink.pilot` (RC_CHANNELS_OVERRIDE, MANUAL_CONTROL: the pilot's sticks)
   and :mod:`~fdm_awe.mavlink.signing` (MAVLink 2 signing, key files).
+- :mod:`fdm_awe.mavlink.boot`: the heartbeat sent while the flight loads.
 """
 
 from fdm_awe.mavlink.geo import GeoFrame, Home

@@ -14,9 +14,9 @@ FULLY_IN_M = 0.5
 
 
 def nav_target(autopilot: Any, s: Any) -> NavTarget | None:
-    """What the autopilot's path follower aims at (None outside AUTO/RECOVER path following)."""
+    """What the autopilot's path follower aims at (None outside AUTO/RECOVER/LOITER path following)."""
     r, cmd = getattr(autopilot, "ref_point", None), getattr(autopilot, "last_guidance", None)
-    if r is None or cmd is None or autopilot.mode not in ("AUTO", "RECOVER"):
+    if r is None or cmd is None or autopilot.mode not in ("AUTO", "RECOVER", "LOITER"):
         return None
     p = np.asarray(s.pos_ned, float)
     d = np.asarray(r.pos, float) - p
@@ -36,13 +36,17 @@ def telemetry_builder(autopilot: Any, sim: Any) -> Callable[[Any, Any], Telemetr
     """A function ``(glider_state, gs_output) -> Telemetry`` for ``MavlinkEndpoint.update``.
 
     Net energy = ground-station load energy - supply energy - glider motor energy (J); the
-    motor energy is integrated here from the glider's electrical power, step by step.
+    motor energy is integrated here from the glider's electrical power, step by step. The
+    battery is the motor's supply: its voltage (the motor's voltage at full throttle, the
+    engine file's), the current the motor's electrical input draws from it, and the charge
+    and energy drawn, integrated step by step.
     The mission item flown to (``mission_seq``) is the first of the autopilot's mission
     waypoints (times within the cycle) after the reference point.
     """
     ledger = sim.gs.ledger
     dt = sim.dt
-    acc = {"thrust": 0.0, "t": None}
+    acc = {"thrust": 0.0, "t": None, "charge": 0.0}
+    volts = float(getattr(getattr(sim, "glider", None), "_maxvolts", math.nan))
     mission: dict[str, Any] = {"ref": None, "times": None, "period": 0.0}
 
     def mission_seq() -> int:
@@ -71,7 +75,9 @@ def telemetry_builder(autopilot: Any, sim: Any) -> Callable[[Any, Any], Telemetr
             winch_power_W=0.0 if o is None else o.p_electrical,
             net_energy_J=ledger.load - ledger.supply - acc["thrust"],
             phase=autopilot.phase if autopilot.phase in ("ground", "generation", "transition", "recovery") else "transition",
-            fold=s.fold, battery_current_A=s.current_A, mode=autopilot.mode, armed=autopilot.armed,
+            fold=s.fold, battery_voltage_V=volts, battery_current_A=battery_current(s),
+            battery_consumed_mAh=acc["charge"] / 3.6, battery_energy_J=acc["thrust"],
+            in_air=not bool(s.on_ground), mode=autopilot.mode, armed=autopilot.armed,
             cycling=autopilot.cycling, health_ok=s.is_finite(),
             line_length_m=length,
             winch_voltage_V=math.nan if o is None else float(getattr(o, "u_link", math.nan)),
@@ -83,8 +89,15 @@ def telemetry_builder(autopilot: Any, sim: Any) -> Callable[[Any, Any], Telemetr
             mission_seq=mission_seq(), nav=nav_target(autopilot, s), wind_ned=wind_ned(),
         )
 
+    def battery_current(s: Any) -> float:
+        """The battery's current, A: the motor's electrical input over the supply voltage."""
+        return max(float(s.prop_power_W), 0.0) / volts if volts > 0.0 else math.nan
+
     def integrate(s: Any) -> None:
         acc["thrust"] += max(s.prop_power_W, 0.0) * dt
+        i = battery_current(s)
+        if i == i:
+            acc["charge"] += i * dt
 
     build.integrate = integrate  # type: ignore[attr-defined]
     return build

@@ -31,6 +31,11 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
 - :mod:`~fdm_awe.mavlink.commands`: COMMAND_LONG, COMMAND_INT, SET_MODE (table of commands);
 - :mod:`~fdm_awe.mavlink.mission`: mission download and upload;
 - :mod:`~fdm_awe.mavlink.param_protocol`: PARAM_REQUEST_LIST/READ, PARAM_SET;
+- :mod:`~fdm_awe.mavlink.pilot`: RC_CHANNELS_OVERRIDE and MANUAL_CONTROL, the pilot's sticks;
+- REQUEST_DATA_STREAM: ArduPlane's stream groups at the asked rates
+  (:func:`~fdm_awe.mavlink.streams.data_stream_rates`);
+- :mod:`~fdm_awe.mavlink.boot`: the heartbeat sent while the flight loads, before this endpoint
+  runs;
 - :mod:`~fdm_awe.mavlink.ftp`: MAVFTP, answered with a NAK so ground stations fall back to
   the parameter protocol at once;
 - :mod:`~fdm_awe.mavlink.transport`: the connection (``tcpin:`` serves several ground
@@ -39,7 +44,9 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
   both resynchronising on the next frame after a bad one;
 - :mod:`~fdm_awe.mavlink.winch`: the winch, its own component (id 169) on this connection;
 - :mod:`~fdm_awe.mavlink.statustext`: STATUSTEXT of mode, arm, cycling, phase and winch
-  changes and of the flight's end (:meth:`MavlinkEndpoint.flight_ended`);
+  changes and of the flight's end (:meth:`MavlinkEndpoint.flight_ended`; afterwards
+  ``flight_over``: the vehicle still answers, the commands that would fly are refused with their
+  reason, and a ground station's shutdown sets ``shutdown_requested``);
 - :mod:`~fdm_awe.mavlink.signing`: MAVLink 2 signing (``signing_key``); messages refused by
   it are counted in ``stats["signing"]`` and SYS_STATUS ``errors_count3``.
 
@@ -72,8 +79,9 @@ from fdm_awe.mavlink.ftp import on_ftp  # noqa: E402
 from fdm_awe.mavlink.messages import NAMED_VALUES  # noqa: E402
 from fdm_awe.mavlink.mission import MissionProtocol  # noqa: E402
 from fdm_awe.mavlink.param_protocol import ParamProtocol  # noqa: E402
+from fdm_awe.mavlink.pilot import PilotInput  # noqa: E402
 from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
-from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule  # noqa: E402
+from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule, data_stream_rates  # noqa: E402
 from fdm_awe.mavlink.transport import Receiver, open_link  # noqa: E402
 from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
@@ -195,6 +203,12 @@ class MavlinkEndpoint:
         self._commands = CommandHandler(self)
         self._params = ParamProtocol(self)
         self._mission = MissionProtocol(self)
+        self._pilot = PilotInput(self)
+        #: the flight is over (:meth:`flight_ended`): the vehicle still answers, the commands that
+        #: would fly are refused with their reason
+        self.flight_over = False
+        #: a ground station asked for the shutdown (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) after the flight
+        self.shutdown_requested = False
         self._handlers = self._handler_table()
         self.info(f"MAVLink endpoint on {url} as system {sysid} component {self.compid} (winch component "
                    f"{WINCH_COMPID}); signing {'on' if self.signer.on else 'off'}")
@@ -231,6 +245,9 @@ class MavlinkEndpoint:
             "MISSION_ITEM": mis.on_item, "MISSION_ACK": mis.on_ack,
             "MISSION_CLEAR_ALL": mis.on_clear_all,
             "FILE_TRANSFER_PROTOCOL": lambda m: on_ftp(self, m),
+            "RC_CHANNELS_OVERRIDE": self._pilot.on_rc_override,
+            "MANUAL_CONTROL": self._pilot.on_manual_control,
+            "REQUEST_DATA_STREAM": self._on_request_data_stream,
             "SETUP_SIGNING": lambda m: _signing.on_setup_signing(self, m),
         }
 
@@ -260,6 +277,18 @@ class MavlinkEndpoint:
         """Current stream rates, Hz."""
         return self.streams.rates()
 
+    def _on_request_data_stream(self, m: Any) -> None:
+        """REQUEST_DATA_STREAM: the group's streams at the requested rate, or off
+        (:func:`~fdm_awe.mavlink.streams.data_stream_rates`)."""
+        if not self.for_me(m):
+            return
+        rates = data_stream_rates(m.req_stream_id, m.req_message_rate, bool(m.start_stop) and m.req_message_rate > 0)
+        for name, hz in rates.items():
+            self.set_rate(name, hz)
+        if rates:
+            self.info(f"MAVLink: data stream {m.req_stream_id} at {m.req_message_rate if m.start_stop else 0} Hz "
+                      f"({', '.join(rates)})")
+
     def statustext(self, text: str, severity: int = mav.MAV_SEVERITY_INFO) -> None:
         """Send a STATUSTEXT to the ground station; a text over 50 characters goes out in
         chunks (:func:`fdm_awe.mavlink.statustext.chunks`)."""
@@ -274,6 +303,12 @@ class MavlinkEndpoint:
         landing, WARNING for an incomplete or interrupted one)."""
         self._reporter.vehicle(self, self.vehicle)
         self.statustext(f"flight {status}: {message}", END_SEVERITY.get(status, mav.MAV_SEVERITY_CRITICAL))
+        self.flight_over = True
+
+    @property
+    def ever_linked(self) -> bool:
+        """A ground station has been heard on the link (:meth:`from_ground_station`) at least once."""
+        return self._ever_linked
 
     @property
     def link_lost(self) -> bool:
@@ -360,6 +395,8 @@ class MavlinkEndpoint:
                        f"{now - self._last_rx_wall:.1f} s); flight continues", limit=False)
         if self._mission.upload is not None:
             self._mission.check_timeout(now)
+        if self._pilot.last > -math.inf:
+            self._pilot.check_timeout(now)
 
     def _handle(self, m: Any) -> None:
         mtype = m.get_type()

@@ -6,21 +6,28 @@ simulation time; a ground station may also ask for any of them once, MAV_CMD_REQ
 Telemetry fields that are missing or not finite go out as the message's "unknown" value or 0.
 
 ``HEARTBEAT``
-    MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_GENERIC, custom mode from
-    :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`, armed flag; MAV_STATE_CRITICAL when the
-    simulation's health is lost. The winch's HEARTBEAT (:mod:`fdm_awe.mavlink.winch`) goes with it.
+    MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_ARDUPILOTMEGA (the custom modes are ArduPlane's numbers,
+    :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`, so MAVProxy, MAVSDK and QGroundControl name and
+    command them), armed flag; MAV_STATE_CRITICAL when the simulation's health is lost. The winch's HEARTBEAT (:mod:`fdm_awe.mavlink.winch`) goes with it.
 ``ATTITUDE``, ``GLOBAL_POSITION_INT``, ``VFR_HUD``
     Euler angles and body rates; position about home (altitude AMSL and above home) and NED
     velocity; airspeed, ground speed, heading, throttle, altitude and climb rate.
 ``SYS_STATUS``
     All simulated sensors/controllers are present, enabled and healthy, including the
-    geofence bit (the tether is the fence; without the health bit MAVProxy announces a fence
+    pre-arm check (the vehicle is always armable) and the geofence bit (the tether is the fence; without the health bit MAVProxy announces a fence
     breach). ``drop_rate_comm`` is 10000 (100 %) while the ground-station link is lost,
     ``errors_comm`` counts undecodable packets, ``errors_count1`` link losses,
     ``errors_count2`` messages whose handling failed and ``errors_count3`` messages refused
     by signing.
 ``BATTERY_STATUS``, ``HOME_POSITION``
-    The glider's battery; the winch's position (the NED origin).
+    The glider's battery: the motor's supply voltage (its engine file), the current the motor
+    draws from it (electrical input / voltage), the charge and energy drawn since the start;
+    remaining -1 (unknown: no capacity is modelled). The winch's position (the NED origin).
+``EXTENDED_SYS_STATE``
+    Fixed-wing, landed state IN_AIR or ON_GROUND (the glider's ground contact at the last step).
+``ATTITUDE_QUATERNION``, ``SYSTEM_TIME``
+    The attitude as a quaternion (body to NED) and the body rates; the wall clock (Unix time)
+    and the simulation time.
 ``NAMED_VALUE_FLOAT``
     The values of :data:`NAMED_VALUES`.
 
@@ -57,6 +64,7 @@ Telemetry fields that are missing or not finite go out as the message's "unknown
 from __future__ import annotations
 
 import math
+import time
 from typing import TYPE_CHECKING, Any, Callable
 
 from pymavlink.dialects.v20 import ardupilotmega as apm
@@ -71,6 +79,7 @@ if TYPE_CHECKING:  # pragma: no cover
 RATES: dict[str, float] = {
     "HEARTBEAT": 1.0,
     "ATTITUDE": 10.0,
+    "ATTITUDE_QUATERNION": 10.0,
     "GLOBAL_POSITION_INT": 10.0,
     "VFR_HUD": 4.0,
     "SYS_STATUS": 1.0,
@@ -83,6 +92,8 @@ RATES: dict[str, float] = {
     "SERVO_OUTPUT_RAW": 4.0,
     "WINCH_STATUS": 2.0,
     "WIND": 1.0,
+    "EXTENDED_SYS_STATE": 1.0,
+    "SYSTEM_TIME": 1.0,
 }
 
 #: Names and units of the NAMED_VALUE_FLOAT values (names <= 10 characters).
@@ -106,7 +117,8 @@ _SENSORS = (mav.MAV_SYS_STATUS_SENSOR_3D_GYRO | mav.MAV_SYS_STATUS_SENSOR_3D_ACC
             | mav.MAV_SYS_STATUS_SENSOR_YAW_POSITION | mav.MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL
             | mav.MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL
             | mav.MAV_SYS_STATUS_SENSOR_MOTOR_OUTPUTS | mav.MAV_SYS_STATUS_AHRS
-            | mav.MAV_SYS_STATUS_GEOFENCE | mav.MAV_SYS_STATUS_SENSOR_BATTERY)
+            | mav.MAV_SYS_STATUS_GEOFENCE | mav.MAV_SYS_STATUS_SENSOR_BATTERY
+            | mav.MAV_SYS_STATUS_PREARM_CHECK)
 
 _CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT
                  | mav.MAV_PROTOCOL_CAPABILITY_MISSION_INT | mav.MAV_PROTOCOL_CAPABILITY_COMMAND_INT
@@ -188,7 +200,7 @@ def send_heartbeat(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     else:
         status = mav.MAV_STATE_ACTIVE if armed else mav.MAV_STATE_STANDBY
     ep.send("HEARTBEAT", ep.mav.heartbeat_send, mav.MAV_TYPE_FIXED_WING,
-             mav.MAV_AUTOPILOT_GENERIC, base, custom, status)
+             mav.MAV_AUTOPILOT_ARDUPILOTMEGA, base, custom, status)
     ep.winch.send_heartbeat(ep, tel)
 
 
@@ -196,6 +208,35 @@ def send_attitude(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     phi, theta, psi = _vec3(tel.euler)
     p, q, r = _vec3(tel.omega_body)
     ep.send("ATTITUDE", ep.mav.attitude_send, _ms(t), phi, theta, psi, p, q, r)
+
+
+def euler_quaternion(phi: float, theta: float, psi: float) -> tuple[float, float, float, float]:
+    """The quaternion (w, x, y, z) of the body-to-NED rotation of Euler angles roll ``phi``,
+    pitch ``theta``, yaw ``psi`` (rad, 3-2-1 order), as MAVLink's ATTITUDE_QUATERNION carries it."""
+    cr, sr = math.cos(0.5 * phi), math.sin(0.5 * phi)
+    cp, sp = math.cos(0.5 * theta), math.sin(0.5 * theta)
+    cy, sy = math.cos(0.5 * psi), math.sin(0.5 * psi)
+    return (cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy)
+
+
+def send_attitude_quaternion(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    w, x, y, z = euler_quaternion(*_vec3(tel.euler))
+    p, q, r = _vec3(tel.omega_body)
+    ep.send("ATTITUDE_QUATERNION", ep.mav.attitude_quaternion_send, _ms(t), w, x, y, z, p, q, r,
+             [0.0, 0.0, 0.0, 0.0])
+
+
+def send_extended_sys_state(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    if tel.in_air is None:
+        landed = mav.MAV_LANDED_STATE_UNDEFINED
+    else:
+        landed = mav.MAV_LANDED_STATE_IN_AIR if tel.in_air else mav.MAV_LANDED_STATE_ON_GROUND
+    ep.send("EXTENDED_SYS_STATE", ep.mav.extended_sys_state_send, mav.MAV_VTOL_STATE_FW, landed)
+
+
+def send_system_time(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    ep.send("SYSTEM_TIME", ep.mav.system_time_send, _i(time.time() * 1e6, 0, 2**63 - 1), _ms(t))
 
 
 def send_global_position(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
@@ -249,7 +290,9 @@ def send_battery(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     volts = [65535] * 10
     volts[0] = _millivolts(tel)
     ep.send("BATTERY_STATUS", ep.mav.battery_status_send, 0, mav.MAV_BATTERY_FUNCTION_ALL,
-             mav.MAV_BATTERY_TYPE_LIPO, 32767, volts, _centiamps(tel), -1, -1, _remaining_pct(tel))
+             mav.MAV_BATTERY_TYPE_LIPO, 32767, volts, _centiamps(tel),
+             _i(_f(tel.battery_consumed_mAh, -1.0), -1, 2**31 - 1, -1),
+             _i(_f(tel.battery_energy_J, -100.0) / 100.0, -1, 2**31 - 1, -1), _remaining_pct(tel))
 
 
 def send_home(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
@@ -299,6 +342,12 @@ def mission_size(ep: "MavlinkEndpoint") -> int:
         return 0
 
 
+def current_item(tel: Telemetry, total: int) -> int:
+    """The mission item flown to (MISSION_CURRENT's ``seq``, the downloaded item marked
+    ``current``): the telemetry's, else 0 (the first)."""
+    return tel.mission_seq if 0 <= tel.mission_seq < total else 0
+
+
 def send_mission_current(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     total = mission_size(ep)
     if total == 0:
@@ -307,7 +356,7 @@ def send_mission_current(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> Non
         state = mav.MISSION_STATE_ACTIVE
     else:
         state = mav.MISSION_STATE_PAUSED
-    seq = tel.mission_seq if 0 <= tel.mission_seq < total else 0
+    seq = current_item(tel, total)
     ep.send("MISSION_CURRENT", ep.mav.mission_current_send, seq, total, state,
              1 if tel.mode == "AUTO" else 0)
 
@@ -350,6 +399,7 @@ def send_wind(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
 SENDERS: dict[str, Callable[["MavlinkEndpoint", Telemetry, float], None]] = {
     "HEARTBEAT": send_heartbeat,
     "ATTITUDE": send_attitude,
+    "ATTITUDE_QUATERNION": send_attitude_quaternion,
     "GLOBAL_POSITION_INT": send_global_position,
     "VFR_HUD": send_vfr_hud,
     "SYS_STATUS": send_sys_status,
@@ -362,4 +412,6 @@ SENDERS: dict[str, Callable[["MavlinkEndpoint", Telemetry, float], None]] = {
     "SERVO_OUTPUT_RAW": send_servo_output,
     "WINCH_STATUS": send_winch_status,
     "WIND": send_wind,
+    "EXTENDED_SYS_STATE": send_extended_sys_state,
+    "SYSTEM_TIME": send_system_time,
 }

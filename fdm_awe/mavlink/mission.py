@@ -4,7 +4,9 @@ MAV_MISSION_TYPE_MISSION only; fence and rally lists are empty (a download count
 upload of 0 items and MISSION_CLEAR_ALL are accepted). Download sends the vehicle's path as
 MISSION_ITEM_INT (MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, MAV_CMD_NAV_WAYPOINT, altitude relative
 to home = the winch), or MISSION_ITEM to a MISSION_REQUEST; the list is fixed at
-MISSION_REQUEST_LIST until the ground station's MISSION_ACK. Upload accepts MISSION_ITEM_INT
+MISSION_REQUEST_LIST until the ground station's MISSION_ACK; the item flown to (MISSION_CURRENT's
+``seq``) carries ``current`` = 1, so the list uploads back as it came (MAVSDK's ``mission_raw``
+checks it). Upload accepts MISSION_ITEM_INT
 and MISSION_ITEM in the GLOBAL(_RELATIVE_ALT)(_INT) frames, re-requests an item after
 ``mission_timeout_s`` (wall clock) up to ``mission_retries`` times, and rejects with
 MAV_MISSION_NO_SPACE (over ``max_mission_items``), UNSUPPORTED_FRAME, UNSUPPORTED (not a
@@ -27,6 +29,7 @@ from typing import TYPE_CHECKING, Any, Callable
 
 from pymavlink.dialects.v20 import common as mav
 
+from .messages import current_item
 from .vehicle import Waypoint
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -36,6 +39,15 @@ _MISSION = mav.MAV_MISSION_TYPE_MISSION
 _EMPTY_TYPES = (mav.MAV_MISSION_TYPE_FENCE, mav.MAV_MISSION_TYPE_RALLY)
 _GLOBAL_FRAMES_REL = (mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT)
 _GLOBAL_FRAMES_AMSL = (mav.MAV_FRAME_GLOBAL, mav.MAV_FRAME_GLOBAL_INT)
+
+
+#: why an uploaded item is refused (its STATUSTEXT), by MAV_MISSION_RESULT
+_ITEM_REASONS: dict[int, str] = {
+    mav.MAV_MISSION_UNSUPPORTED_FRAME: "frame unsupported: GLOBAL or GLOBAL_RELATIVE_ALT only",
+    mav.MAV_MISSION_INVALID_PARAM5_X: "latitude invalid or too far from home",
+    mav.MAV_MISSION_INVALID_PARAM6_Y: "longitude invalid or too far from home",
+    mav.MAV_MISSION_INVALID_PARAM7: "altitude outside -1000..20000 m",
+}
 
 
 def _addressed(fn: Callable[[Any, Any, int, tuple[int, int]], None]) -> Callable[[Any, Any], None]:
@@ -127,13 +139,14 @@ class MissionProtocol:
             self._ack(src, mav.MAV_MISSION_INVALID_SEQUENCE, mt)
             return
         x, y, z = items[m.seq]
+        current = 1 if m.seq == current_item(ep.telemetry(), len(items)) else 0
         if m.get_type() == "MISSION_REQUEST_INT":
             ep.send("MISSION_ITEM_INT", ep.mav.mission_item_int_send, src[0], src[1], m.seq,
-                     mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
+                     mav.MAV_FRAME_GLOBAL_RELATIVE_ALT_INT, mav.MAV_CMD_NAV_WAYPOINT, current, 1,
                      0.0, 0.0, 0.0, 0.0, x, y, z, mt)
         else:
             ep.send("MISSION_ITEM", ep.mav.mission_item_send, src[0], src[1], m.seq,
-                     mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_CMD_NAV_WAYPOINT, 0, 1,
+                     mav.MAV_FRAME_GLOBAL_RELATIVE_ALT, mav.MAV_CMD_NAV_WAYPOINT, current, 1,
                      0.0, 0.0, 0.0, 0.0, x * 1e-7, y * 1e-7, z, mt)
 
     @_addressed
@@ -248,7 +261,11 @@ class MissionProtocol:
         result, wp = self._item_to_waypoint(m)
         if wp is None:
             self.upload = None
-            ep.warn(f"MAVLink: mission item {m.seq} rejected (MAV_MISSION_RESULT {result})")
+            why = _ITEM_REASONS.get(result, "invalid")
+            if result == mav.MAV_MISSION_UNSUPPORTED:
+                why = f"command {m.command} unsupported: waypoints only (the cycle is a path)"
+            ep.warn(f"MAVLink: mission item {m.seq} rejected (MAV_MISSION_RESULT {result}: {why})")
+            ep.statustext(f"mission item {m.seq} refused: {why}", mav.MAV_SEVERITY_WARNING)
             self._ack(src, result, _MISSION)
             return
         up.items.append(wp)

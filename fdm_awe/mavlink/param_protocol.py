@@ -2,10 +2,18 @@
 
 PARAM_REQUEST_LIST streams every parameter as PARAM_VALUE, ``param_burst`` per update of the
 endpoint (so a long list does not stall a simulation step); PARAM_REQUEST_READ answers one
-(by index or name); PARAM_SET sets one and answers with its PARAM_VALUE: the new value, or
-the old one and a STATUSTEXT when it is refused (out of range, unknown name). A value is
-stored as typed (:func:`fdm_awe.mavlink.params.from_wire`), not as the float32 that carried
-it. Without a vehicle the parameter list is empty.
+(by index or name); PARAM_SET sets one and answers with its PARAM_VALUE: the new value, or,
+as ArduPilot answers a write it denies (GCS_Param.cpp), a STATUSTEXT saying why and the old
+value (out of range, not a whole number, unknown name). A ground station that repeats the
+refused write (MAVSDK retries at once when the value it reads back differs, up to its retry
+count, and then reports TIMEOUT) gets the old value again but the reason only once per
+:data:`REPEAT_S`. A value is stored as typed (:func:`fdm_awe.mavlink.params.from_wire`), not as
+the float32 that carried it.
+
+Types: a whole-number or on/off parameter (``kind`` ``int`` or ``bool``) goes out as
+``MAV_PARAM_TYPE_INT32``, the others as ``REAL32``; the value field carries the number as a
+float (ArduPilot's encoding, which MAVProxy, MAVSDK and QGroundControl read for an ArduPilot
+vehicle), so MAVSDK's ``get_param_int`` reads them. Without a vehicle the parameter list is empty.
 """
 
 from __future__ import annotations
@@ -15,6 +23,14 @@ from typing import TYPE_CHECKING, Any
 from pymavlink.dialects.v20 import common as mav
 
 from .params import ParamStore, from_wire, param_text
+
+#: a refused PARAM_SET repeated (same id and value) within this wall-clock time gets no new STATUSTEXT, s
+REPEAT_S = 5.0
+
+
+def wire_type(kind: str) -> int:
+    """MAV_PARAM_TYPE of a parameter of ``kind``: INT32 for ``int`` and ``bool``, else REAL32."""
+    return mav.MAV_PARAM_TYPE_INT32 if kind in ("int", "bool") else mav.MAV_PARAM_TYPE_REAL32
 
 if TYPE_CHECKING:  # pragma: no cover
     from .endpoint import MavlinkEndpoint
@@ -37,6 +53,7 @@ class ParamProtocol:
     def __init__(self, ep: "MavlinkEndpoint") -> None:
         self._ep = ep
         self.queue: list[int] = []
+        self._refused: tuple[str, float, float] | None = None  # the last refused write: id, value, wall time
 
     def _store(self) -> ParamStore | None:
         vehicle = self._ep.vehicle
@@ -67,7 +84,7 @@ class ParamProtocol:
         if name is None:
             return
         self._ep.send("PARAM_VALUE", self._ep.mav.param_value_send, name.encode("ascii"),
-                       float(ps[name]), mav.MAV_PARAM_TYPE_REAL32, len(ps), index)
+                       float(ps[name]), wire_type(ps.info(name).kind), len(ps), index)
 
     def on_request_read(self, m: Any) -> None:
         """PARAM_REQUEST_READ: one parameter, by index (>= 0) or else by name."""
@@ -101,6 +118,9 @@ class ParamProtocol:
             if why != "ok":
                 ep.statustext(why, mav.MAV_SEVERITY_WARNING)
         else:
-            ep.warn(f"MAVLink: PARAM_SET refused: {why}")
-            ep.statustext(why, mav.MAV_SEVERITY_WARNING)
+            now, last = ep.clock(), self._refused
+            if last is None or last[:2] != (name, float(m.param_value)) or now - last[2] > REPEAT_S:
+                ep.warn(f"MAVLink: PARAM_SET refused: {why}")
+                ep.statustext(why, mav.MAV_SEVERITY_WARNING)
+                self._refused = (name, float(m.param_value), now)
         self._send(ps, ps.index(name))

@@ -1,8 +1,8 @@
 """Parameters over MAVLink: the autopilot's :class:`~fdm_awe.autopilot.params.ParamStore`
 (defined by the autopilot, re-exported here) and the wire's float32 values.
 
-On the wire every parameter is ``MAV_PARAM_TYPE_REAL32`` so no int/float byte-encoding
-ambiguity arises.
+On the wire a parameter is ``MAV_PARAM_TYPE_INT32`` (whole-number and on/off parameters) or
+``REAL32``, its value always carried as a float (ArduPilot's encoding: no byte-wise int).
 
 Values as set: MAVLink carries a parameter as a 32-bit float, so a ground station's
 ``PARAM_SET`` of 1.1 arrives as 1.100000023841858. :func:`from_wire` turns a received float32

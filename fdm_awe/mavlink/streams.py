@@ -5,9 +5,15 @@ period in simulation seconds (``inf`` = off) and the simulation time it is next 
 that falls behind (a long step, the first call) is not sent in a burst: its phase restarts at
 the current time. A simulation that restarts (time going back) restarts every stream.
 
-Rates are set with the endpoint's ``rates=``, :meth:`~fdm_awe.mavlink.endpoint.MavlinkEndpoint.set_rate` or
-MAV_CMD_SET_MESSAGE_INTERVAL (:mod:`fdm_awe.mavlink.commands`): 0 Hz is off, at most
-:data:`MAX_RATE_HZ`.
+Rates are set with the endpoint's ``rates=``, :meth:`~fdm_awe.mavlink.endpoint.MavlinkEndpoint.set_rate`,
+MAV_CMD_SET_MESSAGE_INTERVAL (:mod:`fdm_awe.mavlink.commands`) or REQUEST_DATA_STREAM: 0 Hz is
+off, at most :data:`MAX_RATE_HZ`.
+
+REQUEST_DATA_STREAM (MAVProxy's and QGroundControl's stream rates for an ArduPilot vehicle) sets
+the rate of every stream of a group, as ArduPlane groups them (:data:`DATA_STREAMS`; its SRx_
+parameters); ``start_stop`` 0 switches the group off; MAV_DATA_STREAM_ALL sets every group.
+HEARTBEAT, HOME_POSITION, NAMED_VALUE_FLOAT and the winch's WINCH_STATUS are no group's (they
+keep their rates). The rates hold until the next request.
 """
 
 from __future__ import annotations
@@ -37,6 +43,29 @@ MAX_RATE_HZ = 200.0
 _STREAM_IDS: dict[str, int] = {name: getattr(mav, f"MAVLINK_MSG_ID_{name}", None)
                                or getattr(apm, f"MAVLINK_MSG_ID_{name}") for name in DEFAULT_RATES}
 _STREAM_BY_ID: dict[int, str] = {v: k for k, v in _STREAM_IDS.items()}
+
+#: ArduPlane's stream groups (MAV_DATA_STREAM) -> the streams of this vehicle in them
+DATA_STREAMS: dict[int, tuple[str, ...]] = {
+    mav.MAV_DATA_STREAM_EXTENDED_STATUS: ("SYS_STATUS", "GPS_RAW_INT", "MISSION_CURRENT", "NAV_CONTROLLER_OUTPUT"),
+    mav.MAV_DATA_STREAM_RC_CHANNELS: ("SERVO_OUTPUT_RAW",),
+    mav.MAV_DATA_STREAM_POSITION: ("GLOBAL_POSITION_INT",),
+    mav.MAV_DATA_STREAM_EXTRA1: ("ATTITUDE", "ATTITUDE_QUATERNION"),
+    mav.MAV_DATA_STREAM_EXTRA2: ("VFR_HUD",),
+    mav.MAV_DATA_STREAM_EXTRA3: ("SYSTEM_TIME", "WIND", "BATTERY_STATUS", "EXTENDED_SYS_STATE"),
+}
+
+
+def data_stream_rates(stream_id: int, rate_hz: float, start: bool) -> dict[str, float]:
+    """The stream rates (Hz) a REQUEST_DATA_STREAM sets: every stream of group ``stream_id``
+    (all groups for MAV_DATA_STREAM_ALL) at ``rate_hz`` (at most :data:`MAX_RATE_HZ`), or 0 when
+    ``start`` is false or the rate is 0; empty for a group this vehicle has no stream in."""
+    hz = min(float(rate_hz), MAX_RATE_HZ) if start else 0.0
+    if stream_id == mav.MAV_DATA_STREAM_ALL:
+        names = [n for group in DATA_STREAMS.values() for n in group]
+    else:
+        names = list(DATA_STREAMS.get(stream_id, ()))
+    return {n: hz for n in names if n in DEFAULT_RATES}
+
 
 Sender = Callable[["MavlinkEndpoint", Telemetry, float], None]
 

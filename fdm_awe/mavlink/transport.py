@@ -129,6 +129,11 @@ class TcpServer:
         except OSError:
             pass
 
+    def accept_new(self) -> None:
+        """Take in the clients waiting to connect (what :meth:`recv_round` does first), for a
+        sender that does not read (the boot heartbeat, :mod:`fdm_awe.mavlink.boot`)."""
+        self._accept()
+
     def recv_round(self, n: int, skip: set[TcpClient] | frozenset = frozenset()) -> list[tuple[TcpClient, bytes]]:
         """Accept new clients, then one read of up to ``n`` bytes from each client that has data,
         except those in ``skip`` (whose data wait in their socket: TCP slows their sender)."""

@@ -78,12 +78,15 @@ class Telemetry:
         net_energy_J: net electrical energy since the start, J (+ = net gain).
         phase: cycle phase, one of PHASES.
         fold: wing fold state, 0 = unfolded .. 1 = folded.
-        battery_voltage_V, battery_current_A: onboard battery, V and A (+ = discharge).
-        battery_remaining: state of charge 0..1, or -1 when unknown.
+        battery_voltage_V, battery_current_A: onboard battery, V and A (+ = discharge); NaN = unknown.
+        battery_consumed_mAh, battery_energy_J: charge (mAh) and energy (J) drawn since the start,
+            NaN = unknown.
+        battery_remaining: state of charge 0..1, or -1 when unknown (no capacity modelled).
         mode: autopilot mode name (a key of MODE_NUMBERS).
         armed: motor armed.
         cycling: pumping cycles running.
         health_ok: False when the simulation reports a fault (clears the AHRS health bit).
+        in_air: the glider touched no ground at the last step (None: unknown).
         line_length_m: unstretched line paid out at the winch, m (NaN = unknown).
         winch_voltage_V: winch DC-link voltage, V (NaN = unknown).
         winch_current_A: winch machine (armature) current, A (NaN = unknown).
@@ -110,13 +113,16 @@ class Telemetry:
     net_energy_J: float = 0.0
     phase: str = "ground"
     fold: float = 0.0
-    battery_voltage_V: float = 12.6
-    battery_current_A: float = 0.0
+    battery_voltage_V: float = math.nan
+    battery_current_A: float = math.nan
+    battery_consumed_mAh: float = math.nan
+    battery_energy_J: float = math.nan
     battery_remaining: float = -1.0
     mode: str = "MANUAL"
     armed: bool = False
     cycling: bool = False
     health_ok: bool = True
+    in_air: bool | None = None
     line_length_m: float = math.nan
     winch_voltage_V: float = math.nan
     winch_current_A: float = math.nan
