@@ -97,8 +97,12 @@ def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] 
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one "
-                                                       "now and fly it from memory; its file is written only into --out)")
+    from ..example_refs import EXAMPLES
+
+    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize', or example:NAME, a "
+                                                       f"stored reference of the package ({', '.join(EXAMPLES)}) "
+                                                       "(default: optimise one now and fly it from memory; its file is "
+                                                       "written only into --out)")
     p.add_argument("--references", metavar="DIR",
                    help="a reference set: a folder of reference files, each optimised for one wind (its metadata's "
                         "wind_mps; e.g. scripts/reference_set.py); at every cycle boundary the autopilot flies the "
@@ -200,6 +204,9 @@ def _check(args: argparse.Namespace) -> None:
     from ..recording.stream import check_live_args
 
     check_live_args(args)
+    from ..example_refs import resolve
+
+    args.reference = resolve(args.reference, "--reference")  # example:NAME -> the stored file
     chk.input_file(args.reference, "--reference")  # a regular file: a FIFO or a device would block or never end
     if args.mavlink_key is not None:
         if not args.mavlink:
