@@ -3,10 +3,18 @@
 Units are SI throughout the Python side; the ground frame is NED with its origin at
 the winch. JSBSim's English units are converted only in :mod:`fdm_awe.units` (used by
 the JSBSim adapter).
+
+The Python API (:mod:`fdm_awe.api`) is the package's top level: :func:`optimize`, :func:`fly`,
+:func:`sweep` and :func:`load_reference`, with the defaults of :mod:`fdm_awe.defaults`. It is
+imported on first use, so ``import fdm_awe`` stays as fast as the command line's start.
+``fdm_awe.sweep`` is also the sub-package of the sweep's modules; calling it runs the API's
+:func:`fdm_awe.api.sweep`.
 """
 
+import types
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 __version__ = "0.1.0"
 
@@ -31,4 +39,31 @@ def _definition_root() -> Path:
 #: installed package's ``fdm_awe/data/`` or, in a source checkout, the repository root.
 ROOT = _definition_root()
 
-__all__ = ["DEFINITION_FOLDERS", "ROOT", "__version__"]
+#: names of :mod:`fdm_awe.api` on the package's top level (imported on first use)
+_API = ("FlightResult", "OptimizeResult", "SweepResult", "fly", "load_reference", "optimize")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _API:
+        from . import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+class _CallableModule(types.ModuleType):
+    """The ``fdm_awe.sweep`` sub-package, callable as the API's :func:`fdm_awe.api.sweep`."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        from .api import sweep
+
+        return sweep(*args, **kwargs)
+
+
+# the sweep's sub-package (its __init__ is a docstring: nothing heavy) made callable, before any
+# of its modules is imported, so that ``fdm_awe.sweep`` is the same object whatever comes first
+from . import sweep  # noqa: E402
+
+sweep.__class__ = _CallableModule
+
+__all__ = ["DEFINITION_FOLDERS", "ROOT", "__version__", *_API, "sweep"]
