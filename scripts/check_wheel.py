@@ -17,9 +17,12 @@ the end whatever happens (``--keep`` keeps it):
    its ``ROOT`` inside the new environment, and JSBSim loads every aircraft from there;
    ``fdm-awe info``; a short ``fdm-awe optimize`` (paper, nominal, 3 m/s, coarse mesh) with
    ``--json``; ``fdm-awe fly --cycles 1`` on a stored reference copied out of ``tests/data/``;
-   ``fdm-awe fly --cycles 1`` with no reference (it optimises its own, with the defaults). Each
-   must exit 0, report status ``ok`` in its JSON and write nothing but the files it was told to
-   write.
+   ``fdm-awe fly --cycles 1`` with no reference (it optimises its own, with the defaults);
+   ``fdm-awe fly --cycles 1 --reference example:foldable-8`` (an example reference carried as
+   package data); ``fdm-awe info --export DIR`` (every definition file); the Python API's
+   ``fdm_awe.load_reference("example:nominal-8")``. Each must exit 0, report status ``ok`` in
+   its JSON and write nothing but the files it was told to write. The wheel must carry the
+   example references and the project URLs.
 
 Exit status 0 only if every step passed, 1 otherwise (the failing step's output is printed),
 2 on bad options. The last line says ``wheel check: ok ...`` or ``wheel check: FAILED ...``.
@@ -45,6 +48,7 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from fdm_awe import DEFINITION_FOLDERS  # noqa: E402  (the checkout's package: names only)
+from fdm_awe.example_refs import EXAMPLES  # noqa: E402  (the example references the wheel carries)
 #: Folders whose every file the sdist holds (MANIFEST.in).
 SDIST_FOLDERS = (*DEFINITION_FOLDERS, "tests", "scripts", "docs")
 #: Stored reference flown by the check (copied out of the checkout first).
@@ -108,6 +112,14 @@ def check_wheel_members(wheel: Path, src: Path) -> None:
     missing = [n for n in definition_files(src) if f"fdm_awe/data/{n}" not in names]
     if missing:
         raise CheckFailed(f"wheel {wheel.name} lacks {len(missing)} definition file(s): {', '.join(missing[:5])}")
+    missing = [n for n in EXAMPLES.values() if f"fdm_awe/data/examples/{n}" not in names]
+    if missing:
+        raise CheckFailed(f"wheel {wheel.name} lacks {len(missing)} example reference(s): {', '.join(missing[:5])}")
+    meta = next((n for n in names if n.endswith(".dist-info/METADATA")), None)
+    with zipfile.ZipFile(wheel) as zf:
+        urls = [line for line in zf.read(meta).decode().splitlines() if line.startswith("Project-URL:")] if meta else []
+    if not any(u.startswith("Project-URL: Homepage,") for u in urls):
+        raise CheckFailed(f"wheel {wheel.name}: no project URLs in its metadata (Homepage, Documentation, Source)")
     stray = sorted(n for n in names if not n.startswith(("fdm_awe/", "fdm_awe-")))
     if stray:
         raise CheckFailed(f"wheel {wheel.name} installs files outside fdm_awe/: {', '.join(stray[:5])}")
@@ -273,7 +285,36 @@ def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
         return f"{doc['config']} at {doc['wind_mps']:g} m/s, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
 
     step("fdm-awe fly --cycles 1 (defaults: optimise, then fly)", fly_plain)
+
+    def fly_example():
+        ex = work / "example"
+        ex.mkdir()
+        run("fdm-awe fly (example)", [str(cli), "fly", "--reference", "example:foldable-8", "--cycles", "1", "--quiet",
+                                      "--json", "fly.json"], ex, env)
+        doc = json_status("fdm-awe fly (example)", ex / "fly.json")
+        only_files("fdm-awe fly (example)", ex, {"fly.json"})
+        return f"{doc['config']} at {doc['wind_mps']:g} m/s, net {doc['cycles'][0]['E_net_J']:.0f} J"
+
+    step("fdm-awe fly --cycles 1 --reference example:foldable-8 (package data)", fly_example)
+
+    def export():
+        run("fdm-awe info --export", [str(cli), "info", "--export", "definitions"], work / "example", env)
+        got = sorted(p.relative_to(work / "example" / "definitions").as_posix()
+                     for p in (work / "example" / "definitions").rglob("*") if p.is_file())
+        if got != definition_files(src):
+            raise CheckFailed(f"fdm-awe info --export: wrote {len(got)} files, the package has {len(definition_files(src))}")
+        return f"{len(got)} files"
+
+    step("fdm-awe info --export DIR", export)
+    step("the Python API from the wheel",
+         lambda: run("api", [str(vpy), "-c", API_CHECK], work, env).strip())
     return times
+
+
+#: The API from outside the checkout: an example reference through ``fdm_awe.load_reference``.
+API_CHECK = ("import fdm_awe; r = fdm_awe.load_reference('example:nominal-8'); "
+             "assert fdm_awe.ROOT.name == 'data', fdm_awe.ROOT; "
+             "print('load_reference(example:nominal-8):', r.metadata['config'], r.metadata['wind_mps'], 'm/s')")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -101,6 +101,29 @@ def test_unpacked_wheel_finds_its_definitions_and_jsbsim_flies_them(built, tmp_p
 
 
 @pytest.mark.timeout(240)
+def test_unpacked_wheel_carries_the_example_references_and_its_project_urls(built, tmp_path):
+    _, _, wheel, _ = built
+    site = tmp_path / "site"
+    with zipfile.ZipFile(wheel) as zf:
+        zf.extractall(site)
+        meta = next(n for n in zf.namelist() if n.endswith(".dist-info/METADATA"))
+        urls = [ln for ln in zf.read(meta).decode().splitlines() if ln.startswith("Project-URL:")]
+    assert {u.split(",")[0] for u in urls} >= {"Project-URL: Homepage", "Project-URL: Documentation",
+                                               "Project-URL: Source"}
+    assert all("https://github.com/fdm-awe/fdm-awe" in u for u in urls)
+    env = dict(os.environ, PYTHONPATH=str(site), JSBSIM_DEBUG="0")
+    code = ("import fdm_awe, fdm_awe.example_refs as e; r = fdm_awe.load_reference('example:foldable-8'); "
+            "print(e.examples_folder()); print(r.metadata['config'], r.metadata['wind_mps'])")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    folder, what = proc.stdout.strip().splitlines()
+    assert Path(folder) == site / "fdm_awe" / "data" / "examples"
+    assert what == "foldable 8.0"
+    assert sorted(p.name for p in Path(folder).iterdir() if p.suffix == ".json") == sorted(cw.EXAMPLES.values())
+
+
+@pytest.mark.timeout(240)
 def test_a_deprecated_setuptools_configuration_fails_the_sdist_build(built, tmp_path):
     _, _, _, tools = built
     src = tmp_path / "src"
@@ -112,10 +135,14 @@ def test_a_deprecated_setuptools_configuration_fails_the_sdist_build(built, tmp_
         cw.build_sdist(src, tmp_path, sys.executable, tools)
 
 
+#: a wheel's METADATA with the project URLs
+_METADATA = "Metadata-Version: 2.4\nName: fdm-awe\nProject-URL: Homepage, https://github.com/fdm-awe/fdm-awe\n"
+
+
 def _zip(path: Path, names: list[str]) -> Path:
     with zipfile.ZipFile(path, "w") as zf:
         for n in names:
-            zf.writestr(n, "<x/>")
+            zf.writestr(n, _METADATA if n.endswith("/METADATA") else "<x/>")
     return path
 
 
@@ -124,9 +151,15 @@ def test_wheel_member_check_fails_on_a_missing_definition_or_a_stray_file(tmp_pa
     for rel in ("aircraft/a/a.xml", "engine/e.xml", "tether/t.xml"):
         (src / rel).parent.mkdir(parents=True, exist_ok=True)
         (src / rel).write_text("<x/>")
+    examples = [f"fdm_awe/data/examples/{n}" for n in cw.EXAMPLES.values()]
     full = ["fdm_awe/__init__.py", "fdm_awe/data/aircraft/a/a.xml", "fdm_awe/data/engine/e.xml",
-            "fdm_awe/data/tether/t.xml", "fdm_awe-0.1.0.dist-info/RECORD"]
+            "fdm_awe/data/tether/t.xml", *examples, "fdm_awe-0.1.0.dist-info/RECORD",
+            "fdm_awe-0.1.0.dist-info/METADATA"]
     cw.check_wheel_members(_zip(tmp_path / "ok.whl", full), src)
+    with pytest.raises(cw.CheckFailed, match="lacks 1 example reference.*nominal_8mps_sized"):
+        cw.check_wheel_members(_zip(tmp_path / "noex.whl", [n for n in full if "nominal_8mps_sized" not in n]), src)
+    with pytest.raises(cw.CheckFailed, match="no project URLs"):
+        cw.check_wheel_members(_zip(tmp_path / "nourl.whl", [n for n in full if not n.endswith("METADATA")]), src)
     with pytest.raises(cw.CheckFailed, match="lacks 1 definition file.*engine/e.xml"):
         cw.check_wheel_members(_zip(tmp_path / "missing.whl", [n for n in full if "engine" not in n]), src)
     with pytest.raises(cw.CheckFailed, match="outside fdm_awe/: aircraft/a/a.xml"):
