@@ -74,6 +74,40 @@ def _quiet(verbose: bool) -> Iterator[None]:
         yield
 
 
+@contextlib.contextmanager
+def _keep_plot_backend() -> Iterator[None]:
+    """The caller's matplotlib backend (a notebook's inline one) back after the work: the
+    commands' plot files switch matplotlib to its file backend ``Agg``."""
+    import sys
+
+    before = sys.modules["matplotlib"].get_backend() if "matplotlib.pyplot" in sys.modules else None
+    try:
+        yield
+    finally:
+        if before is not None:
+            import matplotlib.pyplot as plt
+
+            if plt.get_backend() != before:
+                plt.switch_backend(before)
+                _reenable_inline(before)
+
+
+def _reenable_inline(backend: str) -> None:
+    """In an IPython kernel, the inline backend's figure display again (switching to ``Agg``
+    turned it off)."""
+    import sys
+
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None and hasattr(ipython, "get_ipython") else None
+    if shell is None or "inline" not in backend:
+        return
+    try:
+        from matplotlib_inline.backend_inline import configure_inline_support
+    except ImportError:  # pragma: no cover (IPython without its inline backend)
+        return
+    configure_inline_support(shell, backend)
+
+
 def _read_json(path: Path) -> dict[str, Any]:
     import json
 
@@ -498,7 +532,7 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                       mavlink_key=None if mavlink_key is None else os.fspath(mavlink_key), realtime=realtime,
                       out=None if out is None else os.fspath(out), rrd=None if rrd is None else os.fspath(rrd),
                       json=None if json is None else os.fspath(json), quiet=True)
-    with _quiet(verbose):
+    with _quiet(verbose), _keep_plot_backend():
         if mem_ref is not None:  # the checks of a --reference, for a reference in memory
             given = [opt for attr, opt in F.REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
             if given:
@@ -599,7 +633,7 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
                       json=None if json is None else os.fspath(json), no_progress=not verbose, **options)
     if scheduler is not None and "workers" not in options:
         args.workers = None
-    with _quiet(verbose):
+    with _quiet(verbose), _keep_plot_backend():
         S.check_args(args)
         spec = S.build_spec(args)
         from .sweep.report import output_files
