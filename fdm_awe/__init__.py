@@ -11,6 +11,7 @@ imported on first use, so ``import fdm_awe`` stays as fast as the command line's
 :func:`fdm_awe.api.sweep`.
 """
 
+import importlib
 import types
 from importlib import resources
 from pathlib import Path
@@ -44,26 +45,22 @@ _API = ("FlightResult", "OptimizeResult", "SweepResult", "fly", "load_reference"
 
 
 def __getattr__(name: str) -> Any:
+    # looked up by name on first use: the package's own __init__ imports no unit of it (the
+    # layers of docs/architecture.md), and ``import fdm_awe`` stays light
     if name in _API:
-        from . import api
-
-        return getattr(api, name)
+        return getattr(importlib.import_module(".api", __name__), name)
+    if name == "sweep":  # the sub-package, callable (its __init__ makes itself a _CallableModule)
+        return importlib.import_module(".sweep", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class _CallableModule(types.ModuleType):
-    """The ``fdm_awe.sweep`` sub-package, callable as the API's :func:`fdm_awe.api.sweep`."""
+    """The ``fdm_awe.sweep`` sub-package, callable as the API's :func:`fdm_awe.api.sweep`
+    (``fdm_awe/sweep/__init__.py`` gives itself this class when it is imported, whatever imports
+    it first)."""
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        from .api import sweep
+        return importlib.import_module(".api", __package__ or "fdm_awe").sweep(*args, **kwargs)
 
-        return sweep(*args, **kwargs)
-
-
-# the sweep's sub-package (its __init__ is a docstring: nothing heavy) made callable, before any
-# of its modules is imported, so that ``fdm_awe.sweep`` is the same object whatever comes first
-from . import sweep  # noqa: E402
-
-sweep.__class__ = _CallableModule
 
 __all__ = ["DEFINITION_FOLDERS", "ROOT", "__version__", *_API, "sweep"]
