@@ -83,6 +83,9 @@ def test_optimize_gives_the_numbers_of_the_command(quick_cycle, tmp_path):
                 "E_reel_in_J", "E_net_J", "P_avg_W"):
         assert api[key] == cli[key], key
     assert quick_cycle.E_net_J == cli["E_net_J"]
+    wrote = next(line for line in out.splitlines() if line.startswith("wrote: "))[7:].split(", ")
+    assert wrote == [str(tmp_path / "opt.trajectory.json"), str(tmp_path / "opt.json")]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["opt.json", "opt.trajectory.json"]
     # E_net = E_generated - E_thrust - E_reel_in, each term >= 0
     assert min(api["E_generated_J"], api["E_thrust_J"], api["E_reel_in_J"]) >= 0
     assert api["E_net_J"] == pytest.approx(api["E_generated_J"] - api["E_thrust_J"] - api["E_reel_in_J"], abs=1e-6)

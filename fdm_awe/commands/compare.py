@@ -189,4 +189,7 @@ def run(args: argparse.Namespace) -> int:
                "results": res, "zero_wind": zero,
                "zero_wind_verdict": None if zero is None else {c: zero_wind_verdict(args.scenario, z) for c, z in zero.items()}}
         write_json(args.json, doc)
+    written = [f for f in (args.report, args.json) if f]
+    if written:
+        print("wrote: " + ", ".join(written))
     return 0 if ok and not physical_violation else 1

@@ -373,4 +373,9 @@ def _run_checked(args: argparse.Namespace, problem: Any, traj: str | None) -> in
         out.update(cycle_outputs(res, rrd=args.rrd, out_dir=args.out))
     if args.json:
         write_json(args.json, out)
+    written = ([traj] if res.ok and traj else []) + [str(x) for k in ("rrd", "plots", "csv", "report") if k in out
+                                                     for x in (out[k] if isinstance(out[k], list) else [out[k]])]
+    written += [args.json] if args.json else []
+    if written:
+        print("wrote: " + ", ".join(written))
     return 0 if res.ok else 1
