@@ -467,7 +467,7 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         mode: str = "AUTO", params: str | os.PathLike | None = None, mavlink: str | None = None,
         mavlink_key: str | os.PathLike | None = None, realtime: float | None = None,
         out: str | os.PathLike | None = None, rrd: str | os.PathLike | None = None,
-        json: str | os.PathLike | None = None, verbose: bool = False) -> FlightResult:
+        json: str | os.PathLike | None = None, verbose: bool = False, **options: Any) -> FlightResult:
     """Fly pumping cycles of a reference in 6-DOF co-simulation, as ``fdm-awe fly`` does.
 
     Parameters
@@ -509,6 +509,9 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         Output folder (recording, plots, CSV, report), recording and JSON file, as the command's.
     verbose : bool
         Print the command's lines (progress, the per-cycle table).
+    **options
+        Any other option of ``fdm-awe fly`` by its attribute name (``references="DIR"``,
+        ``start_wind=8.0``, ``bank_rate_max=0.5``, ...).
 
     Returns
     -------
@@ -531,7 +534,7 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                       mode=mode, params=None if params is None else os.fspath(params), mavlink=mavlink,
                       mavlink_key=None if mavlink_key is None else os.fspath(mavlink_key), realtime=realtime,
                       out=None if out is None else os.fspath(out), rrd=None if rrd is None else os.fspath(rrd),
-                      json=None if json is None else os.fspath(json), quiet=True)
+                      json=None if json is None else os.fspath(json), quiet=True, **options)
     with _quiet(verbose), _keep_plot_backend():
         if mem_ref is not None:  # the checks of a --reference, for a reference in memory
             given = [opt for attr, opt in F.REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
@@ -539,8 +542,10 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                 raise InputError(f"{', '.join(given)}: the reference given fixes {'this' if len(given) == 1 else 'these'}"
                                  " (only used when fly optimises a reference)")
         F._check(args)
-        ref = problem = None
-        if mem_ref is not None:
+        ref = problem = refs = flight_wind = None
+        if args.references:  # a reference set (references="DIR")
+            refs, ref, flight_wind, args.reference_flown = F._read_references(args)
+        elif mem_ref is not None:
             F.check_reference_options(args, mem_ref.meta, "the reference given")
             cfg = mem_ref.meta.get("config")
             args.config = args.config or (cfg if cfg in ("foldable", "nominal") else F.DEFAULT_CONFIG)
@@ -568,17 +573,18 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                     if ref is None:
                         ref, ref_path, ref_label = F._optimised_reference(args, problem, out_dir)
                     else:
-                        ref_path = Path(args.reference) if args.reference else None
+                        flown = args.reference or getattr(args, "reference_flown", None)
+                        ref_path = Path(flown) if flown else None
                         ref_label = str(ref_path) if ref_path else "the reference given"
                     scale = F.flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
-                    report = F._fly(args, ref, ap_params, plant, scale, None, link)
+                    report = F._fly(args, ref, ap_params, plant, scale, None, link, refs, flight_wind)
                     link = None
                 finally:
                     if link is not None:
                         from .mavlink.transport import close_link
 
                         close_link(link)
-                optimised = F.optimised_energies(ref)
+                optimised = F.optimised_energies(ref, refs)
                 F._print_summary(report, ref_label, optimised)
                 code = F._finish(args, report, ref, ref_path, out_dir, optimised)
             doc = _read_json(Path(args.json))
