@@ -134,7 +134,8 @@ def _dataframe(columns: Mapping[str, Any], what: str) -> Any:
         import pandas as pd
     except ImportError:
         raise ImportError(f"{what}.to_dataframe() needs pandas, which fdm-awe does not depend on: install it "
-                          f"(pip install pandas), or use {what}.arrays(), a dict of numpy arrays") from None
+                          f"(pip install 'fdm-awe[dataframe]' or pip install pandas), or use {what}.arrays(), a "
+                          "dict of numpy arrays") from None
     return pd.DataFrame(dict(columns))
 
 
