@@ -22,13 +22,17 @@ the end whatever happens (``--keep`` keeps it):
    package data); ``fdm-awe info --export DIR`` (every definition file); the Python API's
    ``fdm_awe.load_reference("example:nominal-8")``. Each must exit 0, report status ``ok`` in
    its JSON and write nothing but the files it was told to write. The wheel must carry the
-   example references and the project URLs.
+   example references and the project URLs;
+6. every command line of README.md that runs a program of the wheel (``fdm-awe``, ``rerun``), in
+   the short variants of tests/test_docs_commands.py, from a folder outside the checkout: a
+   line naming a file of ``tests/data/`` fails the check (the wheel carries its example
+   references as ``example:NAME``). ``--no-readme`` skips this step.
 
 Exit status 0 only if every step passed, 1 otherwise (the failing step's output is printed),
 2 on bad options. The last line says ``wheel check: ok ...`` or ``wheel check: FAILED ...``.
 scripts/run_tests.sh runs it before pytest (``FDM_AWE_WHEEL_CHECK=0`` skips it there).
 
-usage: python scripts/check_wheel.py [--keep] [--python PY]
+usage: python scripts/check_wheel.py [--keep] [--python PY] [--no-readme]
 """
 
 from __future__ import annotations
@@ -221,8 +225,85 @@ print(fdm_awe.ROOT)
 """
 
 
-def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
-    """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed."""
+def _docs_test_module():
+    """``tests/test_docs_commands.py`` of the checkout: its extraction and short variants of the
+    documented command lines (needs pytest, a dev extra)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("_docs_commands", REPO / "tests" / "test_docs_commands.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # its dataclasses look their module up
+    spec.loader.exec_module(mod)
+    return mod
+
+
+#: the programs of README lines the wheel provides (scripts, bash and MAVProxy are the checkout's)
+WHEEL_PROGRAMS = ("fdm-awe", "rerun")
+
+
+def readme_commands(readme: Path = REPO / "README.md") -> list[tuple[str, list[str], bool]]:
+    """The README's command lines of the wheel's programs, as the docs test runs them (short
+    variants): (``README.md:LINE``, argv with the program's name first, whether it reads other
+    lines' outputs). A line that names a file of ``tests/data/`` is refused (CheckFailed): the
+    wheel does not carry the tests, an example reference is ``example:NAME``. A stored reference
+    that a variant flies instead of optimising is named as its example (or copied beside the run
+    when it is none)."""
+    mod = _docs_test_module()
+    lines = mod._expand(mod.documented_commands((readme,), readme.parent))
+    by_file = {f: n for n, f in EXAMPLES.items()}
+    out = []
+    for d, p in zip(lines, mod.plans(lines)):
+        if p.how not in ("run", "variant") or Path(p.argv[0]).name not in WHEEL_PROGRAMS:
+            continue
+        where = f"{readme.name}:{d.lineno}"
+        if "tests/data/" in d.text:
+            name = next(w for w in d.text.split() if "tests/data/" in w)
+            example = by_file.get(Path(name).name)
+            raise CheckFailed(f"{where}: {name} is a file of the checkout, which the wheel does not carry"
+                              + (f"; write example:{example}" if example else ""))
+        argv = [Path(p.argv[0]).name]
+        for a in p.argv[1:]:
+            if a.startswith("tests/data/") and Path(a).name in by_file:
+                a = f"example:{by_file[Path(a).name]}"
+            argv.append(a)
+        out.append((where, argv, p.late))
+    return sorted(out, key=lambda w: w[2])  # lines that read other lines' outputs last
+
+
+def run_readme(work: Path, bin_dir: Path, env: dict[str, str], readme: Path = REPO / "README.md") -> str:
+    """Run :func:`readme_commands` of ``readme`` in ``work`` with the programs of ``bin_dir`` (the
+    wheel's environment); a ``--mavlink`` line sends to a UDP socket here, which must receive
+    frames."""
+    import socket
+
+    cmds = readme_commands(readme)
+    for where, argv, _ in cmds:
+        for a in argv:
+            if a.startswith("tests/data/"):  # a stored reference standing in for an optimisation
+                (work / a).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy(REPO / a, work / a)
+        sock = None
+        if any("{UDP_PORT}" in a for a in argv):
+            sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            sock.bind(("127.0.0.1", 0))
+            argv = [a.replace("{UDP_PORT}", str(sock.getsockname()[1])) for a in argv]
+        try:
+            run(where, [str(bin_dir / argv[0]), *argv[1:]], work, dict(env, JSBSIM_DEBUG="0", MPLBACKEND="Agg"))
+            if sock is not None:
+                sock.settimeout(0.2)
+                try:
+                    sock.recv(4096)
+                except OSError:
+                    raise CheckFailed(f"{where}: no MAVLink frame reached the ground station's socket") from None
+        finally:
+            if sock is not None:
+                sock.close()
+    return f"{len(cmds)} lines"
+
+
+def wheel_check(tmp: Path, python: str, log=print, readme: bool = True) -> list[tuple[str, float]]:
+    """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed. ``readme``:
+    also run the README's command lines of the wheel's programs (:func:`run_readme`)."""
     times: list[tuple[str, float]] = []
 
     def step(name: str, fn):
@@ -308,6 +389,10 @@ def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
     step("fdm-awe info --export DIR", export)
     step("the Python API from the wheel",
          lambda: run("api", [str(vpy), "-c", API_CHECK], work, env).strip())
+    if readme:
+        (work / "readme").mkdir()
+        step("README command lines (fdm-awe, rerun; short variants as tests/test_docs_commands.py runs them)",
+             lambda: run_readme(work / "readme", vpy.parent, env))
     return times
 
 
@@ -322,13 +407,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--keep", action="store_true", help="keep the temporary folder (its path is printed)")
     ap.add_argument("--python", default=sys.executable,
                     help="interpreter that creates the fresh environment (default: this one)")
+    ap.add_argument("--no-readme", action="store_true",
+                    help="skip the README's command lines (the longest step, several minutes)")
     args = ap.parse_args(argv)
     if not REFERENCE.is_file():
         ap.error(f"no stored reference {REFERENCE}")
     t0 = time.perf_counter()
     tmp = Path(tempfile.mkdtemp(prefix="fdm-awe-wheel-check-"))
     try:
-        times = wheel_check(tmp, args.python)
+        times = wheel_check(tmp, args.python, readme=not args.no_readme)
     except CheckFailed as exc:
         print(f"wheel check: FAILED: {exc}", file=sys.stderr)
         print(f"wheel check: FAILED after {time.perf_counter() - t0:.0f} s", flush=True)

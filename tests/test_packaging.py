@@ -174,3 +174,23 @@ def test_a_failing_step_fails_the_check_loudly(tmp_path):
         cw.json_status("step", tmp_path / "out.json")
     with pytest.raises(cw.CheckFailed, match="not told to write: out.json"):
         cw.only_files("step", tmp_path, set())
+
+
+def test_readme_lines_from_the_wheel_name_example_references_not_test_files(tmp_path):
+    """The wheel check runs the README's fdm-awe and rerun lines (short variants): a line naming a
+    file of tests/data fails it with the example to write instead; a stored reference a variant
+    flies instead of optimising is named as its example; scripts stay the checkout's."""
+    readme = tmp_path / "README.md"
+    readme.write_text("# x\n\n```bash\n.venv/bin/fdm-awe info\n"
+                      ".venv/bin/fdm-awe fly --reference example:foldable-8 --cycles 3 --out runs/f\n"
+                      ".venv/bin/python scripts/wind_grid.py\n.venv/bin/rerun runs/f/flight.rrd\n```\n\n"
+                      "Or `fdm-awe fly --scenario physical --config nominal --wind 8 --cycles 3`.\n")
+    got = cw.readme_commands(readme)
+    assert [w for w, _, _ in got] == ["README.md:4", "README.md:5", "README.md:10", "README.md:7"]
+    assert got[1][1] == ["fdm-awe", "fly", "--reference", "example:foldable-8", "--out", "runs/f", "--cycles", "1"]
+    assert got[2][1][-4:] == ["--reference", "example:nominal-8", "--cycles", "1"]
+    assert got[3] == ("README.md:7", ["rerun", "rrd", "verify", "runs/f/flight.rrd"], True)
+    readme.write_text("```bash\n.venv/bin/fdm-awe fly --reference tests/data/ref_paper_foldable_3mps.json\n```\n")
+    with pytest.raises(cw.CheckFailed, match=r"README.md:2: tests/data/ref_paper_foldable_3mps.json .* write "
+                                             r"example:paper-foldable-3"):
+        cw.readme_commands(readme)
