@@ -7,9 +7,11 @@ the end whatever happens (``--keep`` keeps it):
 1. copy the checkout's files (tracked and untracked, not ignored) into ``src/``;
 2. build the sdist from that copy (setuptools' own build backend), check that it holds
    ``setup.py``, ``pyproject.toml`` and every file of ``aircraft/``, ``engine/``, ``tether/``,
-   ``tests/``, ``scripts/`` and ``docs/`` (MANIFEST.in);
+   ``tests/``, ``scripts/``, ``docs/`` and ``examples/`` (MANIFEST.in);
 3. build the wheel from the sdist (``pip wheel --no-deps``), check that it holds every
-   definition file as ``fdm_awe/data/...`` and nothing outside ``fdm_awe/`` and its metadata;
+   definition file as ``fdm_awe/data/...``, the example references as
+   ``fdm_awe/data/examples/``, the project URLs, and nothing outside ``fdm_awe/`` and its
+   metadata;
 4. create a fresh virtual environment and install the wheel into it WITH its dependencies
    (not editable; pip's download cache makes a second run quick; ``--no-compile`` halves the
    install, Python compiles what it imports);
@@ -54,7 +56,7 @@ sys.path.insert(0, str(REPO))
 from fdm_awe import DEFINITION_FOLDERS  # noqa: E402  (the checkout's package: names only)
 from fdm_awe.example_refs import EXAMPLES  # noqa: E402  (the example references the wheel carries)
 #: Folders whose every file the sdist holds (MANIFEST.in).
-SDIST_FOLDERS = (*DEFINITION_FOLDERS, "tests", "scripts", "docs")
+SDIST_FOLDERS = (*DEFINITION_FOLDERS, "tests", "scripts", "docs", "examples")
 #: Stored reference flown by the check (copied out of the checkout first).
 REFERENCE = REPO / "tests" / "data" / "ref_physical_nominal_8mps.json"
 #: Names never copied when the checkout is not a git work tree.
