@@ -92,7 +92,8 @@ def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] 
     # climb); with 0.7 rad it is flown within 2 m RMS. ``smoothness``: the reference's rate and
     # catch bounds given (--bank-rate-max, --alpha-rate-max, --catch-speed-max; none by default);
     # ``v_min`` [m/s] (--v-min): the airspeed bound, Table 3's 5 m/s when None.
-    return Bounds(cl_margin=D.FLYABLE_CL_MARGIN, phi_max=D.FLYABLE_PHI_MAX, **({} if gamma_max is None else {"gamma_max": gamma_max}),
+    return Bounds(cl_margin=D.FLYABLE_CL_MARGIN, phi_max=D.FLYABLE_PHI_MAX,
+                  **({} if gamma_max is None else {"gamma_max": gamma_max}),
                   **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
 
 
