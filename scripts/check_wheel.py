@@ -7,9 +7,11 @@ the end whatever happens (``--keep`` keeps it):
 1. copy the checkout's files (tracked and untracked, not ignored) into ``src/``;
 2. build the sdist from that copy (setuptools' own build backend), check that it holds
    ``setup.py``, ``pyproject.toml`` and every file of ``aircraft/``, ``engine/``, ``tether/``,
-   ``tests/``, ``scripts/`` and ``docs/`` (MANIFEST.in);
+   ``tests/``, ``scripts/``, ``docs/`` and ``examples/`` (MANIFEST.in);
 3. build the wheel from the sdist (``pip wheel --no-deps``), check that it holds every
-   definition file as ``fdm_awe/data/...`` and nothing outside ``fdm_awe/`` and its metadata;
+   definition file as ``fdm_awe/data/...``, the example references as
+   ``fdm_awe/data/examples/``, the project URLs, and nothing outside ``fdm_awe/`` and its
+   metadata;
 4. create a fresh virtual environment and install the wheel into it WITH its dependencies
    (not editable; pip's download cache makes a second run quick; ``--no-compile`` halves the
    install, Python compiles what it imports);
@@ -19,15 +21,22 @@ the end whatever happens (``--keep`` keeps it):
    ``--json``; ``fdm-awe fly --cycles 1`` on a stored reference copied out of ``tests/data/``,
    twice: the first compiles numba's kernels and must say so, the second must load them (the
    last lines print both times);
-   ``fdm-awe fly --cycles 1`` with no reference (it optimises its own, with the defaults). Each
-   must exit 0, report status ``ok`` in its JSON and write nothing but the files it was told to
-   write.
+   ``fdm-awe fly --cycles 1`` with no reference (it optimises its own, with the defaults);
+   ``fdm-awe fly --cycles 1 --reference example:foldable-8`` (an example reference carried as
+   package data); ``fdm-awe info --export DIR`` (every definition file); the Python API's
+   ``fdm_awe.load_reference("example:nominal-8")``. Each must exit 0, report status ``ok`` in
+   its JSON and write nothing but the files it was told to write. The wheel must carry the
+   example references and the project URLs;
+6. every command line of README.md that runs a program of the wheel (``fdm-awe``, ``rerun``), in
+   the short variants of tests/test_docs_commands.py, from a folder outside the checkout: a
+   line naming a file of ``tests/data/`` fails the check (the wheel carries its example
+   references as ``example:NAME``). ``--no-readme`` skips this step.
 
 Exit status 0 only if every step passed, 1 otherwise (the failing step's output is printed),
 2 on bad options. The last line says ``wheel check: ok ...`` or ``wheel check: FAILED ...``.
 scripts/run_tests.sh runs it before pytest (``FDM_AWE_WHEEL_CHECK=0`` skips it there).
 
-usage: python scripts/check_wheel.py [--keep] [--python PY]
+usage: python scripts/check_wheel.py [--keep] [--python PY] [--no-readme]
 """
 
 from __future__ import annotations
@@ -47,8 +56,9 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
 from fdm_awe import DEFINITION_FOLDERS  # noqa: E402  (the checkout's package: names only)
+from fdm_awe.example_refs import EXAMPLES  # noqa: E402  (the example references the wheel carries)
 #: Folders whose every file the sdist holds (MANIFEST.in).
-SDIST_FOLDERS = (*DEFINITION_FOLDERS, "tests", "scripts", "docs")
+SDIST_FOLDERS = (*DEFINITION_FOLDERS, "tests", "scripts", "docs", "examples")
 #: Stored reference flown by the check (copied out of the checkout first).
 REFERENCE = REPO / "tests" / "data" / "ref_physical_nominal_8mps.json"
 #: Names never copied when the checkout is not a git work tree.
@@ -110,6 +120,14 @@ def check_wheel_members(wheel: Path, src: Path) -> None:
     missing = [n for n in definition_files(src) if f"fdm_awe/data/{n}" not in names]
     if missing:
         raise CheckFailed(f"wheel {wheel.name} lacks {len(missing)} definition file(s): {', '.join(missing[:5])}")
+    missing = [n for n in EXAMPLES.values() if f"fdm_awe/data/examples/{n}" not in names]
+    if missing:
+        raise CheckFailed(f"wheel {wheel.name} lacks {len(missing)} example reference(s): {', '.join(missing[:5])}")
+    meta = next((n for n in names if n.endswith(".dist-info/METADATA")), None)
+    with zipfile.ZipFile(wheel) as zf:
+        urls = [line for line in zf.read(meta).decode().splitlines() if line.startswith("Project-URL:")] if meta else []
+    if not any(u.startswith("Project-URL: Homepage,") for u in urls):
+        raise CheckFailed(f"wheel {wheel.name}: no project URLs in its metadata (Homepage, Documentation, Source)")
     stray = sorted(n for n in names if not n.startswith(("fdm_awe/", "fdm_awe-")))
     if stray:
         raise CheckFailed(f"wheel {wheel.name} installs files outside fdm_awe/: {', '.join(stray[:5])}")
@@ -219,8 +237,85 @@ SECOND_FLY = f"fdm-awe fly --cycles 1 --reference ({REFERENCE.name}), second (ca
 SILENT_COMPILE_S = 5.0
 
 
-def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
-    """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed."""
+def _docs_test_module():
+    """``tests/test_docs_commands.py`` of the checkout: its extraction and short variants of the
+    documented command lines (needs pytest, a dev extra)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("_docs_commands", REPO / "tests" / "test_docs_commands.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # its dataclasses look their module up
+    spec.loader.exec_module(mod)
+    return mod
+
+
+#: the programs of README lines the wheel provides (scripts, bash and MAVProxy are the checkout's)
+WHEEL_PROGRAMS = ("fdm-awe", "rerun")
+
+
+def readme_commands(readme: Path = REPO / "README.md") -> list[tuple[str, list[str], bool]]:
+    """The README's command lines of the wheel's programs, as the docs test runs them (short
+    variants): (``README.md:LINE``, argv with the program's name first, whether it reads other
+    lines' outputs). A line that names a file of ``tests/data/`` is refused (CheckFailed): the
+    wheel does not carry the tests, an example reference is ``example:NAME``. A stored reference
+    that a variant flies instead of optimising is named as its example (or copied beside the run
+    when it is none)."""
+    mod = _docs_test_module()
+    lines = mod._expand(mod.documented_commands((readme,), readme.parent))
+    by_file = {f: n for n, f in EXAMPLES.items()}
+    out = []
+    for d, p in zip(lines, mod.plans(lines)):
+        if p.how not in ("run", "variant") or Path(p.argv[0]).name not in WHEEL_PROGRAMS:
+            continue
+        where = f"{readme.name}:{d.lineno}"
+        if "tests/data/" in d.text:
+            name = next(w for w in d.text.split() if "tests/data/" in w)
+            example = by_file.get(Path(name).name)
+            raise CheckFailed(f"{where}: {name} is a file of the checkout, which the wheel does not carry"
+                              + (f"; write example:{example}" if example else ""))
+        argv = [Path(p.argv[0]).name]
+        for a in p.argv[1:]:
+            if a.startswith("tests/data/") and Path(a).name in by_file:
+                a = f"example:{by_file[Path(a).name]}"
+            argv.append(a)
+        out.append((where, argv, p.late))
+    return sorted(out, key=lambda w: w[2])  # lines that read other lines' outputs last
+
+
+def run_readme(work: Path, bin_dir: Path, env: dict[str, str], readme: Path = REPO / "README.md") -> str:
+    """Run :func:`readme_commands` of ``readme`` in ``work`` with the programs of ``bin_dir`` (the
+    wheel's environment); a ``--mavlink`` line sends to a UDP socket here, which must receive
+    frames."""
+    import socket
+
+    cmds = readme_commands(readme)
+    for where, argv, _ in cmds:
+        for a in argv:
+            if a.startswith("tests/data/"):  # a stored reference standing in for an optimisation
+                (work / a).parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy(REPO / a, work / a)
+        sock = None
+        if any("{UDP_PORT}" in a for a in argv):
+            sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            sock.bind(("127.0.0.1", 0))
+            argv = [a.replace("{UDP_PORT}", str(sock.getsockname()[1])) for a in argv]
+        try:
+            run(where, [str(bin_dir / argv[0]), *argv[1:]], work, dict(env, JSBSIM_DEBUG="0", MPLBACKEND="Agg"))
+            if sock is not None:
+                sock.settimeout(0.2)
+                try:
+                    sock.recv(4096)
+                except OSError:
+                    raise CheckFailed(f"{where}: no MAVLink frame reached the ground station's socket") from None
+        finally:
+            if sock is not None:
+                sock.close()
+    return f"{len(cmds)} lines"
+
+
+def wheel_check(tmp: Path, python: str, log=print, readme: bool = True) -> list[tuple[str, float]]:
+    """Run every step in ``tmp``; returns (step, seconds) pairs, raises CheckFailed. ``readme``:
+    also run the README's command lines of the wheel's programs (:func:`run_readme`)."""
     times: list[tuple[str, float]] = []
 
     def step(name: str, fn):
@@ -294,7 +389,40 @@ def wheel_check(tmp: Path, python: str, log=print) -> list[tuple[str, float]]:
         return f"{doc['config']} at {doc['wind_mps']:g} m/s, tracking RMS {doc['cycles'][0]['track_rms_m']:.2f} m"
 
     step("fdm-awe fly --cycles 1 (defaults: optimise, then fly)", fly_plain)
+
+    def fly_example():
+        ex = work / "example"
+        ex.mkdir()
+        run("fdm-awe fly (example)", [str(cli), "fly", "--reference", "example:foldable-8", "--cycles", "1", "--quiet",
+                                      "--json", "fly.json"], ex, env)
+        doc = json_status("fdm-awe fly (example)", ex / "fly.json")
+        only_files("fdm-awe fly (example)", ex, {"fly.json"})
+        return f"{doc['config']} at {doc['wind_mps']:g} m/s, net {doc['cycles'][0]['E_net_J']:.0f} J"
+
+    step("fdm-awe fly --cycles 1 --reference example:foldable-8 (package data)", fly_example)
+
+    def export():
+        run("fdm-awe info --export", [str(cli), "info", "--export", "definitions"], work / "example", env)
+        got = sorted(p.relative_to(work / "example" / "definitions").as_posix()
+                     for p in (work / "example" / "definitions").rglob("*") if p.is_file())
+        if got != definition_files(src):
+            raise CheckFailed(f"fdm-awe info --export: wrote {len(got)} files, the package has {len(definition_files(src))}")
+        return f"{len(got)} files"
+
+    step("fdm-awe info --export DIR", export)
+    step("the Python API from the wheel",
+         lambda: run("api", [str(vpy), "-c", API_CHECK], work, env).strip())
+    if readme:
+        (work / "readme").mkdir()
+        step("README command lines (fdm-awe, rerun; short variants as tests/test_docs_commands.py runs them)",
+             lambda: run_readme(work / "readme", vpy.parent, env))
     return times
+
+
+#: The API from outside the checkout: an example reference through ``fdm_awe.load_reference``.
+API_CHECK = ("import fdm_awe; r = fdm_awe.load_reference('example:nominal-8'); "
+             "assert fdm_awe.ROOT.name == 'data', fdm_awe.ROOT; "
+             "print('load_reference(example:nominal-8):', r.metadata['config'], r.metadata['wind_mps'], 'm/s')")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -302,13 +430,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--keep", action="store_true", help="keep the temporary folder (its path is printed)")
     ap.add_argument("--python", default=sys.executable,
                     help="interpreter that creates the fresh environment (default: this one)")
+    ap.add_argument("--no-readme", action="store_true",
+                    help="skip the README's command lines (the longest step, several minutes)")
     args = ap.parse_args(argv)
     if not REFERENCE.is_file():
         ap.error(f"no stored reference {REFERENCE}")
     t0 = time.perf_counter()
     tmp = Path(tempfile.mkdtemp(prefix="fdm-awe-wheel-check-"))
     try:
-        times = wheel_check(tmp, args.python)
+        times = wheel_check(tmp, args.python, readme=not args.no_readme)
     except CheckFailed as exc:
         print(f"wheel check: FAILED: {exc}", file=sys.stderr)
         print(f"wheel check: FAILED after {time.perf_counter() - t0:.0f} s", flush=True)

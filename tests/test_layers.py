@@ -37,8 +37,8 @@ RULES = {
 #: its own (units are the sub-packages and the top-level modules of fdm_awe; the package's own
 #: ``__init__`` (ROOT, version) sits below everything).
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "units"),
-    ("fileio", "jitcache", "progress", "turbulence"),
+    ("errors", "units", "defaults"),
+    ("fileio", "jitcache", "progress", "turbulence", "example_refs"),
     ("definitions",),
     ("pointmass", "sixdof"),
     ("wind",),
@@ -50,7 +50,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("mavlink", "recording", "sweep"),
     ("commands",),
     ("cli",),
-    ("__main__",),
+    ("api", "__main__"),
 )
 RANK = {unit: i for i, layer in enumerate(LAYERS) for unit in layer}
 

@@ -101,6 +101,29 @@ def test_unpacked_wheel_finds_its_definitions_and_jsbsim_flies_them(built, tmp_p
 
 
 @pytest.mark.timeout(240)
+def test_unpacked_wheel_carries_the_example_references_and_its_project_urls(built, tmp_path):
+    _, _, wheel, _ = built
+    site = tmp_path / "site"
+    with zipfile.ZipFile(wheel) as zf:
+        zf.extractall(site)
+        meta = next(n for n in zf.namelist() if n.endswith(".dist-info/METADATA"))
+        urls = [ln for ln in zf.read(meta).decode().splitlines() if ln.startswith("Project-URL:")]
+    assert {u.split(",")[0] for u in urls} >= {"Project-URL: Homepage", "Project-URL: Documentation",
+                                               "Project-URL: Source"}
+    assert all("https://github.com/fdm-awe/fdm-awe" in u for u in urls)
+    env = dict(os.environ, PYTHONPATH=str(site), JSBSIM_DEBUG="0")
+    code = ("import fdm_awe, fdm_awe.example_refs as e; r = fdm_awe.load_reference('example:foldable-8'); "
+            "print(e.examples_folder()); print(r.metadata['config'], r.metadata['wind_mps'])")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    folder, what = proc.stdout.strip().splitlines()
+    assert Path(folder) == site / "fdm_awe" / "data" / "examples"
+    assert what == "foldable 8.0"
+    assert sorted(p.name for p in Path(folder).iterdir() if p.suffix == ".json") == sorted(cw.EXAMPLES.values())
+
+
+@pytest.mark.timeout(240)
 def test_a_deprecated_setuptools_configuration_fails_the_sdist_build(built, tmp_path):
     _, _, _, tools = built
     src = tmp_path / "src"
@@ -112,10 +135,14 @@ def test_a_deprecated_setuptools_configuration_fails_the_sdist_build(built, tmp_
         cw.build_sdist(src, tmp_path, sys.executable, tools)
 
 
+#: a wheel's METADATA with the project URLs
+_METADATA = "Metadata-Version: 2.4\nName: fdm-awe\nProject-URL: Homepage, https://github.com/fdm-awe/fdm-awe\n"
+
+
 def _zip(path: Path, names: list[str]) -> Path:
     with zipfile.ZipFile(path, "w") as zf:
         for n in names:
-            zf.writestr(n, "<x/>")
+            zf.writestr(n, _METADATA if n.endswith("/METADATA") else "<x/>")
     return path
 
 
@@ -124,9 +151,15 @@ def test_wheel_member_check_fails_on_a_missing_definition_or_a_stray_file(tmp_pa
     for rel in ("aircraft/a/a.xml", "engine/e.xml", "tether/t.xml"):
         (src / rel).parent.mkdir(parents=True, exist_ok=True)
         (src / rel).write_text("<x/>")
+    examples = [f"fdm_awe/data/examples/{n}" for n in cw.EXAMPLES.values()]
     full = ["fdm_awe/__init__.py", "fdm_awe/data/aircraft/a/a.xml", "fdm_awe/data/engine/e.xml",
-            "fdm_awe/data/tether/t.xml", "fdm_awe-0.1.0.dist-info/RECORD"]
+            "fdm_awe/data/tether/t.xml", *examples, "fdm_awe-0.1.0.dist-info/RECORD",
+            "fdm_awe-0.1.0.dist-info/METADATA"]
     cw.check_wheel_members(_zip(tmp_path / "ok.whl", full), src)
+    with pytest.raises(cw.CheckFailed, match="lacks 1 example reference.*nominal_8mps_sized"):
+        cw.check_wheel_members(_zip(tmp_path / "noex.whl", [n for n in full if "nominal_8mps_sized" not in n]), src)
+    with pytest.raises(cw.CheckFailed, match="no project URLs"):
+        cw.check_wheel_members(_zip(tmp_path / "nourl.whl", [n for n in full if not n.endswith("METADATA")]), src)
     with pytest.raises(cw.CheckFailed, match="lacks 1 definition file.*engine/e.xml"):
         cw.check_wheel_members(_zip(tmp_path / "missing.whl", [n for n in full if "engine" not in n]), src)
     with pytest.raises(cw.CheckFailed, match="outside fdm_awe/: aircraft/a/a.xml"):
@@ -141,3 +174,23 @@ def test_a_failing_step_fails_the_check_loudly(tmp_path):
         cw.json_status("step", tmp_path / "out.json")
     with pytest.raises(cw.CheckFailed, match="not told to write: out.json"):
         cw.only_files("step", tmp_path, set())
+
+
+def test_readme_lines_from_the_wheel_name_example_references_not_test_files(tmp_path):
+    """The wheel check runs the README's fdm-awe and rerun lines (short variants): a line naming a
+    file of tests/data fails it with the example to write instead; a stored reference a variant
+    flies instead of optimising is named as its example; scripts stay the checkout's."""
+    readme = tmp_path / "README.md"
+    readme.write_text("# x\n\n```bash\n.venv/bin/fdm-awe info\n"
+                      ".venv/bin/fdm-awe fly --reference example:foldable-8 --cycles 3 --out runs/f\n"
+                      ".venv/bin/python scripts/wind_grid.py\n.venv/bin/rerun runs/f/flight.rrd\n```\n\n"
+                      "Or `fdm-awe fly --scenario physical --config nominal --wind 8 --cycles 3`.\n")
+    got = cw.readme_commands(readme)
+    assert [w for w, _, _ in got] == ["README.md:4", "README.md:5", "README.md:10", "README.md:7"]
+    assert got[1][1] == ["fdm-awe", "fly", "--reference", "example:foldable-8", "--out", "runs/f", "--cycles", "1"]
+    assert got[2][1][-4:] == ["--reference", "example:nominal-8", "--cycles", "1"]
+    assert got[3] == ("README.md:7", ["rerun", "rrd", "verify", "runs/f/flight.rrd"], True)
+    readme.write_text("```bash\n.venv/bin/fdm-awe fly --reference tests/data/ref_paper_foldable_3mps.json\n```\n")
+    with pytest.raises(cw.CheckFailed, match=r"README.md:2: tests/data/ref_paper_foldable_3mps.json .* write "
+                                             r"example:paper-foldable-3"):
+        cw.readme_commands(readme)

@@ -18,6 +18,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ..errors import InputError
 from ..trajectory import GENERATION, HELD, LINEAR, PHASE_NAMES, RECOVERY, CycleSampler
 
 __all__ = ["GENERATION", "PHASE_NAMES", "RECOVERY", "TRACKING_RULES", "RefPoint", "TrackingReference"]
@@ -215,7 +216,9 @@ class TrackingReference:
     @classmethod
     def from_ocp(cls, ref: object) -> "TrackingReference":
         """From an optimiser :class:`~fdm_awe.trajectory.ReferenceTrajectory` (checked again by
-        :func:`~fdm_awe.trajectory.check_reference`, so one built in memory gets the same checks).
+        :func:`~fdm_awe.trajectory.check_reference`, so one built in memory gets the same checks)
+        or an ``ok`` :class:`~fdm_awe.ocp.result.CycleResult` (through
+        :func:`~fdm_awe.trajectory.reference_from_result`: the reference its file would hold).
 
         Ground velocity = air velocity (V, gamma, psi) + the wind in its metadata, at each
         row's height when the metadata's ``wind_profile`` has shear; ``motor_on``
@@ -223,8 +226,13 @@ class TrackingReference:
         acceleration is the time derivative of the velocity samples (second-order differences
         within each phase, so the jump of the controls at the phase switch is not smeared).
         """
-        from ..trajectory import ReferenceTrajectory, check_reference
+        from ..trajectory import ReferenceTrajectory, check_reference, reference_from_result
 
+        if callable(getattr(ref, "metadata", None)) and hasattr(ref, "summary"):  # a CycleResult
+            if not getattr(ref, "ok", False):
+                raise InputError(f"the optimiser's result is not a cycle ({getattr(ref, 'status', '?')}: "
+                                 f"{getattr(ref, 'reason', '')}); only an ok result is a reference")
+            ref = reference_from_result(ref, f"the optimised {ref.scenario} {ref.config} reference")
         if not isinstance(ref, ReferenceTrajectory):
             ref = ReferenceTrajectory(ref.metadata, ref.columns, getattr(ref, "units", {}),  # type: ignore[attr-defined]
                                       source=str(getattr(ref, "source", "reference trajectory")))

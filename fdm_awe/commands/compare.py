@@ -32,15 +32,21 @@ ROWS = (
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--wind", type=float, default=3.0, metavar="M_S", help="wind speed [m/s], 0..25 (default 3, the paper's)")
-    p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG",
-                   help="wind FROM direction [deg], -360..360 (default 180)")
-    p.add_argument("--scenario", choices=("physical", "paper"), default="physical", help="model family (default physical)")
+    from .. import defaults as D
+
+    p.add_argument("--wind", type=float, default=D.WIND_MPS, metavar="M_S",
+                   help=f"wind speed [m/s], 0..25 (default {D.WIND_MPS:g}, the default of every command; the paper's "
+                        "Table 3 is at 3: --scenario paper --wind 3)")
+    p.add_argument("--wind-from", type=float, default=D.WIND_FROM_DEG, metavar="DEG",
+                   help=f"wind FROM direction [deg], -360..360 (default {D.WIND_FROM_DEG:g})")
+    p.add_argument("--scenario", choices=("physical", "paper"), default=D.SCENARIO,
+                   help=f"model family (default {D.SCENARIO})")
     p.add_argument("--mesh", default=None, metavar="NG,NR,DEG", help="collocation mesh (default 60,20,4)")
     p.add_argument("--starts", type=int, default=1, metavar="N", help="successful starts compared per solve, >= 1 (default 1)")
     p.add_argument("--no-zero-wind", action="store_true", help="skip the zero-wind check")
-    p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
-                   help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
+    p.add_argument("--tether-drag-scale", type=float, default=D.TETHER_DRAG_SCALE, metavar="F",
+                   help=f"factor on the line drag, physical scenario, 0..10 (sensitivity study; default "
+                        f"{D.TETHER_DRAG_SCALE:g} = the defined line)")
     from .optimize import add_plant_model_args, add_wind_profile_args
 
     add_plant_model_args(p)
@@ -183,4 +189,7 @@ def run(args: argparse.Namespace) -> int:
                "results": res, "zero_wind": zero,
                "zero_wind_verdict": None if zero is None else {c: zero_wind_verdict(args.scenario, z) for c, z in zero.items()}}
         write_json(args.json, doc)
+    written = [f for f in (args.report, args.json) if f]
+    if written:
+        print("wrote: " + ", ".join(written))
     return 0 if ok and not physical_violation else 1

@@ -51,6 +51,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
+from .. import defaults as D
 from ..errors import EXIT_INTERRUPTED, InputError
 from ..fileio import write_json
 from . import _checks as chk
@@ -64,10 +65,10 @@ HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + auto
 
 #: effective defaults of the options that shape the optimised reference (None on the command
 #: line means "not given", so that ``--reference`` can refuse them)
-DEFAULT_WIND_MPS = 8.0
-DEFAULT_WIND_FROM_DEG = 180.0
-DEFAULT_CONFIG = "nominal"
-DEFAULT_SCENARIO = "physical"
+DEFAULT_WIND_MPS = D.WIND_MPS
+DEFAULT_WIND_FROM_DEG = D.WIND_FROM_DEG
+DEFAULT_CONFIG = D.CONFIG
+DEFAULT_SCENARIO = D.SCENARIO
 
 #: the options a reference fixes (only used when optimising): attribute -> option
 REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
@@ -86,8 +87,8 @@ REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "-
 #: the whole rating, came to 1.15-1.32 x the optimum's peak in calm air (the catch at the start
 #: of generation) and up to 1.5 x in light turbulence (nominal 12 m/s: 74.7 N on a 50 N optimum),
 #: so 40 N keeps the flown peak at about 1.2 x the rating (60 N) in calm and light air
-FLY_TENSION_MARGIN = 0.25
-FLY_STALL_MARGIN = 0.15
+FLY_TENSION_MARGIN = D.FLYABLE_TENSION_MARGIN
+FLY_STALL_MARGIN = D.FLYABLE_STALL_MARGIN
 #: the reel-in margin (``--reel-in-margin``): off by default. The flown winch still pays out
 #: when the reference's recovery starts (it follows the glider, not the reference's instant
 #: reversal); a reference that reels in at the drive's limit (5.36 m/s) leaves it no speed to
@@ -123,13 +124,17 @@ def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] 
 
             margins["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + FLY_REEL_IN_MARGIN)
     m = dict(margins)
-    return Bounds(phi_max=0.8, **m, **({} if gamma_max is None else {"gamma_max": gamma_max}),
+    return Bounds(phi_max=D.FLYABLE_PHI_MAX, **m, **({} if gamma_max is None else {"gamma_max": gamma_max}),
                   **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize' (default: optimise one "
-                                                       "now and fly it from memory; its file is written only into --out)")
+    from ..example_refs import EXAMPLES
+
+    p.add_argument("--reference", metavar="FILE", help="reference trajectory from 'fdm-awe optimize', or example:NAME, a "
+                                                       f"stored reference of the package ({', '.join(EXAMPLES)}) "
+                                                       "(default: optimise one now and fly it from memory; its file is "
+                                                       "written only into --out)")
     p.add_argument("--references", metavar="DIR",
                    help="a reference set: a folder of reference files, each optimised for one wind (its metadata's "
                         "wind_mps; e.g. scripts/reference_set.py); at every cycle boundary the autopilot flies the "
@@ -141,9 +146,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "(default: nearest --wind, else the set's lowest wind)")
     p.add_argument("--scenario", choices=("physical", "paper"), default=None,
                    help="scenario of the reference to optimise and of the plant that flies it: physical (JSBSim propeller + "
-                        "ground station) or paper (ideal thruster + kinematic winch); default physical, or the --reference file's")
+                        f"ground station) or paper (ideal thruster + kinematic winch); default {D.SCENARIO}, or the "
+                        "--reference file's")
     p.add_argument("--config", choices=("foldable", "nominal"), default=None,
-                   help="foldable folds for recovery, nominal never folds; default the --reference file's, else nominal ("
+                   help=f"foldable folds for recovery, nominal never folds; default the --reference file's, else {D.CONFIG} ("
                         + NOMINAL_DEFAULT_WHY + ")")
     p.add_argument("--allow-mismatch", action="store_true",
                    help="fly a --reference with a --config/--scenario other than the one it was optimised for (a warning "
@@ -155,8 +161,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "not with --reference)")
     p.add_argument("--tether-drag-scale", type=float, default=None, metavar="F",
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
-                        "reference), 0..10; default: the --reference file's tether_drag_scale, else 1 = the defined line")
-    p.add_argument("--tether", default="straight", metavar="MODEL",
+                        f"reference), 0..10; default: the --reference file's tether_drag_scale, else "
+                        f"{D.TETHER_DRAG_SCALE:g} = the defined line")
+    p.add_argument("--tether", default=D.TETHER, metavar="MODEL",
                    help="line model of the ground station: straight (default: the straight elastic line with the "
                         "glider carrying 1/4 of its drag and 1/2 of its weight) or lumped:N (N = 2..200 elastic "
                         "segments with mass, weight and drag; the recording shows its nodes and tensions)")
@@ -167,7 +174,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_wind_profile_args(p, prefix="when it optimises the reference (not with --reference; a reference flies its own "
                                     "profile, JSBSim's wind set every step from the glider's altitude): ")
     p.add_argument("--v-min", type=float, default=None, metavar="M_S",
-                   help="minimum airspeed of the optimised reference, 1..20 m/s (default 5, Table 3's; not with "
+                   help=f"minimum airspeed of the optimised reference, 1..20 m/s (default {D.V_MIN_MPS:g}, Table 3's; not with "
                         "--reference): a margin above the open wing's stall speed")
     add_smoothness_args(p, prefix="when it optimises the reference (not with --reference): ")
     add_margin_args(p, prefix="when it optimises the reference (not with --reference; a reference's own are shown): ",
@@ -176,11 +183,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gamma-max", type=float, default=None, metavar="RAD",
                    help="flight-path angle bound of the optimised reference, 0.1..1.5 (default 1 rad, Table 3's); 0.7 "
                         "makes the paper nominal 3 m/s cycle flyable (not with --reference)")
-    p.add_argument("--cycles", type=int, default=3,
-                   help="number of pumping cycles, 1..1000 (default 3), and at most 750000 steps in the flight's time "
+    p.add_argument("--cycles", type=int, default=D.CYCLES,
+                   help=f"number of pumping cycles, 1..1000 (default {D.CYCLES}), and at most 750000 steps in the flight's time "
                         "cap (2 x cycles x period + 10 s) / --dt: a flight keeps every step in memory, about 2 kB each "
                         "(about 51 cycles of a 60 s cycle at the default step)")
-    p.add_argument("--dt", type=float, default=1.0 / 120.0,
+    p.add_argument("--dt", type=float, default=D.DT_S,
                    help="co-simulation step, s (default 1/120), 0.0001..0.25 / max(W_ALPHA, W_PHI): the attitude loops "
                         "fly with one update a step; 0.0001..0.0125 with the defined gains (W_PHI 20 rad/s)")
     p.add_argument("--turbulence", metavar="FORM[:SEED]",
@@ -237,6 +244,9 @@ def _check(args: argparse.Namespace) -> None:
     from ..recording.stream import check_live_args
 
     check_live_args(args)
+    from ..example_refs import resolve
+
+    args.reference = resolve(args.reference, "--reference")  # example:NAME -> the stored file
     chk.input_file(args.reference, "--reference")  # a regular file: a FIFO or a device would block or never end
     if args.mavlink_key is not None:
         if not args.mavlink:
@@ -410,9 +420,10 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
             from ..mavlink.transport import close_link
 
             close_link(link)
+    optimised = optimised_energies(ref, refs)
     try:
-        _print_summary(report, ref_label)
-        code = _finish(args, report, ref, ref_path, out_dir)
+        _print_summary(report, ref_label, optimised)
+        code = _finish(args, report, ref, ref_path, out_dir, optimised)
         if stay:
             _stay_on_link(*stay)
     finally:
@@ -724,7 +735,8 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
     return report
 
 
-def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_dir: Path | None) -> int:
+def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_dir: Path | None,
+            optimised: dict[str, float] | None = None) -> int:
     """Write every requested output (also after Ctrl-C) and return the exit code.
 
     A flight interrupted by Ctrl-C (status ``interrupted``) keeps the steps flown so far: they
@@ -738,6 +750,7 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
     doc["reference_margins"] = ref.meta.get("margins")  # as the reference recorded them (None: not recorded)
     doc["reference_line_model"] = ref.meta.get("line_model", "straight")
     doc["references"] = getattr(args, "references", None)
+    doc["optimised"] = optimised  # the reference's own cycle (J, W, s); null for a reference set
     rrd = args.rrd or (str(out_dir / "flight.rrd") if out_dir else None)
     written: dict[str, object] = {}
     cut = False
@@ -751,10 +764,14 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
             print("fdm-awe fly: interrupted while writing the outputs; the files listed in the JSON are complete",
                   file=sys.stderr)
     doc.update(written)
+    optimised_ref = ref_path if ref_path is not None and not (args.reference or args.references) else None
     if cut:
         doc["outputs_cut_short"] = True
     if args.json:
         write_json(args.json, doc)
+    listed = _written_files(written, optimised_ref, args.json)
+    if listed:
+        print("wrote: " + ", ".join(listed))
     if cut:
         return EXIT_INTERRUPTED
     return report.exit_code
@@ -782,21 +799,68 @@ def _turbulence_line(t: dict) -> str:
             f"{f(m['sigma_w_mps'], '.2f')} m/s, intensity {f(m['intensity'], '.3f')}")
 
 
-def _print_summary(report, ref_label: str) -> None:
+def realtime_text(rtf: float) -> str:
+    """The measured real-time factor (simulated / wall seconds) as printed: two significant
+    digits below 10 (``0.58x``), whole numbers above (``12x``)."""
+    if not math.isfinite(rtf):
+        return "-"
+    return f"{rtf:.2g}x" if rtf < 10 else f"{rtf:.0f}x"
+
+
+def optimised_energies(ref: Any, refs: Any = None) -> dict[str, float] | None:
+    """The optimised cycle's energies [J] and average power [W] of the reference flown
+    (``metadata.energies`` of the reference file, with ``T1_s``/``T2_s`` [s]); None for a reference
+    set (each cycle may fly another reference) or a reference that names none."""
+    if refs is not None or ref is None:
+        return None
+    e = ref.meta.get("energies")
+    if not isinstance(e, dict) or "E_net_J" not in e:
+        return None
+    out = {k: float(e[k]) for k in ("E_generated_J", "E_thrust_J", "E_reel_in_J", "E_net_J", "P_avg_W") if k in e}
+    for k in ("T1_s", "T2_s"):
+        if k in ref.meta:
+            out[k] = float(ref.meta[k])
+    return out
+
+
+def _print_summary(report, ref_label: str, optimised: dict[str, float] | None = None) -> None:
+    """The flight in a few lines: the run, the status with the measured real-time factor, and
+    one row per cycle (numbered from 0, as the JSON's ``index`` and ``flight.md``) with the
+    optimised reference's net energy beside the flown one."""
     print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_label}  plant {report.plant}"
           f"  line drag x {report.tether_drag_scale:g}  tether {report.tether}")
     print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
-          f"({report.realtime_factor:.0f}x real time); energy ledger residual {report.ledger_residual_rel:.2e}")
+          f"({realtime_text(report.realtime_factor)} real time, measured); energy ledger residual "
+          f"{report.ledger_residual_rel:.2e}")
     if report.turbulence is not None:
         print(_turbulence_line(report.turbulence))
-    print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} {'rms m':>7} {'max m':>7}")
+    opt = math.nan if optimised is None else optimised["E_net_J"]
+    print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} "
+          f"{'opt net J':>9} {'rms m':>7} {'max m':>7}")
     for c in report.cycles:
         flag = "" if c.complete else "  (incomplete)"
-        print(f"{c.index + 1:>5} {_fmt(c.T1_s, '6.2f')} {_fmt(c.T2_s, '6.2f')} {_fmt(c.E_generated_J, '8.1f')} "
+        print(f"{c.index:>5} {_fmt(c.T1_s, '6.2f')} {_fmt(c.T2_s, '6.2f')} {_fmt(c.E_generated_J, '8.1f')} "
               f"{_fmt(c.E_thrust_J, '9.1f')} {_fmt(c.E_reel_in_J, '9.1f')} {_fmt(c.E_net_J, '8.1f')} "
-              f"{_fmt(c.track_rms_m, '7.2f')} {_fmt(c.track_max_m, '7.2f')}{flag}")
+              f"{_fmt(opt, '9.1f')} {_fmt(c.track_rms_m, '7.2f')} {_fmt(c.track_max_m, '7.2f')}{flag}")
+    if optimised is not None:
+        print(f"optimised: net {optimised['E_net_J']:.1f} J per cycle ({optimised.get('P_avg_W', math.nan):.2f} W), "
+              f"the reference's own (cycles are numbered from 0)")
     if report.wind_estimates:
         print("wind at the glider per cycle, estimated (true) m/s: " + ", ".join(
-            f"{w['cycle'] + 1}: {w['estimated_at_glider']['speed_mps']:.2f} ({w['true_at_glider']['speed_mps']:.2f})"
+            f"{w['cycle']}: {w['estimated_at_glider']['speed_mps']:.2f} ({w['true_at_glider']['speed_mps']:.2f})"
             + (f" on the {w['reference_wind_mps']:g} m/s reference" if "reference_wind_mps" in w else "")
             for w in report.wind_estimates))
+
+
+def _written_files(written: dict[str, object], ref_written: Path | None, json_path: str | None) -> list[str]:
+    """Every file the run wrote, in order: the optimised reference (``ref_written``, into
+    ``--out``), the outputs of :func:`fdm_awe.recording.flight_outputs` and ``--json``."""
+    files: list[str] = [] if ref_written is None else [str(ref_written)]
+    for v in written.values():
+        if isinstance(v, str):
+            files.append(v)
+        elif isinstance(v, (list, tuple)):
+            files.extend(str(x) for x in v)
+    if json_path:
+        files.append(str(json_path))
+    return files

@@ -16,6 +16,55 @@ HELP = "show the airframe, propulsion and ground-station definitions and the ref
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON (NaN written as null)")
+    p.add_argument("--export", metavar="DIR",
+                   help="write a copy of the definition folders (aircraft/, engine/, tether/) into DIR, a new or empty "
+                        "folder, to start your own definitions from; prints the files and nothing else")
+
+
+def export_definitions(dest: str, option: str = "--export") -> list[str]:
+    """Copy the definition folders of :data:`fdm_awe.ROOT` into ``dest`` (a new or empty folder;
+    anything else is refused in one line naming ``option``, before anything is written). The copy
+    is made in a temporary folder next to ``dest`` and renamed into place, so ``dest`` holds all
+    of it or nothing. Returns the files written, relative to ``dest``."""
+    import os
+    import shutil
+    import tempfile
+    from pathlib import Path
+
+    from .. import DEFINITION_FOLDERS, ROOT
+    from ..errors import InputError
+    from ..fileio import check_name_length
+
+    d = Path(dest)
+    if str(dest) == "":
+        raise InputError(f"{option} '': not a folder name")
+    check_name_length(d, option)
+    if d.exists() or d.is_symlink():
+        if not d.is_dir():
+            raise InputError(f"{option} {d}: exists and is not a folder (allowed: a new or empty folder)")
+        if any(d.iterdir()):
+            raise InputError(f"{option} {d}: folder exists and is not empty (allowed: a new or empty folder)")
+    parent = d.absolute().parent
+    if not parent.is_dir():
+        raise InputError(f"{option} {d}: {parent} is not a folder (allowed: a new folder in an existing one)")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{option} {d}: {parent} is not writable")
+    tmp = Path(tempfile.mkdtemp(prefix=f".{d.name}.", suffix=".part", dir=parent))
+    try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)  # a folder as mkdir makes it (mkdtemp's is private)
+        for folder in DEFINITION_FOLDERS:
+            shutil.copytree(ROOT / folder, tmp / folder, ignore=shutil.ignore_patterns("__pycache__", "*.py[cod]",
+                                                                                     "__init__.py"))
+        files = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
+        if d.is_dir():
+            d.rmdir()  # empty (checked above): replaced by the complete copy
+        os.replace(tmp, d)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return files
 
 
 def drive_info(gs: Any) -> dict[str, float]:
@@ -94,6 +143,16 @@ def ground_station_info(wing_area: float) -> dict[str, object]:
 def run(args: argparse.Namespace) -> int:
     from . import _checks as chk
 
+    if getattr(args, "export", None) is not None:
+        if args.json:
+            from ..errors import InputError
+
+            raise InputError("--json: not with --export (the export writes the definition files only)")
+        files = export_definitions(args.export)
+        print(f"exported {len(files)} definition files to {args.export}: " + ", ".join(files))
+        print(f"{args.export} has the layout of the package's definition root (a JSBSim root: aircraft/NAME/NAME.xml, "
+              "engine/*.xml, tether/ground_station.xml)")
+        return 0
     chk.outputs(files=[("--json", args.json)])
     from ..definitions.aircraft import load_glider
     from ..pointmass.performance import steady_glide

@@ -12,31 +12,44 @@ import math
 import sys
 from typing import Any
 
+from .. import defaults as D
+
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
 
 #: Why the default configuration is ``nominal`` (help texts of ``optimize`` and ``fly``).
-NOMINAL_DEFAULT_WHY = ("default nominal: in the physical scenario the foldable glider's folded recovery needs thrust "
-                       "against the line drag, so its cycle loses more than the nominal one on the sized line, and on "
-                       "Table 1's line it has no periodic cycle")
+NOMINAL_DEFAULT_WHY = D.NOMINAL_WHY
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--scenario", choices=("physical", "paper"), default="physical",
-                   help="model family (docs/design.md section 4; default: physical)")
-    p.add_argument("--config", choices=("nominal", "foldable"), default="nominal",
+    p.add_argument("--scenario", choices=("physical", "paper"), default=D.SCENARIO,
+                   help=f"model family (docs/design.md section 4; default {D.SCENARIO})")
+    p.add_argument("--config", choices=("nominal", "foldable"), default=D.CONFIG,
                    help="nominal: unfolded throughout; foldable: folded for recovery; " + NOMINAL_DEFAULT_WHY)
-    p.add_argument("--wind", type=float, default=6.0, metavar="M_S", help="wind speed magnitude [m/s], 0..25 (default 6)")
-    p.add_argument("--wind-from", type=float, default=180.0, metavar="DEG",
-                   help="direction the wind blows FROM [deg, compass], -360..360 (default 180 = from the south)")
-    p.add_argument("--d0", type=float, default=200.0, metavar="M", help="tether length at the cycle start [m], > 0")
-    p.add_argument("--d-tf", type=float, default=250.0, metavar="M",
-                   help="tether length at the end of generation [m], > d0")
-    p.add_argument("--v-min", type=float, default=5.0, metavar="M_S", help="minimum airspeed [m/s], > 0")
-    p.add_argument("--v-max", type=float, default=25.0, metavar="M_S", help="maximum airspeed [m/s], > v-min")
-    p.add_argument("--h-min", type=float, default=10.0, metavar="M", help="ground clearance [m], >= 0")
-    p.add_argument("--t-max", type=float, default=60.0, metavar="S", help="longest cycle T1 + T2 [s], > 0")
-    p.add_argument("--tether-drag-scale", type=float, default=1.0, metavar="F",
-                   help="factor on the line drag, physical scenario, 0..10 (sensitivity study; default 1 = the defined line)")
+    p.add_argument("--wind", type=float, default=D.WIND_MPS, metavar="M_S",
+                   help=f"wind speed magnitude [m/s], 0..25 (default {D.WIND_MPS:g})")
+    p.add_argument("--wind-from", type=float, default=D.WIND_FROM_DEG, metavar="DEG",
+                   help=f"direction the wind blows FROM [deg, compass], -360..360 (default {D.WIND_FROM_DEG:g} = from "
+                        "the south)")
+    p.add_argument("--d0", type=float, default=D.D0_M, metavar="M",
+                   help=f"tether length at the cycle start [m], > 0 (default {D.D0_M:g})")
+    p.add_argument("--d-tf", type=float, default=D.D_TF_M, metavar="M",
+                   help=f"tether length at the end of generation [m], > d0 (default {D.D_TF_M:g})")
+    p.add_argument("--v-min", type=float, default=D.V_MIN_MPS, metavar="M_S",
+                   help=f"minimum airspeed [m/s], > 0 (default {D.V_MIN_MPS:g})")
+    p.add_argument("--v-max", type=float, default=D.V_MAX_MPS, metavar="M_S",
+                   help=f"maximum airspeed [m/s], > v-min (default {D.V_MAX_MPS:g})")
+    p.add_argument("--h-min", type=float, default=D.H_MIN_M, metavar="M",
+                   help=f"ground clearance [m], >= 0 (default {D.H_MIN_M:g})")
+    p.add_argument("--t-max", type=float, default=D.T_MAX_S, metavar="S",
+                   help=f"longest cycle T1 + T2 [s], > 0 (default {D.T_MAX_S:g})")
+    p.add_argument("--flyable", action="store_true",
+                   help=f"keep the flyable margins of a reference to be flown (C_L <= {D.FLYABLE_CL_MARGIN:g} C_Lmax, "
+                        f"tension <= rating / {1 + D.FLYABLE_TENSION_MARGIN:g}, |bank| <= {D.FLYABLE_PHI_MAX:g} rad; "
+                        "--stall-margin / --tension-margin replace the first two), the bounds with which 'fdm-awe fly' optimises its own "
+                        "reference (default: Table 3's bounds, the optimiser's own optimum)")
+    p.add_argument("--tether-drag-scale", type=float, default=D.TETHER_DRAG_SCALE, metavar="F",
+                   help=f"factor on the line drag, physical scenario, 0..10 (sensitivity study; default "
+                        f"{D.TETHER_DRAG_SCALE:g} = the defined line)")
     p.add_argument("--reel-in-speed-max", type=float, default=None, metavar="M_S",
                    help=f"fastest reel-in [m/s], 0..{REEL_IN_LIMIT:g} (default: what the winch's drive reaches at full "
                         "duty with a slack line, from the ground-station definition's supply voltage; 'fdm-awe info' "
@@ -389,7 +402,11 @@ def problem_from_args(args: argparse.Namespace):
             raise InputError("--supply-voltage: only the physical scenario has the winch's drive (the paper scenario's "
                              "reel-in power is a constant)")
     mesh = parse_mesh(args.mesh)
-    margins = margin_bounds(args)
+    flyable = getattr(args, "flyable", False)
+    margins = margin_bounds(args, tension_default=D.FLYABLE_TENSION_MARGIN if flyable else 0.0,
+                            stall_default=D.FLYABLE_STALL_MARGIN if flyable else 0.0)
+    if flyable:
+        margins["phi_max"] = D.FLYABLE_PHI_MAX
     if reel_in is not None:  # the explicit bound and the margin's: the tighter one
         margins["reel_in_speed_max"] = min(reel_in, margins.get("reel_in_speed_max", reel_in))
     bounds = Bounds(V_min=args.v_min, V_max=args.v_max, h_min=args.h_min, t_max=args.t_max, **smoothness_bounds(args),
@@ -495,4 +512,9 @@ def _run_checked(args: argparse.Namespace, problem: Any, traj: str | None) -> in
         out.update(cycle_outputs(res, rrd=args.rrd, out_dir=args.out))
     if args.json:
         write_json(args.json, out)
+    written = ([traj] if res.ok and traj else []) + [str(x) for k in ("rrd", "plots", "csv", "report") if k in out
+                                                     for x in (out[k] if isinstance(out[k], list) else [out[k]])]
+    written += [args.json] if args.json else []
+    if written:
+        print("wrote: " + ", ".join(written))
     return 0 if res.ok else 1

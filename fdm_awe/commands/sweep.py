@@ -43,14 +43,19 @@ HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--wind", default="3:12:1", metavar="SPEC",
-                   help="wind speeds [m/s], each 0..25: START:STOP:STEP or a comma list (default 3:12:1)")
-    p.add_argument("--config", default="nominal,foldable", help="configurations: nominal,foldable (default both)")
-    p.add_argument("--scenario", default="physical", choices=("physical", "paper"), help="scenario family (default physical)")
+    from .. import defaults as D
+
+    p.add_argument("--wind", default=D.SWEEP_WINDS, metavar="SPEC",
+                   help=f"wind speeds [m/s], each 0..25: START:STOP:STEP or a comma list (default {D.SWEEP_WINDS})")
+    p.add_argument("--config", default=D.SWEEP_CONFIGS,
+                   help=f"configurations: nominal,foldable (default {D.SWEEP_CONFIGS})")
+    p.add_argument("--scenario", default=D.SCENARIO, choices=("physical", "paper"),
+                   help=f"scenario family (default {D.SCENARIO})")
     p.add_argument("--folded-span", metavar="LIST", help="folded spans b_f [m] (default: the folded definition's)")
     p.add_argument("--folded-drag-area", metavar="LIST", help="folded drag areas C_Dmin S_f [m2] (default: the definition's)")
     p.add_argument("--wing-area", metavar="LIST", help="unfolded wing areas [m2] at the definition's aspect ratio (default: the definition's)")
-    p.add_argument("--tether-range", default="200:250", metavar="D0:DTF,...", help="reel-out ranges d0:d_tf [m] (default 200:250)")
+    p.add_argument("--tether-range", default=f"{D.D0_M:g}:{D.D_TF_M:g}", metavar="D0:DTF,...",
+                   help=f"reel-out ranges d0:d_tf [m] (default {D.D0_M:g}:{D.D_TF_M:g})")
     p.add_argument("--fold-time", default=None, metavar="LIST",
                    help="fold (and unfold) times of the foldable glider [s], each 0..60 (default: the aircraft "
                         "definition's, 2 s; 0 = the instantaneous switch of earlier sweeps)")

@@ -9,3 +9,10 @@
 - :mod:`.outputs`: CSV, power-curve plot, "where folding pays" map, markdown summary;
 - :mod:`.report`: all outputs of a finished sweep in one call.
 """
+
+import sys as _sys
+
+from .. import _CallableModule
+
+# ``fdm_awe.sweep(...)`` is the Python API's sweep (fdm_awe.api.sweep); the package stays a package
+_sys.modules[__name__].__class__ = _CallableModule

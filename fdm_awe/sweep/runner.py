@@ -26,6 +26,8 @@ import traceback
 from dataclasses import dataclass
 from typing import Any
 
+from .. import defaults as D
+
 import numpy as np
 
 from .design import Design, describe, describe_line, design_glider, line_station
@@ -136,8 +138,8 @@ def point_glider(point: Point) -> Any:
 
 #: the margins of a ``flyable`` point where the sweep gives none: ``fdm-awe fly``'s defaults
 #: (``FLY_TENSION_MARGIN``, ``FLY_STALL_MARGIN`` of :mod:`fdm_awe.commands.fly`; a test holds them equal)
-FLYABLE_TENSION_MARGIN = 0.25
-FLYABLE_STALL_MARGIN = 0.15
+FLYABLE_TENSION_MARGIN = D.FLYABLE_TENSION_MARGIN
+FLYABLE_STALL_MARGIN = D.FLYABLE_STALL_MARGIN
 
 
 def flyable_bounds(tension_margin: float = FLYABLE_TENSION_MARGIN, stall_margin: float = FLYABLE_STALL_MARGIN) -> Any:
