@@ -23,7 +23,7 @@ Each line gets a plan (:func:`plan`), shown in its test id and by ``test_plan_ta
 ``skip``     templates (``URL``, ``FILE``, ``...`` without a line to repeat): nothing to run.
 
 Lines run in their document's order in one working folder per document, a temporary folder
-that holds a copy of ``tests/data``, the ``scripts`` and an empty ``docs/`` (as a checkout
+that holds a copy of ``tests/data``, the ``scripts`` and a ``docs/`` with only ``docs/api`` (as a checkout
 does), so outputs go there and later lines find what earlier ones wrote; a line that reads a
 file (``rerun``) runs after the others of its document. Each must exit 0 (or the exit code
 in :data:`EXPECTED_EXIT`) within its time limit. Lines that still fail because of a default
@@ -357,6 +357,7 @@ def workspaces(tmp_path_factory):
             shutil.copytree(REPO / "tests" / "data", ws / "tests" / "data")
             (ws / "scripts").symlink_to(REPO / "scripts", target_is_directory=True)
             (ws / "docs").mkdir()
+            (ws / "docs" / "api").symlink_to(REPO / "docs" / "api", target_is_directory=True)  # sphinx's source
             made[doc] = ws
         return made[doc]
 
