@@ -8,8 +8,12 @@ The example references (``fdm_awe.example_refs.EXAMPLES``, stored in ``tests/dat
 ``fdm_awe/data/examples/`` (``--reference example:nominal-8``).
 The mapping is declared here, not in pyproject.toml, because ``find_packages`` then keeps
 discovering the package's own sub-packages while the definition folders are added to them.
+The package index shows README.md as the long description with its relative links made
+absolute (:func:`index_readme`): on the index page a link to ``docs/design.md`` has no
+repository to resolve against.
 """
 
+import re
 from pathlib import Path
 
 from setuptools import find_packages, setup
@@ -43,12 +47,35 @@ def example_files() -> list[str]:
     raise RuntimeError("fdm_awe/example_refs.py defines no EXAMPLES")
 
 
+#: where the README's relative links point on the package index page: files (and folders) at
+#: the repository's main branch, images as their raw files
+BLOB_URL = "https://github.com/fdm-awe/fdm-awe/blob/main/"
+RAW_URL = "https://raw.githubusercontent.com/fdm-awe/fdm-awe/main/"
+_LINK = re.compile(r"(!?)\[([^\]]*)\]\(([^)\s]+)\)")
+
+
+def index_readme(text: str) -> str:
+    """``text`` (Markdown) with every relative link and image made absolute: links to
+    :data:`BLOB_URL`, images to :data:`RAW_URL`; absolute URLs and in-page anchors stay."""
+
+    def absolute(m: re.Match) -> str:
+        bang, label, target = m.groups()
+        if re.match(r"^[a-z][a-z0-9+.-]*:", target, re.I) or target.startswith("#"):
+            return m.group(0)
+        return f"{bang}[{label}]({(RAW_URL if bang else BLOB_URL) + target.lstrip('./')})"
+
+    return _LINK.sub(absolute, text)
+
+
 DATA = definition_packages()
 EXAMPLES_PACKAGE = "fdm_awe.data.examples"
 
-setup(
-    packages=find_packages(include=["fdm_awe", "fdm_awe.*"]) + list(DATA) + [EXAMPLES_PACKAGE],
-    package_dir={**{name: DATA[name] for name in DATA if name.count(".") == 2}, EXAMPLES_PACKAGE: "tests/data"},
-    package_data={**{name: ["*.xml"] for name in DATA}, EXAMPLES_PACKAGE: example_files()},
-    include_package_data=False,  # exactly the files named above (tests/data holds more than the examples)
-)
+if __name__ == "__main__":  # the build runs this file as __main__; tests import index_readme
+    setup(
+        long_description=index_readme((HERE / "README.md").read_text(encoding="utf-8")),
+        long_description_content_type="text/markdown",
+        packages=find_packages(include=["fdm_awe", "fdm_awe.*"]) + list(DATA) + [EXAMPLES_PACKAGE],
+        package_dir={**{name: DATA[name] for name in DATA if name.count(".") == 2}, EXAMPLES_PACKAGE: "tests/data"},
+        package_data={**{name: ["*.xml"] for name in DATA}, EXAMPLES_PACKAGE: example_files()},
+        include_package_data=False,  # exactly the files named above (tests/data holds more than the examples)
+    )

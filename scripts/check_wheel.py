@@ -10,8 +10,8 @@ the end whatever happens (``--keep`` keeps it):
    ``tests/``, ``scripts/``, ``docs/`` and ``examples/`` (MANIFEST.in);
 3. build the wheel from the sdist (``pip wheel --no-deps``), check that it holds every
    definition file as ``fdm_awe/data/...``, the example references as
-   ``fdm_awe/data/examples/``, the project URLs, and nothing outside ``fdm_awe/`` and its
-   metadata;
+   ``fdm_awe/data/examples/``, the project URLs, a long description without relative links,
+   and nothing outside ``fdm_awe/`` and its metadata;
 4. create a fresh virtual environment and install the wheel into it WITH its dependencies
    (not editable; pip's download cache makes a second run quick; ``--no-compile`` halves the
    install, Python compiles what it imports);
@@ -44,6 +44,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -112,6 +113,16 @@ def check_sdist_members(sdist: Path, src: Path) -> None:
         raise CheckFailed(f"sdist {sdist.name} lacks {len(missing)} file(s): {', '.join(missing[:5])}")
 
 
+#: a Markdown link or image: (``!`` or empty, label, target)
+LINK = re.compile(r"(!?)\[([^\]]*)\]\(([^)\s]+)\)")
+
+
+def relative_links(text: str) -> list[str]:
+    """The targets of ``text``'s Markdown links and images that are neither absolute URLs nor
+    in-page anchors (they resolve against the repository only)."""
+    return [t for _, _, t in LINK.findall(text) if not (re.match(r"^[a-z][a-z0-9+.-]*:", t, re.I) or t.startswith("#"))]
+
+
 def check_wheel_members(wheel: Path, src: Path) -> None:
     """The wheel holds every definition file of ``src`` as ``fdm_awe/data/...`` and nothing
     outside ``fdm_awe/`` and its ``.dist-info`` (CheckFailed)."""
@@ -128,6 +139,11 @@ def check_wheel_members(wheel: Path, src: Path) -> None:
         urls = [line for line in zf.read(meta).decode().splitlines() if line.startswith("Project-URL:")] if meta else []
     if not any(u.startswith("Project-URL: Homepage,") for u in urls):
         raise CheckFailed(f"wheel {wheel.name}: no project URLs in its metadata (Homepage, Documentation, Source)")
+    with zipfile.ZipFile(wheel) as zf:
+        rel = relative_links(zf.read(meta).decode()) if meta else []
+    if rel:
+        raise CheckFailed(f"wheel {wheel.name}: its long description (the package index page) has {len(rel)} relative "
+                          f"link(s), which break there: {', '.join(rel[:3])}")
     stray = sorted(n for n in names if not n.startswith(("fdm_awe/", "fdm_awe-")))
     if stray:
         raise CheckFailed(f"wheel {wheel.name} installs files outside fdm_awe/: {', '.join(stray[:5])}")

@@ -49,6 +49,35 @@ def test_setup_py_ships_the_package_definition_folders():
     assert cw.DEFINITION_FOLDERS == fdm_awe.DEFINITION_FOLDERS
 
 
+def _setup_module():
+    """setup.py imported under another name than ``__main__`` (its ``setup()`` call is skipped)."""
+    spec = importlib.util.spec_from_file_location("fdm_awe_setup", REPO / "setup.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_the_index_readme_has_absolute_links_to_files_of_the_repository():
+    """The long description (README.md) with relative links made absolute: each link to the
+    repository's main branch names a file or folder that exists in the checkout, images point
+    at their raw files, absolute URLs and anchors stay as they were."""
+    st = _setup_module()
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    assert cw.relative_links(text), "the README is expected to link the repository's files relatively"
+    out = st.index_readme(text)
+    assert cw.relative_links(out) == []
+    targets = [t for t in cw.LINK.findall(out)]
+    assert targets
+    for bang, _, url in targets:
+        for base in (st.BLOB_URL, st.RAW_URL):
+            if url.startswith(base):
+                assert (REPO / url[len(base):].split("#")[0]).exists(), url
+                assert (base == st.RAW_URL) == bool(bang), url
+    sample = "[a](docs/x.md) ![b](docs/y.png) [c](https://e.org/z) [d](#usage)"
+    assert st.index_readme(sample) == (f"[a]({st.BLOB_URL}docs/x.md) ![b]({st.RAW_URL}docs/y.png) "
+                                       "[c](https://e.org/z) [d](#usage)")
+
+
 def test_pyproject_has_no_deprecated_setuptools_configuration():
     tomllib = pytest.importorskip("tomllib")
     doc = tomllib.loads((REPO / "pyproject.toml").read_text())
@@ -111,6 +140,8 @@ def test_unpacked_wheel_carries_the_example_references_and_its_project_urls(buil
     assert {u.split(",")[0] for u in urls} >= {"Project-URL: Homepage", "Project-URL: Documentation",
                                                "Project-URL: Source"}
     assert all("https://github.com/fdm-awe/fdm-awe" in u for u in urls)
+    with zipfile.ZipFile(wheel) as zf:  # the index page's README: no link left relative
+        assert cw.relative_links(zf.read(meta).decode()) == []
     env = dict(os.environ, PYTHONPATH=str(site), JSBSIM_DEBUG="0")
     code = ("import fdm_awe, fdm_awe.example_refs as e; r = fdm_awe.load_reference('example:foldable-8'); "
             "print(e.examples_folder()); print(r.metadata['config'], r.metadata['wind_mps'])")
