@@ -167,8 +167,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     mem[M_US] = 1.0 if protect else 0.0
     # the ground-proximity guard: pull up before the ground, before the path and the protection
     was_gp = mem[M_GP] != 0.0
-    pull = ground_guard(was_gp, -pz, vz, v_air, v_stall, par[A_G], gk[GK_GP_ALT], gk[GK_GP_ACC], gk[GK_US_EXIT],
-                        gk[GK_US_ENTER])
+    pull = ground_guard(was_gp, -pz, vz, math.sqrt(vx * vx + vy * vy + vz * vz), v_air, v_stall, par[A_G],
+                        gk[GK_GP_ALT], gk[GK_GP_ACC], gk[GK_US_EXIT], gk[GK_US_ENTER])
     mem[M_GP] = 1.0 if pull else 0.0
     flags = 0
     rejoin = False

@@ -308,10 +308,10 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
             margin = gk[GK_US_AMARGIN]
     pull = us == US_PULL_UP
     if pull:
-        afx, afy, afz = _pull_up_demand(gk, vz)
+        afx, afy, afz = _pull_up_demand(gk, afx + cx, afy + cy, afz + cz, vax, vay, vaz, vz)
         cx, cy, cz = 0.0, 0.0, 0.0
         # wings level: the line's horizontal pull is not flown against (it banked the lift away
-        # from the pull-up, and along the path it is more than the thrust: no push-over for it)
+        # from the pull-up); the energy trade never pushes over (_command)
         tx, ty = 0.0, 0.0
     elif us != 0.0:
         v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
@@ -325,15 +325,29 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
 
 
-def _pull_up_demand(gk: Floats, vz: float) -> Vec3:
-    """The acceleration demand [m/s^2, NED] of the ground-proximity guard (:mod:`.ground`) for the
-    glider's vertical speed ``vz`` [m/s, down]: straight up, ``GP_ACC`` while the glider sinks,
-    falling linearly to nothing at a climb of ``GP_CLIMB`` (no zoom climb into a stall), nothing
-    across the path (wings level against gravity and the line). What the propeller cannot give
-    along the path the energy trade takes from the speed (:func:`_traded_lift`)."""
+def _pull_up_demand(gk: Floats, ax: float, ay: float, az: float, vax: float, vay: float, vaz: float,
+                    vz: float) -> Vec3:
+    """The acceleration demand [m/s^2, NED] of the ground-proximity guard (:mod:`.ground`) from the
+    path's demand ``a`` (feed-forward plus correction) for the air velocity ``va`` [m/s] and the
+    glider's vertical speed ``vz`` [m/s, down]: the path's along the air velocity, across it
+    nothing sideways (wings level) and up in its vertical plane at least ``GP_ACC`` while the
+    glider sinks (the path bends up; a vertical upward demand would lie along a steep dive, where
+    the wing cannot give it), that floor falling linearly to nothing at a climb of ``GP_CLIMB``
+    (no zoom climb into a stall). A path that pulls up harder keeps its pull."""
     climb = gk[GK_GP_CLIMB]
     share = 1.0 if vz >= 0.0 else (max(1.0 + vz / climb, 0.0) if climb > 0.0 else 0.0)
-    return 0.0, 0.0, -gk[GK_GP_ACC] * share
+    V = max(_norm(vax, vay, vaz), 1.0)
+    e1x, e1y, e1z = vax / V, vay / V, vaz / V
+    horiz = math.sqrt(e1x * e1x + e1y * e1y)
+    if horiz > 1e-6:
+        r0x, r0y = -e1y / horiz, e1x / horiz
+    else:  # vertical flight: any horizontal axis
+        r0x, r0y = 0.0, 1.0
+    # up0 = right0 x e1 (right0 horizontal): up across the air velocity
+    u0x, u0y, u0z = r0y * e1z, -r0x * e1z, r0x * e1y - r0y * e1x
+    a_t = ax * e1x + ay * e1y + az * e1z
+    a_u = max(ax * u0x + ay * u0y + az * u0z, gk[GK_GP_ACC] * share)
+    return a_t * e1x + a_u * u0x, a_t * e1y + a_u * u0y, a_t * e1z + a_u * u0z
 
 
 def _underspeed_demand(gk: Floats, ax: float, ay: float, az: float, vax: float, vay: float, vaz: float, v0: float,
@@ -432,7 +446,7 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
     ``cl`` on the blended reference area of ``s_u``, ``s_f`` [m^2]. Alpha stays ``margin`` [rad]
     below the polar's stall; ``full``: all the thrust there is (TECS's full throttle in
     underspeed); ``climb_only``: the energy trade never pushes over (the ground-proximity
-    guard's pull-up)."""
+    guard's pull-up: no dive for the line's drag or the speed)."""
     V = max(_norm(vax, vay, vaz), 1.0)
     e1x, e1y, e1z = vax / V, vay / V, vaz / V
     F_par = Fx * e1x + Fy * e1y + Fz * e1z
