@@ -7,8 +7,8 @@ flown near the ground that ended in ground contact (foldable glider, sized line:
 class A, seed 5; 10 m/s in moderate turbulence, seed 9). The guard is a terrain warning's
 pull-up: it acts where the glider, sinking at ``sink`` [m/s], would pass below the floor
 ``GP_ALT`` [m] before a pull-out at the acceleration ``GP_ACC`` [m/s^2] across its path (or at
-what its wing can give at its airspeed, if less) levelled it, and only once it flies fast enough to
-pull (``US_V_EXIT`` times the stall speed of its fold state; slower the underspeed protection
+what its wing can give at its airspeed, if less) levelled it, and only once it flies fast
+enough to pull (``US_V_EXIT`` times the stall speed of its fold state; slower the underspeed protection
 gains speed first). It holds while the prediction stays below the floor and the airspeed above
 the stall speed (``US_V_ENTER`` times it, at least 1). What the guidance then flies is
 :func:`fdm_awe.autopilot.guidance.guidance_step`'s pull-up (``us`` ``US_PULL_UP``). A plain
@@ -43,9 +43,9 @@ def pull_out_height(sink: float, speed: float, v: float, v_stall: float, g: floa
 def ground_guard(active: bool, h: float, sink: float, speed: float, v: float, v_stall: float, g: float, floor: float,
                  acc: float, enter: float, stay: float) -> bool:
     """Whether the guard pulls up after a step at height ``h`` [m] above the ground, sinking at
-    ``sink`` [m/s] (down positive) at ``speed`` [m/s] over the ground, airspeed ``v`` [m/s], stall speed ``v_stall`` [m/s] of the
-    fold state; ``active``: it pulled up at the step before. It pulls up where
-    ``h - pull_out_height(...)`` (:func:`pull_out_height` with ``acc`` [m/s^2]) is below ``floor``
+    ``sink`` [m/s] (down positive) at ``speed`` [m/s] over the ground, airspeed ``v`` [m/s], stall
+    speed ``v_stall`` [m/s] of the fold state, gravity ``g`` [m/s^2]; ``active``: it pulled up at
+    the step before. It pulls up where ``h - pull_out_height(...)`` (:func:`pull_out_height` with ``acc`` [m/s^2]) is below ``floor``
     [m] (``floor`` <= 0: off), entering at an airspeed of at least ``enter`` stall speeds and
     holding at ``stay`` stall speeds (at least 1)."""
     if floor <= 0.0:

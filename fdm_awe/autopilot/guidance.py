@@ -93,7 +93,7 @@ class GuidanceGains:
     #: ground-proximity guard (:mod:`.ground`): pull up where the glider, sinking as it does, would
     #: cross this height above the ground [m] before a pull-out at ``gp_acc`` (0: off)
     gp_alt: float = 0.0
-    gp_acc: float = 10.0  #: the pull-out's upward acceleration, predicted and asked for [m/s^2]
+    gp_acc: float = 25.0  #: the pull-out's acceleration across the path, predicted and asked at least [m/s^2]
     gp_climb: float = 2.0  #: climbing faster than this [m/s] the guard asks for no more upward acceleration
 
     def vector(self) -> np.ndarray:
