@@ -45,9 +45,9 @@ def ground_guard(active: bool, h: float, sink: float, speed: float, v: float, v_
     """Whether the guard pulls up after a step at height ``h`` [m] above the ground, sinking at
     ``sink`` [m/s] (down positive) at ``speed`` [m/s] over the ground, airspeed ``v`` [m/s], stall
     speed ``v_stall`` [m/s] of the fold state, gravity ``g`` [m/s^2]; ``active``: it pulled up at
-    the step before. It pulls up where ``h - pull_out_height(...)`` (:func:`pull_out_height` with ``acc`` [m/s^2]) is below ``floor``
-    [m] (``floor`` <= 0: off), entering at an airspeed of at least ``enter`` stall speeds and
-    holding at ``stay`` stall speeds (at least 1)."""
+    the step before. It pulls up where ``h - pull_out_height(...)`` (:func:`pull_out_height` with
+    ``acc`` [m/s^2]) is below ``floor`` [m] (``floor`` <= 0: off), entering at an airspeed of at
+    least ``enter`` stall speeds and holding at ``stay`` stall speeds (at least 1)."""
     if floor <= 0.0:
         return False
     if h - pull_out_height(sink, speed, v, v_stall, g, acc) >= floor:
