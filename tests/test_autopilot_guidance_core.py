@@ -61,7 +61,7 @@ def _cases(rng, n):
         yield rng.uniform(-2.0, 2.0, 3), (m, 1.225, 9.81, s_u, s_f, *rp, *rv, *ra, float(rng.uniform(0.0, 60.0)), *pos,
                                           *vel, *wind, *tf, float(rng.uniform(0.0, 1.0)) if i % 4 else 0.0,
                                           float(rng.uniform(0.005, 0.3)), bool(i % 2), t_max, bool(i % 5 in (1, 2)),
-                                          float(i % 7 % 3))
+                                          float(i % 9 % 4))
     level = (0.0, 0.0, -100.0)
     # F = m (a - g) = 0 along a level air velocity: no lift asked (mu 0)
     yield np.zeros(3), (m, 1.225, 9.81, s_u, s_f, *level, 15.0, 0.0, 0.0, 0.0, 0.0, 9.81, 0.0, *level, 15.0, 0.0, 0.0,
@@ -124,9 +124,9 @@ def test_guidance_step_compiled_is_python_bit_for_bit():
     """Every variant of the flags and sentinels (negative lift, curvature scaling, vertical bank
     limit, thrust axis) over random states (taut and slack line, saturated corrections, the
     integral at its limit, the energy trade both ways, vertical flight, the thrust limit 0, the
-    underspeed protection off, on and on a slack line, its alpha margin on and off): the
-    compiled step equals the Python step, result and integral, and the Python step runs every
-    line of the pure functions."""
+    underspeed protection off, on and on a slack line, its alpha margin on and off, the ground
+    guard's pull-up): the compiled step equals the Python step, result and integral, and the
+    Python step runs every line of the pure functions."""
     step, _ = _compiled()
     g = load_glider()
     pargs = polar_arguments(g.unfolded.aero, g.folded.aero)

@@ -27,7 +27,7 @@ from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDA
                         O_IDEAL_THRUST, O_MU, O_PHASE, O_PITCH, O_RATE, O_ROLL, O_SEG, O_TC, O_THROTTLE, O_THRUST,
                         O_W_D2, O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, O_YAW, PHASE_CHANGED, R_AIRSPEED, R_ALPHA, R_AX,
                         R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED, R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS,
-                        REF_WHERE, REJOINED, TRACK_LOST, M_US, PATH_REJOIN, UNDERSPEED, auto_guide)
+                        REF_WHERE, REJOINED, TRACK_LOST, M_US, M_GP, GROUND, PATH_REJOIN, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
 from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
@@ -143,6 +143,12 @@ class AutoStep:
                              f"(stall speed {ap.stall_speed(s.fold):.1f} m/s)")
             else:
                 notes.append(f"underspeed: airspeed {s.airspeed:.1f} m/s again, rejoining the path")
+        if flags & GROUND:
+            if mem[M_GP] != 0.0:
+                notes.append(f"ground proximity: pull up at {-float(s.pos_ned[2]):.1f} m, sinking "
+                             f"{float(s.vel_ned[2]):.1f} m/s (GP_ALT {ap.params['GP_ALT']:g} m)")
+            else:
+                notes.append(f"ground proximity: clear at {-float(s.pos_ned[2]):.1f} m, rejoining the path")
         if flags & REJOINED:
             notes.append("rejoin: on the path")
         if flags & PHASE_CHANGED:

@@ -40,8 +40,9 @@ from ..pointmass.fold import fold_fraction
 from ..sixdof.row import FOLD, THRUST, VT, WIND_DOWN, WIND_EAST, WIND_NORTH, si_position, si_velocity
 from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
 from .fold import fold_command
-from .guidance import (CALLED as GUIDANCE_CALLED, GK_THRUST_MAX, GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, P_CLMAX,
-                       guidance_step, polar_at)
+from .ground import ground_guard, pull_out_height
+from .guidance import (CALLED as GUIDANCE_CALLED, GK_GP_ACC, GK_GP_ALT, GK_THRUST_MAX, GK_US_ENTER, GK_US_EXIT,
+                       GK_US_HOLD, P_CLMAX, US_PULL_UP, guidance_step, polar_at)
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import T_LAST, T_THRUST, throttle_step
@@ -91,13 +92,16 @@ M_WLOW = 13
 M_US, M_US_T = 14, 15
 #: then the path rejoins: how many began in the cycle of index M_RJ_K
 M_RJ_N, M_RJ_K = 16, 17
-N_MEM = 18
+#: then 1.0 while the ground-proximity guard pulls up (:mod:`.ground`)
+M_GP = 18
+N_MEM = 19
 #: a rejoin segment younger than this [s] is not begun again for the path error
 RJ_SETTLE = 1.0
 #: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step, the
 #: position error exceeds ``par[A_FS_TRK_ERR]`` (> 0; the autopilot times it, FS_TRK_TIME), the
-#: underspeed protection began or ended at this step, a rejoin of the lost path began at this step
-PHASE_CHANGED, REJOINED, TRACK_LOST, UNDERSPEED, PATH_REJOIN = 1, 2, 4, 8, 16
+#: underspeed protection began or ended at this step, a rejoin of the lost path began at this step,
+#: the ground-proximity guard began or ended its pull-up at this step
+PHASE_CHANGED, REJOINED, TRACK_LOST, UNDERSPEED, PATH_REJOIN, GROUND = 1, 2, 4, 8, 16, 32
 #: ``out``: the step's reference point (cycle, cycle time, phase, position, motor-on fraction,
 #: path rate), the guidance's command, the motor, fold, throttle and winch commands
 (O_CYCLE, O_TC, O_PHASE, O_SEG, O_RX, O_RY, O_RZ, O_RATE, O_ALPHA, O_MU, O_THRUST, O_ROLL, O_PITCH, O_YAW, O_CL,
@@ -134,7 +138,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
     ``motor_mem`` (:mod:`.motor`); ``rrow`` receives the reference's row (:data:`N_REF` values).
     Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`, :data:`TRACK_LOST`,
-    :data:`UNDERSPEED`, :data:`PATH_REJOIN`; 0: none)."""
+    :data:`UNDERSPEED`, :data:`PATH_REJOIN`, :data:`GROUND`; 0: none)."""
     t = row[0]
     t_last = mem[M_TLAST]
     dt = 0.0 if t_last != t_last else max(0.0, t - t_last)
@@ -155,21 +159,30 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     k, tc, phase, seg, _ = cycle_evaluate(ref_t, ref_table, par[A_T1], par[A_PERIOD], s_par, rrow)
     # the underspeed protection: the airspeed against the stall speed of the fold state
     vax, vay, vaz = vx - wx, vy - wy, vz - wz
+    v_air = math.sqrt(vax * vax + vay * vay + vaz * vaz)
+    v_stall = stall_speed(par[A_MASS], par[A_RHO], par[A_G], polar[P_CLMAX])
     was = mem[M_US] != 0.0
-    protect, mem[M_US_T] = underspeed_update(was, mem[M_US_T], t, math.sqrt(vax * vax + vay * vay + vaz * vaz),
-                                             stall_speed(par[A_MASS], par[A_RHO], par[A_G], polar[P_CLMAX]),
-                                             rrow[R_AIRSPEED], fold, gk[GK_US_ENTER], gk[GK_US_EXIT],
-                                             gk[GK_US_HOLD])
+    protect, mem[M_US_T] = underspeed_update(was, mem[M_US_T], t, v_air, v_stall, rrow[R_AIRSPEED], fold,
+                                             gk[GK_US_ENTER], gk[GK_US_EXIT], gk[GK_US_HOLD])
     mem[M_US] = 1.0 if protect else 0.0
+    # the ground-proximity guard: pull up before the ground, before the path and the protection
+    was_gp = mem[M_GP] != 0.0
+    pull = ground_guard(was_gp, -pz, vz, math.sqrt(vx * vx + vy * vy + vz * vz), v_air, v_stall, par[A_G],
+                        gk[GK_GP_ALT], gk[GK_GP_ACC], gk[GK_US_EXIT], gk[GK_US_ENTER])
+    mem[M_GP] = 1.0 if pull else 0.0
     flags = 0
     rejoin = False
     if protect != was:
         flags = UNDERSPEED
         # protection over: back to the path over a rejoin segment from the glider's state
         rejoin = was and mem[M_RJ] == 0.0
+    if pull != was_gp:
+        flags |= GROUND
+        # pulled up: back to the path over a rejoin segment from the glider's state
+        rejoin = rejoin or (was_gp and not protect and mem[M_RJ] == 0.0)
     if mem[M_RJ_K] != k:
         mem[M_RJ_N], mem[M_RJ_K] = 0.0, k
-    if (not protect and (phase == 0 or fold < FOLD_OPEN) and par[A_RJ_TRK_ERR] > 0.0
+    if (not protect and not pull and (phase == 0 or fold < FOLD_OPEN) and par[A_RJ_TRK_ERR] > 0.0
             and mem[M_ERR] > par[A_RJ_TRK_ERR] and mem[M_RJ_N] < par[A_RJ_TRK_MAX]
             and (mem[M_RJ] == 0.0 or t - mem[M_RJ_T0] >= RJ_SETTLE)):
         # the path is lost (the last step's error; a rejoin under way counts after RJ_SETTLE, the
@@ -210,14 +223,17 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     mem[M_SREF] = s_par + rate * dt
     rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
     valid = gso[GS_VALID] != 0.0
-    taut = valid and gso[GS_SLACK] == 0.0 and phase == 0
-    ref_pull = reference_pull(par[A_REF_PULL] != 0.0, phase, tc, par[A_CATCH_TIME])
+    # pulling up, the wing flies against the measured line force: no radial force of the reference's
+    taut = valid and gso[GS_SLACK] == 0.0 and phase == 0 and not pull
+    ref_pull = reference_pull(par[A_REF_PULL] != 0.0, phase, tc, par[A_CATCH_TIME]) and not pull
     if valid:
         tx, ty, tz = gso[GS_FX], gso[GS_FY], gso[GS_FZ]
     else:
         tx, ty, tz = 0.0, 0.0, 0.0
-    us = 0.0  # the protection: 0 off, 1 on, 2 on with the line slack
-    if protect:
+    us = 0.0  # the protection: 0 off, 1 on, 2 on with the line slack; the guard's pull-up before it
+    if pull:
+        us = US_PULL_UP
+    elif protect:
         us = 2.0 if valid and gso[GS_SLACK] != 0.0 else 1.0
     # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
     motor = motor_update(segs[SEG_RUN], seg, t, mem[M_ERR], gate, motor_mem) != 0.0
@@ -283,5 +299,6 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
           take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
+          pull_out_height, ground_guard,
           nearest_on_phase, path_rate) + GUIDANCE_CALLED + (
               polar_at, guidance_step, reference_pull, auto_guide)

@@ -196,6 +196,7 @@ class Autopilot:
             overspeed_tension=p["GUID_VTENS"], overspeed_margin=p["GUID_VMARGIN"],
             us_enter=p["US_V_ENTER"], us_exit=p["US_V_EXIT"], us_hold=p["US_HOLD"], us_alpha_margin=p["US_ALPHA_MARG"],
             us_speed_gain=p["US_KV"], us_slack_acc=p["US_SLACK_A"], us_margin_speed=p["US_AMARG_V"],
+            gp_alt=p["GP_ALT"], gp_acc=p["GP_ACC"], gp_climb=p["GP_CLIMB"],
         )
 
     def stall_speed(self, fold: float) -> float:

@@ -44,6 +44,11 @@ Floats = np.ndarray | list[float] | tuple[float, ...]
 #: speeds, hold time, alpha margin below the stall, speed gain, pull away from the winch, the
 #: airspeed in stall speeds up to which the alpha margin acts
 GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, GK_US_AMARGIN, GK_US_KV, GK_US_SLACK, GK_US_AMARGV = range(16, 23)
+#: then the ground-proximity guard's (:mod:`.ground`): the floor [m], the pull-up acceleration
+#: [m/s^2], the climb rate [m/s] at which it stops asking for more
+GK_GP_ALT, GK_GP_ACC, GK_GP_CLIMB = range(23, 26)
+#: :func:`guidance_step`'s ``us`` while the ground-proximity guard pulls up
+US_PULL_UP = 3.0
 #: layout of the position-error integral (NED, m s) that :func:`guidance_step` advances in place
 (I_X, I_Y, I_Z) = range(3)
 #: layout of a polar (:func:`polar_at`) and of the coefficients it blends (:func:`polar_coefficients`,
@@ -85,9 +90,14 @@ class GuidanceGains:
     #: with the protection on, alpha stays us_alpha_margin below the stall up to this airspeed in
     #: stall speeds [-] (faster, a pull-out needs the whole lift and an overshoot past the stall is brief)
     us_margin_speed: float = 2.0
+    #: ground-proximity guard (:mod:`.ground`): pull up where the glider, sinking as it does, would
+    #: cross this height above the ground [m] before a pull-out at ``gp_acc`` (0: off)
+    gp_alt: float = 0.0
+    gp_acc: float = 25.0  #: the pull-out's acceleration across the path, predicted and asked at least [m/s^2]
+    gp_climb: float = 2.0  #: climbing faster than this [m/s] the guard asks for no more upward acceleration
 
     def vector(self) -> np.ndarray:
-        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_US_AMARGV`` (the field
+        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_GP_CLIMB`` (the field
         order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`guidance_step`."""
         nan = math.nan
         return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
@@ -95,7 +105,8 @@ class GuidanceGains:
                          nan if self.curv_scale_max is None else self.curv_scale_max, self.overspeed_tension,
                          self.overspeed_margin, nan if self.phi_max_vertical is None else self.phi_max_vertical,
                          float(self.thrust_on_body_axis), self.us_enter, self.us_exit, self.us_hold,
-                         self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc, self.us_margin_speed),
+                         self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc, self.us_margin_speed,
+                         self.gp_alt, self.gp_acc, self.gp_climb),
                         dtype=np.float64)
 
 
@@ -223,7 +234,8 @@ class Guidance:
         along-path force the glider lacks is traded through the flight path). ``ref_pull``: on a
         line that is not taut, the line's radial pull in the force balance is the reference's
         tension, not the measured one (see :func:`guidance_step`). ``underspeed``: the underspeed
-        protection acts (0 no, 1 yes, 2 yes on a slack line; :func:`guidance_step`'s ``us``)."""
+        protection acts (0 no, 1 yes, 2 yes on a slack line, :data:`US_PULL_UP` the ground-proximity
+        guard pulls up; :func:`guidance_step`'s ``us``)."""
         gk = self.gains_vector()
         rpx, rpy, rpz = _xyz(ref.pos)
         rvx, rvy, rvz = _xyz(ref.vel)
@@ -266,7 +278,9 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     :func:`_air_force`); ``us``: the underspeed protection (:mod:`.underspeed`) acts (0 no, 1
     yes, 2 yes on a slack line): the path's acceleration demand becomes a speed recovery
     (:func:`_underspeed_demand`, the integral held) and alpha is capped the gains' margin below
-    the stall, the thrust is all there is (``t_max``). With ``us`` 0 the step is the
+    the stall, the thrust is all there is (``t_max``); ``us`` :data:`US_PULL_UP`: the
+    ground-proximity guard (:mod:`.ground`) pulls up instead (:func:`_pull_up_demand`, the
+    integral held, the alpha margin and the thrust as in underspeed). With ``us`` 0 the step is the
     protection-free one, bit for bit (but for the alpha margin where the gains turn the
     protection on, ``GK_US_ENTER`` > 0: below ``GK_US_AMARGV`` stall speeds alpha stays
     ``GK_US_AMARGIN`` below the stall)."""
@@ -292,7 +306,14 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
         v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
         if v0 < gk[GK_US_AMARGV] * v_stall:
             margin = gk[GK_US_AMARGIN]
-    if us != 0.0:
+    pull = us == US_PULL_UP
+    if pull:
+        afx, afy, afz = _pull_up_demand(gk, afx + cx, afy + cy, afz + cz, vax, vay, vaz, vz)
+        cx, cy, cz = 0.0, 0.0, 0.0
+        # wings level: the line's horizontal pull is not flown against (it banked the lift away
+        # from the pull-up); the energy trade never pushes over (_command)
+        tx, ty = 0.0, 0.0
+    elif us != 0.0:
         v_stall = stall_speed(m, rho, g, polar[P_CLMAX])
         afx, afy, afz = _underspeed_demand(gk, afx + cx, afy + cy, afz + cz, vax, vay, vaz, v0, v_stall, us == 2.0,
                                            px, py)
@@ -300,8 +321,33 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     Fx, Fy, Fz = _air_force(gk, m, g, afx, afy, afz, cx, cy, cz, tx, ty, tz, taut, erx, ery, erz,
                             rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0, ref_pull)
     alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max,
-                                                       margin, us != 0.0)
+                                                       margin, us != 0.0, pull)
     return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
+
+
+def _pull_up_demand(gk: Floats, ax: float, ay: float, az: float, vax: float, vay: float, vaz: float,
+                    vz: float) -> Vec3:
+    """The acceleration demand [m/s^2, NED] of the ground-proximity guard (:mod:`.ground`) from the
+    path's demand ``a`` (feed-forward plus correction) for the air velocity ``va`` [m/s] and the
+    glider's vertical speed ``vz`` [m/s, down]: the path's along the air velocity, across it
+    nothing sideways (wings level) and up in its vertical plane at least ``GP_ACC`` while the
+    glider sinks (the path bends up; a vertical upward demand would lie along a steep dive, where
+    the wing cannot give it), that floor falling linearly to nothing at a climb of ``GP_CLIMB``
+    (no zoom climb into a stall). A path that pulls up harder keeps its pull."""
+    climb = gk[GK_GP_CLIMB]
+    share = 1.0 if vz >= 0.0 else (max(1.0 + vz / climb, 0.0) if climb > 0.0 else 0.0)
+    V = max(_norm(vax, vay, vaz), 1.0)
+    e1x, e1y, e1z = vax / V, vay / V, vaz / V
+    horiz = math.sqrt(e1x * e1x + e1y * e1y)
+    if horiz > 1e-6:
+        r0x, r0y = -e1y / horiz, e1x / horiz
+    else:  # vertical flight: any horizontal axis
+        r0x, r0y = 0.0, 1.0
+    # up0 = right0 x e1 (right0 horizontal): up across the air velocity
+    u0x, u0y, u0z = r0y * e1z, -r0x * e1z, r0x * e1y - r0y * e1x
+    a_t = ax * e1x + ay * e1y + az * e1z
+    a_u = max(ax * u0x + ay * u0y + az * u0z, gk[GK_GP_ACC] * share)
+    return a_t * e1x + a_u * u0x, a_t * e1y + a_u * u0y, a_t * e1z + a_u * u0z
 
 
 def _underspeed_demand(gk: Floats, ax: float, ay: float, az: float, vax: float, vay: float, vaz: float, v0: float,
@@ -392,14 +438,15 @@ def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: floa
 
 def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: float, vax: float,
              vay: float, vaz: float, fold: float, s_u: float, s_f: float, t_max: float, margin: float,
-             full: bool) -> tuple[float, float, float, float, float, float, float]:
+             full: bool, climb_only: bool) -> tuple[float, float, float, float, float, float, float]:
     """The command ``(alpha, mu, thrust, roll, pitch, yaw, cl)`` flying force ``F`` [N]: split
     along the air velocity ``va`` [m/s] (thrust minus drag, at most ``t_max`` [N] of thrust) and
     across it (lift), with ``polar`` (:func:`polar_at` at fold state ``fold``) and air density
     ``rho`` [kg/m^3]; the attitude follows from the air velocity, alpha and bank (no sideslip);
     ``cl`` on the blended reference area of ``s_u``, ``s_f`` [m^2]. Alpha stays ``margin`` [rad]
     below the polar's stall; ``full``: all the thrust there is (TECS's full throttle in
-    underspeed)."""
+    underspeed); ``climb_only``: the energy trade never pushes over (the ground-proximity
+    guard's pull-up: no dive for the line's drag or the speed)."""
     V = max(_norm(vax, vay, vaz), 1.0)
     e1x, e1y, e1z = vax / V, vay / V, vaz / V
     F_par = Fx * e1x + Fy * e1y + Fz * e1z
@@ -412,7 +459,8 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
     # up0 = right0 x e1 (= -c3 at zero bank: points up in level flight)
     u0x, u0y, u0z = r0y * e1z - r0z * e1y, r0z * e1x - r0x * e1z, r0x * e1y - r0y * e1x
     alpha_stall = (polar[P_CLMAX] - polar[P_CL0]) / polar[P_CLA] - margin
-    Qx, Qy, Qz = _traded_lift(gk, Fx, Fy, Fz, F_par, e1x, e1y, e1z, u0x, u0y, u0z, q, polar, t_max, alpha_stall)
+    Qx, Qy, Qz = _traded_lift(gk, Fx, Fy, Fz, F_par, e1x, e1y, e1z, u0x, u0y, u0z, q, polar, t_max, alpha_stall,
+                              climb_only)
     L = _norm(Qx, Qy, Qz)
     # bank about the air velocity: lift direction relative to the unbanked "up"
     if L > 1e-6:
@@ -470,12 +518,12 @@ def _path_feed_forward(afx: float, afy: float, afz: float, vrx: float, vry: floa
 
 def _traded_lift(gk: Floats, Fx: float, Fy: float, Fz: float, F_par: float, e1x: float, e1y: float,
                  e1z: float, u0x: float, u0y: float, u0z: float, q: float, polar: Floats, t_max: float,
-                 alpha_stall: float) -> Vec3:
+                 alpha_stall: float, climb_only: bool) -> Vec3:
     """The force across the air velocity (the lift's share of ``F`` [N], ``F_par`` [N] of it along
     ``e1``) after the energy exchange (TECS-like): an along-path force the propeller cannot give
     (braking beyond the drag, or more than the ``t_max`` [N] of thrust) is traded through the
     flight path: pull up (along ``up0``) to bleed speed into height, push over to gain speed
-    from height. ``q`` [Pa]: dynamic pressure; ``polar``: :func:`polar_at`."""
+    from height (not with ``climb_only``). ``q`` [Pa]: dynamic pressure; ``polar``: :func:`polar_at`."""
     qS_cl0, qS_cla, qS_cd0, qS_cd1, qS_cd2 = polar[P_CL0], polar[P_CLA], polar[P_CD0], polar[P_CDA1], polar[P_CDA2]
     Qx, Qy, Qz = Fx - F_par * e1x, Fy - F_par * e1y, Fz - F_par * e1z  # F_perp
     for _ in range(2):
@@ -487,7 +535,7 @@ def _traded_lift(gk: Floats, Fx: float, Fy: float, Fz: float, F_par: float, e1x:
         t_par = t_max * math.cos(alpha) if gk[GK_BODY_AXIS] != 0.0 else t_max
         if excess < 0.0:
             c = gk[GK_ETRADE] * excess
-        elif excess > t_par:
+        elif excess > t_par and not climb_only:
             c = gk[GK_ETRADE] * (excess - t_par)
         else:
             break
@@ -537,5 +585,5 @@ def _body_euler(e1x: float, e1y: float, e1z: float, r0x: float, r0y: float, r0z:
 
 #: the functions :func:`guidance_step` and :func:`polar_at` call (register them with numba's
 #: ``register_jitable`` before compiling either, e.g. through :func:`fdm_awe.jitcache.compile_cached`)
-CALLED = (blend_coefficient, stall_speed, _norm, _correction, _air_force, _path_feed_forward, _underspeed_demand,
-          _traded_lift, _alpha_and_thrust, _body_euler, _command)
+CALLED = (blend_coefficient, stall_speed, _norm, _correction, _air_force, _path_feed_forward, _pull_up_demand,
+          _underspeed_demand, _traded_lift, _alpha_and_thrust, _body_euler, _command)

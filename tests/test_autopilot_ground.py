@@ -1,0 +1,98 @@
+"""The ground-proximity guard of AUTO (:mod:`fdm_awe.autopilot.ground`, GP_ALT, GP_ACC, GP_CLIMB):
+the pull-out height and the guard's entry and hold, a real-wind flight that hit the ground
+without it (foldable, 12 m/s, IEC class A seed 5: the underspeed protection's dive in a lull in
+the third cycle's generation), and the guard flown alike by compiled blocks and per step."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fdm_awe.autopilot.ground import ground_guard, pull_out_height
+from fdm_awe.autopilot.tracking import TrackingReference
+from fdm_awe.sim.flight import fly
+from fdm_awe.turbulence import Turbulence
+
+DATA = Path(__file__).parent / "data"
+G = 9.81
+V_STALL = 8.07  # the unfolded wing's 1 g stall speed [m/s]
+
+
+def test_the_pull_out_height_is_the_dive_levelled_at_the_acceleration_the_wing_gives():
+    assert pull_out_height(-3.0, 15.0, 15.0, V_STALL, G, 25.0) == 0.0  # climbing: nothing to stop
+    assert pull_out_height(0.0, 15.0, 15.0, V_STALL, G, 25.0) == 0.0
+    # fast: the asked acceleration binds; a shallow dive loses sink^2 / (2 a), a vertical one
+    # sink^2 / a (the radius v^2 / a)
+    assert pull_out_height(1.0, 200.0, 25.0, V_STALL, G, 10.0) == pytest.approx(0.05, rel=1e-4)
+    assert pull_out_height(20.0, 20.0, 25.0, V_STALL, G, 10.0) == pytest.approx(40.0, rel=1e-12)
+    assert pull_out_height(20.0, 25.0, 25.0, V_STALL, G, 10.0) == pytest.approx(400.0 / (10.0 * 1.6), rel=1e-12)
+    # slow: the wing's g ((v / v_stall)^2 - 1) binds (1.2 stall speeds: 0.44 g)
+    a = G * (1.2 * 1.2 - 1.0)
+    assert pull_out_height(10.0, 10.0, 1.2 * V_STALL, V_STALL, G, 25.0) == pytest.approx(100.0 / a, rel=1e-9)
+    assert pull_out_height(10.0, 10.0, 1.2 * V_STALL, V_STALL, G, 25.0) > pull_out_height(10.0, 10.0, 2.0 * V_STALL,
+                                                                                          V_STALL, G, 25.0)
+    assert pull_out_height(5.0, 9.0, V_STALL, V_STALL, G, 25.0) == math.inf  # at the stall the wing gives nothing
+
+
+def test_the_guard_enters_fast_enough_below_the_floor_and_holds_above_the_stall():
+    def guard(active, h, sink, v, floor=25.0):
+        return ground_guard(active, h, sink, v, v, V_STALL, G, floor, 10.0, 1.3, 1.1)
+
+    assert not guard(False, 60.0, 15.0, 20.0)  # 60 - 15 m (dive at 49 deg): above the floor
+    assert guard(False, 30.0, 15.0, 20.0)  # 30 - 15 m: below it
+    assert guard(False, 20.0, -1.0, 20.0)  # below the floor, not sinking: climb back to it
+    assert not guard(False, 30.0, 15.0, 20.0, floor=0.0)  # GP_ALT 0: off
+    # too slow to pull: the underspeed protection gains speed first (entry at 1.3 stall speeds)
+    assert not guard(False, 25.0, 5.0, 1.2 * V_STALL)
+    # once pulling it holds down to 1.1 stall speeds, not below
+    assert guard(True, 25.0, 5.0, 1.2 * V_STALL)
+    assert not guard(True, 25.0, 5.0, 1.05 * V_STALL)
+    assert not guard(True, 40.0, 0.0, 20.0)  # clear: above the floor, no sink
+
+
+def _iec_a5(params: dict[str, float] | None = None, **kw):
+    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_12mps_sized.json")
+
+    def setup(ap, sim):
+        for name, value in (params or {}).items():
+            assert ap.params.try_set(name, value)[0]
+
+    return fly(ref, config="foldable", cycles=3, turbulence=Turbulence.parse("iec:A:5"), setup=setup, **kw)
+
+
+def test_a_dive_in_a_lull_is_pulled_up_before_the_ground():
+    """Foldable, 12 m/s, IEC class A seed 5, 3 cycles: without the guard (GP_ALT 0, the autopilot
+    before it, bit for bit) a lull in the third cycle slackens the line, the underspeed
+    protection dives for speed from 57 m and the glider hits the ground at 23 m/s. With it the
+    glider pulls up (a note says where), stays clear of the ground and flies its three cycles."""
+    rep = _iec_a5()
+    notes = [text for _, text in rep.autopilot_log]
+    assert rep.status == "ok" and all(c.complete for c in rep.cycles), rep.message
+    assert any(text.startswith("ground proximity: pull up") for text in notes)
+    assert float(np.min(-rep.result.pos[:, 2])) > 5.0
+    old = _iec_a5({"GP_ALT": 0.0})
+    assert old.status == "ground_contact", old.message
+    assert not any(text.startswith("ground proximity") for _, text in old.autopilot_log)
+
+
+def test_the_guard_flies_alike_in_compiled_blocks_and_python():
+    """A floor in the calm cycle (GP_ALT 100 m, the glider starting at 100 m) makes the guard pull
+    up at once and let go in about a second: every step that begins or ends it is flown by the
+    Python autopilot (the step's flag), so the compiled flight and the per-step one have the same
+    bits."""
+    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_8mps_sized.json")
+
+    def setup(ap, sim):
+        assert ap.params.try_set("GP_ALT", 100.0)[0]
+
+    fast = fly(ref, config="foldable", cycles=1, t_end=12.0, setup=setup)
+    slow = fly(ref, config="foldable", cycles=1, t_end=12.0, setup=setup, on_step=lambda k, s, o: None)
+    assert fast.loop["autopilot_compiled_steps"] > 0 and slow.loop["autopilot_compiled_steps"] == 0
+    notes = [text for _, text in fast.autopilot_log]
+    assert any(text.startswith("ground proximity: pull up") for text in notes), notes
+    assert any(text.startswith("ground proximity: clear") for text in notes), notes
+    assert np.array_equal(fast.result.data, slow.result.data, equal_nan=True)
+    assert fast.autopilot_log == slow.autopilot_log
