@@ -73,8 +73,8 @@ def test_the_index_readme_has_absolute_links_to_files_of_the_repository():
             if url.startswith(base):
                 assert (REPO / url[len(base):].split("#")[0]).exists(), url
                 assert (base == st.RAW_URL) == bool(bang), url
-    sample = "[a](docs/x.md) ![b](docs/y.png) [c](https://e.org/z) [d](#usage)"
-    assert st.index_readme(sample) == (f"[a]({st.BLOB_URL}docs/x.md) ![b]({st.RAW_URL}docs/y.png) "
+    sample = "[a](docs/design.md) ![b](docs/cycle.png) [c](https://e.org/z) [d](#usage)"
+    assert st.index_readme(sample) == (f"[a]({st.BLOB_URL}docs/design.md) ![b]({st.RAW_URL}docs/cycle.png) "
                                        "[c](https://e.org/z) [d](#usage)")
 
 
