@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 import socket
+import subprocess
 import time
 
 os.environ.setdefault("MAVLINK20", "1")
@@ -198,3 +200,15 @@ class Link:
     def close(self) -> None:
         self.ep.close()
         self.gcs.close()
+
+
+def stop_process(proc: "subprocess.Popen", sig: int = signal.SIGTERM, wait: float = 20.0) -> None:
+    """Send ``sig`` to ``proc`` if it still runs and wait up to ``wait`` s for it to end; kill
+    it after that (a ground-station test's flight or MAVProxy, whatever state the test left)."""
+    if proc.poll() is None:
+        proc.send_signal(sig)
+        try:
+            proc.wait(timeout=wait)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(timeout=10)

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from mavlink_helpers import free_udp_port
+from mavlink_helpers import free_udp_port, stop_process
 from pymavlink import mavutil
 
 from fdm_awe.autopilot.config import load_autopilot_definition
@@ -49,15 +49,6 @@ def _write_wpl(path: Path) -> None:
         lines.append(f"{i}\t0\t6\t16\t0\t0\t0\t0\t{lat:.8f}\t{lon:.8f}\t{-d:.3f}\t1")
     path.write_text("\n".join(lines) + "\n")
 
-
-def _stop(proc: subprocess.Popen, sig: int = signal.SIGTERM, wait: float = 20.0) -> None:
-    if proc.poll() is None:
-        proc.send_signal(sig)
-        try:
-            proc.wait(timeout=wait)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait(timeout=10)
 
 
 def test_mavproxy_reads_the_real_vehicles_parameters_and_mission(tmp_path):
@@ -97,13 +88,13 @@ def test_mavproxy_reads_the_real_vehicles_parameters_and_mission(tmp_path):
                  "--non-interactive", "--no-state", f"--cmd={cmds}"],
                 stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT, text=True, cwd=tmp_path, env=env)
             time.sleep(RUN_S)
-            _stop(fly, signal.SIGINT)              # Ctrl-C: the flight ends, its outputs are written
+            stop_process(fly, signal.SIGINT)              # Ctrl-C: the flight ends, its outputs are written
             time.sleep(1.0)                        # the flight's last STATUSTEXT reaches MAVProxy
-            _stop(mavproxy)
+            stop_process(mavproxy)
     finally:
         for p in (fly, mavproxy):
             if p is not None:
-                _stop(p, signal.SIGKILL, 5.0)
+                stop_process(p, signal.SIGKILL, 5.0)
     out = log.read_text()
     flown = fly.stdout.read()
     print(out)

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from mavlink_helpers import free_udp_port
+from mavlink_helpers import free_udp_port, stop_process
 
 REF = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
 START_S = 60.0  # the flight's start (imports, JSBSim, the kernels' compilation) at most
@@ -39,15 +39,6 @@ def _mavsdk_usable() -> str | None:
 
 pytestmark = pytest.mark.skipif(_mavsdk_usable() is not None, reason=str(_mavsdk_usable()))
 
-
-def _stop(proc: subprocess.Popen, sig: int = signal.SIGINT, wait: float = 20.0) -> None:
-    if proc.poll() is None:
-        proc.send_signal(sig)
-        try:
-            proc.wait(timeout=wait)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait(timeout=10)
 
 
 async def _first(agen, pred, timeout: float):
@@ -134,8 +125,8 @@ def test_mavsdk_reads_and_commands_the_real_vehicle(tmp_path):
     try:
         seen = asyncio.run(asyncio.wait_for(_ground_station(port, fly), 150.0))
     finally:
-        _stop(fly)
-        _stop(fly, signal.SIGKILL, 5.0)
+        stop_process(fly, signal.SIGINT)
+        stop_process(fly, signal.SIGKILL, 5.0)
     print(fly.stdout.read())
     print({k: v for k, v in seen.items() if k not in ("texts", "battery")})
     print(seen["texts"])
