@@ -15,6 +15,9 @@ from .series import robust_note
 #: title of the power panel (both layouts)
 POWER_PANEL = "power [W]"
 
+#: title of a flight's mode lane: the autopilot's mode number, the winch's mode and the phase code
+MODE_PANEL = "modes: autopilot (MAVLink custom_mode), winch (0 generator, 1 motor), phase (0 gen., 1 rec.)"
+
 #: plot panels of a flight recording: (title, entity paths)
 FLIGHT_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("airspeed [m/s]", ("plots/airspeed",)),
@@ -29,6 +32,7 @@ FLIGHT_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
     (POWER_PANEL, ("plots/power/**",)),
     ("cumulative energy [J]", ("plots/energy/**",)),
     ("tracking error [m]", ("plots/tracking_error",)),
+    (MODE_PANEL, ("plots/mode/**",)),
 )
 
 #: plot panels of an optimised-cycle recording
@@ -80,4 +84,4 @@ def cycle_blueprint(title: str = "optimised cycle") -> Any:
     return layout(CYCLE_PANELS, title)
 
 
-__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "POWER_PANEL", "cycle_blueprint", "flight_blueprint", "layout"]
+__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "MODE_PANEL", "POWER_PANEL", "cycle_blueprint", "flight_blueprint", "layout"]

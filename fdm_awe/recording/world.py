@@ -5,7 +5,8 @@ the viewer shows altitude upwards):
 
 - ``world/ground`` grid lines every 50 m; ``world/winch`` the winch; ``world/wind`` an arrow
   showing where the wind blows to (length 10 m per m/s);
-- ``world/<path>/<phase>`` a path drawn as one line strip per phase run;
+- ``world/<path>/<phase>`` a path drawn as one line strip per phase run (``world/flown/live``:
+  the path flown so far, re-sent every second of flight time);
 - ``world/glider`` pose over time (translation + attitude quaternion), with
   ``world/glider/airframe`` the glider as a mesh drawn ``scale`` times enlarged (a 1.1 m glider
   is a dot next to a 250 m line): ``body`` (fuselage and tail) and ``wing``, whose span follows
@@ -59,8 +60,9 @@ def log_static_scene(rf: RecordingSink, extent: tuple[tuple[float, float], tuple
 
 
 def log_path(rf: RecordingSink, entity: str, points: np.ndarray, labels: Sequence[str], *, radius: float = 0.6,
-             reference: bool = False) -> None:
-    """A static path, one line strip per phase run, coloured by phase (``reference``: lighter, thinner)."""
+             reference: bool = False, t: float | None = None) -> None:
+    """A path, one line strip per phase run, coloured by phase (``reference``: lighter, thinner):
+    static, or from simulation time ``t`` [s] on."""
     rr = rf.rr
     runs: dict[str, list[np.ndarray]] = {}
     for lab, seg in segments_by_label(points, labels):
@@ -69,8 +71,22 @@ def log_path(rf: RecordingSink, entity: str, points: np.ndarray, labels: Sequenc
         c = np.array(phase_color(lab), float)
         if reference:
             c = 0.55 * c + 0.45 * np.array(REFERENCE_COLOR) + 0.0
-        rf.static(f"{entity}/{lab}", rr.LineStrips3D(segs, colors=[tuple(int(v) for v in c)], radii=[radius],
-                                                     labels=[f"{'reference ' if reference else ''}{lab}"]))
+        strips = rr.LineStrips3D(segs, colors=[tuple(int(v) for v in c)], radii=[radius],
+                                 labels=[f"{'reference ' if reference else ''}{lab}"])
+        if t is None:
+            rf.static(f"{entity}/{lab}", strips)
+        else:
+            rf.at(f"{entity}/{lab}", t, strips)
+
+
+def log_path_so_far(rf: RecordingSink, entity: str, t: float, points: np.ndarray, labels: Sequence[str], *,
+                    radius: float = 0.5) -> None:
+    """The path flown up to simulation time ``t`` [s] (``points`` (n, 3) NED m, a phase label
+    each) at ``t`` into one entity: a line strip per phase run, coloured by phase."""
+    rr = rf.rr
+    segs = segments_by_label(points, labels)
+    rf.at(entity, t, rr.LineStrips3D([seg for _, seg in segs], colors=[phase_color(lab) for lab, _ in segs],
+                                     radii=[radius]))
 
 
 def log_airframe(rf: RecordingSink, scale: float = GLIDER_SCALE) -> None:
@@ -203,4 +219,4 @@ def log_phase(rf: RecordingSink, t: np.ndarray, labels: Sequence[str], *, previo
 
 
 __all__ = ["FORCES_TEXT", "FORCE_COLORS", "FORCE_SCALE", "GLIDER_SCALE", "log_airframe", "log_error_line",
-           "log_forces", "log_forces_description", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]
+           "log_forces", "log_forces_description", "log_glider", "log_path", "log_path_so_far", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]
