@@ -34,7 +34,7 @@ from .scene import REFERENCE_COLOR, scene_extent
 from .series import Series, cycle_series, flight_series, load_reference, robust_range
 from .world import (
     FORCE_SCALE, GLIDER_SCALE, log_airframe, log_error_line, log_forces, log_forces_description, log_glider, log_path,
-    log_path_so_far, log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
+    log_paths_so_far, log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
 )
 
 #: (entity, series name, display name) of a flight's plots
@@ -176,8 +176,10 @@ class RowsSent:
     fold: float | None = None  #: fold state of the last wing mesh sent
     phase: str | None = None  #: phase label of the last row sent
     phases: set[str] = field(default_factory=set)  #: every phase label sent
-    path_points: list[np.ndarray] = field(default_factory=list)  #: points of the path so far (NED m)
-    path_labels: list[str] = field(default_factory=list)  #: their phase labels
+    #: the path so far (NED m): its finished runs of one phase (label, points (n, 3)) and the run
+    #: being flown (label, points), which begins at the last point of the run before it
+    path_runs: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    path_run: tuple[str, list[np.ndarray]] | None = None
     path_next: float = -np.inf  #: simulation time [s] from which the path so far is sent again
     path_last: float = -np.inf  #: simulation time [s] of the last point kept
 
@@ -209,15 +211,25 @@ def _send_path_so_far(rf: RecordingSink, s: Series, sent: RowsSent, *, every_s: 
     pos = s.pos
     eps = 1e-6  # [s] time stamps are multiples of the step, not of 1 / hz
     last = len(s.t) - 1
+    times: list[float] = []
+    paths: list[list[tuple[str, np.ndarray]]] = []
     for j, tj in enumerate(s.t.tolist()):
         if tj < sent.path_last + 1.0 / hz - eps and not (j == last and tj >= sent.path_next - eps):
             continue
-        sent.path_points.append(pos[j])
-        sent.path_labels.append(s.phase[j])
         sent.path_last = tj
+        if np.all(np.isfinite(pos[j])):
+            run = sent.path_run
+            if run is None or run[0] != s.phase[j]:
+                if run is not None:
+                    sent.path_runs.append((run[0], np.asarray(run[1])))
+                run = sent.path_run = (s.phase[j], ([run[1][-1]] if run is not None else []))
+            run[1].append(pos[j])
         if tj >= sent.path_next - eps:
-            log_path_so_far(rf, LIVE_PATH, tj, np.asarray(sent.path_points), sent.path_labels)
+            times.append(tj)
+            run = sent.path_run
+            paths.append(sent.path_runs + ([] if run is None else [(run[0], np.asarray(run[1]))]))
             sent.path_next = (np.floor(tj / every_s + eps) + 1.0) * every_s
+    log_paths_so_far(rf, LIVE_PATH, np.asarray(times), paths)
 
 
 def log_flight_start(rf: RecordingSink, reference: Any, pos: np.ndarray | None = None, *,

@@ -56,32 +56,35 @@ class CycleClock:
     cycle's rows as :func:`fdm_awe.sim.cycles.segment_cycles` counts them."""
 
     def __init__(self) -> None:
-        self._t: list[float] = []  #: simulation time [s] at which a cycle begins
-        self._k: list[int] = []  #: that cycle's index
+        self._t = np.zeros(0)  #: simulation time [s] at which a cycle begins
+        self._k = np.zeros(0, dtype=np.int64)  #: that cycle's index
         self._t_last = -np.inf
 
     def extend(self, t: np.ndarray, cycle: np.ndarray) -> None:
         """Rows at times ``t`` [s] (increasing, after those given before) flown in ``cycle``."""
-        for ti, ci in zip(np.asarray(t, float), np.asarray(cycle, float)):
-            if ti < self._t_last or not ci == ci or ci < 0:
-                continue
-            if not self._k or int(ci) != self._k[-1]:
-                self._t.append(float(ti))
-                self._k.append(int(ci))
-            self._t_last = float(ti)
+        t = np.asarray(t, dtype=np.float64)
+        c = np.asarray(cycle, dtype=np.float64)
+        ok = (t >= self._t_last) & (c >= 0)  # NaN labels are no cycle either
+        t, k = t[ok], c[ok].astype(np.int64)
+        if not len(t):
+            return
+        change = np.r_[not len(self._k) or k[0] != self._k[-1], k[1:] != k[:-1]]
+        self._t = np.r_[self._t, t[change]]
+        self._k = np.r_[self._k, k[change]]
+        self._t_last = float(t[-1])
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
         """Cycle index (int64) at times ``t`` [s]."""
         t = np.asarray(t, dtype=np.float64)
-        if not self._k:
+        if not len(self._k):
             return np.zeros(t.shape, dtype=np.int64)
-        i = np.searchsorted(np.asarray(self._t), t, side="right") - 1
-        return np.where(i >= 0, np.asarray(self._k, dtype=np.int64)[np.maximum(i, 0)], 0)
+        i = np.searchsorted(self._t, t, side="right") - 1
+        return np.where(i >= 0, self._k[np.maximum(i, 0)], 0)
 
     @property
     def cycles(self) -> list[int]:
         """The cycle indices begun so far."""
-        return list(self._k)
+        return self._k.tolist()
 
 
 class RecordingSink:

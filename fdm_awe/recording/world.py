@@ -79,14 +79,21 @@ def log_path(rf: RecordingSink, entity: str, points: np.ndarray, labels: Sequenc
             rf.at(f"{entity}/{lab}", t, strips)
 
 
-def log_path_so_far(rf: RecordingSink, entity: str, t: float, points: np.ndarray, labels: Sequence[str], *,
-                    radius: float = 0.5) -> None:
-    """The path flown up to simulation time ``t`` [s] (``points`` (n, 3) NED m, a phase label
-    each) at ``t`` into one entity: a line strip per phase run, coloured by phase."""
-    rr = rf.rr
-    segs = segments_by_label(points, labels)
-    rf.at(entity, t, rr.LineStrips3D([seg for _, seg in segs], colors=[phase_color(lab) for lab, _ in segs],
-                                     radii=[radius]))
+def log_paths_so_far(rf: RecordingSink, entity: str, t: np.ndarray, paths: Sequence[Sequence[tuple[str, np.ndarray]]],
+                     *, radius: float = 0.5) -> None:
+    """The path flown so far at each simulation time of ``t`` [s] into one entity, in one call:
+    ``paths[i]`` the path at ``t[i]`` as its runs of one phase (label, points (n, 3) NED m),
+    each drawn as a line strip coloured by its phase (a run of fewer than 2 points is left out)."""
+    if not len(t):
+        return
+    strips, colors, lengths = [], [], []
+    for runs in paths:
+        kept = [(lab, pts) for lab, pts in runs if len(pts) >= 2]
+        strips += [pts for _, pts in kept]
+        colors += [phase_color(lab) for lab, _ in kept]
+        lengths.append(len(kept))
+    cols = rf.rr.LineStrips3D.columns(strips=strips, colors=colors, radii=np.full(len(strips), radius))
+    rf.columns(entity, np.asarray(t, float), cols.partition(lengths=lengths))
 
 
 def log_airframe(rf: RecordingSink, scale: float = GLIDER_SCALE) -> None:
@@ -219,4 +226,4 @@ def log_phase(rf: RecordingSink, t: np.ndarray, labels: Sequence[str], *, previo
 
 
 __all__ = ["FORCES_TEXT", "FORCE_COLORS", "FORCE_SCALE", "GLIDER_SCALE", "log_airframe", "log_error_line",
-           "log_forces", "log_forces_description", "log_glider", "log_path", "log_path_so_far", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]
+           "log_forces", "log_forces_description", "log_glider", "log_path", "log_paths_so_far", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]
