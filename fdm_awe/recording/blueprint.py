@@ -1,7 +1,8 @@
 """Viewer layouts (rerun blueprints): the 3D scene on the left, the plots on the right.
 
-A flight's layout also shows the phase lane and the event log (autopilot messages, how the
-run ended) below the plots. A panel may get a fixed initial y-range (``y_ranges``): the flight's
+A flight's layout also has the mode lane (a plot panel: autopilot mode number, winch mode,
+phase code) and shows the phase lane and the event log (autopilot messages, how the run ended)
+below the plots. A panel may get a fixed initial y-range (``y_ranges``): the flight's
 power panel is given a robust one (:func:`fdm_awe.recording.series.robust_range`), so the
 motor's start-up spike does not squash it; its title then says so.
 """

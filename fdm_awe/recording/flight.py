@@ -9,12 +9,14 @@ reference-trajectory file (or trajectory / CycleResult) the same way.
 A flight is recorded in three parts, which :class:`~fdm_awe.recording.stream.LiveFlight` also
 uses to stream a flight to a viewer while it is flown: :func:`log_flight_start` (the static
 scene: ground, winch, wind, reference path, airframe), :func:`log_flight_rows` (everything
-over time: pose, wing, tether, forces, plots, phase; callable for consecutive slices of rows)
-and :func:`log_flight_end` (the flown path, the event log and the report).
+over time: pose, wing, tether, forces, plots, the mode lane, phase, the path flown so far every
+second; callable for consecutive slices of rows) and :func:`log_flight_end` (the whole flown
+path, the event log and the report). Every temporal row carries its cycle on the ``cycle``
+timeline (:class:`~fdm_awe.recording.rrd.CycleClock`, fed by :func:`log_flight_rows`).
 
 Cost: the scalar series go out at full rate as columns; the 3D scene (pose, tether, force
-arrows, reference marker) is decimated to ``scene_hz`` (30 Hz by default; the viewer
-interpolates nothing, it shows the latest pose).
+arrows, reference marker) and the mode lane are decimated to ``scene_hz`` (30 Hz by default;
+the viewer interpolates nothing, it shows the latest pose), the path so far to ``PATH_HZ``.
 """
 
 from __future__ import annotations
@@ -248,7 +250,7 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
                     rows: slice = slice(None), scene_hz: float = 30.0, force_scale: float = FORCE_SCALE) -> RowsSent:
     """Everything over time of the ``rows`` of a flight (or of a slice of one): pose and wing,
     tether, force arrows, reference marker and tracking error (3D scene at about ``scene_hz``),
-    every plot at full rate, and the phase lane. ``s`` and ``forces`` are the flight's
+    every plot at full rate, the mode lane, the phase lane and the path flown so far. ``s`` and ``forces`` are the flight's
     :func:`~fdm_awe.recording.series.flight_series` and
     :func:`~fdm_awe.recording.forces.flight_forces` on the recording's time axis; ``sent``
     carries the state between consecutive slices. Returns it, updated."""

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ..sim.cycles import NO_CYCLE, step_reference
 from ..sim.propulsion import logged_propulsion
 
 _FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust", "p_prop",
@@ -65,8 +66,6 @@ class StepBuffer:
 
     def _labels(self, ap: Any) -> None:
         """The mode and the cycle label of the step just flown (as the flight's log labels it)."""
-        from ..sim.cycles import NO_CYCLE, step_reference
-
         self.modes.append(str(getattr(ap, "mode", "")) if ap is not None else "")
         rp = step_reference(ap) if ap is not None and hasattr(ap, "ref_point") else None
         self.cycles.append(NO_CYCLE if rp is None else int(rp.cycle))
