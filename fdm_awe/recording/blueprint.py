@@ -85,4 +85,5 @@ def cycle_blueprint(title: str = "optimised cycle") -> Any:
     return layout(CYCLE_PANELS, title)
 
 
-__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "MODE_PANEL", "POWER_PANEL", "cycle_blueprint", "flight_blueprint", "layout"]
+__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "MODE_PANEL", "POWER_PANEL", "cycle_blueprint", "flight_blueprint",
+           "layout"]

@@ -250,8 +250,8 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
                     rows: slice = slice(None), scene_hz: float = 30.0, force_scale: float = FORCE_SCALE) -> RowsSent:
     """Everything over time of the ``rows`` of a flight (or of a slice of one): pose and wing,
     tether, force arrows, reference marker and tracking error (3D scene at about ``scene_hz``),
-    every plot at full rate, the mode lane, the phase lane and the path flown so far. ``s`` and ``forces`` are the flight's
-    :func:`~fdm_awe.recording.series.flight_series` and
+    every plot at full rate, the mode lane, the phase lane and the path flown so far. ``s`` and
+    ``forces`` are the flight's :func:`~fdm_awe.recording.series.flight_series` and
     :func:`~fdm_awe.recording.forces.flight_forces` on the recording's time axis; ``sent``
     carries the state between consecutive slices. Returns it, updated."""
     sent = RowsSent() if sent is None else sent
@@ -373,5 +373,5 @@ def _air_path_quat(gamma: float, psi: float, phi: float, alpha: float) -> tuple[
     return euler_to_quat(phi, gamma + alpha, psi)
 
 
-__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "FORCE_PLOTS", "LIVE_PATH", "MODE_PLOTS", "RowsSent", "describe", "log_flight_end", "log_flight_rows",
-           "log_flight_start", "power_range", "record_cycle", "record_flight"]
+__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "FORCE_PLOTS", "LIVE_PATH", "MODE_PLOTS", "RowsSent", "describe",
+           "log_flight_end", "log_flight_rows", "log_flight_start", "power_range", "record_cycle", "record_flight"]

@@ -215,4 +215,5 @@ def segments_by_label(points: np.ndarray, labels: Sequence[str]) -> list[tuple[s
     return out
 
 
-__all__ = ["APPLICATION_ID", "CYCLE_TIMELINE", "CycleClock", "RecordingSink", "RrdFile", "new_stream", "TIMELINE", "segments_by_label"]
+__all__ = ["APPLICATION_ID", "CYCLE_TIMELINE", "CycleClock", "RecordingSink", "RrdFile", "new_stream", "TIMELINE",
+           "segments_by_label"]

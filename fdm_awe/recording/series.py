@@ -273,5 +273,5 @@ def _cumtrapz_phase(p: np.ndarray, t: np.ndarray) -> np.ndarray:
     return np.r_[0.0, np.cumsum(inc)]
 
 
-__all__ = ["ROBUST_Q", "STARTUP_S", "Series", "csv_name", "cycle_series", "flight_modes", "flight_series", "load_reference", "robust_note",
-           "robust_range"]
+__all__ = ["ROBUST_Q", "STARTUP_S", "Series", "csv_name", "cycle_series", "flight_modes", "flight_series",
+           "load_reference", "robust_note", "robust_range"]

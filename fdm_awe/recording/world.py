@@ -225,5 +225,6 @@ def log_phase(rf: RecordingSink, t: np.ndarray, labels: Sequence[str], *, previo
         rf.columns("phase", np.asarray(t)[idx], rr.StateChange.columns(state=[labels[i] for i in idx]))
 
 
-__all__ = ["FORCES_TEXT", "FORCE_COLORS", "FORCE_SCALE", "GLIDER_SCALE", "log_airframe", "log_error_line",
-           "log_forces", "log_forces_description", "log_glider", "log_path", "log_paths_so_far", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]
+__all__ = ["FORCES_TEXT", "FORCE_COLORS", "FORCE_SCALE", "GLIDER_SCALE", "log_airframe", "log_error_line", "log_forces",
+           "log_forces_description", "log_glider", "log_path", "log_paths_so_far", "log_phase", "log_point",
+           "log_static_scene", "log_tether", "log_tether_nodes"]
