@@ -21,7 +21,7 @@ from test_recording import circle  # noqa: F401 - fixture
 
 from fdm_awe.cli import main
 from fdm_awe.recording import flight_forces, rrd_entities, rrd_values
-from fdm_awe.recording.inspect import rerun_cli
+from fdm_awe.recording.inspect import rerun_cli, rrd_timeline
 
 
 def _free_port() -> int:
@@ -103,6 +103,15 @@ def test_live_flight_streams_what_the_file_holds(circle, viewer):  # noqa: F811
     np.testing.assert_allclose(np.asarray(rows, float).ravel(), f.L[1:], rtol=1e-9)
     _, _, texts = rrd_values(saved, "/events", "TextLog:text")
     assert texts[-1][0].startswith("end: ok")
+    # the cycle on every row; the mode lane; the path so far sent while flying, then the whole path
+    for entity, info in rrd_timeline(saved, "cycle").items():
+        assert info.on_timeline == info.rows > 0 and info.values == (0,), entity
+    _, _, modes = rrd_values(saved, "/plots/mode/autopilot", "Scalars:scalars")
+    assert set(np.asarray(modes, float).ravel()) == {10.0}  # AUTO
+    _, times, strips = rrd_values(saved, "/world/flown/live", "LineStrips3D:strips")
+    counts = [sum(len(p) for p in row) for row in strips]
+    assert times[:2] == pytest.approx([0.0, 1.0], abs=0.01) and counts[1] > counts[0]
+    assert ent["/world/flown/generation"].t_min == pytest.approx(rep.sim_time_s, abs=1e-6)
 
 
 def _short_flight(monkeypatch, t_end: float = 2.0) -> None:

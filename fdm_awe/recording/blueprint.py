@@ -1,7 +1,8 @@
 """Viewer layouts (rerun blueprints): the 3D scene on the left, the plots on the right.
 
-A flight's layout also shows the phase lane and the event log (autopilot messages, how the
-run ended) below the plots. A panel may get a fixed initial y-range (``y_ranges``): the flight's
+A flight's layout also has the mode lane (a plot panel: autopilot mode number, winch mode,
+phase code) and shows the phase lane and the event log (autopilot messages, how the run ended)
+below the plots. A panel may get a fixed initial y-range (``y_ranges``): the flight's
 power panel is given a robust one (:func:`fdm_awe.recording.series.robust_range`), so the
 motor's start-up spike does not squash it; its title then says so.
 """
@@ -14,6 +15,9 @@ from .series import robust_note
 
 #: title of the power panel (both layouts)
 POWER_PANEL = "power [W]"
+
+#: title of a flight's mode lane: the autopilot's mode number, the winch's mode and the phase code
+MODE_PANEL = "modes: autopilot (MAVLink custom_mode), winch (0 generator, 1 motor), phase (0 gen., 1 rec.)"
 
 #: plot panels of a flight recording: (title, entity paths)
 FLIGHT_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -29,6 +33,7 @@ FLIGHT_PANELS: tuple[tuple[str, tuple[str, ...]], ...] = (
     (POWER_PANEL, ("plots/power/**",)),
     ("cumulative energy [J]", ("plots/energy/**",)),
     ("tracking error [m]", ("plots/tracking_error",)),
+    (MODE_PANEL, ("plots/mode/**",)),
 )
 
 #: plot panels of an optimised-cycle recording
@@ -80,4 +85,5 @@ def cycle_blueprint(title: str = "optimised cycle") -> Any:
     return layout(CYCLE_PANELS, title)
 
 
-__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "POWER_PANEL", "cycle_blueprint", "flight_blueprint", "layout"]
+__all__ = ["CYCLE_PANELS", "FLIGHT_PANELS", "MODE_PANEL", "POWER_PANEL", "cycle_blueprint", "flight_blueprint",
+           "layout"]

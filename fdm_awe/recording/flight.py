@@ -9,12 +9,14 @@ reference-trajectory file (or trajectory / CycleResult) the same way.
 A flight is recorded in three parts, which :class:`~fdm_awe.recording.stream.LiveFlight` also
 uses to stream a flight to a viewer while it is flown: :func:`log_flight_start` (the static
 scene: ground, winch, wind, reference path, airframe), :func:`log_flight_rows` (everything
-over time: pose, wing, tether, forces, plots, phase; callable for consecutive slices of rows)
-and :func:`log_flight_end` (the flown path, the event log and the report).
+over time: pose, wing, tether, forces, plots, the mode lane, phase, the path flown so far every
+second; callable for consecutive slices of rows) and :func:`log_flight_end` (the whole flown
+path, the event log and the report). Every temporal row carries its cycle on the ``cycle``
+timeline (:class:`~fdm_awe.recording.rrd.CycleClock`, fed by :func:`log_flight_rows`).
 
 Cost: the scalar series go out at full rate as columns; the 3D scene (pose, tether, force
-arrows, reference marker) is decimated to ``scene_hz`` (30 Hz by default; the viewer
-interpolates nothing, it shows the latest pose).
+arrows, reference marker) and the mode lane are decimated to ``scene_hz`` (30 Hz by default;
+the viewer interpolates nothing, it shows the latest pose), the path so far to ``PATH_HZ``.
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ from typing import Any
 
 import numpy as np
 
+from ..autopilot.modes import MODE_NUMBERS
+from ..sim.cycles import OTHER_PHASE, PHASE_CODES
 from .blueprint import cycle_blueprint, flight_blueprint
 from .forces import GliderForces, flight_forces
 from .rrd import RecordingSink, RrdFile
@@ -32,7 +36,7 @@ from .scene import REFERENCE_COLOR, scene_extent
 from .series import Series, cycle_series, flight_series, load_reference, robust_range
 from .world import (
     FORCE_SCALE, GLIDER_SCALE, log_airframe, log_error_line, log_forces, log_forces_description, log_glider, log_path,
-    log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
+    log_paths_so_far, log_phase, log_point, log_static_scene, log_tether, log_tether_nodes,
 )
 
 #: (entity, series name, display name) of a flight's plots
@@ -88,6 +92,23 @@ FORCE_PLOTS: tuple[tuple[str, str, str], ...] = (
     ("plots/forces/tether", "tether_N", "tether force"),
     ("plots/forces/thrust", "thrust_N", "thrust"),
 )
+
+#: the path flown so far (re-sent every PATH_EVERY_S of flight time, points at about PATH_HZ)
+LIVE_PATH = "world/flown/live"
+PATH_EVERY_S = 1.0
+PATH_HZ = 5.0
+
+#: the mode lane: key -> (entity, series name, colour); the autopilot's mode as its MAVLink
+#: custom_mode number (fdm_awe.autopilot.modes), the winch as 0 generator / 1 motor (the
+#: electrical power's sign), the phase as its code (fdm_awe.sim.cycles.PHASE_CODES, -1 other)
+MODE_PLOTS: dict[str, tuple[str, str, tuple[int, int, int]]] = {
+    "autopilot": ("plots/mode/autopilot",
+                  "autopilot mode (" + ", ".join(f"{v} {k}" for k, v in MODE_NUMBERS.items() if k != "GUIDED") + ")",
+                  (31, 119, 180)),
+    "winch": ("plots/mode/winch", "winch mode (0 generator, 1 motor)", (214, 39, 40)),
+    "phase": ("plots/mode/phase", "phase (" + ", ".join(f"{v} {k}" for k, v in PHASE_CODES.items())
+              + f", {OTHER_PHASE} other)", (44, 160, 44)),
+}
 
 _COLORS = {"generated": (44, 160, 44), "thrust": (214, 39, 40), "reel_in": (255, 127, 14), "net": (31, 119, 180),
            "winch_electrical": (31, 119, 180), "propeller": (214, 39, 40), "lift": (31, 119, 180),
@@ -157,6 +178,60 @@ class RowsSent:
     fold: float | None = None  #: fold state of the last wing mesh sent
     phase: str | None = None  #: phase label of the last row sent
     phases: set[str] = field(default_factory=set)  #: every phase label sent
+    #: the path so far (NED m): its finished runs of one phase (label, points (n, 3)) and the run
+    #: being flown (label, points), which begins at the last point of the run before it
+    path_runs: list[tuple[str, np.ndarray]] = field(default_factory=list)
+    path_run: tuple[str, list[np.ndarray]] | None = None
+    path_next: float = -np.inf  #: simulation time [s] from which the path so far is sent again
+    path_last: float = -np.inf  #: simulation time [s] of the last point kept
+
+
+def _send_modes(rf: RecordingSink, s: Series, rows: np.ndarray) -> None:
+    """The mode lane of rows ``s`` (a slice of a flight): the autopilot's mode number, the
+    winch's mode and the phase code at ``rows`` (indices into ``s``) and around each change,
+    so the drawn lines step where the mode changed."""
+    series: list[tuple[str, np.ndarray]] = []
+    if s.mode is not None:
+        series.append(("autopilot", np.array([MODE_NUMBERS.get(m, np.nan) for m in s.mode], float)))
+    pe = s["p_electrical"]
+    series.append(("winch", np.where(np.isfinite(pe), (pe < 0.0).astype(float), np.nan)))
+    series.append(("phase", np.array([PHASE_CODES.get(p, OTHER_PHASE) for p in s.phase], float)))
+    for key, values in series:
+        v = np.nan_to_num(values, nan=-1e9)
+        change = np.flatnonzero(v[1:] != v[:-1]) + 1
+        keep = np.unique(np.r_[rows, change, change - 1].astype(int))
+        entity, label, color = MODE_PLOTS[key]
+        rf.scalars(entity, s.t[keep], values[keep], name=label, color=color)
+
+
+def _send_path_so_far(rf: RecordingSink, s: Series, sent: RowsSent, *, every_s: float = PATH_EVERY_S,
+                      hz: float = PATH_HZ) -> None:
+    """The path flown so far, from the rows ``s`` (the next slice of a flight): points kept at
+    about ``hz``, the whole path sent to :data:`LIVE_PATH` every ``every_s`` seconds of flight
+    time (at the first kept point at or after each multiple; a slice's last row is kept when a
+    multiple has passed, so the path reaches the glider however the flight is sliced)."""
+    pos = s.pos
+    eps = 1e-6  # [s] time stamps are multiples of the step, not of 1 / hz
+    last = len(s.t) - 1
+    times: list[float] = []
+    paths: list[list[tuple[str, np.ndarray]]] = []
+    for j, tj in enumerate(s.t.tolist()):
+        if tj < sent.path_last + 1.0 / hz - eps and not (j == last and tj >= sent.path_next - eps):
+            continue
+        sent.path_last = tj
+        if np.all(np.isfinite(pos[j])):
+            run = sent.path_run
+            if run is None or run[0] != s.phase[j]:
+                if run is not None:
+                    sent.path_runs.append((run[0], np.asarray(run[1])))
+                run = sent.path_run = (s.phase[j], ([run[1][-1]] if run is not None else []))
+            run[1].append(pos[j])
+        if tj >= sent.path_next - eps:
+            times.append(tj)
+            run = sent.path_run
+            paths.append(sent.path_runs + ([] if run is None else [(run[0], np.asarray(run[1]))]))
+            sent.path_next = (np.floor(tj / every_s + eps) + 1.0) * every_s
+    log_paths_so_far(rf, LIVE_PATH, np.asarray(times), paths)
 
 
 def log_flight_start(rf: RecordingSink, reference: Any, pos: np.ndarray | None = None, *,
@@ -175,14 +250,16 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
                     rows: slice = slice(None), scene_hz: float = 30.0, force_scale: float = FORCE_SCALE) -> RowsSent:
     """Everything over time of the ``rows`` of a flight (or of a slice of one): pose and wing,
     tether, force arrows, reference marker and tracking error (3D scene at about ``scene_hz``),
-    every plot at full rate, and the phase lane. ``s`` and ``forces`` are the flight's
-    :func:`~fdm_awe.recording.series.flight_series` and
+    every plot at full rate, the mode lane, the phase lane and the path flown so far. ``s`` and
+    ``forces`` are the flight's :func:`~fdm_awe.recording.series.flight_series` and
     :func:`~fdm_awe.recording.forces.flight_forces` on the recording's time axis; ``sent``
     carries the state between consecutive slices. Returns it, updated."""
     sent = RowsSent() if sent is None else sent
     res = getattr(flight, "result", None) or flight
     idx = np.arange(len(s.t))[rows]
     t = s.t[idx]
+    if s.cycle is not None:  # every row from here on carries its cycle
+        rf.clock.extend(t, s.cycle[idx])
     i = idx[_decimate(t, scene_hz)]
     if len(i):
         pos = s.pos
@@ -197,8 +274,10 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
         refp = np.c_[s["ref_x"], s["ref_y"], s["ref_z"]][i]
         log_point(rf, "world/reference_point", s.t[i], refp, REFERENCE_COLOR)
         log_error_line(rf, "world/tracking_error", s.t[i], pos[i], refp)
-    part = Series(t=t, columns={k: (u, v[idx]) for k, (u, v) in s.columns.items()}, phase=[s.phase[j] for j in idx])
+    part = s.rows(idx)
     _send_plots(rf, part, FLIGHT_PLOTS)
+    _send_modes(rf, part, _decimate(t, scene_hz))
+    _send_path_so_far(rf, part, sent)
     scalars = {"L": forces.L, "D": forces.D, "C": forces.C, "tether_N": forces.magnitude("tether"),
                "thrust_N": s["thrust"]}
     _send_plots(rf, Series(t=t, columns={k: ("N", v[idx]) for k, v in scalars.items()}, phase=part.phase), FORCE_PLOTS)
@@ -210,8 +289,11 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
 
 
 def log_flight_end(rf: RecordingSink, flight: Any, s: Series) -> None:
-    """The flown path (coloured by phase), the event log and, for a report, its markdown."""
-    log_path(rf, "world/flown", s.pos, s.phase, radius=0.7)
+    """The whole flown path (coloured by phase) at the flight's last time, replacing the path so
+    far; the event log and, for a report, its markdown."""
+    t_end = float(s.t[-1]) if len(s.t) else 0.0
+    rf.at(LIVE_PATH, t_end, rf.rr.Clear(recursive=False))
+    log_path(rf, "world/flown", s.pos, s.phase, radius=0.7, t=t_end)
     _log_events(rf, flight, s)
     if hasattr(flight, "cycles") and hasattr(flight, "ledger"):
         from .report import flight_markdown
@@ -291,5 +373,5 @@ def _air_path_quat(gamma: float, psi: float, phi: float, alpha: float) -> tuple[
     return euler_to_quat(phi, gamma + alpha, psi)
 
 
-__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "FORCE_PLOTS", "RowsSent", "describe", "log_flight_end", "log_flight_rows",
-           "log_flight_start", "power_range", "record_cycle", "record_flight"]
+__all__ = ["CYCLE_PLOTS", "FLIGHT_PLOTS", "FORCE_PLOTS", "LIVE_PATH", "MODE_PLOTS", "RowsSent", "describe",
+           "log_flight_end", "log_flight_rows", "log_flight_start", "power_range", "record_cycle", "record_flight"]

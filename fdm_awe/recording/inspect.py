@@ -1,4 +1,4 @@
-"""Read a recording back: verify it with the rerun CLI, list its entities and time ranges, read values.
+"""Read a recording back: verify it with the rerun CLI, list its entities, time ranges and timelines, read values.
 
 :func:`rrd_entities` and :func:`rrd_values` use rerun's own reader (``rerun.chunk.RrdReader``),
 also for a file without footer (what ``rerun --save`` writes from a live stream); :func:`rrd_verify`
@@ -127,6 +127,33 @@ def rrd_values(path: str | Path, entity: str, component: str,
     return static, [t for t, _ in rows], [v for _, v in rows]
 
 
+@dataclass
+class TimelineInfo:
+    """How one entity's temporal rows sit on a timeline: the rows, those with a time on it, and
+    the distinct times (raw: a sequence's numbers, a duration's nanoseconds)."""
+
+    rows: int = 0
+    on_timeline: int = 0
+    values: tuple[int, ...] = ()
+
+
+def rrd_timeline(path: str | Path, timeline: str) -> dict[str, TimelineInfo]:
+    """Entity path -> :class:`TimelineInfo` on ``timeline`` of the temporal rows in ``path``."""
+    out: dict[str, TimelineInfo] = {}
+    for chunk in _chunks(path):
+        if chunk.is_static:
+            continue
+        info = out.setdefault(str(chunk.entity_path), TimelineInfo())
+        rb = chunk.to_record_batch()
+        info.rows += int(chunk.num_rows)
+        if timeline in rb.schema.names:
+            col = rb.column(timeline)
+            info.on_timeline += len(col) - col.null_count
+            vals = {int(v) for v in col.cast("int64").to_pylist() if v is not None}
+            info.values = tuple(sorted(set(info.values) | vals))
+    return out
+
+
 def rrd_views(path: str | Path) -> dict[str, list[str]]:
     """View name -> its content queries, from the default blueprint stored in ``path``."""
     from rerun.chunk import RrdReader
@@ -146,4 +173,5 @@ def rrd_views(path: str | Path) -> dict[str, list[str]]:
     return {name: queries.get(ent, []) for ent, name in names.items()}
 
 
-__all__ = ["EntityInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_values", "rrd_verify", "rrd_views"]
+__all__ = ["EntityInfo", "TimelineInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_timeline", "rrd_values",
+           "rrd_verify", "rrd_views"]

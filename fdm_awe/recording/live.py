@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ..sim.cycles import NO_CYCLE, step_reference
 from ..sim.propulsion import logged_propulsion
 
 _FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust", "p_prop",
@@ -33,7 +34,9 @@ _FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta
 
 class StepBuffer:
     """Step callback ``(k, state, gs_output)`` plus ``setup(autopilot, cosim)`` hook that keeps
-    a light copy of every step (:attr:`rows`, one label per row in :attr:`phases`)."""
+    a light copy of every step (:attr:`rows`; per row the phase label in :attr:`phases`, the
+    autopilot's mode in :attr:`modes` and the cycle index of the reference point flown in
+    :attr:`cycles`, -1 outside AUTO cycling)."""
 
     #: the buffered values of a row, in order (names of :data:`fdm_awe.sim.loop.COLUMNS`)
     fields: tuple[str, ...] = _FIELDS
@@ -42,6 +45,8 @@ class StepBuffer:
         self.chain = chain  #: another on_step callback to call after this one
         self.rows: list[tuple] = []
         self.phases: list[str] = []
+        self.modes: list[str] = []
+        self.cycles: list[int] = []
         self._ap: Any = None
         self._thruster: Any = None
         self._p0 = 0.0
@@ -57,6 +62,13 @@ class StepBuffer:
         if glider is not None and not self.rows:
             self.rows.append(self._row(glider.state(), None))
             self.phases.append(getattr(autopilot, "phase", "") or "")
+            self._labels(autopilot)
+
+    def _labels(self, ap: Any) -> None:
+        """The mode and the cycle label of the step just flown (as the flight's log labels it)."""
+        self.modes.append(str(getattr(ap, "mode", "")) if ap is not None else "")
+        rp = step_reference(ap) if ap is not None and hasattr(ap, "ref_point") else None
+        self.cycles.append(NO_CYCLE if rp is None else int(rp.cycle))
 
     def _row(self, s: Any, o: Any) -> tuple:
         """The values of :attr:`fields` after a step (``o`` the ground station's output, None
@@ -71,13 +83,15 @@ class StepBuffer:
         self.rows.append(self._row(s, o))
         ap = self._ap
         self.phases.append(getattr(ap, "phase", "") if ap is not None else "")
+        self._labels(ap)
         if self.chain is not None:
             self.chain(k, s, o)
 
     def partial_result(self, status: str = "aborted", message: str = "", rows: slice = slice(None)) -> Any:
         """The buffered steps (``rows`` of them) as a :class:`~fdm_awe.sim.loop.FlightResult`;
         what :attr:`fields` lacks is NaN (controls), the ground velocity, when not buffered, by
-        differences of the positions."""
+        differences of the positions. The result also carries the rows' ``modes`` and
+        ``cycle_index`` (read by :func:`~fdm_awe.recording.series.flight_series`)."""
         from ..sim.loop import COLUMNS, Event, FlightResult
 
         buffered, phases = self.rows[rows], self.phases[rows]
@@ -99,8 +113,12 @@ class StepBuffer:
             data[:, col["phase"]] = [codes[p] for p in phases]
         t_end = float(data[-1, 0]) if n else 0.0
         dt = float(np.median(np.diff(data[:, 0]))) if n > 1 else math.nan
-        return FlightResult(status=status, event=Event(status, t_end, message or status), data=data,
-                            phase_labels=labels, dt=dt, wall_s=0.0, steps=max(n - 1, 0))
+        res = FlightResult(status=status, event=Event(status, t_end, message or status), data=data,
+                           phase_labels=labels, dt=dt, wall_s=0.0, steps=max(n - 1, 0))
+        if len(self.modes) == len(self.rows):  # the autopilot was known from the first row
+            res.modes = self.modes[rows]
+            res.cycle_index = np.asarray(self.cycles[rows], dtype=float)
+        return res
 
 
 class FlightRecording(StepBuffer):

@@ -14,7 +14,9 @@ Ctrl-C: by default whatever was sent before is kept as a valid (shorter) recordi
 it was, so a recording cut short while being written never passes for a whole one. Whole
 time series go out in one ``send_columns`` call each (a per-row ``log`` costs ~100 us).
 
-All time stamps are simulation time on the timeline :data:`TIMELINE` (a duration in seconds).
+All time stamps are simulation time on the timeline :data:`TIMELINE` (a duration in seconds);
+every temporal row also carries the pumping-cycle index on the sequence timeline
+:data:`CYCLE_TIMELINE` (0-based; :class:`CycleClock`). No wall-clock timeline is logged.
 """
 
 from __future__ import annotations
@@ -30,37 +32,90 @@ from ..fileio import atomic_path
 
 #: Name of the simulation-time timeline (durations in s).
 TIMELINE = "sim_time"
+#: Name of the pumping-cycle timeline (a sequence: the cycle index, 0-based).
+CYCLE_TIMELINE = "cycle"
 APPLICATION_ID = "fdm-awe"
 
 
 def new_stream() -> Any:
-    """A ``rerun.RecordingStream`` of this application whose only timeline is :data:`TIMELINE`."""
+    """A ``rerun.RecordingStream`` of this application whose timelines are :data:`TIMELINE` and
+    :data:`CYCLE_TIMELINE` (set by :class:`RecordingSink`)."""
     import rerun as rr
 
     rec = rr.RecordingStream(APPLICATION_ID, recording_id=uuid.uuid4())
-    # simulation time is the only timeline: no wall-clock or log-call counters
+    # simulation time and the cycle are the only timelines: no wall-clock or log-call counters
     rec.set_log_time_enabled(False)
     rec.set_log_tick_enabled(False)
     return rec
 
 
+class CycleClock:
+    """The pumping-cycle index over simulation time, a step function built from the rows as they
+    come (:meth:`extend`): a row flown outside a cycle (label < 0, e.g. in RECOVER after the
+    last cycle) belongs to the cycle before it, rows before the first cycle to cycle 0, the
+    cycle's rows as :func:`fdm_awe.sim.cycles.segment_cycles` counts them."""
+
+    def __init__(self) -> None:
+        self._t = np.zeros(0)  #: simulation time [s] at which a cycle begins
+        self._k = np.zeros(0, dtype=np.int64)  #: that cycle's index
+        self._t_last = -np.inf
+
+    def extend(self, t: np.ndarray, cycle: np.ndarray) -> None:
+        """Rows at times ``t`` [s] (increasing, after those given before) flown in ``cycle``."""
+        t = np.asarray(t, dtype=np.float64)
+        c = np.asarray(cycle, dtype=np.float64)
+        ok = (t >= self._t_last) & (c >= 0)  # NaN labels are no cycle either
+        t, k = t[ok], c[ok].astype(np.int64)
+        if not len(t):
+            return
+        change = np.r_[not len(self._k) or k[0] != self._k[-1], k[1:] != k[:-1]]
+        self._t = np.r_[self._t, t[change]]
+        self._k = np.r_[self._k, k[change]]
+        self._t_last = float(t[-1])
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """Cycle index (int64) at times ``t`` [s]."""
+        t = np.asarray(t, dtype=np.float64)
+        if not len(self._k):
+            return np.zeros(t.shape, dtype=np.int64)
+        i = np.searchsorted(self._t, t, side="right") - 1
+        return np.where(i >= 0, self._k[np.maximum(i, 0)], 0)
+
+    @property
+    def cycles(self) -> list[int]:
+        """The cycle indices begun so far."""
+        return self._k.tolist()
+
+
 class RecordingSink:
     """Logging helpers over ``self.rec`` (a ``rerun.RecordingStream``); ``self.rr`` is the rerun
-    module. Times are simulation time [s] on :data:`TIMELINE`."""
+    module. Times are simulation time [s] on :data:`TIMELINE`; every temporal row also gets its
+    cycle on :data:`CYCLE_TIMELINE` from :attr:`clock` (fed by the flight's rows)."""
 
     rr: Any
     rec: Any
+
+    @property
+    def clock(self) -> CycleClock:
+        """The cycle index over simulation time of what this sink records."""
+        c = self.__dict__.get("_clock")
+        if c is None:
+            c = self.__dict__["_clock"] = CycleClock()
+        return c
 
     def static(self, entity: str, archetype: Any) -> None:
         self.rec.log(entity, archetype, static=True)
 
     def at(self, entity: str, t: float, archetype: Any) -> None:
-        """Log one archetype at simulation time ``t`` [s]."""
+        """Log one archetype at simulation time ``t`` [s] (and its cycle)."""
         self.rec.set_time(TIMELINE, duration=float(t))
+        self.rec.set_time(CYCLE_TIMELINE, sequence=int(self.clock(np.array([t]))[0]))
         self.rec.log(entity, archetype)
 
-    def time_column(self, t: np.ndarray) -> Any:
-        return self.rr.TimeColumn(TIMELINE, duration=np.asarray(t, dtype=np.float64))
+    def time_columns(self, t: np.ndarray) -> list[Any]:
+        """The index columns of rows at times ``t`` [s]: simulation time and cycle."""
+        t = np.asarray(t, dtype=np.float64)
+        return [self.rr.TimeColumn(TIMELINE, duration=t), self.rr.TimeColumn(CYCLE_TIMELINE, sequence=self.clock(t))]
 
     def scalars(self, entity: str, t: np.ndarray, values: np.ndarray, *, name: str | None = None,
                 color: Sequence[int] | None = None) -> int:
@@ -72,13 +127,13 @@ class RecordingSink:
             self.static(entity, self.rr.SeriesLines(names=name, colors=None if color is None else [tuple(color)]))
         if not ok.any():
             return 0
-        self.rec.send_columns(entity, indexes=[self.time_column(t[ok])], columns=self.rr.Scalars.columns(scalars=v[ok]))
+        self.rec.send_columns(entity, indexes=self.time_columns(t[ok]), columns=self.rr.Scalars.columns(scalars=v[ok]))
         return int(ok.sum())
 
     def columns(self, entity: str, t: np.ndarray, columns: Any) -> None:
         """Send prepared component columns (``Archetype.columns(...)``) over times ``t`` [s]."""
         if len(t):
-            self.rec.send_columns(entity, indexes=[self.time_column(t)], columns=columns)
+            self.rec.send_columns(entity, indexes=self.time_columns(t), columns=columns)
 
 
 class RrdFile(RecordingSink):
@@ -160,4 +215,5 @@ def segments_by_label(points: np.ndarray, labels: Sequence[str]) -> list[tuple[s
     return out
 
 
-__all__ = ["APPLICATION_ID", "RecordingSink", "RrdFile", "new_stream", "TIMELINE", "segments_by_label"]
+__all__ = ["APPLICATION_ID", "CYCLE_TIMELINE", "CycleClock", "RecordingSink", "RrdFile", "new_stream", "TIMELINE",
+           "segments_by_label"]

@@ -20,6 +20,7 @@ and negative parts of ``p_elec`` integrate to the load and supply energies exact
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -34,12 +35,24 @@ class Series:
 
     Names carry no unit; :meth:`csv_header` appends it (``tension`` + ``N`` -> ``tension_N``).
     ``phase`` holds one label per row; ``meta`` describes the run (scenario, config, wind...).
+    A flight's series may also hold per row the cycle index of the reference point flown
+    (``cycle``, -1 outside AUTO cycling) and the autopilot's mode (``mode``, e.g. ``AUTO``);
+    None when the run does not tell.
     """
 
     t: np.ndarray
     columns: dict[str, tuple[str, np.ndarray]]
     phase: list[str]
     meta: dict[str, Any] = field(default_factory=dict)
+    cycle: np.ndarray | None = None
+    mode: list[str] | None = None
+
+    def rows(self, idx: np.ndarray) -> "Series":
+        """The rows ``idx`` (indices into ``t``) as a series of their own."""
+        return Series(t=self.t[idx], columns={k: (u, v[idx]) for k, (u, v) in self.columns.items()},
+                      phase=[self.phase[j] for j in idx], meta=self.meta,
+                      cycle=None if self.cycle is None else self.cycle[idx],
+                      mode=None if self.mode is None else [self.mode[j] for j in idx])
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.columns[name][1]
@@ -142,7 +155,32 @@ def flight_series(flight: Any) -> Series:
     meta.setdefault("status", getattr(res, "status", "unknown"))
     if getattr(res, "event", None) is not None:
         meta.setdefault("message", res.event.message)
-    return Series(t=t, columns=c, phase=labels, meta=meta)
+    cyc = getattr(flight, "cycle_index", None)
+    cyc = getattr(res, "cycle_index", None) if cyc is None else cyc
+    cycle = None if cyc is None else np.r_[np.asarray(cyc, float)[:n], np.full(max(0, n - len(cyc)), -1.0)]
+    mode = getattr(res, "modes", None)
+    if mode is None:
+        mode = flight_modes(getattr(flight, "autopilot_log", None), np.asarray(res.t, float)) if n else None
+    return Series(t=t, columns=c, phase=labels, meta=meta, cycle=cycle, mode=None if mode is None else list(mode)[:n])
+
+
+#: the autopilot's note of a mode change (:meth:`fdm_awe.autopilot.autopilot.Autopilot.set_mode`)
+_MODE_NOTE = re.compile(r"^mode (\w+) -> (\w+)$")
+
+
+def flight_modes(notes: Any, t: np.ndarray, start: str = "AUTO") -> list[str] | None:
+    """The autopilot's mode at each time of ``t`` [s, the flight's own clock] from its notes
+    (``(time s, text)``; a change is noted ``mode A -> B`` and holds from its time on): before
+    the first change the mode it left, ``start`` when none was noted (a flight of a reference
+    begins in AUTO). None without notes (a bare co-simulation result)."""
+    if notes is None:
+        return None
+    changes = [(float(tn), m.group(1), m.group(2)) for tn, text in notes if (m := _MODE_NOTE.match(str(text)))]
+    changes.sort(key=lambda c: c[0])
+    first = changes[0][1] if changes else start
+    names = [first] + [c[2] for c in changes]
+    i = np.searchsorted(np.array([c[0] for c in changes], float), np.asarray(t, float), side="right")
+    return [names[k] for k in i]
 
 
 def _fit(a: Any, n: int, width: int | None = None) -> np.ndarray:
@@ -235,5 +273,5 @@ def _cumtrapz_phase(p: np.ndarray, t: np.ndarray) -> np.ndarray:
     return np.r_[0.0, np.cumsum(inc)]
 
 
-__all__ = ["ROBUST_Q", "STARTUP_S", "Series", "csv_name", "cycle_series", "flight_series", "load_reference", "robust_note",
-           "robust_range"]
+__all__ = ["ROBUST_Q", "STARTUP_S", "Series", "csv_name", "cycle_series", "flight_modes", "flight_series",
+           "load_reference", "robust_note", "robust_range"]

@@ -9,8 +9,9 @@ tether force and the control commands) and sends the new rows about every ``flus
 of wall-clock time through the same functions that write a recording file
 (:func:`~fdm_awe.recording.flight.log_flight_rows`), so the viewer shows what the file will
 hold: the glider mesh in its attitude, the tether, the force arrows, every plot, the phase
-lane. A row is sent once its successor is known (the forces use central differences); the
-last one with the flight's end, followed by the flown path, the event log and the report.
+lane, the mode lane, the path flown so far (every second of flight time), both timelines. A row
+is sent once its successor is known (the forces use central differences); the last one with
+the flight's end, followed by the whole flown path, the event log and the report.
 The tracking error and the reference marker exist only in the report: the file has them, the
 live view does not.
 

@@ -5,7 +5,8 @@ the viewer shows altitude upwards):
 
 - ``world/ground`` grid lines every 50 m; ``world/winch`` the winch; ``world/wind`` an arrow
   showing where the wind blows to (length 10 m per m/s);
-- ``world/<path>/<phase>`` a path drawn as one line strip per phase run;
+- ``world/<path>/<phase>`` a path drawn as one line strip per phase run (``world/flown/live``:
+  the path flown so far, re-sent every second of flight time);
 - ``world/glider`` pose over time (translation + attitude quaternion), with
   ``world/glider/airframe`` the glider as a mesh drawn ``scale`` times enlarged (a 1.1 m glider
   is a dot next to a 250 m line): ``body`` (fuselage and tail) and ``wing``, whose span follows
@@ -59,8 +60,9 @@ def log_static_scene(rf: RecordingSink, extent: tuple[tuple[float, float], tuple
 
 
 def log_path(rf: RecordingSink, entity: str, points: np.ndarray, labels: Sequence[str], *, radius: float = 0.6,
-             reference: bool = False) -> None:
-    """A static path, one line strip per phase run, coloured by phase (``reference``: lighter, thinner)."""
+             reference: bool = False, t: float | None = None) -> None:
+    """A path, one line strip per phase run, coloured by phase (``reference``: lighter, thinner):
+    static, or from simulation time ``t`` [s] on."""
     rr = rf.rr
     runs: dict[str, list[np.ndarray]] = {}
     for lab, seg in segments_by_label(points, labels):
@@ -69,8 +71,29 @@ def log_path(rf: RecordingSink, entity: str, points: np.ndarray, labels: Sequenc
         c = np.array(phase_color(lab), float)
         if reference:
             c = 0.55 * c + 0.45 * np.array(REFERENCE_COLOR) + 0.0
-        rf.static(f"{entity}/{lab}", rr.LineStrips3D(segs, colors=[tuple(int(v) for v in c)], radii=[radius],
-                                                     labels=[f"{'reference ' if reference else ''}{lab}"]))
+        strips = rr.LineStrips3D(segs, colors=[tuple(int(v) for v in c)], radii=[radius],
+                                 labels=[f"{'reference ' if reference else ''}{lab}"])
+        if t is None:
+            rf.static(f"{entity}/{lab}", strips)
+        else:
+            rf.at(f"{entity}/{lab}", t, strips)
+
+
+def log_paths_so_far(rf: RecordingSink, entity: str, t: np.ndarray, paths: Sequence[Sequence[tuple[str, np.ndarray]]],
+                     *, radius: float = 0.5) -> None:
+    """The path flown so far at each simulation time of ``t`` [s] into one entity, in one call:
+    ``paths[i]`` the path at ``t[i]`` as its runs of one phase (label, points (n, 3) NED m),
+    each drawn as a line strip coloured by its phase (a run of fewer than 2 points is left out)."""
+    if not len(t):
+        return
+    strips, colors, lengths = [], [], []
+    for runs in paths:
+        kept = [(lab, pts) for lab, pts in runs if len(pts) >= 2]
+        strips += [pts for _, pts in kept]
+        colors += [phase_color(lab) for lab, _ in kept]
+        lengths.append(len(kept))
+    cols = rf.rr.LineStrips3D.columns(strips=strips, colors=colors, radii=np.full(len(strips), radius))
+    rf.columns(entity, np.asarray(t, float), cols.partition(lengths=lengths))
 
 
 def log_airframe(rf: RecordingSink, scale: float = GLIDER_SCALE) -> None:
@@ -202,5 +225,6 @@ def log_phase(rf: RecordingSink, t: np.ndarray, labels: Sequence[str], *, previo
         rf.columns("phase", np.asarray(t)[idx], rr.StateChange.columns(state=[labels[i] for i in idx]))
 
 
-__all__ = ["FORCES_TEXT", "FORCE_COLORS", "FORCE_SCALE", "GLIDER_SCALE", "log_airframe", "log_error_line",
-           "log_forces", "log_forces_description", "log_glider", "log_path", "log_phase", "log_point", "log_static_scene", "log_tether", "log_tether_nodes"]
+__all__ = ["FORCES_TEXT", "FORCE_COLORS", "FORCE_SCALE", "GLIDER_SCALE", "log_airframe", "log_error_line", "log_forces",
+           "log_forces_description", "log_glider", "log_path", "log_paths_so_far", "log_phase", "log_point",
+           "log_static_scene", "log_tether", "log_tether_nodes"]

@@ -5,6 +5,7 @@ energies and tracking error (:func:`cycle_metrics`); the rules are described in
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -14,6 +15,14 @@ from .report import CycleMetrics
 PHASE_CODES = {"generation": 0, "recovery": 1}
 OTHER_PHASE = -1  #: any other phase (e.g. on the ground)
 NO_CYCLE = -1  #: cycle label of a step flown outside AUTO cycling
+
+
+def step_reference(ap: Any) -> Any:
+    """The reference point a step was flown on, for its cycle label and tracking error: the
+    autopilot's (``ap``) last reference point while it cycles in AUTO, else None (the step's
+    cycle label is then :data:`NO_CYCLE`)."""
+    rp = ap.ref_point
+    return rp if rp is not None and ap.mode == "AUTO" and ap.cycling else None
 
 
 @dataclass(frozen=True)

@@ -387,6 +387,7 @@ def fly(
         turbulence=_turbulence_facts(turb, wind, res),
         wind_estimates=list(cw.records),
         recover_cause=ap.recover_cause if ap.mode == "RECOVER" else None,
+        cycle_index=log.cycle[: k_end + 1].copy(),
     )
 
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES
+from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, step_reference
 from .glider_ledger import GliderLedger
 
 def track_error(rx: float, ry: float, rz: float, x: float, y: float, z: float) -> float:
@@ -58,8 +58,8 @@ class FlightLog:
         dt = self.dt
         self.glider_ledger.step(dt)
         ap = self.ap
-        rp = ap.ref_point
-        if rp is not None and ap.mode == "AUTO" and ap.cycling:
+        rp = step_reference(ap)
+        if rp is not None:
             self.refpos[k] = rp.pos
             self.err[k] = track_error(*rp.pos.tolist(), *s.pos_ned.tolist())
             self.cycle[k] = rp.cycle

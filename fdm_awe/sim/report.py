@@ -126,6 +126,9 @@ class FlightReport:
     #: why the flight ended in RECOVER (:attr:`fdm_awe.autopilot.autopilot.Autopilot.recover_cause`):
     #: None (not in RECOVER), "commanded", or the failsafe's note
     recover_cause: str | None = None
+    #: per row of ``result``: the cycle index of the reference point flown (0-based; -1 outside
+    #: AUTO cycling), what :func:`fdm_awe.sim.cycles.segment_cycles` cuts the cycles by
+    cycle_index: np.ndarray | None = field(repr=False, default=None)
 
     @property
     def exit_code(self) -> int:
