@@ -38,7 +38,7 @@ RULES = {
 #: ``__init__`` (ROOT, version) sits below everything).
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "units", "defaults"),
-    ("fileio", "jitcache", "progress", "turbulence", "example_refs"),
+    ("fileio", "jitcache", "progress", "turbulence", "example_refs", "mode_table"),
     ("definitions",),
     ("pointmass", "sixdof"),
     ("wind",),

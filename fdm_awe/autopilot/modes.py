@@ -15,22 +15,9 @@ same table: MAVSDK's flight modes MANUAL, MISSION (AUTO), RETURN_TO_LAUNCH (RTL)
 from __future__ import annotations
 
 from fdm_awe.errors import InputError
+from fdm_awe.mode_table import MODE_NAMES, MODE_NUMBERS  # the one table, below every layer that shows modes
 
 __all__ = ["MODE_NAMES", "MODE_NUMBERS", "mode_number"]
-
-#: Mode name -> MAVLink ``custom_mode`` number (ArduPlane numbering where meanings match).
-MODE_NUMBERS: dict[str, int] = {
-    "MANUAL": 0,     # surfaces/throttle straight from the pilot (or held neutral)
-    "FBWA": 5,       # stabilised attitude, no path following
-    "AUTO": 10,      # fly the mission (reference path) and run the pumping cycle
-    "RECOVER": 11,   # safe abort: reel in, circle down, land or park (shown as RTL)
-    "LOITER": 12,    # hold: RECOVER's circle about the winch, parked, never landing
-    "GUIDED": 15,    # not offered (refused with its reason)
-}
-
-#: ``custom_mode`` number -> mode name.
-MODE_NAMES: dict[int, str] = {v: k for k, v in MODE_NUMBERS.items()}
-
 
 def mode_number(name: str) -> int:
     """``custom_mode`` number of a mode name; InputError for a name not in MODE_NUMBERS."""

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..autopilot.modes import MODE_NUMBERS
+from ..mode_table import MODE_NUMBERS
 from ..sim.cycles import OTHER_PHASE, PHASE_CODES
 from .blueprint import cycle_blueprint, flight_blueprint
 from .forces import GliderForces, flight_forces
@@ -99,7 +99,7 @@ PATH_EVERY_S = 1.0
 PATH_HZ = 5.0
 
 #: the mode lane: key -> (entity, series name, colour); the autopilot's mode as its MAVLink
-#: custom_mode number (fdm_awe.autopilot.modes), the winch as 0 generator / 1 motor (the
+#: custom_mode number (fdm_awe.mode_table), the winch as 0 generator / 1 motor (the
 #: electrical power's sign), the phase as its code (fdm_awe.sim.cycles.PHASE_CODES, -1 other)
 MODE_PLOTS: dict[str, tuple[str, str, tuple[int, int, int]]] = {
     "autopilot": ("plots/mode/autopilot",
