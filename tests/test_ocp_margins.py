@@ -118,6 +118,20 @@ def test_fly_optimises_its_reference_with_its_margins():
     assert (b1.G_cycle_max, b1.cl_margin) == (50.0, 0.85)
 
 
+def test_the_reel_in_margin_is_taken_from_the_drive_the_cycle_is_optimised_for():
+    """With ``--supply-voltage`` the reel-in margin stands below that supply's fastest reel-in,
+    not the definition's: a higher supply reels in faster (the armature's back-EMF limit)."""
+    from fdm_awe.cli import build_parser
+    from fdm_awe.commands.optimize import drive_reel_in_speed, problem_from_args
+
+    assert drive_reel_in_speed(48.0) > 1.9 * drive_reel_in_speed()  # twice the volts, a little more than twice the speed
+    sub = build_parser()._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor
+    b = problem_from_args(sub["optimize"].parse_args(["--reel-in-margin", "0.1", "--supply-voltage", "48"])).bounds
+    assert b.reel_in_speed_max == pytest.approx(drive_reel_in_speed(48.0) / 1.1, rel=1e-12)
+    b24 = problem_from_args(sub["optimize"].parse_args(["--reel-in-margin", "0.1"])).bounds
+    assert b24.reel_in_speed_max == pytest.approx(drive_reel_in_speed() / 1.1, rel=1e-12)
+
+
 def test_fly_refuses_margins_with_a_reference(capsys):
     _refused(capsys, ["fly", "--reference", "tests/data/ref_physical_nominal_8mps_sized.json", "--tension-margin", "0.2"],
              "--tension-margin", "fixes this")

@@ -215,8 +215,8 @@ def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_
     rm = chk.number(getattr(args, "reel_in_margin", None), "--reel-in-margin", 0.0, REEL_IN_MARGIN_MAX,
                     what="reel-in speed margin below the drive's fastest")
     rm = reel_in_default if rm is None else rm
-    if rm > 0.0:
-        out["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + rm)
+    if rm > 0.0:  # below the fastest reel-in of the drive the cycle is optimised for (--supply-voltage)
+        out["reel_in_speed_max"] = drive_reel_in_speed(getattr(args, "supply_voltage", None)) / (1.0 + rm)
     return out
 
 
@@ -224,14 +224,20 @@ def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_
 REEL_IN_MARGIN_MAX = 1.0
 
 
-def drive_reel_in_speed() -> float:
+def drive_reel_in_speed(supply_voltage: float | None = None) -> float:
     """The drive's fastest reel-in [m/s]: a slack line at full duty from the supply of the
-    ground-station definition (:func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`;
-    what the optimiser's reel-in bound is without a margin)."""
+    ground-station definition, or from ``supply_voltage`` [V] where given (``--supply-voltage``)
+    (:func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`; what the optimiser's reel-in
+    bound is without a margin)."""
+    from dataclasses import replace
+
     from ..groundstation import load_ground_station
     from ..groundstation.steady import motor_max_reel_in_speed
 
-    return float(motor_max_reel_in_speed(0.0, load_ground_station()))
+    gs = load_ground_station()
+    if supply_voltage is not None:
+        gs = replace(gs, converter=replace(gs.converter, supply_voltage=float(supply_voltage)))
+    return float(motor_max_reel_in_speed(0.0, gs))
 
 
 def _range(spec: tuple) -> str:

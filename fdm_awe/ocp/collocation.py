@@ -35,7 +35,7 @@ import casadi as ca
 import numpy as np
 
 from .constraints import (Constraints, add_boundaries, add_catch, add_path, add_smoothness, control_bounds,
-                          fold_alpha_bounds, point_path, state_bounds)
+                          fold_alpha_bounds, point_path, reel_in_limit, state_bounds)
 from .layout import (CONTROL_SCALE, SLACK_SCALE, STATE_SCALE, TIME_SCALE, PhaseLayout, Variables, fold_intervals,
                      radau_coefficients)
 from .model import GEN_STATES, ON_FRACTION, REC_STATES, CycleModel
@@ -133,7 +133,7 @@ class CycleNLP:
         cs = Constraints()
         self.g_names: list[str] = cs.names
         T_max = bnd.T_max if bnd.T_max is not None else m.gen_airframe.propulsion.T_max
-        v_in = bnd.reel_in_speed_max if bnd.reel_in_speed_max is not None else m.winch.reel_in_speed_max()
+        v_in = reel_in_limit(m, bnd)
         self.reel_in_speed_max = v_in
         self.T_max = T_max
         x_bounds = state_bounds(pr)

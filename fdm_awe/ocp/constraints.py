@@ -76,6 +76,12 @@ def state_bounds(problem: CycleProblem) -> dict[str, tuple[float, float]]:
     }
 
 
+def reel_in_limit(model: CycleModel, bnd: Bounds) -> float:
+    """The cycle's fastest reel-in [m/s]: ``bnd.reel_in_speed_max`` where set, else what the
+    model's winch reaches at full duty on a slack line (its supply voltage)."""
+    return bnd.reel_in_speed_max if bnd.reel_in_speed_max is not None else model.winch.reel_in_speed_max()
+
+
 def control_bounds(model: CycleModel, bnd: Bounds, ip: int, T_max: float, v_in: float) -> dict[str, tuple[float, float]]:
     """Bounds of each control of phase ``ip`` in value units [rad, N, m/s, -]: angle of attack
     within the phase's stall limits, thrust up to ``T_max`` [N], reel-in speed up to ``v_in``
@@ -129,8 +135,7 @@ def add_path(cs: Constraints, model: CycleModel, bnd: Bounds, ip: int, path: Any
         cs.add(path[0] / 100.0, 0.0, ca.inf, f"slack_{tag}")
         if model.recovery_tension:
             cs.add(path[1] / TAUT_NM, -ca.inf, 1.0, f"taut_{tag}")
-            v_in = bnd.reel_in_speed_max if bnd.reel_in_speed_max is not None else model.winch.reel_in_speed_max()
-            cs.add(path[2] / REEL_IN_ROW_SCALE, -ca.inf, v_in / REEL_IN_ROW_SCALE, f"reel_in_{tag}")
+            cs.add(path[2] / REEL_IN_ROW_SCALE, -ca.inf, reel_in_limit(model, bnd) / REEL_IN_ROW_SCALE, f"reel_in_{tag}")
     if model.scenario.propeller in ("physical", "engine"):
         cs.add(path[-1] / 5.0, 0.0, ca.inf, f"thrust_avail_{tag}")
 
