@@ -521,12 +521,12 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         the time series and the exit code the command would give.
     """
     from .commands import fly as F
-    from .errors import InputError
 
     mem_ref = None
     if reference is not None and not isinstance(reference, (str, os.PathLike)):
         mem_ref = _tracking_reference(reference)
         reference = None
+    options.setdefault("exit_after_cycles", True)  # a call returns after its cycles (no ground station keeps it)
     args = _namespace("fly", reference=None if reference is None else os.fspath(reference), scenario=scenario,
                       config=config, wind=wind, wind_from=wind_from, cycles=cycles, dt=dt, turbulence=turbulence,
                       tether=tether, tether_drag_scale=tether_drag_scale, gamma_max=gamma_max, v_min=v_min,
@@ -536,60 +536,13 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                       mavlink_key=None if mavlink_key is None else os.fspath(mavlink_key), realtime=realtime,
                       out=None if out is None else os.fspath(out), rrd=None if rrd is None else os.fspath(rrd),
                       json=None if json is None else os.fspath(json), quiet=True, **options)
-    with _quiet(verbose), _keep_plot_backend():
-        if mem_ref is not None:  # the checks of a --reference, for a reference in memory
-            given = [opt for attr, opt in F.REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
-            if given:
-                raise InputError(f"{', '.join(given)}: the reference given fixes {'this' if len(given) == 1 else 'these'}"
-                                 " (only used when fly optimises a reference)")
-        F._check(args)
-        ref = problem = refs = flight_wind = None
-        if args.references:  # a reference set (references="DIR")
-            refs, ref, flight_wind, args.reference_flown = F._read_references(args)
-        elif mem_ref is not None:
-            F.check_reference_options(args, mem_ref.meta, "the reference given")
-            cfg = mem_ref.meta.get("config")
-            args.config = args.config or (cfg if cfg in ("foldable", "nominal") else F.DEFAULT_CONFIG)
-            ref = mem_ref
-        elif args.reference:
-            ref = F._read_reference(args)
-        else:
-            args.scenario = args.scenario or F.DEFAULT_SCENARIO
-            args.config = args.config or F.DEFAULT_CONFIG
-            problem = F.reference_problem(args)
-        plant = F.flight_plant(args, ref)
-        from .groundstation.lumped_state import check_tether_plant
-
-        check_tether_plant(args.tether, plant == "paper", F._plant_why(args, plant))
-        ap_params = F._autopilot_params(args.params)
-        F._check_budget(args, ap_params, ref, problem)
-        out_dir = Path(args.out) if args.out else None
-        user_json = args.json
-        with tempfile.TemporaryDirectory(prefix="fdm-awe-api-") as tmp:
-            if user_json is None:
-                args.json = str(Path(tmp) / "flight.json")  # the command's document, read back
-            with F._check_outputs(args, out_dir, optimising=ref is None):
-                link = F._open_link(args)
-                try:
-                    if ref is None:
-                        ref, ref_path, ref_label = F._optimised_reference(args, problem, out_dir)
-                    else:
-                        flown = args.reference or getattr(args, "reference_flown", None)
-                        ref_path = Path(flown) if flown else None
-                        ref_label = str(ref_path) if ref_path else "the reference given"
-                    scale = F.flight_drag_scale(ref.meta, args.tether_drag_scale, ref_label)
-                    report = F._fly(args, ref, ap_params, plant, scale, None, link, refs, flight_wind)
-                    link = None
-                finally:
-                    if link is not None:
-                        from .mavlink.transport import close_link
-
-                        close_link(link)
-                optimised = F.optimised_energies(ref, refs)
-                F._print_summary(report, ref_label, optimised)
-                code = F._finish(args, report, ref, ref_path, out_dir, optimised)
-            doc = _read_json(Path(args.json))
-    return FlightResult(report=report, document=doc, reference=ref, exit_code=code)
+    got: dict[str, Any] = {}
+    with _quiet(verbose), _keep_plot_backend(), tempfile.TemporaryDirectory(prefix="fdm-awe-api-") as tmp:
+        if args.json is None:
+            args.json = str(Path(tmp) / "flight.json")  # the command's document, read back
+        code = F.run(args, given=mem_ref, result=got)  # the command's route: its checks, flight and outputs
+        doc = _read_json(Path(args.json))
+    return FlightResult(report=got["report"], document=doc, reference=got["reference"], exit_code=code)
 
 
 def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.SWEEP_CONFIGS,

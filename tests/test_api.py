@@ -125,6 +125,11 @@ def test_bad_keywords_are_one_line_errors_before_any_work():
         fdm_awe.fly("example:nominal-8", cycles=0)
     with pytest.raises(InputError, match="--wind: the reference"):
         fdm_awe.fly("example:nominal-8", wind=10.0)
+    ref = fdm_awe.load_reference("example:nominal-8")  # a reference in memory: the same checks as a file's
+    with pytest.raises(InputError, match="--wind: the reference given fixes this"):
+        fdm_awe.fly(ref, wind=10.0)
+    with pytest.raises(InputError, match="--config foldable: the reference given was optimised for the configuration"):
+        fdm_awe.fly(ref, config="foldable")
     with pytest.raises(TypeError, match="unexpected keyword argument 'winds'"):
         fdm_awe.sweep("x", winds="8")
 

@@ -366,11 +366,17 @@ def flight_drag_scale(meta: dict, requested: float | None, ref_path: object) -> 
     return scale
 
 
-def run(args: argparse.Namespace) -> int:
+def run(args: argparse.Namespace, given: Any = None, result: dict[str, Any] | None = None) -> int:
+    """``fdm-awe fly``: returns the exit code. ``given``: a reference in memory (a
+    :class:`~fdm_awe.autopilot.tracking.TrackingReference`, the Python API's) flown as a
+    ``--reference`` file would be, with the same checks; ``result``: filled with the flight's
+    ``report`` and the ``reference`` flown (the Python API's results)."""
     _check(args)
     ref = problem = refs = flight_wind = None
     if args.references:
         refs, ref, flight_wind, args.reference_flown = _read_references(args)
+    elif given is not None:
+        ref = _given_reference(args, given)
     elif args.reference:
         ref = _read_reference(args)
     else:
@@ -385,11 +391,13 @@ def run(args: argparse.Namespace) -> int:
     _check_budget(args, params, ref, problem)
     out_dir = Path(args.out) if args.out else None
     with _check_outputs(args, out_dir, optimising=ref is None):  # --out locked until the last file is written
-        return _run_checked(args, ref, problem, params, plant, out_dir, refs, flight_wind)
+        return _run_checked(args, ref, problem, params, plant, out_dir, refs, flight_wind,
+                            given_label="the reference given" if given is not None else None, result=result)
 
 
 def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, plant: str, out_dir: Path | None,
-                 refs: Any = None, flight_wind: dict[str, Any] | None = None) -> int:
+                 refs: Any = None, flight_wind: dict[str, Any] | None = None, given_label: str | None = None,
+                 result: dict[str, Any] | None = None) -> int:
     """The work of :func:`run` once every input and output is checked: open the MAVLink link,
     optimise the reference (without ``--reference`` or ``--references``; ``refs`` the set, ``flight_wind`` the wind it meets), fly, print, write the outputs; returns the
     exit code."""
@@ -399,6 +407,8 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
     try:
         if ref is None:
             ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
+        elif given_label is not None:  # a reference in memory: no file
+            ref_path, ref_label = None, given_label
         else:
             ref_path = Path(args.reference or args.reference_flown)
             ref_label = str(ref_path)
@@ -406,7 +416,7 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
         if refs is not None:  # what each reference was optimised with (after the checks: bad input stays one line)
             for e in refs.entries:
                 print_reference_margins(e.reference.meta, e.source)
-        elif args.reference:
+        elif args.reference or given_label is not None:
             print_reference_margins(ref.meta, ref_label)
         from ..recording.stream import open_live
 
@@ -421,6 +431,8 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
 
             close_link(link)
     optimised = optimised_energies(ref, refs)
+    if result is not None:
+        result.update(report=report, reference=ref)
     try:
         _print_summary(report, ref_label, optimised)
         code = _finish(args, report, ref, ref_path, out_dir, optimised)
@@ -524,14 +536,21 @@ def _check_budget(args: argparse.Namespace, params: Any, ref: Any, problem: Any)
                      what="the longest cycle the optimiser may return (T1 + T2 <= t_max)")
 
 
-def _read_reference(args: argparse.Namespace) -> Any:
-    """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference`
-    (checked field by field, one-line errors), its configuration and scenario checked against
-    the options; ``args.config`` defaults to the reference's."""
-    from ..autopilot.tracking import TrackingReference
+def _given_reference(args: argparse.Namespace, ref: Any) -> Any:
+    """A reference in memory (``ref``), checked as :func:`_read_reference` checks a file: the
+    options it fixes refused, its configuration and scenario against the options, the
+    turbulence form against its wind; ``args.config`` defaults to the reference's."""
+    given = [opt for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
+    if given:
+        raise InputError(f"{', '.join(given)}: the reference given fixes {'this' if len(given) == 1 else 'these'}"
+                         " (only used when fly optimises a reference)")
+    return _checked_reference(args, ref, "the reference given")
 
-    ref = TrackingReference.from_ocp_file(args.reference)
-    check_reference_options(args, ref.meta, args.reference)
+
+def _checked_reference(args: argparse.Namespace, ref: Any, source: object) -> Any:
+    """``ref`` (from ``source``) checked against the options: its configuration and scenario,
+    the turbulence form against its wind; ``args.config`` defaults to the reference's."""
+    check_reference_options(args, ref.meta, source)
     if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
         from ..sim.flight import turbulence_setting
 
@@ -539,6 +558,15 @@ def _read_reference(args: argparse.Namespace) -> Any:
     args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
                                   else DEFAULT_CONFIG)
     return ref
+
+
+def _read_reference(args: argparse.Namespace) -> Any:
+    """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference`
+    (checked field by field, one-line errors), its configuration and scenario checked against
+    the options; ``args.config`` defaults to the reference's."""
+    from ..autopilot.tracking import TrackingReference
+
+    return _checked_reference(args, TrackingReference.from_ocp_file(args.reference), args.reference)
 
 
 def print_reference_margins(meta: dict, source: object) -> None:
