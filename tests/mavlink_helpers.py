@@ -7,7 +7,9 @@ import os
 import signal
 import socket
 import subprocess
+import sys
 import time
+from pathlib import Path
 
 os.environ.setdefault("MAVLINK20", "1")
 
@@ -212,3 +214,18 @@ def stop_process(proc: "subprocess.Popen", sig: int = signal.SIGTERM, wait: floa
         except subprocess.TimeoutExpired:
             proc.kill()
             proc.wait(timeout=10)
+
+
+#: the stored reference the ground-station tests fly
+FLY_REFERENCE = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
+
+
+def launch_fly(port: int, *options: str, env: dict[str, str] | None = None) -> "subprocess.Popen":
+    """``fdm-awe fly`` of :data:`FLY_REFERENCE` speaking MAVLink to a ground station on UDP
+    ``port`` of 127.0.0.1, with ``options`` (``--cycles``, ``--realtime``, ...); its output
+    merged on a pipe."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "fdm_awe", "fly", "--reference", str(FLY_REFERENCE), "--quiet",
+         "--mavlink", f"udpout:127.0.0.1:{port}", *options],
+        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        env=env if env is not None else dict(os.environ, JSBSIM_DEBUG="0"))

@@ -22,13 +22,12 @@ from pathlib import Path
 
 import pytest
 
-from mavlink_helpers import free_udp_port, stop_process
+from mavlink_helpers import free_udp_port, launch_fly, stop_process
 from pymavlink import mavutil
 
 from fdm_awe.autopilot.config import load_autopilot_definition
 from fdm_awe.mavlink.geo import GeoFrame
 
-REF = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
 
 # a path to upload, written in the QGC WPL 110 text format MAVProxy loads (index, current,
 # frame 6 = GLOBAL_RELATIVE_ALT_INT, command 16 = NAV_WAYPOINT, p1-p4, lat, lon, alt, autocontinue)
@@ -55,11 +54,8 @@ def test_mavproxy_reads_the_real_vehicles_parameters_and_mission(tmp_path):
     port = free_udp_port()
     params = tmp_path / "params.json"
     env = dict(os.environ, MAVLINK20="1")
-    fly = subprocess.Popen(
-        [sys.executable, "-m", "fdm_awe", "fly", "--reference", str(REF), "--cycles", "1", "--quiet",
-         "--mavlink", f"udpout:127.0.0.1:{port}", "--realtime", "1", "--params", str(params),
-         "--json", str(tmp_path / "flight.json")],
-        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    fly = launch_fly(port, "--cycles", "1", "--realtime", "1", "--params", str(params),
+                     "--json", str(tmp_path / "flight.json"), env=env)
     mavproxy = None
     log = tmp_path / "mavproxy.txt"
     try:

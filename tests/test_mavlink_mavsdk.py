@@ -11,18 +11,14 @@ from __future__ import annotations
 
 import asyncio
 import importlib.util
-import os
 import signal
 import subprocess
-import sys
 import time
-from pathlib import Path
 
 import pytest
 
-from mavlink_helpers import free_udp_port, stop_process
+from mavlink_helpers import free_udp_port, launch_fly, stop_process
 
-REF = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
 START_S = 60.0  # the flight's start (imports, JSBSim, the kernels' compilation) at most
 
 
@@ -117,11 +113,7 @@ async def _ground_station(port: int, fly: subprocess.Popen) -> dict:
 
 def test_mavsdk_reads_and_commands_the_real_vehicle(tmp_path):
     port = free_udp_port()
-    fly = subprocess.Popen(
-        [sys.executable, "-m", "fdm_awe", "fly", "--reference", str(REF), "--cycles", "2", "--quiet",
-         "--mavlink", f"udpout:127.0.0.1:{port}", "--realtime", "1", "--params", str(tmp_path / "params.json")],
-        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        env=dict(os.environ, JSBSIM_DEBUG="0"))
+    fly = launch_fly(port, "--cycles", "2", "--realtime", "1", "--params", str(tmp_path / "params.json"))
     try:
         seen = asyncio.run(asyncio.wait_for(_ground_station(port, fly), 150.0))
     finally:

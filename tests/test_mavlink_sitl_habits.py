@@ -11,17 +11,12 @@ at the end if it still runs.
 
 from __future__ import annotations
 
-import os
 import signal
-import subprocess
-import sys
 import time
-from pathlib import Path
 
-from mavlink_helpers import GCS_COMPID, GCS_SYSID, free_udp_port
+from mavlink_helpers import GCS_COMPID, GCS_SYSID, free_udp_port, launch_fly
 from pymavlink import mavutil
 
-REF = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"
 START_S = 60.0  # the flight's start (imports, JSBSim, the kernels' compilation) at most
 MAV = mavutil.mavlink
 
@@ -76,11 +71,7 @@ class _Gcs:
 
 def test_sitl_habits_manual_rc_override_stream_rates_refusal_reasons_and_staying_alive(tmp_path):
     port = free_udp_port()
-    fly = subprocess.Popen(
-        [sys.executable, "-m", "fdm_awe", "fly", "--reference", str(REF), "--cycles", "1", "--quiet",
-         "--mavlink", f"udpout:127.0.0.1:{port}", "--realtime", "10", "--json", str(tmp_path / "flight.json")],
-        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        env=dict(os.environ, JSBSIM_DEBUG="0"))
+    fly = launch_fly(port, "--cycles", "1", "--realtime", "10", "--json", str(tmp_path / "flight.json"))
     gcs = _Gcs(port)
     try:
         t_launch = time.monotonic()
