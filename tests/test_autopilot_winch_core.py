@@ -50,20 +50,20 @@ def _values_args(r, rate, gs, p, winch, rl, ea, dist=math.nan, dist_rate=0.0, lo
     lim = _limits(random.Random(0), off=True) if lim is None else lim
     return (r.phase, winch == "ideal", rate, r.reel_speed, r.length, r.tension, r.boost_duty, on,
             gs.length if on else math.nan, gs.tension if on else math.nan, rl, ea,
-            p["GEN_RL_KP"], p["REC_TENSION"], p["WINCH_KL"], p["WINCH_KT"], r.length - 5.0, dist, dist_rate, low, lim)
+            p["GEN_RL_KP"], p["REC_TENSION"], p["WINCH_KL"], p["WINCH_KT"], dist, dist_rate, low, lim)
 
 
 def _branch(args, out) -> str:
-    phase, ideal, on, kp, rec, lim = args[0], args[1], args[7], args[12], args[13], args[20]
+    phase, ideal, on, kp, rec, lim = args[0], args[1], args[7], args[12], args[13], args[19]
     if phase == GENERATION and ideal:
         return f"kinematic/{on}"
     if phase == GENERATION:
         if out[4]:
-            return f"low/{args[17] == args[17]}"
+            return f"low/{args[16] == args[16]}"
         trimmed = kp > 0 and on
         upper = on and lim[WL_THI] > 0 and args[9] > lim[WL_THI]
         return f"generator/{trimmed}" + (f"/{out[2] in (0.2, 20.0)}" if trimmed else "") + ("/upper" if upper else "")
-    approach = on and lim[WL_VCATCH] > 0 and args[17] == args[17]
+    approach = on and lim[WL_VCATCH] > 0 and args[16] == args[16]
     return f"motor/{on}" + (f"/{args[9] > rec}/{out[1] == 0.5}/{approach}" if on else "")
 
 

@@ -13,6 +13,7 @@ import pytest
 from fdm_awe import ROOT
 from fdm_awe.errors import DefinitionError, InputError
 from fdm_awe.groundstation import load_ground_station
+from fdm_awe.constants import G0, RHO0
 from fdm_awe.ocp.problem import working_lengths
 from fdm_awe.groundstation.line import (DEFAULT_LINE, LINES, N_PER_TEX, TEX, LineMaterial, LineSizing, check_line, line_summary,
                                         size_line)
@@ -89,7 +90,7 @@ def test_the_paper_line_is_table_1s_line_exactly():
     for f in ("drag_share", "weight_share", "min_length", "max_length", "air_density", "gravity"):
         assert getattr(t, f) == getattr(s.tether, f), f
     assert (t.drag_share, t.weight_share, t.min_length, t.max_length, t.air_density, t.gravity) == \
-        (0.25, 0.5, 2.0, 600.0, 1.225, 9.81)
+        (0.25, 0.5, 2.0, 600.0, RHO0, G0)
     assert dataclasses.replace(p, tether=s.tether) == s
 
 

@@ -85,12 +85,12 @@ def test_generator_at_speed_inverts_generator_steady():
 
 
 def test_largest_reel_in_speed_is_the_motor_at_full_duty():
-    """:func:`motor_max_reel_in_speed` is :func:`motor_steady` at duty 1 (5.36 m/s on a slack
-    line at 24 V, slower against a tension), and :func:`motor_supply_needed` its inverse."""
+    """:func:`motor_max_reel_in_speed` is :func:`motor_steady` at duty 1 (11.1 m/s on a slack
+    line at 48 V, slower against a tension), and :func:`motor_supply_needed` its inverse."""
     from fdm_awe.groundstation.steady import motor_max_reel_in_speed, motor_supply_needed
 
     c = P.converter
-    assert motor_max_reel_in_speed(0.0, P) == pytest.approx(5.355, abs=0.001)
+    assert motor_max_reel_in_speed(0.0, P) == pytest.approx(11.103, abs=0.001)
     for tension in (0.0, 4.0, 30.0):
         v = motor_max_reel_in_speed(tension, P)
         assert motor_steady(v, tension, P).duty == pytest.approx(1.0, rel=1e-12)

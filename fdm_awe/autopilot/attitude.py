@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from ..constants import G0
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, surface_deflections, wrap_angle
 from ..sixdof.row import ALPHA, BETA, FBX, FBY, FBZ, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE, THETA, VT
@@ -82,7 +83,7 @@ CALLED = (path_rate, wrap_angle, surface_deflections, law_commands, attitude_com
 class AttitudeLoops:
     """``update(s, alpha_cmd, roll_cmd, dt) -> (aileron, elevator, rudder)`` normalised."""
 
-    def __init__(self, glider: JSBSimGlider, gains: StabilizerGains, g: float = 9.80665) -> None:
+    def __init__(self, glider: JSBSimGlider, gains: StabilizerGains, g: float = G0) -> None:
         self.glider = glider
         self.g = g  #: m/s^2, gravity of the path's acceleration
         self.law = AttitudeLaw(glider, gains, invert_free_moments=True, bank_integral=False)

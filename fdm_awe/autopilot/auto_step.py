@@ -258,15 +258,13 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         flags |= PHASE_CHANGED
     mem[M_PHASE] = phase
     ideal_winch = par[A_IDEAL_WINCH] != 0.0
-    # the glider's and the reference point's distances from the winch, the glider's rate
+    # the glider's distance from the winch and its rate
     dist = math.sqrt(px * px + py * py + pz * pz)
     dist_rate = (px * vx + py * vy + pz * vz) / max(dist, 1e-6)
-    rx, ry, rz = rrow[R_PX], rrow[R_PY], rrow[R_PZ]
-    ref_dist = math.sqrt(rx * rx + ry * ry + rz * rz)
     w_motor, w_speed, w_rl, w_d2, w_low = cycle_winch_values(
         phase, ideal_winch, rate, rrow[R_REEL_SPEED], rrow[R_LENGTH], rrow[R_TENSION], segs[SEG_D2, seg],
         valid, gso[GS_LENGTH], gso[GS_TENSION], par[A_RL], par[A_LINE_EA], par[A_GEN_RL_KP], par[A_REC_TENSION],
-        par[A_WINCH_KL], par[A_WINCH_KT], ref_dist, dist, dist_rate, mem[M_WLOW] != 0.0,
+        par[A_WINCH_KL], par[A_WINCH_KT], dist, dist_rate, mem[M_WLOW] != 0.0,
         par[A_WLIM:A_WLIM + N_LIMITS])
     mem[M_WLOW] = 1.0 if w_low else 0.0
     ideal = 0.0

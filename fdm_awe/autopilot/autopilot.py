@@ -56,6 +56,7 @@ from typing import Any
 
 import numpy as np
 
+from ..constants import G0, RHO0
 from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
 from ..sixdof.adapter import JSBSimGlider
@@ -108,8 +109,8 @@ class Autopilot:
         reference: TrackingReference | None = None,
         config: str = "foldable",
         load_resistance: float = 1.5,
-        rho: float = 1.225,
-        g: float = 9.81,
+        rho: float = RHO0,
+        g: float = G0,
         thruster: Any = None,
         winch: str = "physical",
         line_EA: float = 22600.0,

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..constants import G0, RHO0
 from ..pointmass.aero import POLAR_FIELDS, blend_coefficient
 from ..definitions.aircraft import AeroParams, stall_speed
 from .tracking import RefPoint
@@ -184,7 +185,7 @@ class Guidance:
     """Stateful outer loop (holds the position-error integral); its arithmetic is
     :func:`guidance_step`."""
 
-    def __init__(self, gains: GuidanceGains, mass: float, aero_u: AeroParams, aero_f: AeroParams, rho: float = 1.225, g: float = 9.81) -> None:
+    def __init__(self, gains: GuidanceGains, mass: float, aero_u: AeroParams, aero_f: AeroParams, rho: float = RHO0, g: float = G0) -> None:
         self.k = gains  #: the gains (may be replaced by new ones between steps)
         self.m = mass
         self.aero_u, self.aero_f = aero_u, aero_f

@@ -61,7 +61,7 @@ def cycle_winch(r: RefPoint, rate: float, gs: Any, params: ParamStore, winch: st
     motor, v, rl, d2, lo = cycle_winch_values(
         r.phase, winch == "ideal", rate, r.reel_speed, r.length, r.tension, r.boost_duty, on,
         gs.length if on else math.nan, gs.tension if on else math.nan, load_resistance, line_EA,
-        p["GEN_RL_KP"], p["REC_TENSION"], p["WINCH_KL"], p["WINCH_KT"], norm3(r.pos), dist, dist_rate, low,
+        p["GEN_RL_KP"], p["REC_TENSION"], p["WINCH_KL"], p["WINCH_KT"], dist, dist_rate, low,
         limit_vector(p, reel_in_max))
     return winch_command(motor, v, rl, d2), lo
 
@@ -115,7 +115,7 @@ def upper_limit_load(load_resistance: float, boost_duty: float, tension: float, 
 def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, length: float, tension: float,
                        boost_duty: float, gs_valid: bool, gs_length: float, gs_tension: float, load_resistance: float,
                        line_EA: float, gen_rl_kp: float, rec_tension: float, winch_kl: float,
-                       winch_kt: float, ref_dist: float, dist: float, dist_rate: float, low: bool,
+                       winch_kt: float, dist: float, dist_rate: float, low: bool,
                        lim: np.ndarray) -> tuple[float, float, float, float, bool]:
     """The winch command on the pumping cycle as numbers: ``(motor_mode, reel_speed_ref,
     load_resistance, boost_duty, low)`` (:func:`cycle_winch`, a pure function numba compiles
@@ -126,9 +126,8 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     winch; the path rate ``rate`` (-); ``gs_valid`` the ground station has stepped (else
     ``gs_length`` [m] and ``gs_tension`` [N], its last output, are not read); the generator's
     ``load_resistance`` [ohm]; the line's axial stiffness ``line_EA`` [N]; the parameters
-    GEN_RL_KP [ohm/m], REC_TENSION [N], WINCH_KL [1/s] and WINCH_KT [m/(N s)]; the reference
-    point's distance from the winch ``ref_dist`` [m]; the glider's distance ``dist`` [m] (NaN:
-    unknown) and its rate ``dist_rate`` [m/s];
+    GEN_RL_KP [ohm/m], REC_TENSION [N], WINCH_KL [1/s] and WINCH_KT [m/(N s)]; the glider's
+    distance from the winch ``dist`` [m] (NaN: unknown) and its rate ``dist_rate`` [m/s];
     ``low`` the lower tension limit held at the last step; ``lim`` the line limits
     (:data:`LIMIT_PARAMS` at the ``WL_*`` offsets, then the drive's largest reel-in speed
     [m/s]).
@@ -142,10 +141,12 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     (:func:`upper_limit_load`). In recovery the motor reels in at the reference speed,
     trimmed on the length, but never more than WINCH_VCATCH faster than the glider approaches,
     plus WINCH_SLK_KL per metre of slack line (the slack closes no faster than that: the line is
-    caught at WINCH_VCATCH), and at least as fast as the glider approaches where more line
-    hangs than the reference's own slack (its length beyond its distance) plus WINCH_SLACK (0
-    WINCH_VCATCH: the reference's speed alone), easing off above REC_TENSION; every reel-in
-    within the drive's largest speed.
+    caught at WINCH_VCATCH), and at least as fast as the glider approaches where more than
+    WINCH_SLACK of line hangs, whatever slack the reference planned (a glider that turns out
+    for generation on a slack line runs out against a standing drum: the drum's inertia
+    against the line's stiffness is the catch's peak tension; 0 WINCH_VCATCH: the reference's
+    speed alone), easing off above REC_TENSION; every reel-in within the drive's largest
+    speed.
 
     Outputs: ``motor_mode`` 1.0 (motor) or 0.0 (generator), ``reel_speed_ref`` [m/s] (0.0, the
     command's default, where the generator ignores it), ``load_resistance`` [ohm] and
@@ -189,10 +190,11 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
         v += 0.5 * (length - gs_length)
         v_catch = lim[WL_VCATCH]
         if v_catch > 0.0 and not ideal and dist == dist:
-            # at least the glider's approach where more line hangs than the reference plans,
-            # never much faster than the approach (the physical station's law: the paper
-            # plant's kinematic winch reels in as the paper's cycle says)
-            kept = max(length - ref_dist, 0.0) + lim[WL_SLACK]
+            # at least the glider's approach where more than WINCH_SLACK of line hangs (not
+            # the reference's planned slack: the glider turns out for generation on the line
+            # as it hangs then), never much faster than the approach (the physical station's
+            # law: the paper plant's kinematic winch reels in as the paper's cycle says)
+            kept = lim[WL_SLACK]
             slack = gs_length - dist
             if slack > kept:
                 v = min(v, take_up_speed(dist, dist_rate, gs_length, kept, lim[WL_SLK_KL], v_catch))

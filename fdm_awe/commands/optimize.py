@@ -56,7 +56,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "shows it)")
     p.add_argument("--supply-voltage", type=float, default=None, metavar="V",
                    help="physical scenario: the winch's supply voltage [V], 6..200 (default: the ground-station "
-                        "definition's 24 V): a design variable of the drive, it sets the full-duty reel-in speed; "
+                        "definition's 48 V): a design variable of the drive, it sets the full-duty reel-in speed; "
                         "the optimiser's only (a flight flies the definition's drive)")
     p.add_argument("--fold-time", type=float, default=None, metavar="S",
                    help="foldable configuration: the wing's full fold (and unfold) travel at the start (end) of "

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..constants import G0, RHO0
 from .. import ROOT
 from ..errors import DefinitionError, InputError
 from .xmlutil import XmlDoc, check_numbers, element_number, location
@@ -113,7 +114,7 @@ class AeroParams:
         """Angle of attack [rad] at which the linear lift reaches ``CLmax``."""
         return (self.CLmax - self.CL0) / self.CLalpha
 
-    def stall_speed(self, mass: float, rho: float = 1.225, g: float = 9.81) -> float:
+    def stall_speed(self, mass: float, rho: float = RHO0, g: float = G0) -> float:
         """Airspeed [m/s] at which the wing's ``CLmax`` just carries the weight of ``mass`` [kg]
         in level flight (air density ``rho`` [kg/m^3], gravity ``g`` [m/s^2]):
         :func:`stall_speed` of ``S CLmax``."""

@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import ROOT
+from ..constants import G0, RHO0
 from ..definitions.xmlutil import XmlDoc, element_number
 from ..errors import DefinitionError
 from ..units import TO_SI
@@ -45,8 +46,8 @@ class TetherParams:
     weight_share: float  #: share of the line weight carried by the glider, -
     min_length: float  #: end stop when reeling in, m
     max_length: float  #: end stop when reeling out (drum capacity), m
-    air_density: float  #: rho for the line drag, kg/m^3
-    gravity: float  #: g for the line weight, m/s^2
+    air_density: float  #: rho for the line drag, kg/m^3 (:data:`fdm_awe.constants.RHO0`)
+    gravity: float  #: g for the line weight, m/s^2 (:data:`fdm_awe.constants.G0`)
     name: str = "custom"  #: line name in the definition (:data:`.line.LINES`)
     rated_tension: float | None = None  #: working tension the line is rated for, N
     material: LineMaterial | None = None  #: what a sized line is made of (None: section as stated)
@@ -306,8 +307,8 @@ def _read_tether(doc: XmlDoc, name: str) -> TetherParams:
         weight_share=_value(doc, "tether/weight_share", "ND", lo=0.0, hi=1.0),
         min_length=_value(doc, "tether/min_length", "M", lo=0.0, lo_open=True),
         max_length=_value(doc, "tether/max_length", "M", lo=0.0, lo_open=True),
-        air_density=_value(doc, "tether/air_density", "KG/M3", lo=0.0, hi=2.0, lo_open=True),
-        gravity=_value(doc, "tether/gravity", "M/S2", lo=0.0, hi=20.0, lo_open=True),
+        air_density=RHO0,
+        gravity=G0,
         name=name,
         rated_tension=rated,
         material=material,

@@ -110,7 +110,7 @@ def motor_max_reel_in_speed(tension: Any, params: GroundStationParams) -> Any:
 
         omega_in = (V_a - 2 U_d - R (r_w G + M_c) / K) / (K + R B / K),   v = r_w omega_in
 
-    (5.36 m/s on a slack line with the 24 V supply of the definition file)."""
+    (11.1 m/s on a slack line with the 48 V supply of the definition file)."""
     w, m, c = params.winch, params.machine, params.converter
     drop = 2.0 * c.device_drop + m.resistance * (w.radius * tension + w.coulomb_friction) / m.k
     omega = (c.supply_voltage - drop) / (m.k + m.resistance * w.viscous_friction / m.k)

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 
 from pymavlink.dialects.v20 import common as mav
 
+from ..constants import G0
 from .vehicle import Telemetry
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -40,7 +41,6 @@ if TYPE_CHECKING:  # pragma: no cover
 #: MAVLink component id of the winch
 WINCH_COMPID = mav.MAV_COMP_ID_WINCH
 #: standard gravity: WINCH_STATUS gives the tension in kg
-G0 = 9.80665
 #: reel speed above which the winch counts as moving, m/s
 MOVING_MPS = 0.05
 

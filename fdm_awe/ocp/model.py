@@ -48,6 +48,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Sequence
 
+from ..constants import G0, RHO0
 from ..pointmass import mathops as mo
 from ..groundstation.line import STRAIGHT_DRAG_SHARE
 from ..pointmass.aero import fold_blend, tether_drag_coefficient
@@ -95,8 +96,8 @@ class CycleModel:
     gen_airframe: Airframe
     rec_airframe: Airframe
     winch: WinchElectrics
-    rho: float = 1.225
-    g: float = 9.81
+    rho: float = RHO0
+    g: float = G0
     tether_drag_scale: float = 1.0  #: factor on the line drag (CycleProblem.tether_drag_scale)
     drive: ElectricDrive | None = None  #: the 6-DOF glider's drive (propeller model "engine")
     line_weight: bool = False  #: the glider carries its share of the line's weight (CycleProblem.line_weight)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 
+from ..constants import G0, RHO0
 from . import mathops as mo
 from .aero import lift_drag
 from ..definitions.aircraft import AeroParams
@@ -44,8 +45,8 @@ def wind_vector(speed: float, from_deg: float = 180.0) -> tuple[float, float, fl
 class Environment:
     """Atmosphere and steady wind: density [kg/m^3], gravity [m/s^2], wind NED [m/s]."""
 
-    rho: float = 1.225
-    g: float = 9.81
+    rho: float = RHO0
+    g: float = G0
     wind_ned: tuple[float, float, float] = field(default=(0.0, 0.0, 0.0))
 
     def __post_init__(self) -> None:

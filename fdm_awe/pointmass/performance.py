@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from scipy.optimize import brentq
 
+from ..constants import G0, RHO0
 from .aero import drag_coefficient, lift_coefficient
 from ..definitions.aircraft import AeroParams
 
@@ -42,7 +43,7 @@ def best_glide_alpha(aero: AeroParams) -> float:
     return brentq(g, a0, max(aero.alpha_max_lift, a0 + 1.0), xtol=1e-14)
 
 
-def steady_glide(aero: AeroParams, mass: float, rho: float = 1.225, g: float = 9.81, alpha: float | None = None) -> SteadyGlide:
+def steady_glide(aero: AeroParams, mass: float, rho: float = RHO0, g: float = G0, alpha: float | None = None) -> SteadyGlide:
     """Steady straight glide at ``alpha`` (default: best L/D): ``tan gamma = -D/L``,
     ``V^2 = 2 m g cos gamma / (rho S C_L)``."""
     a = best_glide_alpha(aero) if alpha is None else alpha

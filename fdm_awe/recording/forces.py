@@ -86,7 +86,7 @@ def wind_axes(dcm: np.ndarray, alpha: np.ndarray, beta: np.ndarray) -> tuple[np.
 def flight_forces(flight: Any, mass: float | None = None) -> GliderForces:
     """The forces of a flight (FlightReport or FlightResult) per logged row; ``mass`` [kg]
     defaults to :func:`glider_mass`. Fewer than two rows: every force NaN but the logged ones."""
-    from ..sim.events import G0
+    from ..constants import G0
 
     res = getattr(flight, "result", None) or flight
     t = np.asarray(res.t, float)

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ..constants import G0
 from ..sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
 
 
@@ -70,7 +71,6 @@ EVENT_CODES: tuple[str, ...] = tuple(e.name for e in EVENTS)
 (L_VHI, L_VLO, L_THI, L_NMAX, L_GRACE, L_T0, L_CHECKV, L_GROUND, L_AIRBORNE, L_KV, L_KFZ, L_KM) = range(12)
 N_LIMITS = 12
 
-G0 = 9.80665  # m/s^2, the load factor's unit
 
 
 def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float, k_m: float) -> list[float]:

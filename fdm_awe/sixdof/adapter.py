@@ -25,6 +25,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ..constants import G0
 from .. import ROOT
 from ..definitions.aircraft import check_aircraft_file
 from ..definitions.engine import engine_files, motor_constants
@@ -467,7 +468,7 @@ class JSBSimGlider:
             "alpha": raw[:, ALPHA], "beta": raw[:, BETA], "fold": raw[:, FOLD], "thrust_N": v[:, THRUST],
             "prop_power_W": raw[:, THROTTLE] * self._maxvolts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
             "current_A": raw[:, CURRENT], "accel_body": v[:, FBX:FBZ + 1] / mass[:, None],
-            "load_factor": -v[:, FBZ] / mass / 9.80665, "mass": mass, "qbar": v[:, QBAR], "rho": v[:, RHO],
+            "load_factor": -v[:, FBZ] / mass / G0, "mass": mass, "qbar": v[:, QBAR], "rho": v[:, RHO],
             "on_ground": raw[:, WOW] > 0.5,
         }
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 from math import cos, sin
 from typing import Any
 
+from ..constants import G0
 from .adapter import JSBSimGlider
 from .attitude_law import AttitudeLaw, StabilizerGains, wrap_angle
 from .row import PHI, PSI, THETA, VT
@@ -28,7 +29,7 @@ from .state import SixDofState, Surfaces
 __all__ = ["Stabilizer", "StabilizerGains"]
 
 #: m/s^2, gravity of the coordinated-turn yaw rate
-_G_TURN = 9.81
+_G_TURN = G0
 
 
 class Stabilizer:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..constants import G0
 from ..errors import InputError
 from .row import (ALPHA, BETA, CURRENT, FBX, FBY, FBZ, FINITE_END, FINITE_FIRST, FOLD, MASS, P_RATE, PHI,
                   PSI, Q_RATE, QBAR, R_RATE, RHO, SHAFT_HP, T, THETA, THROTTLE, THRUST, VT,
@@ -193,7 +194,7 @@ class SixDofState:
 
     @property
     def load_factor(self) -> float:
-        return -self._r[FBZ] * self._k[FBZ] / (self._r[MASS] * self._k[MASS]) / 9.80665
+        return -self._r[FBZ] * self._k[FBZ] / (self._r[MASS] * self._k[MASS]) / G0
 
     # vectors -------------------------------------------------------------------------------
     @property

@@ -24,12 +24,13 @@ from typing import Sequence
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from ..constants import RHO0
 from ..pointmass.aero import drag_coefficient, lift_coefficient, tether_drag_coefficient
 from ..definitions.aircraft import AeroParams
 from ..pointmass.performance import loyd_power, quasi_steady_reel_out
 
 #: sea-level air density [kg/m^3], the optimiser's value
-RHO = 1.225
+RHO = RHO0
 
 
 @dataclass(frozen=True)
