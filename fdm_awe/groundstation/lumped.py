@@ -62,9 +62,9 @@ from ..jitcache import compile_cached, follow_sources
 from ..wind import shear_factor
 from . import lumped_state, substeps, winch
 from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
-    AXIAL, C_AXIAL, C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
+    C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
     CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
-    L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_FILT, R_READY, R_TG, R_TMAX, R_WZ,
+    L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
     TETHER_MODELS, ZETA, LineLedger, line_constants, nodes, parse_tether, state_size, tensions, velocities,
 )
 from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, cross_flow_drag, machine_mode_code
@@ -120,15 +120,11 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
     overwritten).
 
     One pass over the segments: each node's force is summed in registers from its two segments
-    (the winch side first, in the order of the sums it replaces) and stored once. The segments'
-    unit vectors go to the axial filter's scratch (:func:`axial_filter`); the slots hold the
-    plain forces."""
+    (the winch side first, in the order of the sums it replaces) and stored once."""
     P = NODES
     V = P + 3 * (n + 1)
     F = V + 3 * (n + 1)
     TT = F + 3 * (n + 1)
-    U = TT + n
-    s[R_FILT] = 0.0
     EA, g = c[_C_EA], c[_C_G]
     k = EA / ls
     cd = 2.0 * c[C_ZETA] * math.sqrt(k * m)
@@ -157,7 +153,6 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
         d = math.sqrt(dx * dx + dy * dy + dz * dz)
         inv = 1.0 / d if d > 0.0 else 0.0
         ux, uy, uz = dx * inv, dy * inv, dz * inv
-        s[U + 3 * i], s[U + 3 * i + 1], s[U + 3 * i + 2] = ux, uy, uz
         f, T, e, p = segment_pull(k, cd, d, ls, ux, uy, uz, vbx - vax, vby - vay, vbz - vaz)
         e_el += e
         p_damp += p
@@ -215,95 +210,6 @@ def line_energies(s, n: int, m: float, g: float) -> tuple[float, float]:
     return ek, ep
 
 
-def axial_filter(s, c, n: int, h: float, ls: float, apply: bool) -> None:
-    """The implicit axial springs: turn the plain forces in the force slots (:func:`line_forces`
-    at rest length ``ls`` m) into the forces at Newmark's average-acceleration positions of the
-    segments' axial stiffness ``k`` and damper ``c_d`` for leapfrog steps of ``h`` s (``apply``),
-    or back (not ``apply``: the last filter undone, its impulses kept in the scratch).
-
-    The kick ``(h/2) F / m`` becomes ``(M + h^2/4 K + h/2 C)^-1 (h/2) F`` with ``K = sum k u_i
-    u_i^T`` and ``C = sum c_d u_i u_i^T`` over the taut segments ``i`` (unit vector ``u_i``, both
-    ends' differences): through the matrix inversion lemma a tridiagonal system for one impulse
-    ``y_i`` per segment, ``(1 / (h^2/4 k + h/2 c_d) + D M^-1 D^T) y = D M^-1 (h/2) F`` (``D``
-    the segments' axial differences; the winch and hook nodes do not move under a kick), solved
-    by elimination (diagonally dominant). Each taut segment's tension grows by ``2 y_i / h``:
-    the force on its two nodes and on the hook. Unconditionally stable for the axial waves (the
-    leapfrog's bound ``h omega < 2`` holds for the transverse ones), second order, and without
-    the filter's numerical damping (trapezoidal in the stiffness)."""
-    P = NODES
-    V = P + 3 * (n + 1)
-    F = V + 3 * (n + 1)
-    TT = F + 3 * (n + 1)
-    U = TT + n
-    Y = U + 3 * n
-    Q = Y + n
-    A = Q + n
-    if apply:
-        EA, mu = c[_C_EA], c[_C_MU]
-        m = mu * ls
-        k = EA / ls
-        cd = 2.0 * c[C_ZETA] * math.sqrt(k * m)
-        comp = 1.0 / (0.25 * h * h * k + 0.5 * h * cd)  # the compliance of a taut segment over the step
-        im = 1.0 / m
-        w = 0.5 * h * im  # velocity per force of a half kick
-        for i in range(n):  # the segments in the system: the taut ones
-            s[A + i] = 1.0 if s[TT + i] > 0.0 else 0.0
-        for sweep in range(n + 1):  # a segment whose tension would turn compressive leaves the system
-            qp = yp = 0.0  # forward elimination: the previous row's factor and reduced right-hand side
-            for i in range(n):
-                u = U + 3 * i
-                if s[A + i] != 0.0:
-                    ux, uy, uz = s[u], s[u + 1], s[u + 2]
-                    # the axial difference of the half kick's velocities of the segment's ends
-                    rx = ry = rz = 0.0
-                    if i < n - 1:
-                        f = F + 3 * i + 3
-                        rx, ry, rz = w * s[f], w * s[f + 1], w * s[f + 2]
-                    if i > 0:
-                        f = F + 3 * i
-                        rx, ry, rz = rx - w * s[f], ry - w * s[f + 1], rz - w * s[f + 2]
-                    b = comp + (im if i > 0 else 0.0) + (im if i < n - 1 else 0.0)
-                    r = ux * rx + uy * ry + uz * rz
-                    # the couplings through the shared nodes (to the previous and the next segment)
-                    lo = -im * (ux * s[u - 3] + uy * s[u - 2] + uz * s[u - 1]) if i > 0 else 0.0
-                    up = -im * (ux * s[u + 3] + uy * s[u + 4] + uz * s[u + 5]) if i < n - 1 else 0.0
-                else:  # out of the system (slack, or its tension would turn compressive): no tension
-                    b, r, lo, up = 1.0, -0.5 * h * s[TT + i], 0.0, 0.0
-                den = b - lo * qp
-                qi = up / den
-                yi = (r - lo * yp) / den
-                s[Q + i] = qi
-                s[Y + i] = yi
-                qp, yp = qi, yi
-            for i in range(n - 2, -1, -1):  # back substitution
-                s[Y + i] -= s[Q + i] * s[Y + i + 1]
-            dropped = False
-            for i in range(n):
-                if s[A + i] != 0.0 and s[TT + i] + 2.0 * s[Y + i] / h < 0.0:
-                    s[A + i] = 0.0
-                    dropped = True
-            if not dropped:
-                break
-        s[R_FILT] = h
-        g = -2.0 / h
-    else:
-        g = 2.0 / s[R_FILT]
-        s[R_FILT] = 0.0
-    # the extra tension 2 y_i / h of every segment on its two ends (the winch's is not kept)
-    for i in range(n):
-        u = U + 3 * i
-        t = g * s[Y + i]
-        tx, ty, tz = t * s[u], t * s[u + 1], t * s[u + 2]
-        f = F + 3 * i
-        if i > 0:
-            s[f] -= tx
-            s[f + 1] -= ty
-            s[f + 2] -= tz
-        s[f + 3] += tx
-        s[f + 4] += ty
-        s[f + 5] += tz
-
-
 def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0: float, hy0: float, hz0: float,
                 hx1: float, hy1: float, hz1: float, relax: float) -> tuple[float, float, float, float, float]:
     """``msteps`` leapfrog steps of ``h`` s of the interior nodes: rest length from ``ls0`` to
@@ -326,11 +232,6 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
     kdamp = 1.0 - relax * h if relax * h < 1.0 else 0.0
     fh = F + 3 * n
     ph = P + 3 * n
-    axial = c[C_AXIAL] != 0.0
-    if axial and s[R_FILT] != h:  # the start's forces through the axial filter of this step
-        if s[R_FILT] != 0.0:
-            axial_filter(s, c, n, h, ls0, False)
-        axial_filter(s, c, n, h, ls0, True)
     kb = 0.0  # the pending closing half kick (0: none before the first step)
     for j in range(msteps):
         lsa = ls0 + (ls1 - ls0) * j / msteps
@@ -369,8 +270,6 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
         s[ph], s[ph + 1], s[ph + 2] = s[ph] + dhx, s[ph + 1] + dhy, s[ph + 2] + dhz
         # the rest-length change's elastic energy at the start positions and at the end positions
         e_el, e_old, pay0, p_damp, p_drag, hdx, hdy, hdz, tm = line_forces(s, c, n, lsb, mb, vhx, vhy, vhz, lsa)
-        if axial:
-            axial_filter(s, c, n, h, lsb, True)
         fgx1, fgy1, fgz1 = s[fh], s[fh + 1], s[fh + 2]
         kb = 0.5 * h / mb
         # ledger: the glider works against the line's force on the hook (trapezoid)
@@ -401,15 +300,9 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
 
 def inner_count(c, h: float, ls: float) -> int:
     """Leapfrog steps per ``h`` s for rest length ``ls`` m: ``h / (cfl 2 / omega_max)`` rounded
-    up. Explicit axial springs: the axial waves, ``omega_max = 2 sqrt(EA / mu) / ls`` (with the
-    damper: times ``sqrt(1 + zeta^2) + zeta``); implicit (:func:`axial_filter`): the transverse
-    waves at the breaking load ``T_b`` (above it the line breaks), ``omega_max = 2 sqrt(T_b /
-    mu) / ls``."""
-    if c[C_AXIAL] != 0.0:
-        w = 2.0 * math.sqrt(c[_C_TBREAK] / c[_C_MU]) / ls
-    else:
-        z = c[C_ZETA]
-        w = 2.0 * math.sqrt(c[_C_EA] / c[_C_MU]) / ls * (math.sqrt(1.0 + z * z) + z)
+    up, ``omega_max = 2 sqrt(EA / mu) / ls`` (with the damper: times ``sqrt(1 + zeta^2) + zeta``)."""
+    z = c[C_ZETA]
+    w = 2.0 * math.sqrt(c[_C_EA] / c[_C_MU]) / ls * (math.sqrt(1.0 + z * z) + z)
     return max(1, int(math.ceil(h * w / (2.0 * c[C_CFL]) - 1e-9)))
 
 
@@ -581,7 +474,7 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
 
 
-_CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, axial_filter, inner_steps, inner_count, store_energies,
+_CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,
            place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)

@@ -29,42 +29,32 @@ N_MIN, N_MAX = 2, 200
 CFL = 0.8
 #: axial damping ratio of a segment in flight (of its own k-m mode)
 ZETA = 0.05
-#: the axial springs' integration: 1 implicit (the leapfrog's kicks filtered through the
-#: segments' axial stiffness and damper, Newmark's average acceleration on them: the inner step
-#: bounded by the transverse waves at the breaking load), 0 explicit (the plain leapfrog, the
-#: inner step bounded by the axial waves)
-AXIAL = 1
 
 #: offset of the line's block in the ground station's state array
 OFF = len(_DT_STATE) + len(_DT_LEDGER)
 #: head of the line's block: initialised flag, segments, mean glider-end tension of the last
 #: step N, largest segment tension of the last step N, inner steps per drivetrain sub-step,
-#: force-on-glider terms of the last step (drag part, weight part, N NED), the inner step s
-#: whose axial filter the force slots hold (0: the slots hold the plain forces)
-HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z",
-        "filter_h")
+#: force-on-glider terms of the last step (drag part, weight part, N NED)
+HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z")
 #: the line's ledger (J; :mod:`.lumped` explains each term)
 INPUTS = ("hook_work", "mass_inflow")
 LOSSES = ("payout_work", "drag", "damping", "break_release")
 STORES = ("kinetic", "elastic", "potential")
 INTERFACE = ("drum_handover",)
 FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
-(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ, R_FILT) = range(OFF, OFF + len(HEAD))
+(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ) = range(OFF, OFF + len(HEAD))
 LED = OFF + len(HEAD)
 (L_HOOK, L_MASS, L_PAYOUT, L_DRAG, L_DAMP, L_BREAK, L_HAND, L_S0K, L_S0E, L_S0P, L_SK, L_SE, L_SP) = range(
     LED, LED + len(FIELDS))
-#: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N,
-#: then the axial filter's scratch (segment unit vectors Nx3, impulses N, elimination factors N,
-#: segments in its system N)
+#: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
 NODES = LED + len(FIELDS)
 #: constants after STATION_CONSTANTS
 CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
              # the wind field along the line (:func:`.lumped.wind_at`): profile numbers of
              # fdm_awe.wind.shear_factor (code 0: the station's uniform wind), the wind at the
              # profile's reference height, and the gust of the moment (turbulence, NED)
-             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d",
-             "axial")  # the axial springs' integration (:data:`AXIAL`)
-(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD, C_AXIAL) = range(
+             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
+(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
     len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
 
 
@@ -94,15 +84,14 @@ def check_tether_plant(spec: object, paper: bool, why: str = "") -> int:
 
 def state_size(n: int) -> int:
     """Length of the ground station's state array with an ``n``-segment line."""
-    return NODES + 9 * (n + 1) + 7 * n
+    return NODES + 9 * (n + 1) + n
 
 
 def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
-                   cfl: float = CFL, axial: int = AXIAL) -> list[float]:
+                   cfl: float = CFL) -> list[float]:
     """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
-    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit, the wind
-    field's numbers (uniform), the axial springs' integration (:data:`AXIAL`)."""
-    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9 + [float(axial)]
+    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
+    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
 
 
 def nodes(s: np.ndarray, n: int) -> np.ndarray:
