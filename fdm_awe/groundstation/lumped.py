@@ -21,8 +21,10 @@ Integration
     one, ``omega_max = 2 sqrt(k / m) = 2 sqrt(EA / mu) / l_s`` (e.g. EA 6.76 kN, mu 0.123 g/m,
     l 200 m, N 30: 2.2e3 rad/s); leapfrog is stable for ``h omega_max < 2``, the inner step is
     ``h <= cfl 2 / omega_max`` with ``cfl = 0.8`` (the damper's factor included): 20 inner
-    steps per 1/120 s step at N = 30, 150 m. An implicit step would need a block-tridiagonal solve per step for a similar
-    cost and would damp the line's waves.
+    steps per 1/120 s step at N = 30, 150 m. Two passes per inner step: the kicks and the drift
+    over the nodes, the forces (with the payout energy) over the segments. Implicit axial springs
+    (docs/design.md section 10) allow one inner step per drivetrain sub-step on a taut line but
+    pump energy into a slack one at its taut-slack switches.
 
 Coupling with the drum
     Each drivetrain sub-step first runs the drum (:func:`.substeps.advance`, prescribed tension)
