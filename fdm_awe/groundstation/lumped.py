@@ -21,8 +21,10 @@ Integration
     one, ``omega_max = 2 sqrt(k / m) = 2 sqrt(EA / mu) / l_s`` (e.g. EA 6.76 kN, mu 0.123 g/m,
     l 200 m, N 30: 2.2e3 rad/s); leapfrog is stable for ``h omega_max < 2``, the inner step is
     ``h <= cfl 2 / omega_max`` with ``cfl = 0.8`` (the damper's factor included): 20 inner
-    steps per 1/120 s step at N = 30, 150 m. An implicit step would need a block-tridiagonal solve per step for a similar
-    cost and would damp the line's waves.
+    steps per 1/120 s step at N = 30, 150 m. Two passes per inner step: the kicks and the drift
+    over the nodes, the forces (with the payout energy) over the segments. Implicit axial springs
+    (docs/design.md section 10) allow one inner step per drivetrain sub-step on a taut line but
+    pump energy into a slack one at its taut-slack switches.
 
 Coupling with the drum
     Each drivetrain sub-step first runs the drum (:func:`.substeps.advance`, prescribed tension)
@@ -106,15 +108,21 @@ def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float,
 
 
 def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
-                ls_old: float) -> tuple[float, float, float, float, float, float, float, float]:
+                ls_old: float) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Forces on every node (written into the force slots) from the positions and velocities
     in ``s`` with rest length ``ls`` m and interior node mass ``m`` kg; the hook node moves with
     ``(vhx, vhy, vhz)`` m/s. Slot N gets the force of the last segment on the hook (elastic +
     damper), the tensions their elastic part. Returns ``(elastic energy J, elastic energy at
-    the rest length ``ls_old`` J, damper power W,
-    drag power on the interior nodes W, half-drag on the hook x, y, z N, largest tension N)``;
-    the second energy is that at the rest length ``ls_old`` m (the one before a rest-length
-    change; 0 when ``ls_old == ls``)."""
+    the rest length ``ls_old`` J, payout energy at the start positions J, damper power W,
+    drag power on the interior nodes W, half-drag on the hook x, y, z N, largest tension N)``.
+    The second and third terms belong to a rest-length change from ``ls_old`` to ``ls`` m (0
+    when ``ls_old == ls``): the elastic energy of the new positions at the old rest length, and
+    the elastic energy the change takes from the segments at their old positions (their lengths
+    from the tensions still in the slots, exact for taut segments; read before they are
+    overwritten).
+
+    One pass over the segments: each node's force is summed in registers from its two segments
+    (the winch side first, in the order of the sums it replaces) and stored once."""
     P = NODES
     V = P + 3 * (n + 1)
     F = V + 3 * (n + 1)
@@ -124,24 +132,25 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
     cd = 2.0 * c[C_ZETA] * math.sqrt(k * m)
     dk = c[C_DRAGK] * c[_C_DRAGON]
     sheared = c[C_SCODE] != 0.0  # a wind profile: each segment's wind at its own height
-    wu = (c[_C_WN], c[_C_WE], c[_C_WD])
-    for i in range(n + 1):
-        s[F + 3 * i] = 0.0
-        s[F + 3 * i + 1] = 0.0
-        s[F + 3 * i + 2] = m * g
-    e_el = e_old = p_damp = p_drag = 0.0
+    wux, wuy, wuz = c[_C_WN], c[_C_WE], c[_C_WD]
+    moved = ls_old != ls
+    k_old = EA / ls_old if moved else k
+    mg = m * g
+    e_el = e_old = pay0 = p_damp = p_drag = 0.0
     hdx = hdy = hdz = 0.0
     tmax = 0.0
+    # node i's force so far (its weight, then its winch-side segment's pull and half drag)
+    gx, gy, gz = 0.0, 0.0, mg
+    ax, ay, az = s[P], s[P + 1], s[P + 2]
+    vax, vay, vaz = s[V], s[V + 1], s[V + 2]
     for i in range(n):
-        a = P + 3 * i
-        ax, ay, az = s[a], s[a + 1], s[a + 2]
-        bx, by, bz = s[a + 3], s[a + 4], s[a + 5]
-        va = V + 3 * i
-        vax, vay, vaz = s[va], s[va + 1], s[va + 2]
+        b = P + 3 * i + 3
+        bx, by, bz = s[b], s[b + 1], s[b + 2]
         if i == n - 1:
             vbx, vby, vbz = vhx, vhy, vhz
         else:
-            vbx, vby, vbz = s[va + 3], s[va + 4], s[va + 5]
+            vb = V + 3 * i + 3
+            vbx, vby, vbz = s[vb], s[vb + 1], s[vb + 2]
         dx, dy, dz = bx - ax, by - ay, bz - az
         d = math.sqrt(dx * dx + dy * dy + dz * dz)
         inv = 1.0 / d if d > 0.0 else 0.0
@@ -149,10 +158,14 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
         f, T, e, p = segment_pull(k, cd, d, ls, ux, uy, uz, vbx - vax, vby - vay, vbz - vaz)
         e_el += e
         p_damp += p
-        if ls_old != ls:
+        if moved:
             so = d - ls_old
             if so > 0.0:
-                e_old += 0.5 * (EA / ls_old) * so * so
+                e_old += 0.5 * k_old * so * so
+            T0 = s[TT + i]  # the tension at the old rest length and the old positions
+            if T0 > 0.0:
+                sb = T0 / k_old + ls_old - ls
+                pay0 += 0.5 * T0 * T0 / k_old - (0.5 * k * sb * sb if sb > 0.0 else 0.0)
         s[TT + i] = T
         if T > tmax:
             tmax = T
@@ -162,29 +175,29 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
             if sheared:
                 wx, wy, wz = wind_at(c, az + 0.5 * dz)
             else:  # the uniform wind, read once (keeps the loop as fast as without a profile)
-                wx, wy, wz = wu
+                wx, wy, wz = wux, wuy, wuz
             qx, qy, qz = cross_flow_drag(ux, uy, uz, 0.5 * (vax + vbx) - wx, 0.5 * (vay + vby) - wy,
                                          0.5 * (vaz + vbz) - wz, 0.5 * dk * d)
         fa = F + 3 * i
-        s[fa] += fx + qx
-        s[fa + 1] += fy + qy
-        s[fa + 2] += fz + qz
+        s[fa] = gx + (fx + qx)
+        s[fa + 1] = gy + (fy + qy)
+        s[fa + 2] = gz + (fz + qz)
         if i > 0:
             p_drag += qx * vax + qy * vay + qz * vaz
-        s[fa + 3] -= fx
-        s[fa + 4] -= fy
-        s[fa + 5] -= fz
+        gx, gy, gz = 0.0 - fx, 0.0 - fy, mg - fz
         if i < n - 1:
-            s[fa + 3] += qx
-            s[fa + 4] += qy
-            s[fa + 5] += qz
+            gx += qx
+            gy += qy
+            gz += qz
             p_drag += qx * vbx + qy * vby + qz * vbz
         else:
             hdx, hdy, hdz = qx, qy, qz
+        ax, ay, az = bx, by, bz
+        vax, vay, vaz = vbx, vby, vbz
     # the hook slot: the line's force on the hook only (its half mass and half drag are the glider's)
     fh = F + 3 * n
-    s[fh + 2] -= m * g
-    return e_el, e_old, p_damp, p_drag, hdx, hdy, hdz, tmax
+    s[fh], s[fh + 1], s[fh + 2] = gx, gy, gz - mg
+    return e_el, e_old, pay0, p_damp, p_drag, hdx, hdy, hdz, tmax
 
 
 def line_energies(s, n: int, m: float, g: float) -> tuple[float, float]:
@@ -206,58 +219,61 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
     damping of the node velocities (for finding a static shape). The force slots hold the forces
     at the start (:func:`line_forces`). Books the line ledger; returns the sums over the steps
     of the force on the glider ``(fx, fy, fz)`` N, of its half-drag part ``(dx, dy, dz)`` N and
-    half-weight part ``wz`` N, of the glider-end tension N, and the largest segment tension N."""
+    half-weight part ``wz`` N, of the glider-end tension N, and the largest segment tension N.
+
+    A step's closing half kick runs in the same pass over the nodes as the next step's opening
+    half kick and drift (the same operations in the same order: the two half kicks of one force
+    are not merged), the last one after the loop."""
     P = NODES
     V = P + 3 * (n + 1)
     F = V + 3 * (n + 1)
     TT = F + 3 * (n + 1)
-    mu, g, EA = c[_C_MU], c[_C_G], c[_C_EA]
+    mu, g = c[_C_MU], c[_C_G]
     vhx, vhy, vhz = (hx1 - hx0) / (msteps * h), (hy1 - hy0) / (msteps * h), (hz1 - hz0) / (msteps * h)
     sfx = sfy = sfz = sdx = sdy = sdz = swz = stg = tmax = 0.0
     kdamp = 1.0 - relax * h if relax * h < 1.0 else 0.0
+    fh = F + 3 * n
+    ph = P + 3 * n
+    kb = 0.0  # the pending closing half kick (0: none before the first step)
     for j in range(msteps):
         lsa = ls0 + (ls1 - ls0) * j / msteps
         lsb = ls0 + (ls1 - ls0) * (j + 1) / msteps
         ma, mb = mu * lsa, mu * lsb
-        fh = F + 3 * n
+        paying = mb != ma
         fgx, fgy, fgz = s[fh], s[fh + 1], s[fh + 2]
-        # kick (half), drift
+        # the last step's closing half kick, this step's opening half kick, drift
         e_mass = 0.0
         ka = 0.5 * h / ma
         for i in range(1, n):
             f = F + 3 * i
             v = V + 3 * i
             p = P + 3 * i
-            for a in range(3):
-                s[v + a] = (s[v + a] + ka * s[f + a]) * kdamp
-                s[p + a] += h * s[v + a]
-            if mb != ma:
-                vv = s[v] * s[v] + s[v + 1] * s[v + 1] + s[v + 2] * s[v + 2]
-                e_mass += (mb - ma) * (0.5 * vv - g * s[p + 2])
-        ph = P + 3 * n
+            vx, vy, vz = s[v], s[v + 1], s[v + 2]
+            fx, fy, fz = s[f], s[f + 1], s[f + 2]
+            if j > 0:
+                vx += kb * fx
+                vy += kb * fy
+                vz += kb * fz
+            vx = (vx + ka * fx) * kdamp
+            vy = (vy + ka * fy) * kdamp
+            vz = (vz + ka * fz) * kdamp
+            s[v], s[v + 1], s[v + 2] = vx, vy, vz
+            pz = s[p + 2] + h * vz
+            s[p] += h * vx
+            s[p + 1] += h * vy
+            s[p + 2] = pz
+            if paying:
+                vv = vx * vx + vy * vy + vz * vz
+                e_mass += (mb - ma) * (0.5 * vv - g * pz)
         t1 = (j + 1.0) / msteps
         dhx = hx0 + (hx1 - hx0) * t1 - s[ph]
         dhy = hy0 + (hy1 - hy0) * t1 - s[ph + 1]
         dhz = hz0 + (hz1 - hz0) * t1 - s[ph + 2]
         s[ph], s[ph + 1], s[ph + 2] = s[ph] + dhx, s[ph + 1] + dhy, s[ph + 2] + dhz
-        # the rest-length change's elastic energy at the start positions (segment lengths from
-        # the tensions; exact for taut segments), then at the end positions (line_forces)
-        pay0 = 0.0
-        if lsb != lsa:
-            ka, kb = EA / lsa, EA / lsb
-            for i in range(n):
-                T = s[TT + i]
-                if T > 0.0:
-                    sb = T / ka + lsa - lsb
-                    pay0 += 0.5 * T * T / ka - (0.5 * kb * sb * sb if sb > 0.0 else 0.0)
-        e_el, e_old, p_damp, p_drag, hdx, hdy, hdz, tm = line_forces(s, c, n, lsb, mb, vhx, vhy, vhz, lsa)
+        # the rest-length change's elastic energy at the start positions and at the end positions
+        e_el, e_old, pay0, p_damp, p_drag, hdx, hdy, hdz, tm = line_forces(s, c, n, lsb, mb, vhx, vhy, vhz, lsa)
         fgx1, fgy1, fgz1 = s[fh], s[fh + 1], s[fh + 2]
         kb = 0.5 * h / mb
-        for i in range(1, n):  # kick (half)
-            f = F + 3 * i
-            v = V + 3 * i
-            for a in range(3):
-                s[v + a] += kb * s[f + a]
         # ledger: the glider works against the line's force on the hook (trapezoid)
         s[L_HOOK] -= 0.5 * ((fgx + fgx1) * dhx + (fgy + fgy1) * dhy + (fgz + fgz1) * dhz)
         s[L_MASS] += e_mass
@@ -276,6 +292,11 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
         stg += s[TT + n - 1]
         if tm > tmax:
             tmax = tm
+    for i in range(1, n):  # the last step's closing half kick
+        f = F + 3 * i
+        v = V + 3 * i
+        for a in range(3):
+            s[v + a] += kb * s[f + a]
     return sfx, sfy, sfz, sdx, sdy, sdz, swz, stg, tmax
 
 
