@@ -205,6 +205,11 @@ def test_the_private_access_check_sees_what_it_must(tmp_path, monkeypatch) -> No
                                    "def _helper():\n    return 0\n\ndef peer(o):\n    return o._x\n")
     (tmp_path / "b.py").write_text("from .a import _helper, peer\n\ndef f(o):\n    o._x = 2\n"
                                    "    return o._x + getattr(o, '_x') + peer(o) + o.public + o.__class__.x\n")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "__init__.py").write_text("")
+    (tmp_path / "sub" / "_hid.py").write_text("X = 1\n")
+    (tmp_path / "sub" / "d.py").write_text("from . import _hid\n")  # its own package: allowed
+    (tmp_path / "c.py").write_text("from .sub import _hid\nfrom .sub._hid import X\n")
     caches = (_files, _tree, _owned, _package_owned)
     monkeypatch.setattr(sys.modules[__name__], "PKG", tmp_path)
     for f in caches:
@@ -215,8 +220,9 @@ def test_the_private_access_check_sees_what_it_must(tmp_path, monkeypatch) -> No
         monkeypatch.undo()
         for f in caches:
             f.cache_clear()
-    assert found == {"a.py": [], "b.py": sorted(["from fdm_awe.a import _helper", "o._x", "o._x",
-                                                 "getattr(o, '_x')"])}
+    assert found == {"a.py": [], "b.py": sorted(["from fdm_awe.a import _helper", "o._x", "o._x", "getattr(o, '_x')"]),
+                     "c.py": ["from fdm_awe.sub import _hid", "from fdm_awe.sub._hid import ..."],
+                     "d.py": [], "__init__.py": [], "_hid.py": []}
 
 
 def _module_level_imports(path: Path) -> set[str]:
