@@ -49,12 +49,12 @@ def __getattr__(name: str) -> Any:
     # layers of docs/architecture.md), and ``import fdm_awe`` stays light
     if name in _API:
         return getattr(importlib.import_module(".api", __name__), name)
-    if name == "sweep":  # the sub-package, callable (its __init__ makes itself a _CallableModule)
+    if name == "sweep":  # the sub-package, callable (its __init__ makes itself a CallableModule)
         return importlib.import_module(".sweep", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-class _CallableModule(types.ModuleType):
+class CallableModule(types.ModuleType):
     """The ``fdm_awe.sweep`` sub-package, callable as the API's :func:`fdm_awe.api.sweep`
     (``fdm_awe/sweep/__init__.py`` gives itself this class when it is imported, whatever imports
     it first)."""

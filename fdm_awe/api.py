@@ -586,7 +586,6 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
         The points (``wind_mps`` [m/s], ``P_avg_W`` [W], ``status``, ...), the answer and the files.
     """
     from .commands import sweep as S
-    from .commands import _checks as chk
 
     args = _namespace("sweep", ["--out", os.fspath(out)], wind=wind, config=config, scenario=scenario, mesh=mesh,
                       workers=workers, scheduler=scheduler, cold=cold, no_cold_check=not cold_check,
@@ -596,15 +595,12 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
     with _quiet(verbose), _keep_plot_backend():
         S.check_args(args)
         spec = S.build_spec(args)
-        from .sweep.report import output_files
-
-        S._check_not_in_points(args)
+        S.check_not_in_points(args)
         with tempfile.TemporaryDirectory(prefix="fdm-awe-api-") as tmp:
             user_json = args.json
-            locks = chk.outputs(files=[("json", user_json)], dirs=[("out", args.out)],
-                                dir_files=[("out", p) for p in output_files(args.out).values()])
+            locks = S.output_locks(args, "json", "out")
             args.json = str(Path(tmp) / "sweep.json") if user_json is None else user_json
             with locks:
-                code = S._run_checked(args, spec)
+                code = S.run_checked(args, spec)
             doc = _read_json(Path(args.json))
     return SweepResult(document=doc, out=Path(out), exit_code=code)

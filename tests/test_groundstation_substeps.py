@@ -162,9 +162,9 @@ def _jit(f):
     """``f`` compiled by numba (its calls registered as in the ground station's step)."""
     import numba
 
-    from fdm_awe.groundstation.substeps import _register
+    from fdm_awe.groundstation.substeps import register_calls
 
-    _register()
+    register_calls()
     return numba.njit(f)
 
 

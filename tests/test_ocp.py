@@ -385,7 +385,7 @@ def test_ipopt_instances_share_derivatives_bit_identically():
     assert first.ok
     own, _ = get_nlp(pr, cache=False)
     shared, _ = get_nlp(pr, cache=False)
-    shared._solver(None)  # generates the derivatives; the warm instance below reuses them
+    shared.solver_for(None)  # generates the derivatives; the warm instance below reuses them
     assert sorted(shared._derivatives) == ["grad_f", "hess_lag", "jac_g"] and not own._derivatives
     params = own.params(wind_vector(8.5, pr.wind_from_deg)[:2], 1.0, first.k_wrap)
     a = own.solve(first.w, params, first.lam_x, first.lam_g, WARM_OPTIONS)

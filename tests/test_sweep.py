@@ -298,10 +298,10 @@ def test_embedded_cluster_settings():
     caller's configuration."""
     import dask
 
-    from fdm_awe.sweep.execute import _client
+    from fdm_awe.sweep.execute import start_client
 
     blas_threads = os.environ.get("OMP_NUM_THREADS", "1")
-    client, cluster, n = _client(1, None)
+    client, cluster, n = start_client(1, None)
     try:
         assert n == 1
         assert list(client.run(_worker_settings).values()) == [(os.environ.get("MALLOC_TRIM_THRESHOLD_"), blas_threads,

@@ -101,5 +101,5 @@ class AttitudeLoops:
         """Surface commands for angle of attack ``alpha_cmd`` and bank ``roll_cmd`` (rad), ``dt``
         (s) since the last update; damping relative to the path's rotation."""
         law = self.law
-        return attitude_from_row(s._r, s._k, alpha_cmd, roll_cmd, dt, law.coefficients(s.fold, alpha_cmd),
+        return attitude_from_row(s.raw, s.scale, alpha_cmd, roll_cmd, dt, law.coefficients(s.fold, alpha_cmd),
                                  law.gains.law_gains(), self.g, law.integ)

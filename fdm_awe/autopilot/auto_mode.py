@@ -130,7 +130,7 @@ class AutoStep:
         mem, out = self.mem, self.out
         mem[M_PHASE] = PHASE_CODES.get(ap.phase, -1.0)
         self.last_error = float(mem[M_ERR])
-        flags = auto_guide(s._r, s._k, s._o, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem,
+        flags = auto_guide(s.raw, s.scale, s.offset, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem,
                            ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem, self.rrow, out)
         notes = []
         self.track_lost = bool(flags & TRACK_LOST)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .. import ROOT
-from ..definitions.xmlutil import XmlDoc, _to_float
+from ..definitions.xmlutil import XmlDoc, to_float
 from ..errors import DefinitionError
 from .params import KINDS, ParamStore
 
@@ -47,9 +47,9 @@ def load_autopilot_definition(path: str | Path | None = None) -> list[ParamDef]:
         if pid in seen:
             raise DefinitionError(doc.path, what, "declared twice")
         seen.add(pid)
-        lo = _to_float(doc.path, f"{what} min", el.attrib.get("min"))
-        hi = _to_float(doc.path, f"{what} max", el.attrib.get("max"))
-        v = _to_float(doc.path, what, el.text)
+        lo = to_float(doc.path, f"{what} min", el.attrib.get("min"))
+        hi = to_float(doc.path, f"{what} max", el.attrib.get("max"))
+        v = to_float(doc.path, what, el.text)
         kind = el.attrib.get("kind", "float")
         if kind not in KINDS:
             raise DefinitionError(doc.path, f"{what} kind", f"{kind!r} (allowed {', '.join(KINDS)})")

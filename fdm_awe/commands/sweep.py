@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import Any
 
 HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
 
@@ -190,9 +191,9 @@ def design_axes(args: argparse.Namespace) -> dict[str, tuple]:
            "fold_times": axis(args.fold_time, "--fold-time", "s", 0.0, FOLD_TIME_MAX_S),
            "folded_spans": axis(args.folded_span, "--folded-span", "m", 0.0, None, lo_open=True)}
     if args.folded_span is not None:  # a folded wing no longer than the unfolded one, at every wing area
-        from ..sweep.runner import _base_glider
+        from ..sweep.runner import base_glider
 
-        base = _base_glider()
+        base = base_glider()
         for S in out["wing_areas"]:
             b_u = unfolded_span(base, S)
             for b in out["folded_spans"]:
@@ -272,13 +273,10 @@ def run(args: argparse.Namespace) -> int:
         return run_compare(args.out, args.compare, args.json)
     spec = build_spec(args)
     extras = extra_settings(args, spec)
-    from ..sweep.report import output_files
-
-    _check_not_in_points(args)
-    locks = chk.outputs(files=[("--json", args.json)], dirs=[("--out", args.out)],
-                        dir_files=[("--out", p) for p in output_files(args.out).values()])
+    check_not_in_points(args)
+    locks = output_locks(args)
     with locks:  # --out locked until the last file is written: a second sweep into it is refused
-        return _run_checked(args, spec, extras)
+        return run_checked(args, spec, extras)
 
 
 def extra_settings(args: argparse.Namespace, spec) -> dict:
@@ -309,7 +307,17 @@ def extra_settings(args: argparse.Namespace, spec) -> dict:
             "site_height": site_h, "curve_height": curve_h, "ratio": ratio, "profile": prof}
 
 
-def _check_not_in_points(args: argparse.Namespace) -> None:
+def output_locks(args: argparse.Namespace, json_option: str = "--json", out_option: str = "--out") -> Any:
+    """The sweep's outputs checked (``args.json``, the ``args.out`` folder and the files it will
+    hold; errors name them ``json_option``/``out_option``): a context that keeps them locked."""
+    from ..sweep.report import output_files
+    from . import _checks as chk
+
+    return chk.outputs(files=[(json_option, args.json)], dirs=[(out_option, args.out)],
+                       dir_files=[(out_option, p) for p in output_files(args.out).values()])
+
+
+def check_not_in_points(args: argparse.Namespace) -> None:
     """``--json`` may not go into ``OUT/points/``: the point files (any name there may be one a
     later sweep writes or reads as a point)."""
     import os
@@ -323,7 +331,7 @@ def _check_not_in_points(args: argparse.Namespace) -> None:
                          f"files; choose another path")
 
 
-def _run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> int:
+def run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> int:
     """The work of :func:`run` once every option and output is checked: solve the missing
     points (or none, ``--report-only``), write the outputs; returns the exit code."""
     from pathlib import Path

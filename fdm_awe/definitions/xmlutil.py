@@ -140,11 +140,12 @@ class XmlDoc:
         for el in self.root.iter("property"):
             if (el.text or "").strip() == name and "value" in el.attrib:
                 what, path = f"property {name}", self.origin(el)
-                return _check(path, what, _to_float(path, what, el.attrib["value"]), lo, hi, lo_open, hi_open, unit)
+                return _check(path, what, to_float(path, what, el.attrib["value"]), lo, hi, lo_open, hi_open, unit)
         raise DefinitionError(self.path, f"property {name}", "missing declaration (<property value=...>)")
 
 
-def _to_float(path: Path, what: str, text: str | None) -> float:
+def to_float(path: Path, what: str, text: str | None) -> float:
+    """``text`` as a finite float, else a :class:`DefinitionError` naming ``path`` and ``what``."""
     t = (text or "").strip()
     try:
         v = float(t)
@@ -191,7 +192,7 @@ def element_number(
 ) -> float:
     """Float text of ``el`` converted to SI with its ``unit`` attribute (as written with
     ``convert=False``), range-checked."""
-    v = _to_float(path, what, el.text)
+    v = to_float(path, what, el.text)
     u = el.attrib.get("unit") if convert else None
     if u is not None:
         if u.upper() not in TO_SI:
@@ -210,7 +211,7 @@ def location(path: Path, el: ET.Element, what: str) -> tuple[float, float, float
         c = el.find(axis)
         if c is None:
             raise DefinitionError(path, f"{what}/{axis}", "missing element")
-        out.append(_to_float(path, f"{what}/{axis}", c.text) * TO_SI[unit])
+        out.append(to_float(path, f"{what}/{axis}", c.text) * TO_SI[unit])
     return (out[0], out[1], out[2])
 
 
@@ -280,11 +281,11 @@ def check_numbers(doc: XmlDoc) -> None:
         tag = el.tag
         path = doc.origin(el)
         if tag == "property" and "value" in el.attrib:
-            _to_float(path, f"property {(el.text or '').strip()}", el.attrib["value"])
+            to_float(path, f"property {(el.text or '').strip()}", el.attrib["value"])
         elif len(el):
             continue  # an element with children (a function's <max>, a <location>) is checked through them
         elif tag in NUMBER_ELEMENTS:
-            _to_float(path, where, el.text)
+            to_float(path, where, el.text)
         elif tag in NUMBER_OR_PROPERTY_ELEMENTS:
             text = (el.text or "").strip()
             try:
@@ -294,11 +295,11 @@ def check_numbers(doc: XmlDoc) -> None:
                     raise DefinitionError(path, where, f"{text!r} is neither a number nor a property name "
                                                           f"(allowed: a finite decimal number or a property such as fcs/name)") from None
             else:
-                _to_float(path, where, text)
+                to_float(path, where, text)
         elif tag == "tableData":
             rows = [line.split() for line in (el.text or "").strip().splitlines() if line.strip()]
             if not rows:
                 raise DefinitionError(path, where, "empty table (allowed: rows of finite numbers)")
             for i, row in enumerate(rows):
                 for tok in row:
-                    _to_float(path, f"{where} row {i + 1}", tok)
+                    to_float(path, f"{where} row {i + 1}", tok)

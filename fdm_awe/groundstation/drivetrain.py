@@ -104,6 +104,31 @@ class Drivetrain:
         self.reset(length=100.0, omega=0.0, mode=GENERATOR)
 
     # -- state -------------------------------------------------------------------------
+    @property
+    def state(self) -> np.ndarray:
+        """The states and the ledger's terms in one float64 array (layout above): the array the
+        steps update in place, not a copy."""
+        return self._s
+
+    @property
+    def constants(self) -> list[float]:
+        """The constants of :func:`.substeps.advance` (``DRIVETRAIN_CONSTANTS``) as Python
+        floats (a copy)."""
+        return list(self._cl)
+
+    @property
+    def is_compiled(self) -> bool:
+        """Its step runs compiled (numba); False: the same function runs in Python."""
+        return self._kernel is not None
+
+    def move_state(self, buffer: np.ndarray) -> None:
+        """Keep the states and the ledger in ``buffer`` from now on (a float64 array of the
+        length of :attr:`state`, e.g. the head of a larger step array); their values are copied
+        into it."""
+        buffer[:] = self._s
+        self._s = buffer
+        self.ledger.buffer = buffer[len(STATE):]
+
     def reset(self, length: float, omega: float, mode: str = GENERATOR,
               load_resistance: float | None = None, boost_duty: float | None = None) -> None:
         """Set the line length (m), drum speed (rad/s) and converter mode; the electrical states

@@ -69,7 +69,7 @@ from .lumped_state import (  # noqa: F401 - the line's layout and views, also re
     L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
     TETHER_MODELS, ZETA, LineLedger, line_constants, nodes, parse_tether, state_size, tensions, velocities,
 )
-from .substeps import _DRAG_W, _WEIGHT_W, _register, advance, compiled_station, cross_flow_drag, machine_mode_code
+from .substeps import DRAG_W, WEIGHT_W, advance, compiled_station, cross_flow_drag, machine_mode_code, register_calls
 
 # station constants used here (positions in STATION_CONSTANTS)
 _C_MU, _C_EA, _C_TBREAK, _C_G, _C_DRAGON, _C_WN, _C_WE, _C_WD = 4, 5, 6, substeps.C_G, substeps.C_DRAG_ON, *substeps.C_WINDS
@@ -467,8 +467,8 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
     s[R_DX], s[R_DY], s[R_DZ], s[R_WZ] = sdx / n, sdy / n, sdz / n, swz / n
     store_energies(s, c, N, 1)
     # the straight line's share terms: the work on the glider of the half drag and half weight it takes
-    s[_DRAG_W] += (s[R_DX] * vx + s[R_DY] * vy + s[R_DZ] * vz) * dt
-    s[_WEIGHT_W] += s[R_WZ] * vz * dt
+    s[DRAG_W] += (s[R_DX] * vx + s[R_DY] * vy + s[R_DZ] * vz) * dt
+    s[WEIGHT_W] += s[R_WZ] * vz * dt
     d = math.sqrt(x * x + y * y + z * z)
     w, i = float(s[1]), float(s[2])
     tmean = tsum / n
@@ -494,7 +494,7 @@ def compiled_lumped() -> Callable | None:
         f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
         return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
 
-    _register()
+    register_calls()
     # tied also to the drum step, the wind profile and the line's layout compiled into it
     return compile_cached(lumped_station_step, signature, _CALLED, _SOURCES, "fdm_awe.groundstation.lumped")
 
@@ -511,7 +511,7 @@ def compiled_function(name: str) -> Callable:
         import numba  # here: optional, and its import costs start-up time
         from numba.extending import register_jitable
 
-        _register()
+        register_calls()
         for g in _CALLED:
             register_jitable(g)
         kern = numba.njit(cache=True)(f)

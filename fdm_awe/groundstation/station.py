@@ -288,17 +288,15 @@ class GroundStation:
         # (STATION_CONSTANTS: the drivetrain's, the wind, the line-share factors of the tether module)
         self._step_kernel = compiled_station()
         drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
-        self._scl = self.drivetrain._cl + list(self.wind) + [
+        self._scl = self.drivetrain.constants + list(self.wind) + [
             line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
             tp.weight_share * tp.mass_per_length, tp.gravity]
-        self._s_all = self.drivetrain._s  # the step's state array (with the lumped line: drivetrain + line)
+        self._s_all = self.drivetrain.state  # the step's state array (with the lumped line: drivetrain + line)
         self._step_py = station_step
         nseg = self.tether_segments
         if nseg:
             s_all = np.zeros(lumped_state.state_size(nseg))
-            s_all[:lumped_state.OFF] = dtr_s = self.drivetrain._s
-            self.drivetrain._s = s_all[:lumped_state.OFF]
-            self.drivetrain.ledger.buffer = s_all[len(dtr_s) - len(self.drivetrain.ledger.buffer):lumped_state.OFF]
+            self.drivetrain.move_state(s_all[:lumped_state.OFF])
             self._s_all = s_all
             s_all[lumped_state.R_NSEG] = nseg
             self._scl += lumped_state.line_constants(nseg, tp.air_density, tp.cd_perpendicular, tp.diameter,
@@ -438,7 +436,7 @@ class GroundStation:
         if not (0.0 < dt <= 1.0):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
         dtr = self.drivetrain
-        if self._step_kernel is None or dtr._kernel is None:
+        if self._step_kernel is None or not dtr.is_compiled:
             return None
         return self._s_all, self._sc, self._substeps(dt)
 
@@ -492,7 +490,7 @@ class GroundStation:
         dtr = self.drivetrain
         mode, motor, omega_ref, duty, d2, RL = self._cmd_terms
         kern = self._step_kernel
-        if kern is not None and dtr._kernel is not None:  # compiled
+        if kern is not None and dtr.is_compiled:  # compiled
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
                 self._s_all, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)
         else:  # the same function in Python

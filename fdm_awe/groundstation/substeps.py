@@ -41,9 +41,9 @@ MACHINE_MODES = ("idle", "generator", "motor")
 #: ``motor`` 1 in motor mode); the energy ledger's terms follow (``ledger.FIELDS`` order).
 STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
 _NS = len(STATE)
-# ledger terms, offsets in the state array (ledger.FIELDS order)
+# ledger terms, offsets in the state array (ledger.FIELDS order; DRAG_W, WEIGHT_W: also the lumped line's)
 (_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _BRAKE, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
- _NUMERICAL, _DRUM, _AIRGAP, _DRAG_W, _WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 25)
+ _NUMERICAL, _DRUM, _AIRGAP, DRAG_W, WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 25)
 
 #: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
 #: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
@@ -429,9 +429,9 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
         else:
             fx, fy, fz = cross_flow_drag(x / d, y / d, z / d, vx - c[C_WIND], vy - c[C_WIND + 1], vz - c[C_WIND + 2],
                                          c[C_DRAG] * l_start)
-        s[_DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
+        s[DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
         fw = weight_share(c[C_WEIGHT], l_start, c[C_G])
-        s[_WEIGHT_W] += fw * vz * dt
+        s[WEIGHT_W] += fw * vz * dt
         fz += fw
         if d > 0.0 and tmean > 0.0:
             ct = -tmean / d
@@ -450,7 +450,7 @@ _CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, forc
 
 
 @functools.lru_cache(maxsize=None)
-def _register() -> None:
+def register_calls() -> None:
     """Let numba compile the calls of :data:`_CALLED` inside compiled functions (once)."""
     from numba.extending import register_jitable
 
@@ -468,7 +468,7 @@ def _njit(f: Callable, sig: tuple) -> Callable | None:
     except ImportError:
         return None
     try:
-        _register()
+        register_calls()
         f8, b1 = numba.float64, numba.boolean
         args = tuple({"f": f8, "b": b1, "a": f8[::1], "i": numba.int64}[ch] for ch in sig)
         kern = numba.njit(cache=True)(f)

@@ -9,7 +9,8 @@
   (what each stream says), :mod:`~fdm_awe.mavlink.commands` (COMMAND_LONG/INT, SET_MODE),
   :mod:`~fdm_awe.mavlink.mission` (mission download/upload),
   :mod:`~fdm_awe.mavlink.param_protocol` (parameters on the link), :mod:`~fdm_awe.mavlink.ftp`
-  (MAVFTP NAK), :mod:`~fdm_awe.mavlink.transport` (the connection, read fairly; a TCP
+  (MAVFTP NAK), :mod:`~fdm_awe.mavlink.link` (the endpoint as the protocol modules use it, a typed
+  Protocol), :mod:`~fdm_awe.mavlink.transport` (the connection, read fairly; a TCP
   server for several ground stations; a tcp client tried once, bounded in time),
   :mod:`~fdm_awe.mavlink.framing` (datagram and stream parsing),
   :mod:`~fdm_awe.mavlink.winch` (the winch component), :mod:`~fdm_awe.mavlink.statustext`,

@@ -46,7 +46,7 @@ def telemetry_builder(autopilot: Any, sim: Any) -> Callable[[Any, Any], Telemetr
     ledger = sim.gs.ledger
     dt = sim.dt
     acc = {"thrust": 0.0, "t": None, "charge": 0.0}
-    volts = float(getattr(getattr(sim, "glider", None), "_maxvolts", math.nan))
+    volts = float(getattr(getattr(sim, "glider", None), "motor_volts", math.nan))
     mission: dict[str, Any] = {"ref": None, "times": None, "period": 0.0}
 
     def mission_seq() -> int:

@@ -35,17 +35,16 @@ the COMMAND_ACK.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
 
 from pymavlink.dialects.v20 import common as mav
 
-from .messages import _f, send_autopilot_version
+from .link import Link
+from .messages import as_finite, send_autopilot_version
 from .streams import MAX_RATE_HZ, stream_of_message
 from .vehicle import ARM_DISARM_FORCE, MODE_NAMES, MODE_NUMBERS, RTL_MODE
 from .winch import WINCH_COMPID
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 #: what a command handler returns: MAV_RESULT and what to do after the ACK went out (or None)
 Outcome = tuple[int, Callable[[], None] | None]
@@ -85,7 +84,7 @@ def _mode_list(vehicle: Any) -> str:
 class CommandHandler:
     """Runs the commands of the module doc's table on ``ep``'s vehicle and acknowledges them."""
 
-    def __init__(self, ep: "MavlinkEndpoint") -> None:
+    def __init__(self, ep: Link) -> None:
         self._ep = ep
         self._why = ""  # the reason the command being handled was refused ("" = the result's default)
 
@@ -191,7 +190,7 @@ class CommandHandler:
         return _result(ok)
 
     def _set_mode(self, p: tuple[float, ...]) -> Outcome:
-        base = _f(p[0], -1.0)
+        base = as_finite(p[0], -1.0)
         if base < 0 or base != int(base) or not int(base) & mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED:
             self._why = "DO_SET_MODE refused: custom modes only (param1 1)"
             return mav.MAV_RESULT_DENIED, None
@@ -260,7 +259,7 @@ class CommandHandler:
 
     def _request_message(self, p: tuple[float, ...]) -> Outcome:
         ep = self._ep
-        mid = _f(p[0], -1.0)
+        mid = as_finite(p[0], -1.0)
         if mid == mav.MAVLINK_MSG_ID_AUTOPILOT_VERSION:
             return mav.MAV_RESULT_ACCEPTED, lambda: send_autopilot_version(ep)
         name = stream_of_message(mid)
@@ -271,7 +270,7 @@ class CommandHandler:
 
     def _set_interval(self, p: tuple[float, ...]) -> Outcome:
         ep = self._ep
-        mid, us = _f(p[0], -1.0), _f(p[1], math.nan)
+        mid, us = as_finite(p[0], -1.0), as_finite(p[1], math.nan)
         name = stream_of_message(mid)
         if name is None:
             self._why = f"SET_MESSAGE_INTERVAL: message {mid:g} not streamed"
@@ -294,7 +293,7 @@ class CommandHandler:
 
     def _get_interval(self, p: tuple[float, ...]) -> Outcome:
         ep = self._ep
-        mid = _f(p[0], -1.0)
+        mid = as_finite(p[0], -1.0)
         name = stream_of_message(mid)
         if name is None:
             return mav.MAV_RESULT_UNSUPPORTED, None

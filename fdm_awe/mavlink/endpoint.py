@@ -53,7 +53,8 @@ in ``stats["send_errors"]``, never raised) and logging. Each protocol is its own
 Composition, not mixins: the endpoint holds one object per protocol (``StreamSchedule``,
 ``CommandHandler``, ``MissionProtocol``, ``ParamProtocol``), each owning its own state (the
 schedule, the mission transfers, the parameter queue) and reaching the link only through
-the endpoint it was given (send, log, vehicle, configuration). Mixins would put all of that
+the endpoint it was given, as a :class:`~fdm_awe.mavlink.link.Link` (send, log, vehicle,
+configuration: the members the protocol modules use, typed). Mixins would put all of that
 state back on one object with one namespace of ~60 methods, the same class only spread over
 files. The per-step fast path stays on the endpoint itself: ``update`` compares the time
 with two of its own attributes and returns, so splitting costs nothing when nothing is due.

@@ -7,10 +7,10 @@ once instead of waiting for a timeout (mavlink.io/en/services/ftp.html).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
+from .link import Link
+
 
 # MAVFTP opcodes/errors (mavlink.io/en/services/ftp.html)
 _FTP_NAK = 129
@@ -35,7 +35,7 @@ def nak_payload(request: Any) -> list[int]:
     return payload
 
 
-def on_ftp(ep: "MavlinkEndpoint", m: Any) -> None:
+def on_ftp(ep: Link, m: Any) -> None:
     """FILE_TRANSFER_PROTOCOL addressed to ``ep``: answer with the NAK."""
     if not ep.for_me(m):
         return

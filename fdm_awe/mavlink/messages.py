@@ -65,15 +65,14 @@ from __future__ import annotations
 
 import math
 import time
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
 
 from pymavlink.dialects.v20 import ardupilotmega as apm
 from pymavlink.dialects.v20 import common as mav
 
+from .link import Link
 from .vehicle import MODE_NUMBERS, PHASE_CODES, Telemetry
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 #: default rates of the streams, Hz of simulation time (also the order they go out in)
 RATES: dict[str, float] = {
@@ -127,7 +126,7 @@ _CAPABILITIES = (mav.MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT | mav.MAV_PROTOCOL_CA
 _I32 = (-2**31, 2**31 - 1)
 
 
-def _f(x: Any, default: float = 0.0) -> float:
+def as_finite(x: Any, default: float = 0.0) -> float:
     """``x`` as a finite float, else ``default`` (telemetry fields may be missing or NaN)."""
     try:
         v = float(x)
@@ -138,7 +137,7 @@ def _f(x: Any, default: float = 0.0) -> float:
 
 def _i(x: float, lo: int, hi: int, default: int = 0) -> int:
     """``x`` rounded to an int inside [lo, hi]; non-finite or non-numeric -> ``default``."""
-    v = _f(x, math.nan)
+    v = as_finite(x, math.nan)
     if math.isnan(v):
         return default
     return int(min(hi, max(lo, round(v))))
@@ -157,22 +156,22 @@ def _ms(t: float) -> int:
 def _vec3(v: Any) -> tuple[float, float, float]:
     """The first three components of ``v`` as finite floats (zeros if it has fewer)."""
     try:
-        return _f(v[0]), _f(v[1]), _f(v[2])
+        return as_finite(v[0]), as_finite(v[1]), as_finite(v[2])
     except (TypeError, IndexError, KeyError):
         return 0.0, 0.0, 0.0
 
 
 def pwm_surface(u: float) -> int:
     """PWM microseconds of a surface command -1..1 (1000..2000, 1500 neutral)."""
-    return _i(1500.0 + 500.0 * min(max(_f(u), -1.0), 1.0), 1000, 2000, 1500)
+    return _i(1500.0 + 500.0 * min(max(as_finite(u), -1.0), 1.0), 1000, 2000, 1500)
 
 
 def pwm_unit(u: float) -> int:
     """PWM microseconds of a command 0..1 (throttle, fold): 1000..2000."""
-    return _i(1000.0 + 1000.0 * min(max(_f(u), 0.0), 1.0), 1000, 2000, 1000)
+    return _i(1000.0 + 1000.0 * min(max(as_finite(u), 0.0), 1.0), 1000, 2000, 1000)
 
 
-def _vehicle_state(ep: "MavlinkEndpoint", tel: Telemetry) -> tuple[str, bool]:
+def _vehicle_state(ep: Link, tel: Telemetry) -> tuple[str, bool]:
     """Mode and armed flag: the vehicle's own, else (no vehicle, or it fails) the telemetry's."""
     v = ep.vehicle
     if v is not None:
@@ -183,7 +182,7 @@ def _vehicle_state(ep: "MavlinkEndpoint", tel: Telemetry) -> tuple[str, bool]:
     return str(tel.mode), bool(tel.armed)
 
 
-def send_heartbeat(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_heartbeat(ep: Link, tel: Telemetry, t: float) -> None:
     mode, armed = _vehicle_state(ep, tel)
     custom = MODE_NUMBERS.get(mode, 0)
     base = mav.MAV_MODE_FLAG_CUSTOM_MODE_ENABLED
@@ -204,7 +203,7 @@ def send_heartbeat(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
     ep.winch.send_heartbeat(ep, tel)
 
 
-def send_attitude(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_attitude(ep: Link, tel: Telemetry, t: float) -> None:
     phi, theta, psi = _vec3(tel.euler)
     p, q, r = _vec3(tel.omega_body)
     ep.send("ATTITUDE", ep.mav.attitude_send, _ms(t), phi, theta, psi, p, q, r)
@@ -220,14 +219,14 @@ def euler_quaternion(phi: float, theta: float, psi: float) -> tuple[float, float
             cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy)
 
 
-def send_attitude_quaternion(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_attitude_quaternion(ep: Link, tel: Telemetry, t: float) -> None:
     w, x, y, z = euler_quaternion(*_vec3(tel.euler))
     p, q, r = _vec3(tel.omega_body)
     ep.send("ATTITUDE_QUATERNION", ep.mav.attitude_quaternion_send, _ms(t), w, x, y, z, p, q, r,
              [0.0, 0.0, 0.0, 0.0])
 
 
-def send_extended_sys_state(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_extended_sys_state(ep: Link, tel: Telemetry, t: float) -> None:
     if tel.in_air is None:
         landed = mav.MAV_LANDED_STATE_UNDEFINED
     else:
@@ -235,15 +234,15 @@ def send_extended_sys_state(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> 
     ep.send("EXTENDED_SYS_STATE", ep.mav.extended_sys_state_send, mav.MAV_VTOL_STATE_FW, landed)
 
 
-def send_system_time(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_system_time(ep: Link, tel: Telemetry, t: float) -> None:
     ep.send("SYSTEM_TIME", ep.mav.system_time_send, _i(time.time() * 1e6, 0, 2**63 - 1), _ms(t))
 
 
-def send_global_position(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_global_position(ep: Link, tel: Telemetry, t: float) -> None:
     n, e, d = _vec3(tel.pos_ned)
     vn, ve, vd = _vec3(tel.vel_ned)
     lat, lon, alt = ep.geo.to_geodetic(n, e, d)
-    hdg = math.degrees(_f(_vec3(tel.euler)[2])) % 360.0
+    hdg = math.degrees(as_finite(_vec3(tel.euler)[2])) % 360.0
     ep.send("GLOBAL_POSITION_INT", ep.mav.global_position_int_send, _ms(t),
              _i(lat * 1e7, -900000000, 900000000, 0), _i(lon * 1e7, -1800000000, 1800000000, 0),
              _i(alt * 1000.0, *_I32, 0), _i(-d * 1000.0, *_I32, 0),
@@ -251,31 +250,31 @@ def send_global_position(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> Non
              _i(vd * 100.0, -32768, 32767, 0), _i(hdg * 100.0, 0, 35999, 65535))
 
 
-def send_vfr_hud(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_vfr_hud(ep: Link, tel: Telemetry, t: float) -> None:
     n, e, d = _vec3(tel.pos_ned)
     vn, ve, vd = _vec3(tel.vel_ned)
     hdg = _i(math.degrees(_vec3(tel.euler)[2]) % 360.0, 0, 359, 0)
-    ep.send("VFR_HUD", ep.mav.vfr_hud_send, _f(tel.airspeed), math.hypot(vn, ve), hdg,
-             _i(_f(tel.throttle) * 100.0, 0, 100, 0), ep.geo.home.alt_m - d, -vd)
+    ep.send("VFR_HUD", ep.mav.vfr_hud_send, as_finite(tel.airspeed), math.hypot(vn, ve), hdg,
+             _i(as_finite(tel.throttle) * 100.0, 0, 100, 0), ep.geo.home.alt_m - d, -vd)
 
 
 def _millivolts(tel: Telemetry) -> int:
     """Battery voltage in mV (65535 = unknown)."""
-    return _i(_f(tel.battery_voltage_V, -1) * 1000.0, 0, 65534, 65535)
+    return _i(as_finite(tel.battery_voltage_V, -1) * 1000.0, 0, 65534, 65535)
 
 
 def _centiamps(tel: Telemetry) -> int:
     """Battery current in cA (-1 = unknown)."""
-    return _i(_f(tel.battery_current_A, -0.01) * 100.0, -1, 32767, -1)
+    return _i(as_finite(tel.battery_current_A, -0.01) * 100.0, -1, 32767, -1)
 
 
 def _remaining_pct(tel: Telemetry) -> int:
     """Battery remaining in % (-1 = unknown)."""
-    r = _f(tel.battery_remaining, -1.0)
+    r = as_finite(tel.battery_remaining, -1.0)
     return -1 if r < 0 else _i(r * 100.0, 0, 100, -1)
 
 
-def send_sys_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_sys_status(ep: Link, tel: Telemetry, t: float) -> None:
     health = _SENSORS if tel.health_ok else _SENSORS & ~mav.MAV_SYS_STATUS_AHRS
     st = ep.stats
     sg = st["signing"]
@@ -286,31 +285,31 @@ def send_sys_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
              min(st["handler_errors"], 65535), min(refused, 65535), 0)
 
 
-def send_battery(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_battery(ep: Link, tel: Telemetry, t: float) -> None:
     volts = [65535] * 10
     volts[0] = _millivolts(tel)
     ep.send("BATTERY_STATUS", ep.mav.battery_status_send, 0, mav.MAV_BATTERY_FUNCTION_ALL,
              mav.MAV_BATTERY_TYPE_LIPO, 32767, volts, _centiamps(tel),
-             _i(_f(tel.battery_consumed_mAh, -1.0), -1, 2**31 - 1, -1),
-             _i(_f(tel.battery_energy_J, -100.0) / 100.0, -1, 2**31 - 1, -1), _remaining_pct(tel))
+             _i(as_finite(tel.battery_consumed_mAh, -1.0), -1, 2**31 - 1, -1),
+             _i(as_finite(tel.battery_energy_J, -100.0) / 100.0, -1, 2**31 - 1, -1), _remaining_pct(tel))
 
 
-def send_home(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_home(ep: Link, tel: Telemetry, t: float) -> None:
     h = ep.geo.home
     ep.send("HOME_POSITION", ep.mav.home_position_send, int(round(h.lat_deg * 1e7)),
              int(round(h.lon_deg * 1e7)), int(round(h.alt_m * 1000.0)), 0.0, 0.0, 0.0,
              [1.0, 0.0, 0.0, 0.0], 0.0, 0.0, 0.0, _us(t))
 
 
-def send_named_values(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_named_values(ep: Link, tel: Telemetry, t: float) -> None:
     ms = _ms(t)
     for name, value in ((b"tension", tel.tension_N), (b"reel_spd", tel.reel_speed_mps),
                         (b"winch_pwr", tel.winch_power_W), (b"net_energy", tel.net_energy_J),
                         (b"phase", PHASE_CODES.get(tel.phase, -1.0)), (b"fold", tel.fold)):
-        ep.send("NAMED_VALUE_FLOAT", ep.mav.named_value_float_send, ms, name, _f(value, math.nan))
+        ep.send("NAMED_VALUE_FLOAT", ep.mav.named_value_float_send, ms, name, as_finite(value, math.nan))
 
 
-def send_autopilot_version(ep: "MavlinkEndpoint") -> None:
+def send_autopilot_version(ep: Link) -> None:
     """AUTOPILOT_VERSION: the package version (major.minor.patch, official) and capabilities."""
     from fdm_awe import __version__
     parts = [int(x) if x.isdigit() else 0 for x in __version__.split(".")[:3]] + [0, 0, 0]
@@ -319,9 +318,9 @@ def send_autopilot_version(ep: "MavlinkEndpoint") -> None:
              [0] * 8, [0] * 8, [0] * 8, 0, 0, 0)
 
 
-def send_gps_raw(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
-    n, e, d = (_f(v) for v in tel.pos_ned[:3])
-    vn, ve = _f(tel.vel_ned[0]), _f(tel.vel_ned[1])
+def send_gps_raw(ep: Link, tel: Telemetry, t: float) -> None:
+    n, e, d = (as_finite(v) for v in tel.pos_ned[:3])
+    vn, ve = as_finite(tel.vel_ned[0]), as_finite(tel.vel_ned[1])
     lat, lon, alt = ep.geo.to_geodetic(n, e, d)
     gs = math.hypot(vn, ve)
     cog = math.degrees(math.atan2(ve, vn)) % 360.0 if gs > 0.1 else 0.0
@@ -331,7 +330,7 @@ def send_gps_raw(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
              _i(cog * 100.0, 0, 35999), _SATELLITES)
 
 
-def mission_size(ep: "MavlinkEndpoint") -> int:
+def mission_size(ep: Link) -> int:
     """Number of items of the vehicle's mission (0 without a vehicle or when it fails)."""
     v = ep.vehicle
     if v is None:
@@ -348,7 +347,7 @@ def current_item(tel: Telemetry, total: int) -> int:
     return tel.mission_seq if 0 <= tel.mission_seq < total else 0
 
 
-def send_mission_current(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_mission_current(ep: Link, tel: Telemetry, t: float) -> None:
     total = mission_size(ep)
     if total == 0:
         state = mav.MISSION_STATE_NO_MISSION
@@ -361,18 +360,18 @@ def send_mission_current(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> Non
              1 if tel.mode == "AUTO" else 0)
 
 
-def send_nav_controller(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_nav_controller(ep: Link, tel: Telemetry, t: float) -> None:
     nav = tel.nav
     if nav is None:
         return
     ep.send("NAV_CONTROLLER_OUTPUT", ep.mav.nav_controller_output_send,
-             math.degrees(_f(nav.roll)), math.degrees(_f(nav.pitch)),
-             _i(math.degrees(_f(nav.heading)) % 360.0, -32768, 32767),
-             _i(math.degrees(_f(nav.target_bearing)) % 360.0, -32768, 32767),
-             _i(nav.distance_m, 0, 65535), _f(nav.alt_error_m), _f(nav.airspeed_error_mps), _f(nav.xtrack_m))
+             math.degrees(as_finite(nav.roll)), math.degrees(as_finite(nav.pitch)),
+             _i(math.degrees(as_finite(nav.heading)) % 360.0, -32768, 32767),
+             _i(math.degrees(as_finite(nav.target_bearing)) % 360.0, -32768, 32767),
+             _i(nav.distance_m, 0, 65535), as_finite(nav.alt_error_m), as_finite(nav.airspeed_error_mps), as_finite(nav.xtrack_m))
 
 
-def send_servo_output(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_servo_output(ep: Link, tel: Telemetry, t: float) -> None:
     try:
         ail, ele, rud, fold = (float(v) for v in tel.surfaces[:4])
     except (TypeError, ValueError):
@@ -382,11 +381,11 @@ def send_servo_output(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
              0, 0, 0)
 
 
-def send_winch_status(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_winch_status(ep: Link, tel: Telemetry, t: float) -> None:
     ep.winch.send_status(ep, tel, t)
 
 
-def send_wind(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+def send_wind(ep: Link, tel: Telemetry, t: float) -> None:
     w = tel.wind_ned
     if w is None:
         return
@@ -396,7 +395,7 @@ def send_wind(ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
 
 
 #: stream name -> sender (the streams of :data:`RATES`)
-SENDERS: dict[str, Callable[["MavlinkEndpoint", Telemetry, float], None]] = {
+SENDERS: dict[str, Callable[[Link, Telemetry, float], None]] = {
     "HEARTBEAT": send_heartbeat,
     "ATTITUDE": send_attitude,
     "ATTITUDE_QUATERNION": send_attitude_quaternion,

@@ -25,15 +25,14 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
 
 from pymavlink.dialects.v20 import common as mav
 
+from .link import Link
 from .messages import current_item
 from .vehicle import Waypoint
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 _MISSION = mav.MAV_MISSION_TYPE_MISSION
 _EMPTY_TYPES = (mav.MAV_MISSION_TYPE_FENCE, mav.MAV_MISSION_TYPE_RALLY)
@@ -87,7 +86,7 @@ class MissionProtocol:
         upload: the upload under way, or None.
     """
 
-    def __init__(self, ep: "MavlinkEndpoint") -> None:
+    def __init__(self, ep: Link) -> None:
         self._ep = ep
         self.upload: _Upload | None = None
         self._download: list[tuple[int, int, float]] | None = None

@@ -18,10 +18,11 @@ vehicle), so MAVSDK's ``get_param_int`` reads them. Without a vehicle the parame
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from pymavlink.dialects.v20 import common as mav
 
+from .link import Link
 from .params import ParamStore, from_wire, param_text
 
 #: a refused PARAM_SET repeated (same id and value) within this wall-clock time gets no new STATUSTEXT, s
@@ -32,8 +33,6 @@ def wire_type(kind: str) -> int:
     """MAV_PARAM_TYPE of a parameter of ``kind``: INT32 for ``int`` and ``bool``, else REAL32."""
     return mav.MAV_PARAM_TYPE_INT32 if kind in ("int", "bool") else mav.MAV_PARAM_TYPE_REAL32
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 
 def param_id(raw: Any) -> str:
@@ -50,7 +49,7 @@ class ParamProtocol:
         queue: indices of the parameters still to be sent of a requested list (empty: none).
     """
 
-    def __init__(self, ep: "MavlinkEndpoint") -> None:
+    def __init__(self, ep: Link) -> None:
         self._ep = ep
         self.queue: list[int] = []
         self._refused: tuple[str, float, float] | None = None  # the last refused write: id, value, wall time

@@ -18,10 +18,10 @@ the override.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
+from .link import Link
+
 
 #: the sticks are released this long (wall clock, s) after the last override or manual control
 OVERRIDE_TIMEOUT_S = 3.0
@@ -52,7 +52,7 @@ class PilotInput:
         last: wall-clock time of the last override or manual control (-inf: none held).
     """
 
-    def __init__(self, ep: "MavlinkEndpoint") -> None:
+    def __init__(self, ep: Link) -> None:
         self._ep = ep
         self.last = -math.inf
 

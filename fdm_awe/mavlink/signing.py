@@ -45,6 +45,8 @@ from pymavlink.dialects.v20 import common as mav
 from fdm_awe.errors import InputError
 from fdm_awe.fileio import atomic_write_bytes
 
+from .link import Link
+
 KEY_BYTES = 32
 #: 2015-01-01 00:00 UTC, s since the Unix epoch: the MAVLink signing timestamp's origin
 EPOCH_2015 = 1420070400
@@ -199,7 +201,7 @@ class Signer:
                 c.signing.timestamp = ts
 
 
-def on_setup_signing(ep: Any, m: Any) -> None:
+def on_setup_signing(ep: Link, m: Any) -> None:
     """SETUP_SIGNING to the vehicle ``ep`` (a MavlinkEndpoint): only with signing on, so the
     request itself carried a valid signature (this link is not a secure channel like
     ArduPilot's USB port, where a first key may be set). A new key replaces the old one at once

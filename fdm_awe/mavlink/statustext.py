@@ -28,14 +28,13 @@ The first observation only records the state (nothing to compare with). The end 
 from __future__ import annotations
 
 import itertools
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from pymavlink.dialects.v20 import common as mav
 
+from .link import Link
 from .vehicle import Telemetry
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 #: characters of one STATUSTEXT
 CHUNK = 50
@@ -76,7 +75,7 @@ class ChangeReporter:
         self._tel: tuple[str, bool, bool, bool] | None = None
         self._notes_seen = 0  # entries of the vehicle's log already looked at
 
-    def vehicle(self, ep: "MavlinkEndpoint", vehicle: Any) -> None:
+    def vehicle(self, ep: Link, vehicle: Any) -> None:
         """Compare the vehicle's mode, armed and cycling flags with the last look; before a mode
         change, the failsafe notes of the vehicle's log (``log``: ``(t, text)`` entries, if it
         keeps one) since the last look, which say why."""
@@ -102,7 +101,7 @@ class ChangeReporter:
         if now[2] != last[2]:
             ep.statustext("cycling started" if now[2] else "cycling stopped", mav.MAV_SEVERITY_INFO)
 
-    def telemetry(self, ep: "MavlinkEndpoint", tel: Telemetry) -> None:
+    def telemetry(self, ep: Link, tel: Telemetry) -> None:
         """Compare the telemetry's phase, winch and health flags with the last snapshot."""
         now = (str(tel.phase), bool(tel.winch_ok), bool(tel.line_fully_in), bool(tel.health_ok))
         last, self._tel = self._tel, now

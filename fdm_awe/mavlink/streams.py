@@ -20,18 +20,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 from pymavlink.dialects.v20 import ardupilotmega as apm
 from pymavlink.dialects.v20 import common as mav
 
 from fdm_awe.errors import InputError
 
+from .link import Link
 from .messages import RATES, SENDERS
 from .vehicle import Telemetry
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 #: Default stream rates, Hz of simulation time, in the order the streams go out.
 DEFAULT_RATES: dict[str, float] = dict(RATES)
@@ -67,7 +66,7 @@ def data_stream_rates(stream_id: int, rate_hz: float, start: bool) -> dict[str, 
     return {n: hz for n in names if n in DEFAULT_RATES}
 
 
-Sender = Callable[["MavlinkEndpoint", Telemetry, float], None]
+Sender = Callable[[Link, Telemetry, float], None]
 
 
 def check_rate(stream: str, hz: object) -> float:
@@ -117,7 +116,7 @@ class StreamSchedule:
         for s in self._streams:
             s.next_t = t
 
-    def send_due(self, ep: "MavlinkEndpoint", t: float, next_rx: float) -> float:
+    def send_due(self, ep: Link, t: float, next_rx: float) -> float:
         """Send every stream due at simulation time ``t`` (s) through ``ep``; return the
         earliest time (s) anything is due next: a stream or ``next_rx``, the next input poll.
 
@@ -140,7 +139,7 @@ class StreamSchedule:
                 nd = s.next_t
         return nd
 
-    def send_now(self, ep: "MavlinkEndpoint", stream: str) -> None:
+    def send_now(self, ep: Link, stream: str) -> None:
         """Send one message of ``stream`` now (a ground station's request), off the schedule."""
         self._by_name[stream].send(ep, ep.telemetry(), ep.t_now)
 

@@ -28,15 +28,14 @@ logic, not direct commands).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from pymavlink.dialects.v20 import common as mav
 
 from ..constants import G0
+from .link import Link
 from .vehicle import Telemetry
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .endpoint import MavlinkEndpoint
 
 #: MAVLink component id of the winch
 WINCH_COMPID = mav.MAV_COMP_ID_WINCH
@@ -91,19 +90,19 @@ class WinchComponent:
         self.compid = WINCH_COMPID
         self.mav = mav.MAVLink(conn, srcSystem=sysid, srcComponent=WINCH_COMPID)
 
-    def send_heartbeat(self, ep: "MavlinkEndpoint", tel: Telemetry) -> None:
+    def send_heartbeat(self, ep: Link, tel: Telemetry) -> None:
         status = mav.MAV_STATE_ACTIVE if tel.winch_ok else mav.MAV_STATE_CRITICAL
         ep.send("HEARTBEAT_WINCH", self.mav.heartbeat_send, mav.MAV_TYPE_WINCH,
                  mav.MAV_AUTOPILOT_INVALID, 0, 0, status)
 
-    def send_status(self, ep: "MavlinkEndpoint", tel: Telemetry, t: float) -> None:
+    def send_status(self, ep: Link, tel: Telemetry, t: float) -> None:
         us = int(min(max(_num(t), 0.0) * 1e6, 2.0**63)) if math.isfinite(_num(t)) else 0
         tension = _num(tel.tension_N)
         ep.send("WINCH_STATUS", self.mav.winch_status_send, us, _num(tel.line_length_m),
                  _num(tel.reel_speed_mps), tension / G0 if math.isfinite(tension) else math.nan,
                  _num(tel.winch_voltage_V), _num(tel.winch_current_A), _INT16_MAX, winch_flags(tel))
 
-    def on_command(self, ep: "MavlinkEndpoint", m: Any, p: tuple[float, ...]) -> None:
+    def on_command(self, ep: Link, m: Any, p: tuple[float, ...]) -> None:
         """Answer a COMMAND_LONG/COMMAND_INT addressed to the winch (see module doc)."""
         after = None
         result = mav.MAV_RESULT_UNSUPPORTED

@@ -86,6 +86,11 @@ class _Sums:
     slack: Any = 0.0
 
 
+#: attributes of a :class:`CycleNLP` that :meth:`CycleNLP.to_cache` leaves out: the inputs, the
+#: IPOPT instances, the build times and the NLP and its derivatives (given apart)
+_NOT_CACHED = frozenset({"problem", "model", "_solvers", "solvers_build_s", "build_s", "nlp", "_derivatives"})
+
+
 class CycleNLP:
     """The transcribed NLP for one problem structure (scenario, configuration, mesh).
 
@@ -109,7 +114,7 @@ class CycleNLP:
         self._build()
         self._extra = dict(ipopt_options or {})
         self._solvers: dict[tuple, Any] = {}
-        self._derivatives: dict[str, Any] = {}  # IPOPT option -> derivative function (see _solver)
+        self._derivatives: dict[str, Any] = {}  # IPOPT option -> derivative function (see solver_for)
         #: wall time [s] spent creating IPOPT instances so far (one per option set, created on
         #: first use, so a caller that always passes options, like a sweep, does not pay for the
         #: default instance)
@@ -119,7 +124,39 @@ class CycleNLP:
     @property
     def solver(self) -> Any:
         """The IPOPT instance with the default options."""
-        return self._solver(None)
+        return self.solver_for(None)
+
+    # ------------------------------------------------------------------ cache
+    def derive(self) -> None:
+        """Generate the derivative functions IPOPT evaluates (the default instance does so),
+        unless an IPOPT instance of this NLP did already."""
+        if not self._derivatives:
+            self.solver
+
+    def to_cache(self) -> tuple[dict[str, Any], Any, dict[str, Any]]:
+        """What an on-disk cache keeps of this NLP (:mod:`.nlpcache`): ``(state, nlp,
+        derivatives)``, the transcription's attributes by name (not the inputs, the IPOPT
+        instances or the build times), the NLP function and the derivative functions by IPOPT
+        option, sorted (generated first when no IPOPT instance did so yet)."""
+        self.derive()
+        state = {name: v for name, v in vars(self).items() if name not in _NOT_CACHED}
+        return state, self.nlp, dict(sorted(self._derivatives.items()))
+
+    @classmethod
+    def from_cache(cls, problem: CycleProblem, model: CycleModel, state: dict[str, Any], nlp: Any,
+                   derivatives: dict[str, Any]) -> "CycleNLP":
+        """The NLP of ``problem``/``model`` from the parts :meth:`to_cache` gave for them, without
+        building it again (no IPOPT instance yet; ``solvers_build_s`` 0)."""
+        obj = cls.__new__(cls)
+        obj.problem = problem.validate()
+        obj.model = model
+        for name, v in state.items():
+            setattr(obj, name, v)
+        obj.nlp = nlp
+        obj._derivatives = dict(derivatives)
+        obj._solvers = {}
+        obj.solvers_build_s = 0.0
+        return obj
 
     # ------------------------------------------------------------------ build
     def _build(self) -> None:
@@ -273,7 +310,7 @@ class CycleNLP:
         """Run IPOPT from the scaled start ``w0``; ``lam_*`` enable a warm start. ``elastic``
         opens the bounds of the recovery's elastic slacks (a feasibility aid: such a solution
         only serves as a start of the strict problem, whose slacks are fixed at zero)."""
-        solver = self._solver(options)
+        solver = self.solver_for(options)
         ubw = self.ubw
         if elastic:
             ubw = self.ubw.copy()
@@ -302,7 +339,7 @@ class CycleNLP:
         return RawSolution("ok" if ok else "failed", reason, it, dt, np.array(sol["x"]).ravel(),
                            np.array(sol["lam_x"]).ravel(), np.array(sol["lam_g"]).ravel(), float(sol["f"]), params)
 
-    def _solver(self, options: dict | None) -> Any:
+    def solver_for(self, options: dict | None) -> Any:
         """IPOPT instance for these extra options (built once per option set).
 
         The derivative functions IPOPT evaluates (objective gradient, constraint Jacobian,

@@ -56,8 +56,6 @@ MAX_MB_ENV = "FDM_AWE_NLP_CACHE_MAX_MB"
 #: default size limit of the cache folder [bytes] (a default-mesh entry is about 150 MB, its
 #: coarse mesh about 40 MB)
 MAX_BYTES = 2**30
-#: attributes of a CycleNLP that are not stored: rebuilt from the inputs or created on use
-_NOT_STORED = {"problem", "model", "_solvers", "solvers_build_s", "build_s", "nlp", "_derivatives"}
 #: the dataclasses a CycleNLP holds (stored field by field, by class name)
 _DATACLASSES = {cls.__name__: cls for cls in (PhaseLayout,)}
 
@@ -254,16 +252,9 @@ def load(problem: Any, model: Any) -> Any | None:
 
 
 def _restore(problem: Any, model: Any, header: dict[str, Any], fns: list[Any]) -> Any:
-    nlp = CycleNLP.__new__(CycleNLP)
-    nlp.problem = problem.validate()
-    nlp.model = model
-    for name, v in header["state"].items():
-        setattr(nlp, name, _decode(v, fns))
-    nlp.nlp = fns[header["nlp"]]
-    nlp._derivatives = {k: fns[i] for k, i in header["derivatives"].items()}
-    nlp._solvers = {}
-    nlp.solvers_build_s = 0.0
-    return nlp
+    state = {name: _decode(v, fns) for name, v in header["state"].items()}
+    return CycleNLP.from_cache(problem, model, state, fns[header["nlp"]],
+                               {k: fns[i] for k, i in header["derivatives"].items()})
 
 
 def save(nlp: Any, background: bool = False) -> Path | None:
@@ -282,8 +273,7 @@ def save(nlp: Any, background: bool = False) -> Path | None:
     daemon = multiprocessing.current_process().daemon
     if background and daemon:
         return None
-    if not nlp._derivatives:
-        nlp.solver  # the default IPOPT instance generates the derivative functions
+    nlp.derive()  # here, not in a forked writer: this process keeps the derivative functions
     if background and hasattr(os, "fork"):
         pid = os.fork()
         if pid == 0:  # child: start the writer and leave at once
@@ -300,13 +290,14 @@ def save(nlp: Any, background: bool = False) -> Path | None:
     try:
         key = entry_key(nlp.problem, nlp.model)
         fns: list[Any] = []
-        state = {name: _encode(v, fns) for name, v in vars(nlp).items() if name not in _NOT_STORED}
-        nlp_fn = nlp.nlp if isinstance(nlp.nlp, ca.Function) else ca.Function(
-            "nlp", [nlp.nlp["x"], nlp.nlp["p"]], [nlp.nlp["f"], nlp.nlp["g"]], ["x", "p"], ["f", "g"])
+        parts, fn, derivatives = nlp.to_cache()
+        state = {name: _encode(v, fns) for name, v in parts.items()}
+        nlp_fn = fn if isinstance(fn, ca.Function) else ca.Function(
+            "nlp", [fn["x"], fn["p"]], [fn["f"], fn["g"]], ["x", "p"], ["f", "g"])
         fns.append(nlp_fn)
         i_nlp = len(fns) - 1
         derivs = {}
-        for k, f in sorted(nlp._derivatives.items()):
+        for k, f in derivatives.items():
             fns.append(f)
             derivs[k] = len(fns) - 1
     except NotCacheable:

@@ -224,7 +224,7 @@ def _prebuild(problem: CycleProblem, limits: dict[str, Any], options: dict | Non
     s0 = nlp.solvers_build_s
     opts = options if options is not None else attempt_options(limits["max_iter"], limits["time_budget_s"],
                                                                limits["ipopt_options"])
-    nlp._solver(opts or None)
+    nlp.solver_for(opts or None)
     return b + nlp.solvers_build_s - s0
 
 

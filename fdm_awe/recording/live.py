@@ -28,7 +28,7 @@ import numpy as np
 from ..sim.cycles import NO_CYCLE, step_reference
 from ..sim.propulsion import logged_propulsion
 
-_FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust", "p_prop",
+STEP_FIELDS = ("t", "x", "y", "z", "phi", "theta", "psi", "airspeed", "alpha", "beta", "fold", "thrust", "p_prop",
            "load_factor", "tension", "length", "reel_speed", "omega", "current", "duty", "p_elec")
 
 
@@ -39,7 +39,7 @@ class StepBuffer:
     :attr:`cycles`, -1 outside AUTO cycling)."""
 
     #: the buffered values of a row, in order (names of :data:`fdm_awe.sim.loop.COLUMNS`)
-    fields: tuple[str, ...] = _FIELDS
+    fields: tuple[str, ...] = STEP_FIELDS
 
     def __init__(self, *, chain: Any = None) -> None:
         self.chain = chain  #: another on_step callback to call after this one

@@ -31,7 +31,7 @@ import time
 from typing import Any
 from urllib.parse import urlsplit
 
-from .live import _FIELDS, StepBuffer
+from .live import STEP_FIELDS, StepBuffer
 from .rrd import RecordingSink, new_stream
 
 #: rerun's default viewer port and address
@@ -145,7 +145,7 @@ class LiveFlight(StepBuffer):
     """Step callback and ``setup`` hook streaming a flight of ``reference`` to ``sink`` (the
     static scene is sent at once); :meth:`finish` sends the rest and closes the sink."""
 
-    fields = _FIELDS + ("vn", "ve", "vd", "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd")
+    fields = STEP_FIELDS + ("vn", "ve", "vd", "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd")
 
     def __init__(self, sink: RecordingSink, reference: Any = None, *, flush_s: float = 0.2, scene_hz: float = 30.0,
                  chain: Any = None) -> None:

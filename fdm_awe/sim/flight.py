@@ -466,7 +466,7 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest,
             gs.set_line_wind(profile, wind.ned[:2], np.subtract(np.subtract(s.vel_ned, s.vel_air_ned), wind_at(h)))
         log.book(k, s)
         if ap.mode == "AUTO" and ap.cycling:
-            cw.add(k, s._r)
+            cw.add(k, s.raw)
         if on_step is not None and on_step(k, s, o):
             return True  # the caller ends the flight here
         return _flight_ends(ap, s_end, flown, stop)

@@ -218,9 +218,9 @@ class CoSim:
         ncol = len(raw0)
         raws.extend(raw0)
         gsrec.extend((math.nan,) * _N_GS)  # no ground-station step yet
-        r = s._r  # the state's raw JSBSim row (positions of sixdof.row)
+        r = s.raw  # the state's raw JSBSim row (positions of sixdof.row)
         # the event checks' thresholds, airborne flag and the state's SI factors (SixDofState)
-        lim_v = limit_vector(lim, s.t, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS])
+        lim_v = limit_vector(lim, s.t, not s.on_ground, s.scale[VT], s.scale[FBZ], s.scale[MASS])
         gs_out = self.last_gs_output
         event: Event | None = None
         k = 0
@@ -236,7 +236,7 @@ class CoSim:
             while k < n:
                 surf, wcmd = update(r[T], s, gs_out)
                 set_controls(surf)
-                hp, hv = s._hook  # the state's tether attachment point (glider.hook_kinematics())
+                hp, hv = s.hook  # the state's tether attachment point (glider.hook_kinematics())
                 try:
                     gs_out = gs_step(dt, hp, hv, wcmd)
                 except InputError as exc:
@@ -259,7 +259,7 @@ class CoSim:
                     break
                 k += 1
                 s = s_new
-                r = s._r
+                r = s.raw
                 raws_add(r)  # array.fromlist: the list fast path (extend iterates item by item)
                 tension = gs_out.tension
                 gsrec_add([tension, gs_out.length, gs_out.reel_speed, gs_out.omega, gs_out.current,
@@ -308,7 +308,7 @@ class CoSim:
         log[0, :nr] = raw0
         s_gs, c_gs, nsub = gsa
         p = self._kernel_params(s, nsub)
-        lim_v = np.array(limit_vector(self.limits, s.t, not s.on_ground, s._k[VT], s._k[FBZ], s._k[MASS]))
+        lim_v = np.array(limit_vector(self.limits, s.t, not s.on_ground, s.scale[VT], s.scale[FBZ], s.scale[MASS]))
         cmds = _Commands(ctrl, g.controls)
         ctl, phases, has_phase = cmds.controls, cmds.phases, cmds.has_phase
         last_phase, last_code = None, -1
@@ -413,8 +413,8 @@ class CoSim:
         p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = self.dt, nsub, lat0, m0, n0cos
         p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
         p[ck.P_FT], p[ck.P_LBF] = FT, LBF
-        (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s._hook
-        p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g._force
+        (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s.hook
+        p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g.tether_force_ned
         return p
 
     def _result(self, raws: np.ndarray, gsrec: np.ndarray, cmds: "_Commands", event: Event | None,
@@ -435,7 +435,7 @@ class CoSim:
         from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
         if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
-            hp, hv = s._hook
+            hp, hv = s.hook
             return self._event(code, s, gs_out, error="glider position/velocity must be finite, got "
                                f"pos={tuple(hp)!r} vel={tuple(hv)!r}")
         if code == E_FORCE:

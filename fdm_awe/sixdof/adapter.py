@@ -70,7 +70,7 @@ class JSBSimGlider:
         self.dt = float(dt)
         self._load()
         self._bind_properties()
-        self._maxvolts = self._motor_volts()
+        self.motor_volts = self._motor_volts()  #: the motor's voltage at full throttle, V (engine file)
         self._measure_airframe()
         self._set_ground_frame(home_lat_deg)
         self._hook: tuple = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
@@ -215,7 +215,7 @@ class JSBSimGlider:
 
     def make_state(self, raw: list[float], hook: tuple, force: tuple[float, float, float]) -> SixDofState:
         """A :class:`SixDofState` of this glider from a raw row, hook kinematics and force."""
-        return SixDofState(raw, self._scale_l, self._offset_l, hook, force, self._maxvolts)
+        return SixDofState(raw, self._scale_l, self._offset_l, hook, force, self.motor_volts)
 
     # ------------------------------------------------------------------ setup helpers
     def _has(self, prop: str) -> bool:
@@ -230,6 +230,12 @@ class JSBSimGlider:
     def foldable(self) -> bool:
         """True for the morphing aircraft (has a fold actuator)."""
         return self._foldable
+
+    @property
+    def tether_force_ned(self) -> tuple[float, float, float]:
+        """The tether force applied at the hook during the next step (N, NED): the last
+        :meth:`set_tether_force` (or, after compiled steps, :meth:`sync_from_native`)."""
+        return self._force
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Steady wind, NED m/s (the air moves with this velocity)."""
@@ -423,7 +429,7 @@ class JSBSimGlider:
         self.fdm.run()
         self._read()
         st = self._state = SixDofState(self._raw, self._scale_l, self._offset_l, self._hook, self._force,
-                                       self._maxvolts)
+                                       self.motor_volts)
         return st
 
     def _read(self) -> None:
@@ -446,7 +452,7 @@ class JSBSimGlider:
             if self._raw is None:
                 raise InputError("state: call reset() first")
             st = self._state = SixDofState(self._raw, self._scale_l, self._offset_l, self._hook,
-                                           self._force, self._maxvolts)
+                                           self._force, self.motor_volts)
         return st
 
     def convert_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
@@ -466,7 +472,7 @@ class JSBSimGlider:
             "wind_ned": v[:, WIND_NORTH:WIND_DOWN + 1],
             "quat": quat, "euler": raw[:, PHI:PSI + 1], "omega_body": raw[:, P_RATE:R_RATE + 1], "airspeed": v[:, VT],
             "alpha": raw[:, ALPHA], "beta": raw[:, BETA], "fold": raw[:, FOLD], "thrust_N": v[:, THRUST],
-            "prop_power_W": raw[:, THROTTLE] * self._maxvolts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
+            "prop_power_W": raw[:, THROTTLE] * self.motor_volts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
             "current_A": raw[:, CURRENT], "accel_body": v[:, FBX:FBZ + 1] / mass[:, None],
             "load_factor": -v[:, FBZ] / mass / G0, "mass": mass, "qbar": v[:, QBAR], "rho": v[:, RHO],
             "on_ground": raw[:, WOW] > 0.5,

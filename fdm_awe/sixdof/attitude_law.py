@@ -236,7 +236,7 @@ class AttitudeLaw:
         time since the last call (0: no integration). NaN deflections give 0."""
         # the co-simulation's hot path: the state's values straight from its raw row (the same
         # numbers as SixDofState's properties without a call each)
-        rw, kk = s._r, s._k
+        rw, kk = s.raw, s.scale
         return law_commands(self.coefficients(rw[FOLD], alpha_cmd), self.gains.law_gains(), rw[QBAR] * kk[QBAR],
                             rw[VT] * kk[VT], rw[ALPHA], rw[BETA], rw[P_RATE], rw[Q_RATE], rw[R_RATE], alpha_cmd,
                             e_phi, p_ref, q_ref, r_ref, dt, self.integ, self.invert_free_moments, self.bank_integral)

@@ -70,7 +70,7 @@ class Stabilizer:
             if not dt > 0.0:
                 dt = 0.0
         self._t_last = t
-        rw = s._r
+        rw = s.raw
         phi, theta = rw[PHI], rw[THETA]
         # bank command, from the heading error when a heading is held
         phi_c = self.phi_cmd
@@ -83,9 +83,9 @@ class Stabilizer:
             phi_c = phi_c if phi_c < pm else pm
             phi_c = phi_c if phi_c > -pm else -pm
         # yaw damping about the coordinated-turn rate
-        v = rw[VT] * s._k[VT]
+        v = rw[VT] * s.scale[VT]
         if 1.0 > v:
             v = 1.0
         r_c = _G_TURN * sin(phi) * cos(theta) / v
         a, e, r = self.law.commands(s, self.alpha_cmd, phi_c - phi, 0.0, 0.0, r_c, dt)
-        return Surfaces._checked_fast(a, e, r, self.throttle, self.fold_cmd), self.winch
+        return Surfaces.fast(a, e, r, self.throttle, self.fold_cmd), self.winch

@@ -42,8 +42,8 @@ class Surfaces:
                     raise InputError(f"Surfaces.{name}: {v!r} out of range (allowed {lo:g} .. {hi:g})")
 
     @classmethod
-    def _checked_fast(cls, aileron: float, elevator: float, rudder: float, throttle: float,
-                      fold_cmd: float) -> "Surfaces":
+    def fast(cls, aileron: float, elevator: float, rudder: float, throttle: float,
+             fold_cmd: float) -> "Surfaces":
         """The same as ``Surfaces(...)`` (same range checks and errors), built without the
         frozen dataclass's per-field ``object.__setattr__`` calls (controllers' hot path)."""
         if not (-1.0 <= aileron <= 1.0 and -1.0 <= elevator <= 1.0 and -1.0 <= rudder <= 1.0
@@ -97,6 +97,29 @@ class SixDofState:
 
     def _v(self, i: int) -> float:
         return self._r[i] * self._k[i] + self._o[i]
+
+    # the raw view (hot paths: the loop, the attitude laws, the AUTO step) ------------------
+    @property
+    def raw(self) -> list:
+        """The raw JSBSim row of the step (positions of :mod:`fdm_awe.sixdof.row`, JSBSim's
+        units); the state's own list, not a copy: read it, never write it."""
+        return self._r
+
+    @property
+    def scale(self) -> list:
+        """Per-column factors from the raw row to SI (``si = raw * scale + offset``)."""
+        return self._k
+
+    @property
+    def offset(self) -> list:
+        """Per-column offsets from the raw row to SI (used by the position, m: see
+        :func:`~fdm_awe.sixdof.row.si_position`)."""
+        return self._o
+
+    @property
+    def hook(self) -> tuple:
+        """The tether attachment point as ``(position, velocity)``, NED tuples (m, m/s)."""
+        return self._hook
 
     # scalars -------------------------------------------------------------------------------
     @property

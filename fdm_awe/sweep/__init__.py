@@ -12,7 +12,7 @@
 
 import sys as _sys
 
-from .. import _CallableModule
+from .. import CallableModule
 
 # ``fdm_awe.sweep(...)`` is the Python API's sweep (fdm_awe.api.sweep); the package stays a package
-_sys.modules[__name__].__class__ = _CallableModule
+_sys.modules[__name__].__class__ = CallableModule

@@ -32,7 +32,7 @@ import numpy as np
 from ..fileio import atomic_path
 from .energy_yield import Distribution, YieldResult, cut_in_wind, energy_yield, rated_wind
 from .flown import FlySpec, flown_point
-from .outputs import _group_key, _line_label, _save
+from .outputs import group_key, line_label, save_figure
 
 #: columns of ``power_curve.csv``
 CURVE_FIELDS = ("curve", "config", "wind_mps", "P_opt_W", "P_flown_mean_W", "P_flown_std_W", "P_flown_min_W",
@@ -76,7 +76,7 @@ def curve_rows(records: Sequence[dict[str, Any]], flights: dict[str, list[dict[s
 
 def _curve(r: dict[str, Any]) -> str:
     """The curve a record belongs to: its configuration and design, tether range."""
-    return f"{_line_label(r)} {r['d0_m']:g}-{r['d_tf_m']:g} m"
+    return f"{line_label(r)} {r['d0_m']:g}-{r['d_tf_m']:g} m"
 
 
 def _curves(rows: list[dict[str, Any]], key: str) -> dict[str, tuple[list[float], list[float]]]:
@@ -145,7 +145,7 @@ def curve_plot(rows: list[dict[str, Any]], path: Path, title: str, wind_label: s
     ax2.grid(alpha=0.3)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _f(v: Any, fmt: str = ".1f") -> str:
@@ -192,12 +192,12 @@ def fold_differences(rows: list[dict[str, Any]], records: Sequence[dict[str, Any
     """Flown foldable minus nominal per wind (pairs as the folding map pairs them), with the
     standard error sqrt(se_f^2 + se_n^2) of the flights' means (None with one flight each)."""
     by_id = {r["id"]: r for r in records}
-    nominal = {(_group_key(by_id[r["point_id"]]), r["wind_mps"]): r for r in rows if r["config"] == "nominal"}
+    nominal = {(group_key(by_id[r["point_id"]]), r["wind_mps"]): r for r in rows if r["config"] == "nominal"}
     out = []
     for r in rows:
         if r["config"] != "foldable":
             continue
-        n = nominal.get((_group_key(by_id[r["point_id"]]), r["wind_mps"]))
+        n = nominal.get((group_key(by_id[r["point_id"]]), r["wind_mps"]))
         if n is None or r["P_flight_mean_W"] is None or n["P_flight_mean_W"] is None:
             continue
         se = (math.hypot(r["P_flight_se_W"], n["P_flight_se_W"])

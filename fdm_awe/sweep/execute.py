@@ -96,7 +96,7 @@ LOCAL_CLUSTER_CONFIG: dict[str, Any] = {
 
 
 @contextlib.contextmanager
-def _sigint_ignored() -> Any:
+def sigint_ignored() -> Any:
     """Ctrl-C (SIGINT) is ignored in this block, by this process and by the processes it starts
     meanwhile (SIG_IGN is inherited by child processes).
 
@@ -117,7 +117,9 @@ def _sigint_ignored() -> Any:
         signal.signal(signal.SIGINT, old)
 
 
-def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
+def start_client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
+    """A Dask client: ``(client, cluster or None, workers)``, on the ``tcp://`` ``scheduler`` or an
+    embedded LocalCluster of ``workers`` processes (None: one per core)."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
@@ -137,7 +139,7 @@ def _client(workers: int | None, scheduler: str | None) -> tuple[Any, Any, int]:
     import dask
 
     # the config is read by the scheduler, the nannies and (passed on) the workers
-    with dask.config.set(LOCAL_CLUSTER_CONFIG), _sigint_ignored():
+    with dask.config.set(LOCAL_CLUSTER_CONFIG), sigint_ignored():
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address="127.0.0.1:0",
                                silence_logs=logging.ERROR)
     return Client(cluster), cluster, n
@@ -169,7 +171,7 @@ def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, sche
         return run
 
     t0 = time.perf_counter()
-    client, cluster, n = _client(workers, scheduler)
+    client, cluster, n = start_client(workers, scheduler)
     run.startup_s = time.perf_counter() - t0
     run.workers = n
     run.scheduler = scheduler or "local"
@@ -179,7 +181,7 @@ def run_sweep(spec: SweepSpec, out_dir: str, *, workers: int | None = None, sche
         futures, by_key = _submit(client, chain_list, done, store)
         _collect(futures, by_key, store, run, done, progress, stop_after, on_point, client)
     finally:
-        with _sigint_ignored():  # after Ctrl-C: shut down quietly, whatever the user presses
+        with sigint_ignored():  # after Ctrl-C: shut down quietly, whatever the user presses
             client.close()
             if cluster is not None:
                 cluster.close()

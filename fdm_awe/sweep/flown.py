@@ -46,7 +46,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import write_json
-from .runner import Warm, point_glider, point_problem, point_winch, _base_glider
+from .runner import Warm, base_glider, point_glider, point_problem, point_winch
 from .spec import Point
 
 #: allowed cycles per flight and seeds per air condition
@@ -122,7 +122,7 @@ def point_result(point: Point, warm: Warm) -> Any:
 
     problem = point_problem(point).validate()
     glider = point_glider(point)
-    nlp, _ = get_nlp(problem, None if glider is _base_glider() else glider, point_winch(point))
+    nlp, _ = get_nlp(problem, None if glider is base_glider() else glider, point_winch(point))
     params = nlp.params(wind_vector(problem.wind_speed, problem.wind_from_deg)[:2], 1.0, warm.k_wrap, 1.0, 0.0)
     raw = RawSolution("ok", "stored solution", 0, 0.0, warm.w, warm.lam_x, warm.lam_g, 0.0, params)
     return ok_result(problem, nlp, warm.k_wrap, "stored solution", raw, 0.0, 0.0, 0)
@@ -292,7 +292,7 @@ def run_flights(points: list[Point], records: dict[str, dict[str, Any]], out_dir
     if pending:
         from tqdm import tqdm
 
-        from .execute import _client, _sigint_ignored
+        from .execute import sigint_ignored, start_client
 
         pstore = PointStore(out_dir)
         warms: dict[str, Warm] = {}
@@ -303,7 +303,7 @@ def run_flights(points: list[Point], records: dict[str, dict[str, Any]], out_dir
                     raise InputError(f"--out {out_dir}: point {t.point.label()} has no stored solution "
                                      f"(points/{t.point.id}.warm.npz); rerun with --retry-failed or without --fly first")
                 warms[t.point.id] = w
-        client, cluster, _n = _client(workers, scheduler)
+        client, cluster, _n = start_client(workers, scheduler)
         t1 = time.perf_counter()
         try:
             from dask.distributed import as_completed
@@ -339,7 +339,7 @@ def run_flights(points: list[Point], records: dict[str, dict[str, Any]], out_dir
             finally:
                 bar.close()
         finally:
-            with _sigint_ignored():
+            with sigint_ignored():
                 client.close()
                 if cluster is not None:
                     cluster.close()

@@ -38,7 +38,7 @@ def write_csv(records: Sequence[dict[str, Any]], path: str | Path) -> Path:
     return p
 
 
-def _save(fig: Any, path: str | Path) -> Path:
+def save_figure(fig: Any, path: str | Path) -> Path:
     """Write ``fig`` as a PNG to ``path`` atomically and close it."""
     import matplotlib.pyplot as plt
 
@@ -65,7 +65,7 @@ def _n(v: Any) -> float:
     return -1.0 if v is None else float(v)
 
 
-def _group_key(r: dict[str, Any]) -> tuple:
+def group_key(r: dict[str, Any]) -> tuple:
     """Operating context shared by a nominal point and its foldable counterparts: scenario, wing
     area, reel-out range, tether line and its diameter (-1: as defined)."""
     return (r["scenario"], _n(r.get("wing_area_m2")), r["d0_m"], r["d_tf_m"], _line(r), _n(r.get("line_diameter_m")))
@@ -76,7 +76,8 @@ def _g(v: Any, fallback: Any = None) -> str:
     return "def" if v is None else f"{float(v):.3g}"
 
 
-def _line_label(r: dict[str, Any]) -> str:
+def line_label(r: dict[str, Any]) -> str:
+    """The label of a point's power curve (configuration, design values, line) in plots and tables."""
     if r["config"] == "nominal":
         s = "nominal"
     else:
@@ -112,17 +113,17 @@ class FoldingCell:
 
 def folding_cells(records: Sequence[dict[str, Any]]) -> list[FoldingCell]:
     """Pair every foldable point with its nominal counterpart (see the module docstring)."""
-    nominal = {(_group_key(r), r["wind_mps"]): r for r in records if r["config"] == "nominal"}
+    nominal = {(group_key(r), r["wind_mps"]): r for r in records if r["config"] == "nominal"}
     cells = []
     for r in records:
         if r["config"] != "foldable":
             continue
-        n = nominal.get((_group_key(r), r["wind_mps"]))
+        n = nominal.get((group_key(r), r["wind_mps"]))
         pf = r["P_avg_W"] if r["status"] == "ok" else None
         pn = n["P_avg_W"] if (n is not None and n["status"] == "ok") else None
         b_f = r.get("b_f_m") if r.get("b_f_m") is not None else r.get("folded_span_m")
         area = r.get("drag_area_f_m2") if r.get("drag_area_f_m2") is not None else r.get("folded_drag_area_m2")
-        cells.append(FoldingCell(_group_key(r), math.nan if b_f is None else float(b_f),
+        cells.append(FoldingCell(group_key(r), math.nan if b_f is None else float(b_f),
                                  math.nan if area is None else float(area), r["wind_mps"], pf, pn, n is None))
     return cells
 
@@ -139,7 +140,7 @@ def power_curve_plot(records: Sequence[dict[str, Any]], refs: ReferenceCurves | 
 
     lines: dict[tuple, list[dict[str, Any]]] = {}
     for r in sorted(records, key=_order):
-        lines.setdefault((_group_key(r), _line_label(r)), []).append(r)
+        lines.setdefault((group_key(r), line_label(r)), []).append(r)
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.2))
     cmap = plt.get_cmap("viridis")
     fold_labels = sorted({k for k in lines if "foldable" in k[1]}, key=lambda k: k[1])
@@ -171,7 +172,7 @@ def power_curve_plot(records: Sequence[dict[str, Any]], refs: ReferenceCurves | 
     if title:
         fig.suptitle(title)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str = "") -> Path | None:
@@ -219,7 +220,7 @@ def folding_map_plot(cells: Sequence[FoldingCell], path: str | Path, title: str 
                           f"CdA_f {area:.3g} m2\ncycle-average net power, foldable minus nominal [W]; fail = a point failed",
                  fontsize=8)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _line_of(c: FoldingCell) -> dict[str, Any]:
@@ -277,7 +278,7 @@ def cold_check_differences(records: Sequence[dict[str, Any]], tol_W: float = COL
         diff = None if pw is None or pc is None else pc - pw
         if (pw is None) == (pc is None) and (diff is None or abs(diff) <= tol_W):
             continue  # both agree, or both failed (the point's own failure is listed with the failures)
-        rows.append({"id": r["id"], "line": _line_label(r), "wind_mps": r["wind_mps"], "P_warm_W": pw, "P_cold_W": pc,
+        rows.append({"id": r["id"], "line": line_label(r), "wind_mps": r["wind_mps"], "P_warm_W": pw, "P_cold_W": pc,
                      "cold_minus_warm_W": diff, "kept": r.get("kept"), "family": r.get("family"),
                      "cold_family": r.get("cold_family"), "warm_from": r.get("warm_from")})
     return {"tolerance_W": tol_W, "n_checked": len(checked), "n_different": len(rows), "different": rows}
@@ -314,7 +315,7 @@ def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], sce
     winds = sorted({r["wind_mps"] for r in recs})
     lines: dict[str, dict[float, dict]] = {}
     for r in recs:
-        lines.setdefault(_line_label(r) + (f" tether {r['d0_m']:g}-{r['d_tf_m']:g} m"), {})[r["wind_mps"]] = r
+        lines.setdefault(line_label(r) + (f" tether {r['d0_m']:g}-{r['d_tf_m']:g} m"), {})[r["wind_mps"]] = r
     out += ["## Cycle-average net power [W] (`fail` = no converged cycle)", "",
             "| line | " + " | ".join(f"{w:g} m/s" for w in winds) + " |", "|---|" + "---|" * len(winds)]
     for name, by_w in lines.items():
@@ -336,7 +337,7 @@ def summary_markdown(records: Sequence[dict[str, Any]], ans: dict[str, Any], sce
         out.append(f"- INCOMPLETE: {n_expected - len(recs)} of {n_expected} points have no result yet "
                    "(rerun the same command to compute them; blank cells above)")
     for r in bad:
-        out.append(f"- failed: {_line_label(r)}, wind {r['wind_mps']:g} m/s: {r['reason']}")
+        out.append(f"- failed: {line_label(r)}, wind {r['wind_mps']:g} m/s: {r['reason']}")
     out += cold_check_markdown(cold_check_differences(recs))
     if notes:
         out += ["", "## Notes", ""] + [f"- {n}" for n in notes]

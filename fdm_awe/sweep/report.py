@@ -39,9 +39,9 @@ def spec_references(spec: SweepSpec) -> ReferenceCurves:
     """Reference curves for the sweep's first wing area, tether range and tether line (its first
     diameter for the sized line), over its winds."""
     from .design import Design, design_glider
-    from .runner import _base_glider
+    from .runner import base_glider
 
-    base = _base_glider()
+    base = base_glider()
     g = design_glider(base, Design(wing_area=spec.wing_areas[0]))
     line = spec.line_names()[0]
     d, cdp = tether_properties(line, spec.line_diameters[0] if line == "sized" else None)

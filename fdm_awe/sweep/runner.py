@@ -90,7 +90,8 @@ def upstream_input(upstream: Any) -> tuple[Warm | None, bool]:
 
 
 @functools.lru_cache(maxsize=1)
-def _base_glider() -> Any:
+def base_glider() -> Any:
+    """The definitions' glider, loaded once per process (the design variants start from it)."""
     from ..definitions.aircraft import load_glider
 
     return load_glider()
@@ -101,7 +102,7 @@ def canonical_spec(spec: Any) -> Any:
     point ids and the optimiser's cached NLP with the unchanged glider and line)."""
     from dataclasses import replace
 
-    g = _base_glider()
+    g = base_glider()
     f, u = g.folded.aero, g.unfolded.aero
     from .design import polar_constants
 
@@ -133,7 +134,7 @@ def point_design(point: Point) -> Design:
 
 def point_glider(point: Point) -> Any:
     """The glider variant of ``point`` (the definitions' own glider when nothing changes)."""
-    return design_glider(_base_glider(), point_design(point))
+    return design_glider(base_glider(), point_design(point))
 
 
 #: the margins of a ``flyable`` point where the sweep gives none: ``fdm-awe fly``'s defaults
@@ -262,7 +263,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
 
         problem = point_problem(point)
         warm = warm_in.as_result(problem) if warm_in is not None else None
-        custom = glider is not _base_glider()
+        custom = glider is not base_glider()
         # the iteration limit decides failures; the CPU-time limit is lifted so that a busy
         # machine cannot change a result
         opts = {"ipopt.max_iter": int(point.max_iter), "ipopt.max_cpu_time": 1e6}

@@ -1,0 +1,412 @@
+"""Structure rules of the package, read from its source (docs/architecture.md, "Structure rules").
+
+- No private access across modules: no ``x._name`` (read, write or ``getattr``/``setattr``/
+  ``hasattr``/``delattr`` with the name as a constant) where ``x`` is not ``self``/``cls`` and
+  ``_name`` belongs to another module of the package, no ``from m import _name`` of another
+  module, no import of a private module (``pkg._mod``) from outside its package.
+- No import circle between the package's modules (module-level imports, those under
+  ``if TYPE_CHECKING:`` left out: they never run).
+- No module over :data:`MAX_MODULE_LINES` lines and no function over :data:`MAX_FUNCTION_LINES`
+  lines, except the offenders listed here with their sizes: the lists may only shrink (an
+  offender that grows fails, a new one fails, one back within the limit must leave its list).
+- The MAVLink protocol modules reach the endpoint only through the members of the typed
+  :class:`fdm_awe.mavlink.link.Link` interface, and the endpoint offers every one of them.
+
+Which module a private member belongs to is decided by name: a module owns the private names it
+defines (functions, classes, class-body names, module-level names, ``self.``/``cls.`` attributes
+it assigns, ``__slots__`` entries, keyword names it passes, local names); ``x._name`` in a module
+that does not own ``_name`` while another module of the package does is an access across modules.
+A module that reads another module's ``_name`` while also defining a ``_name`` of its own is not
+caught; third-party private members are not the package's (those read on purpose are listed in
+:data:`THIRD_PARTY`).
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from collections.abc import Iterator
+from functools import cache
+from pathlib import Path
+
+import fdm_awe
+
+PKG = Path(fdm_awe.__file__).resolve().parent
+
+MAX_MODULE_LINES = 500
+MAX_FUNCTION_LINES = 80
+
+#: modules over MAX_MODULE_LINES lines -> their length (lines) when the rule came in; may only shrink
+LONG_MODULES: dict[str, int] = {
+    "api.py": 606,
+    "autopilot/autopilot.py": 669,
+    "autopilot/guidance.py": 589,
+    "commands/fly.py": 894,
+    "commands/optimize.py": 526,
+    "groundstation/station.py": 501,
+    "groundstation/substeps.py": 503,
+    "sim/flight.py": 609,
+    "sixdof/adapter.py": 512,
+}
+
+#: functions over MAX_FUNCTION_LINES lines ("module:qualified name") -> (lines, why: the docstring's
+#: and the code's lines as counted when the rule came in); may only shrink
+LONG_FUNCTIONS: dict[str, tuple[int, str]] = {
+    "api.py:optimize": (83, "docstring 53 lines (every parameter with its unit), code 30"),
+    "api.py:fly": (84, "docstring 51 lines (every parameter with its unit), code 33"),
+    "autopilot/auto_step.py:auto_guide": (162, "docstring 6, code 156: the AUTO step numba compiles into the "
+                                                "co-simulation's blocks; not split yet"),
+    "autopilot/autopilot.py:Autopilot.__init__": (84, "code 84; not split yet"),
+    "autopilot/winch.py:cycle_winch_values": (90, "docstring 34, code 56"),
+    "commands/fly.py:add_arguments": (91, "code 91: one add_argument call per option of the command"),
+    "commands/sweep.py:add_arguments": (96, "code 96: one add_argument call per option of the command"),
+    "groundstation/substeps.py:substeps": (139, "docstring 20, code 119: the compiled sub-step loop; not split yet"),
+    "sim/autopilot_kernel.py:autopilot_steps": (84, "docstring 5, code 79: the compiled block of steps"),
+    "sim/flight.py:fly": (117, "docstring 34, code 83; not split yet"),
+    "sim/loop.py:CoSim._run_compiled": (114, "docstring 5, code 109; not split yet"),
+}
+
+#: private members of third-party objects read on purpose: (module, name) -> why
+THIRD_PARTY: dict[tuple[str, str], str] = {
+    ("jitcache.py", "_cache"): "numba's dispatcher cache: no public API names its index file",
+}
+
+
+def _rel(path: Path) -> str:
+    return path.relative_to(PKG).as_posix()
+
+
+def _module_name(path: Path) -> str:
+    return ".".join(("fdm_awe", *path.relative_to(PKG).with_suffix("").parts)).removesuffix(".__init__")
+
+
+@cache
+def _files() -> tuple[Path, ...]:
+    return tuple(sorted(PKG.rglob("*.py")))
+
+
+@cache
+def _tree(path: Path) -> ast.Module:
+    return ast.parse(path.read_text(), str(path))
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
+def _is_self(node: ast.expr) -> bool:
+    return isinstance(node, ast.Name) and node.id in ("self", "cls")
+
+
+@cache
+def _owned(path: Path) -> frozenset[str]:
+    """The private names ``path`` defines (see the module docstring)."""
+    names: set[str] = set()
+    for n in ast.walk(_tree(path)):
+        if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(n.name)
+        elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
+            names.add(n.id)
+        elif isinstance(n, ast.Attribute) and isinstance(n.ctx, ast.Store) and _is_self(n.value):
+            names.add(n.attr)
+        elif isinstance(n, ast.keyword) and n.arg:
+            names.add(n.arg)
+        elif isinstance(n, ast.arg):
+            names.add(n.arg)
+        elif isinstance(n, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__slots__" for t in n.targets):
+            names.update(c.value for c in ast.walk(n.value) if isinstance(c, ast.Constant) and isinstance(c.value, str))
+    return frozenset(x for x in names if _private(x))
+
+
+@cache
+def _package_owned() -> frozenset[str]:
+    out: set[str] = set()
+    for p in _files():
+        out |= _owned(p)
+    return frozenset(out)
+
+
+def _package_of(path: Path) -> str:
+    name = _module_name(path)
+    return name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+
+
+def _resolve(path: Path, node: ast.ImportFrom) -> str:
+    """The absolute module name of ``from <module> import ...`` in ``path``."""
+    if not node.level:
+        return node.module or ""
+    base = _package_of(path).split(".")
+    base = base[: len(base) - node.level + 1]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def _is_module(name: str) -> bool:
+    rel = Path(*name.split(".")[1:]) if name.startswith("fdm_awe.") else None
+    return rel is not None and ((PKG / rel).with_suffix(".py").is_file() or (PKG / rel / "__init__.py").is_file())
+
+
+def _private_module_outside(importer: Path, name: str) -> bool:
+    """``name`` (a module of the package) has a private part and ``importer`` is outside the
+    package holding that part."""
+    parts = name.split(".")
+    own = _package_of(importer)
+    for i, part in enumerate(parts):
+        if _private(part):
+            holder = ".".join(parts[:i])
+            return not (own == holder or own.startswith(holder + "."))
+    return False
+
+
+def _private_accesses(path: Path) -> Iterator[str]:
+    rel, owned, theirs = _rel(path), _owned(path), _package_owned()
+
+    def foreign(name: str) -> bool:
+        return _private(name) and name not in owned and name in theirs and (rel, name) not in THIRD_PARTY
+
+    for n in ast.walk(_tree(path)):
+        if isinstance(n, ast.Attribute) and not _is_self(n.value) and foreign(n.attr):
+            yield f"{rel}:{n.lineno}: {ast.unparse(n)}"
+        elif (isinstance(n, ast.Call) and isinstance(n.func, ast.Name)
+              and n.func.id in ("getattr", "setattr", "hasattr", "delattr") and len(n.args) >= 2
+              and isinstance(n.args[1], ast.Constant) and isinstance(n.args[1].value, str)
+              and not _is_self(n.args[0]) and foreign(n.args[1].value)):
+            yield f"{rel}:{n.lineno}: {ast.unparse(n)}"
+        elif isinstance(n, ast.ImportFrom):
+            module = _resolve(path, n)
+            if not module.startswith("fdm_awe"):
+                continue
+            if _private_module_outside(path, module):
+                yield f"{rel}:{n.lineno}: from {module} import ..."
+                continue
+            for a in n.names:
+                if not _private(a.name):
+                    continue
+                sub = f"{module}.{a.name}"
+                if _is_module(sub):  # a private module: only its own package imports it
+                    if _private_module_outside(path, sub):
+                        yield f"{rel}:{n.lineno}: from {module} import {a.name}"
+                elif module != _module_name(path):
+                    yield f"{rel}:{n.lineno}: from {module} import {a.name}"
+        elif isinstance(n, ast.Import):
+            for a in n.names:
+                if a.name.startswith("fdm_awe") and _private_module_outside(path, a.name):
+                    yield f"{rel}:{n.lineno}: import {a.name}"
+
+
+def test_no_private_access_across_modules() -> None:
+    bad = [line for p in _files() for line in _private_accesses(p)]
+    assert not bad, "private members of other modules used:\n" + "\n".join(bad)
+
+
+def test_the_private_access_check_sees_what_it_must(tmp_path, monkeypatch) -> None:
+    """The check itself: a read, a write, a getattr and an import of another module's private
+    names are found; ``self._x``, the module's own ``obj._x`` and public names are not."""
+    (tmp_path / "a.py").write_text("class A:\n    def __init__(self):\n        self._x = 1\n\n"
+                                   "def _helper():\n    return 0\n\ndef peer(o):\n    return o._x\n")
+    (tmp_path / "b.py").write_text("from .a import _helper, peer\n\ndef f(o):\n    o._x = 2\n"
+                                   "    return o._x + getattr(o, '_x') + peer(o) + o.public + o.__class__.x\n")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "__init__.py").write_text("")
+    (tmp_path / "sub" / "_hid.py").write_text("X = 1\n")
+    (tmp_path / "sub" / "d.py").write_text("from . import _hid\n")  # its own package: allowed
+    (tmp_path / "c.py").write_text("from .sub import _hid\nfrom .sub._hid import X\n")
+    caches = (_files, _tree, _owned, _package_owned)
+    monkeypatch.setattr(sys.modules[__name__], "PKG", tmp_path)
+    for f in caches:
+        f.cache_clear()
+    try:
+        found = {p.name: sorted(line.split(": ", 1)[1] for line in _private_accesses(p)) for p in _files()}
+    finally:
+        monkeypatch.undo()
+        for f in caches:
+            f.cache_clear()
+    assert found == {"a.py": [], "b.py": sorted(["from fdm_awe.a import _helper", "o._x", "o._x", "getattr(o, '_x')"]),
+                     "c.py": ["from fdm_awe.sub import _hid", "from fdm_awe.sub._hid import ..."],
+                     "d.py": [], "__init__.py": [], "_hid.py": []}
+
+
+def _module_level_imports(path: Path) -> set[str]:
+    """The package's modules that ``path`` imports when it is imported (module level, also
+    under ``try``/``if``; not under ``if TYPE_CHECKING:``)."""
+    out: set[str] = set()
+
+    def visit(body: list[ast.stmt]) -> None:
+        for st in body:
+            if isinstance(st, ast.If):
+                test = ast.unparse(st.test)
+                if test in ("TYPE_CHECKING", "typing.TYPE_CHECKING"):
+                    visit(st.orelse)
+                    continue
+                visit(st.body)
+                visit(st.orelse)
+            elif isinstance(st, ast.Try):
+                for b in (st.body, st.orelse, st.finalbody, *(h.body for h in st.handlers)):
+                    visit(b)
+            elif isinstance(st, (ast.With,)):
+                visit(st.body)
+            elif isinstance(st, ast.Import):
+                out.update(a.name for a in st.names if a.name.startswith("fdm_awe"))
+            elif isinstance(st, ast.ImportFrom):
+                module = _resolve(path, st)
+                if not module.startswith("fdm_awe"):
+                    continue
+                subs = [f"{module}.{a.name}" for a in st.names if _is_module(f"{module}.{a.name}")]
+                out.update(subs)
+                if len(subs) < len(st.names):  # names defined in the module (or package) itself
+                    out.add(module)
+
+    visit(_tree(path).body)
+    return {m for m in out if _is_module(m)}
+
+
+def _circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (or a module importing itself)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    out: list[list[str]] = []
+    counter = [0]
+
+    def strong(v: str) -> None:  # Tarjan
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                strong(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1 or v in graph.get(v, ()):
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            strong(v)
+    return out
+
+
+def test_no_import_circle() -> None:
+    graph = {_module_name(p): _module_level_imports(p) - {_module_name(p)} for p in _files()}
+    assert sum(len(v) for v in graph.values()) > 200  # the graph was read
+    circles = _circles(graph)
+    assert not circles, "import circles:\n" + "\n".join(" <-> ".join(c) for c in circles)
+
+
+def test_the_circle_finder_finds_a_circle() -> None:
+    assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert _circles({"a": {"b"}, "b": set()}) == []
+
+
+def test_module_length() -> None:
+    lengths = {_rel(p): len(p.read_text().splitlines()) for p in _files()}
+    new = {m: n for m, n in lengths.items() if n > MAX_MODULE_LINES and m not in LONG_MODULES}
+    grown = {m: (n, LONG_MODULES[m]) for m, n in lengths.items() if m in LONG_MODULES and n > LONG_MODULES[m]}
+    back = sorted(m for m in LONG_MODULES if lengths.get(m, 0) <= MAX_MODULE_LINES)
+    assert not new, f"modules over {MAX_MODULE_LINES} lines: {new}"
+    assert not grown, f"listed long modules grew (now, listed): {grown}"
+    assert not back, f"within {MAX_MODULE_LINES} lines now (or gone): remove from LONG_MODULES: {back}"
+
+
+def _function_lengths(path: Path) -> Iterator[tuple[str, int]]:
+    def walk(node: ast.AST, prefix: str) -> Iterator[tuple[str, int]]:
+        for c in ast.iter_child_nodes(node):
+            if isinstance(c, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                q = prefix + c.name
+                yield q, c.end_lineno - c.lineno + 1
+                yield from walk(c, q + ".<locals>.")
+            elif isinstance(c, ast.ClassDef):
+                yield from walk(c, prefix + c.name + ".")
+            else:
+                yield from walk(c, prefix)
+
+    yield from walk(_tree(path), "")
+
+
+def test_function_length() -> None:
+    lengths = {f"{_rel(p)}:{q}": n for p in _files() for q, n in _function_lengths(p)}
+    assert len(lengths) > 1000  # every function was read
+    new = {f: n for f, n in lengths.items() if n > MAX_FUNCTION_LINES and f not in LONG_FUNCTIONS}
+    grown = {f: (n, LONG_FUNCTIONS[f][0]) for f, n in lengths.items() if f in LONG_FUNCTIONS and n > LONG_FUNCTIONS[f][0]}
+    back = sorted(f for f in LONG_FUNCTIONS if lengths.get(f, 0) <= MAX_FUNCTION_LINES)
+    assert not new, f"functions over {MAX_FUNCTION_LINES} lines: {new}"
+    assert not grown, f"listed long functions grew (now, listed): {grown}"
+    assert not back, f"within {MAX_FUNCTION_LINES} lines now (or gone): remove from LONG_FUNCTIONS: {back}"
+
+
+#: the MAVLink protocol modules: handed the endpoint, they use it as a :class:`~fdm_awe.mavlink.link.Link`
+PROTOCOL_MODULES = ("commands", "ftp", "messages", "mission", "param_protocol", "pilot", "signing", "statustext",
+                    "streams", "winch")
+
+
+def _link_members() -> set[str]:
+    from fdm_awe.mavlink.link import Link
+
+    return {n for n in dir(Link) if not n.startswith("_")} | set(Link.__annotations__)
+
+
+def _link_uses(path: Path) -> tuple[set[str], set[str]]:
+    """(names of ``path`` that hold the link, members used on them): parameters annotated
+    ``Link``, ``self.<x>`` assigned from one, and locals assigned from ``self.<x>``."""
+    tree = _tree(path)
+    params = {n.arg for n in ast.walk(tree) if isinstance(n, ast.arg) and n.annotation is not None
+              and ast.unparse(n.annotation).strip("'\"") == "Link"}
+    fields = {t.attr for n in ast.walk(tree) if isinstance(n, ast.Assign) and isinstance(n.value, ast.Name)
+              and n.value.id in params for t in n.targets if isinstance(t, ast.Attribute) and _is_self(t.value)}
+    names = params | {t.id for n in ast.walk(tree) if isinstance(n, ast.Assign) and isinstance(n.value, ast.Attribute)
+                      and _is_self(n.value.value) and n.value.attr in fields for t in n.targets
+                      if isinstance(t, ast.Name)}
+    used = set()
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Attribute):
+            v = n.value
+            if (isinstance(v, ast.Name) and v.id in names) or (
+                    isinstance(v, ast.Attribute) and _is_self(v.value) and v.attr in fields):
+                used.add(n.attr)
+    return names, used
+
+
+def test_the_protocol_modules_use_the_endpoint_as_a_link() -> None:
+    members = _link_members()
+    assert {"send", "mav", "statustext", "telemetry", "vehicle"} <= members
+    seen: set[str] = set()
+    for name in PROTOCOL_MODULES:
+        path = PKG / "mavlink" / f"{name}.py"
+        assert "MavlinkEndpoint\"" not in path.read_text() and ".endpoint import" not in path.read_text(), name
+        names, used = _link_uses(path)
+        assert names, f"mavlink/{name}.py: no parameter annotated Link"
+        assert used <= members, f"mavlink/{name}.py uses {sorted(used - members)} beyond the Link interface"
+        seen |= used
+    assert seen == members, f"members of Link no protocol module uses: {sorted(members - seen)}"
+
+
+def test_the_endpoint_is_a_link() -> None:
+    import socket
+
+    from fdm_awe.mavlink.endpoint import MavlinkEndpoint
+    from fdm_awe.mavlink.link import Link
+
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:  # a free port; nobody needs to listen
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    ep = MavlinkEndpoint(f"udpout:127.0.0.1:{port}")
+    try:
+        assert isinstance(ep, Link)
+        missing = sorted(n for n in _link_members() if not hasattr(ep, n))
+        assert not missing, missing
+        for n in ("telemetry", "for_me", "send", "set_rate", "statustext", "wake", "info", "warn"):
+            assert callable(getattr(ep, n)), n
+        assert isinstance(ep.link_lost, bool) and isinstance(ep.stats, dict) and isinstance(ep.sysid, int)
+    finally:
+        ep.close()
+    assert not isinstance(object(), Link)
