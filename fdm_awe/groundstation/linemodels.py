@@ -35,8 +35,9 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import InputError
-from . import lumped, lumped_state, substeps, winch
+from . import lumped, lumped_state, rigid, substeps, winch
 from .lumped import lumped_station_step
+from .rigid import rigid_station_step
 from .substeps import station_step
 
 
@@ -156,6 +157,11 @@ LINE_MODELS: tuple[LineKind, ...] = (
              parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - lumped_state.OFF,
              constants=_lumped_constants, ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
              tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset, kinematic_winch=False),
+    LineKind("rigid", 2, "rigid", "rigid",
+             "the straight line without elasticity, its length the distance when taut (the optimiser's line)",
+             rigid_station_step, rigid.compiled_rigid, lambda: _straight_called() + (rigid.stiffness, rigid_station_step),
+             lambda: (substeps, winch, rigid), constants=rigid.constants, unstretched=rigid.unstretched,
+             kinematic_winch=False),
 )
 
 
@@ -164,6 +170,8 @@ def line_step(code, s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd
     :func:`.substeps.station_step`): the compiled co-simulation step's one dispatch."""
     if code == 1:
         return lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
+    if code == 2:
+        return rigid_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
     return station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
 
 
