@@ -28,6 +28,7 @@ model") lists the steps of a new entry.
 from __future__ import annotations
 
 import functools
+import sys
 from dataclasses import dataclass, field
 from types import ModuleType
 from typing import Any, Callable
@@ -185,8 +186,6 @@ def kernel_called() -> tuple:
 
 def kernel_sources() -> tuple[ModuleType, ...]:
     """The source files of every line model's step (a compiled kernel's cache is tied to them)."""
-    import sys
-
     out: list = [sys.modules[__name__]]
     for k in LINE_MODELS:
         out += [m for m in k.sources() if m not in out]
