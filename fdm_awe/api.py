@@ -489,7 +489,8 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
     turbulence : str, optional
         ``"FORM[:SEED]"``, e.g. ``"moderate:3"`` or ``"iec:B"`` (docs/wind.md).
     tether : str
-        ``"straight"`` or ``"lumped:N"`` (N elastic segments).
+        ``"straight"``, ``"lumped:N"`` (N elastic segments) or another ``--tether`` form
+        (``fdm_awe.groundstation.linemodels.LINE_MODELS``).
     tether_drag_scale : float, optional
         Factor on the line drag (default: the reference's).
     gamma_max, v_min, line, propeller, line_weight, generator, wind_profile, wind_ref_height : optional

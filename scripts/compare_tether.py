@@ -172,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
     a = ap.parse_args(argv)
     if not 1 <= a.cycles <= 10:
         ap.error(f"--cycles {a.cycles} out of range (allowed 1..10)")
-    from fdm_awe.groundstation.lumped import parse_tether
+    from fdm_awe.groundstation.linemodels import parse_tether
 
     models = a.models.split(",")
     for m in models:

@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     for c in configs:
         if c not in ("nominal", "foldable"):
             ap.error(f"--configs: {c!r} unknown (allowed nominal, foldable)")
-    from fdm_awe.groundstation.lumped import parse_tether
+    from fdm_awe.groundstation.linemodels import parse_tether
 
     parse_tether(a.tether)
     os.makedirs(a.out, exist_ok=True)

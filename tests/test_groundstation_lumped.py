@@ -23,6 +23,7 @@ from scipy.optimize import brentq, fsolve
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation import lumped as L
+from fdm_awe.groundstation.linemodels import parse_tether
 from fdm_awe.groundstation.substeps import C_DRAG_ON, C_G, C_WIND
 
 G_IDX, DRAG_ON, WIND = C_G, C_DRAG_ON, slice(C_WIND, C_WIND + 3)
@@ -65,14 +66,15 @@ def _winch_force(s: np.ndarray, c: np.ndarray, n: int) -> np.ndarray:
                                  None])
 def test_tether_spec_errors_are_one_line(bad: object) -> None:
     with pytest.raises(InputError) as e:
-        L.parse_tether(bad)
+        parse_tether(bad)
     msg = str(e.value)
     assert "\n" not in msg and "--tether" in msg and "lumped:N" in msg and "2 .. 200" in msg
 
 
 def test_tether_spec_values() -> None:
-    assert L.parse_tether("straight") == 0
-    assert L.parse_tether("lumped:2") == 2 and L.parse_tether("lumped:30") == 30
+    assert parse_tether("straight").param == 0 and parse_tether("straight").name == "straight"
+    assert parse_tether("lumped:2").param == 2 and parse_tether("lumped:30").param == 30
+    assert parse_tether("lumped:30").name == "lumped" and str(parse_tether("lumped:30")) == "lumped:30"
     with pytest.raises(InputError):
         GroundStation(load_ground_station(line="sized"), tether="lumped:0")
 

@@ -163,10 +163,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="factor on the line drag of the ground station (and of the optimiser when it optimises the "
                         f"reference), 0..10; default: the --reference file's tether_drag_scale, else "
                         f"{D.TETHER_DRAG_SCALE:g} = the defined line")
+    from ..groundstation.linemodels import LINE_MODELS
+
     p.add_argument("--tether", default=D.TETHER, metavar="MODEL",
-                   help="line model of the ground station: straight (default: the straight elastic line with the "
-                        "glider carrying 1/4 of its drag and 1/2 of its weight) or lumped:N (N = 2..200 elastic "
-                        "segments with mass, weight and drag; the recording shows its nodes and tensions)")
+                   help=f"line model of the ground station (default {D.TETHER}): "
+                        + "; ".join(f"{k.forms}: {k.doc}" for k in LINE_MODELS))
     from ..trajectory.schema import FLYABLE_GENERATORS
 
     add_plant_model_args(p, prefix="when it optimises the reference (not with --reference): ",
@@ -237,9 +238,9 @@ def _check(args: argparse.Namespace) -> None:
     smoothness_bounds(args)
     margin_bounds(args)
     args.turbulence = chk.turbulence(args.turbulence)
-    from ..groundstation.lumped import parse_tether
+    from ..groundstation.linemodels import parse_tether
 
-    parse_tether(args.tether)
+    args.tether = parse_tether(args.tether)  # parsed once: the flight and its ground station take the model
     chk.mavlink_url(args.mavlink)
     from ..recording.stream import check_live_args
 
@@ -384,9 +385,7 @@ def run(args: argparse.Namespace, given: Any = None, result: dict[str, Any] | No
         args.config = args.config or DEFAULT_CONFIG
         problem = reference_problem(args)
     plant = flight_plant(args, ref)
-    from ..groundstation.lumped_state import check_tether_plant
-
-    check_tether_plant(args.tether, plant == "paper", _plant_why(args, plant))
+    args.tether.check_plant(plant == "paper", _plant_why(args, plant))
     params = _autopilot_params(args.params)  # checked before any work
     _check_budget(args, params, ref, problem)
     out_dir = Path(args.out) if args.out else None

@@ -121,7 +121,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="calm, or a turbulence form without seed: light, moderate, severe, milspec:SEVERITY, "
                         "iec:CLASS (default light)")
     g.add_argument("--fly-tether", default="straight", metavar="MODEL",
-                   help="line model of the flights: straight (default) or lumped:N")
+                   help="line model of the flights: a --tether form of fly (default straight)")
     g.add_argument("--fly-stop-after", type=int, default=None, metavar="N",
                    help="stop after N >= 1 newly flown flights (as an interruption would; for testing resume)")
     g.add_argument("--yield", dest="yield_", action="append", metavar="DIST",
@@ -291,11 +291,10 @@ def extra_settings(args: argparse.Namespace, spec) -> dict:
     if not args.fly:
         fly = None
     else:
-        if spec.scenario == "paper" and fly.tether != "straight":
-            from ..errors import InputError
+        from ..groundstation.linemodels import parse_tether
 
-            raise InputError(f"--fly-tether {fly.tether}: a lumped line only on the physical plant (allowed straight "
-                             f"with --scenario paper)")
+        parse_tether(fly.tether, "--fly-tether").check_plant(spec.scenario == "paper", "--scenario paper",
+                                                                   "--fly-tether")
     dists = parse_distributions(args.yield_) if args.yield_ else []
     sweep_prof = WindProfile.parse(spec.wind_profile, option="wind profile")
     prof = sweep_prof if args.yield_profile is None else WindProfile.parse(

@@ -5,6 +5,7 @@ Modules, one job each:
 
 - :mod:`.definitions` -- ``tether/ground_station.xml`` -> typed SI dataclasses
 - :mod:`.tether` -- line geometry, elastic tension, drag and weight shares on the glider
+- :mod:`.linemodels` -- the line models, one registry entry each (``--tether``), and their one parser
 - :mod:`.lumped` -- the lumped-mass line (``tether="lumped:N"``): nodes, segments, its own ledger
 - :mod:`.lumped_state` -- the lumped line's place in the state and constants arrays, its views
 - :mod:`.winch` -- drum equation (eq. 14) with implicit set-valued Coulomb friction

@@ -88,9 +88,13 @@ class Drivetrain:
     def mode(self, v: str) -> None:
         self._s[9] = 1.0 if v == MOTOR else 0.0
 
-    def __init__(self, params: GroundStationParams) -> None:
+    def __init__(self, params: GroundStationParams, line_state: int = 0) -> None:
         self.params = params
-        self._s = np.zeros(len(STATE) + len(LEDGER_FIELDS))
+        n = len(STATE) + len(LEDGER_FIELDS)
+        #: the state array of a station's step: the drivetrain's states and ledger, then
+        #: ``line_state`` slots of the line model's block (:mod:`.linemodels`)
+        self.state = np.zeros(n + line_state)
+        self._s = self.state[:n]
         tp, wp, mp, cp, ctrl = params.tether, params.winch, params.machine, params.converter, params.controller
         #: the constants of :func:`.substeps.advance` (``DRIVETRAIN_CONSTANTS``), as floats (Python)
         self._cl = [wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,

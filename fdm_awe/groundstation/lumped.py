@@ -1,7 +1,7 @@
 """Lumped-mass tether: N elastic segments between the winch and the glider hook.
 
-Selected with ``GroundStation(tether="lumped:N")`` (``fdm-awe fly --tether lumped:N``); the
-straight line (:mod:`.tether`) stays the default.
+Selected with ``GroundStation(tether="lumped:N")`` (``fdm-awe fly --tether lumped:N``; its entry
+in :data:`.linemodels.LINE_MODELS`); the straight line (:mod:`.tether`) stays the default.
 
 Model (docs/design.md section 10)
     Node 0 sits at the winch (the NED origin), node N at the glider's hook (prescribed, moving
@@ -67,7 +67,7 @@ from .lumped_state import (  # noqa: F401 - the line's layout and views, also re
     C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
     CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
     L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
-    TETHER_MODELS, ZETA, LineLedger, line_constants, nodes, parse_tether, state_size, tensions, velocities,
+    ZETA, LineLedger, line_constants, nodes, state_size, tensions, velocities,
 )
 from .substeps import DRAG_W, WEIGHT_W, advance, compiled_station, cross_flow_drag, machine_mode_code, register_calls
 

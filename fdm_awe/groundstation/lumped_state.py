@@ -7,8 +7,7 @@ indices ``R_*``), the ledger (:data:`FIELDS`, indices ``L_*``, from :data:`LED`)
 the segment tensions N. Its constants follow :data:`.substeps.STATION_CONSTANTS` in the
 constants array (:data:`CONSTANTS`, indices ``C_*``; :func:`line_constants`).
 
-Here too: the spec of the line model (:func:`parse_tether`), the state array's length
-(:func:`state_size`) and views of the state (:func:`nodes`, :func:`velocities`,
+Here too: the state array's length (:func:`state_size`) and views of the state (:func:`nodes`, :func:`velocities`,
 :func:`tensions`, :class:`LineLedger`). The indices are compiled into the line's step as
 constants (its on-disk cache is tied to this file).
 """
@@ -17,12 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
 from .ledger import FIELDS as _DT_LEDGER, Balance
 from .substeps import STATE as _DT_STATE, STATION_CONSTANTS
 
-#: tether models a ground station takes: ``straight`` or ``lumped:N``
-TETHER_MODELS = ("straight", "lumped:N")
 #: allowed segment counts
 N_MIN, N_MAX = 2, 200
 #: inner-step fraction of the leapfrog stability limit 2 / omega_max
@@ -56,30 +52,6 @@ CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
              "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
 (C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
     len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
-
-
-def parse_tether(spec: object) -> int:
-    """0 for ``"straight"``, N for ``"lumped:N"`` (N segments, 2 .. 200); else a one-line
-    :class:`~fdm_awe.errors.InputError` naming ``--tether`` and the allowed values."""
-    if spec == "straight":
-        return 0
-    if isinstance(spec, str) and spec.startswith("lumped:"):
-        tail = spec[len("lumped:"):]
-        if tail.isdigit() and N_MIN <= int(tail) <= N_MAX:
-            return int(tail)
-    raise InputError(f"--tether {spec!r} not allowed (allowed: straight, lumped:N with N {N_MIN} .. {N_MAX})")
-
-
-def check_tether_plant(spec: object, paper: bool, why: str = "") -> int:
-    """:func:`parse_tether` of ``spec``, refused (one line naming ``--tether``) when the line is
-    lumped and the plant is the paper scenario's (``paper``), whose winch is kinematic and has no
-    line to lump; ``why`` says what chose that plant."""
-    n = parse_tether(spec)
-    if paper and n:
-        reason = f" ({why})" if why else ""
-        raise InputError(f"--tether {spec}: a lumped line needs the physical plant; the paper plant{reason} has a "
-                         f"kinematic winch (allowed with it: straight)")
-    return n
 
 
 def state_size(n: int) -> int:

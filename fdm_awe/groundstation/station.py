@@ -3,8 +3,8 @@
 Wires the line (:mod:`.tether`), drum (:mod:`.winch`), DC machine (:mod:`.machine`), converter
 (:mod:`.converter`) and PI speed controller (:mod:`.controller`) through the implicit
 sub-stepping of :mod:`.drivetrain`, and returns the force the line exerts on the glider. One
-step is :func:`.substeps.station_step`: compiled by numba when available, run by Python
-otherwise (the same function).
+step is the line model's (:mod:`.linemodels`; :func:`.substeps.station_step` for the straight
+line): compiled by numba when available, run by Python otherwise (the same function).
 
 Coupling with the flight model: the glider position/velocity at the start of the flight step
 are given; inside the step the glider is advanced linearly with that velocity; the returned
@@ -23,14 +23,14 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
-from . import lumped, lumped_state
 from .converter import GENERATOR, MODES, MOTOR
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
-from .lumped_state import parse_tether
+from .linemodels import TetherModel, parse_tether
+from .lumped_state import C_SCODE
 from .machine import machine_mode
-from .substeps import C_WIND, EVENTS, MACHINE_MODES as _MACHINE_MODES, compiled_station, station_step
+from .substeps import C_WIND, EVENTS, MACHINE_MODES as _MACHINE_MODES
 from .tether import check_tether_drag_scale, line_drag_coefficient
 _new = object.__new__
 _NAN = float("nan")
@@ -262,20 +262,22 @@ class GroundStation:
     ``tether_drag_scale`` (-, 0 .. 10, default 1 = the defined line) multiplies the line drag
     share on the glider: a sensitivity knob, the ground-station twin of
     :attr:`fdm_awe.ocp.problem.CycleProblem.tether_drag_scale` (e.g. 0.5 ~ half the diameter).
-    ``tether``: ``"straight"`` (default, :mod:`.tether`) or ``"lumped:N"`` (N = 2..200 segments,
-    :mod:`.lumped`: the line's mass, weight and drag on its nodes; its shape, tensions and own
-    ledger via :meth:`line_nodes`, :meth:`line_tensions` and :attr:`line_ledger`).
+    ``tether``: the line model, a :class:`.linemodels.TetherModel` or its ``--tether`` form
+    (:func:`.linemodels.parse_tether`): ``"straight"`` (default, :mod:`.tether`), ``"lumped:N"``
+    (N = 2..200 segments, :mod:`.lumped`: the line's mass, weight and drag on its nodes; its
+    shape, tensions and own ledger via :meth:`line_nodes`, :meth:`line_tensions` and
+    :attr:`line_ledger`), or another entry of :data:`.linemodels.LINE_MODELS`.
     """
 
     def __init__(self, params: GroundStationParams | None = None,
                  wind_ned: Sequence[float] = (0.0, 0.0, 0.0), tether_drag_scale: float = 1.0,
-                 tether: str = "straight") -> None:
+                 tether: TetherModel | str = "straight") -> None:
         self.tether_drag_scale = check_tether_drag_scale(tether_drag_scale)
-        #: segments of the lumped-mass line (:mod:`.lumped`), 0 for the straight line
-        self.tether_segments = parse_tether(tether)
-        self.tether = tether
+        #: the line model (its registry entry ``line.kind`` and parameter)
+        self.line = line = parse_tether(tether)
+        self.tether = str(line)
         self.params = params if params is not None else load_ground_station()
-        self.drivetrain = Drivetrain(self.params)
+        self.drivetrain = Drivetrain(self.params, line.state_size())
         self.set_wind(wind_ned)
         self._dt = -1.0
         self._n = 1
@@ -284,26 +286,25 @@ class GroundStation:
         tp = self._tp = self.params.tether
         self._RL = self.params.converter.load_resistance
         self._d2 = self.params.converter.boost_duty
-        # the step (substeps.station_step, compiled when numba is available) and its constants
-        # (STATION_CONSTANTS: the drivetrain's, the wind, the line-share factors of the tether module)
-        self._step_kernel = compiled_station()
+        # the line model's step (compiled when numba is available) and its constants
+        # (STATION_CONSTANTS: the drivetrain's, the wind, the line-share factors of the tether
+        # module, the model's code; then the model's own)
+        kind = line.kind
+        self._step_kernel = kind.compiled()
         drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
         self._scl = self.drivetrain.constants + list(self.wind) + [
             line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
-            tp.weight_share * tp.mass_per_length, tp.gravity]
-        self._s_all = self.drivetrain.state  # the step's state array (with the lumped line: drivetrain + line)
-        self._step_py = station_step
-        nseg = self.tether_segments
-        if nseg:
-            s_all = np.zeros(lumped_state.state_size(nseg))
-            self.drivetrain.move_state(s_all[:lumped_state.OFF])
-            self._s_all = s_all
-            s_all[lumped_state.R_NSEG] = nseg
-            self._scl += lumped_state.line_constants(nseg, tp.air_density, tp.cd_perpendicular, tp.diameter,
-                                               self.tether_drag_scale if tp.drag_share > 0.0 else 0.0)
-            self._step_kernel = lumped.compiled_lumped() if self._step_kernel is not None else None
-            self._step_py = lumped.lumped_station_step
+            tp.weight_share * tp.mass_per_length, tp.gravity, float(kind.code)]
+        self._scl += kind.constants(line.param, tp, self.tether_drag_scale)
+        self._s_all = self.drivetrain.state  # the step's state array: the drivetrain's, then the line's block
+        kind.prepare(self._s_all, line.param)
+        self._step_py = kind.step
         self._sc = np.array(self._scl, dtype=float)
+
+    @property
+    def tether_segments(self) -> int:
+        """Segments of a lumped line (:mod:`.lumped`), 0 for a line without nodes."""
+        return self.line.param if self.line.has_shape else 0
 
     def set_line_wind(self, profile: Any = None, wind_ref: Sequence[float] = (0.0, 0.0),
                       gust: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
@@ -312,14 +313,14 @@ class GroundStation:
         uniform: the station's wind at every height) with the horizontal wind ``wind_ref``
         (N, E) m/s at its reference height, plus ``gust`` (N, E, D) m/s, the turbulence of the
         moment, taken as uniform along the line."""
-        if not self.tether_segments:
+        if not self.line.has_shape:
             return
         code, param, href, floor = (0.0, 0.0, 0.0, 0.0) if profile is None else profile.numbers()
         vals = [code, param, href, floor, *(_finite(f"wind_ref[{k}]", v) for k, v in enumerate(wind_ref)),
                 *(_finite(f"gust[{k}]", v) for k, v in enumerate(gust))]
         if len(vals) != 9:
             raise InputError("set_line_wind: wind_ref needs 2 components (N, E), gust 3 (N, E, D)")
-        i = lumped_state.C_SCODE
+        i = C_SCODE
         self._scl[i:i + 9] = vals
         self._sc[i:i + 9] = vals
         if code == 0.0:  # uniform: the station's wind plus the gust, read as it is at every node
@@ -328,17 +329,18 @@ class GroundStation:
             self._sc[C_WIND:C_WIND + 3] = w
 
     @property
-    def line_ledger(self) -> "lumped_state.LineLedger | None":
-        """The lumped line's own energy ledger (J), None for the straight line."""
-        return lumped_state.LineLedger(self._s_all) if self.tether_segments else None
+    def line_ledger(self) -> Any:
+        """The line's own energy ledger (J; the lumped line's :class:`.lumped_state.LineLedger`),
+        None for a line without one (the straight line)."""
+        return self.line.kind.ledger(self._s_all)
 
     def line_nodes(self) -> np.ndarray | None:
-        """The lumped line's node positions (N+1, 3) m NED, winch first; None for the straight line."""
-        return lumped_state.nodes(self._s_all, self.tether_segments) if self.tether_segments else None
+        """The line's node positions (N+1, 3) m NED, winch first; None for a line without nodes."""
+        return self.line.kind.nodes(self._s_all, self.line.param)
 
     def line_tensions(self) -> np.ndarray | None:
-        """The lumped line's segment tensions (N,) N, winch first; None for the straight line."""
-        return lumped_state.tensions(self._s_all, self.tether_segments) if self.tether_segments else None
+        """The line's segment tensions (N,) N, winch first; None for a line without nodes."""
+        return self.line.kind.tensions(self._s_all, self.line.param)
 
     def set_wind(self, wind_ned: Sequence[float]) -> None:
         """Wind used for the line drag, NED m/s."""
@@ -373,14 +375,14 @@ class GroundStation:
         if load_resistance is not None:
             _finite("load_resistance", load_resistance, lo=0.0, lo_open=True)
         self.drivetrain.reset(tether_length, reel_speed / self.params.winch.radius, mode, load_resistance)
-        if self.tether_segments:  # the line takes its static shape to the hook on the first step
-            self._s_all[lumped_state.R_READY] = 0.0
+        self.line.kind.reset(self._s_all)
 
     def unstretched_length(self, distance: float, tension: float = 0.0) -> float:
-        """Unstretched length (m) that carries ``tension`` (N) at winch-glider ``distance`` (m)."""
+        """Unstretched length (m) that carries ``tension`` (N) at winch-glider ``distance`` (m)
+        on this station's line model."""
         _finite("distance", distance, lo=0.0, lo_open=True)
         _finite("tension", tension, lo=0.0)
-        return distance / (1.0 + tension / self.params.tether.axial_stiffness)
+        return self.line.kind.unstretched(self.params.tether, self.line.param, distance, tension)
 
     def _substeps(self, dt: float) -> int:
         if dt != self._dt:
@@ -428,7 +430,7 @@ class GroundStation:
         self._cmd_terms = (cmd.mode, motor, omega_ref, duty, d2, rl)
 
     def compiled_step_args(self, dt: float) -> tuple[np.ndarray, np.ndarray, int] | None:
-        """For a compiled loop that calls :func:`.substeps.station_step` itself (the
+        """For a compiled loop that calls the line model's step itself (the
         co-simulation kernel): the state array (updated in place: the ledger and
         :attr:`drivetrain` follow), the constants and the sub-step count for steps of ``dt`` s;
         None when this station steps in Python (numba missing, ``FDM_AWE_JIT=0``). Per step the

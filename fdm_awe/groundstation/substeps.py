@@ -50,11 +50,12 @@ _NS = len(STATE)
 #: ``len(DRIVETRAIN_CONSTANTS)``.
 STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
                      "C", "kp", "ki", "d_min", "d_max", "i_lim", "t_lim", "t_band", "wind_n", "wind_e", "wind_d",
-                     "drag_c", "drag_on", "weight_c", "g")
+                     "drag_c", "drag_on", "weight_c", "g", "line")
 DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:22]
-#: positions in ``c`` of the station's wind (N; E, D follow) and its line-share factors
-C_WIND, C_DRAG, C_DRAG_ON, C_WEIGHT, C_G = (STATION_CONSTANTS.index(k)
-                                           for k in ("wind_n", "drag_c", "drag_on", "weight_c", "g"))
+#: positions in ``c`` of the station's wind (N; E, D follow), its line-share factors and the
+#: code of its line model (:attr:`.linemodels.LineKind.code`, the compiled loop's dispatch)
+C_WIND, C_DRAG, C_DRAG_ON, C_WEIGHT, C_G, C_LINE = (STATION_CONSTANTS.index(k)
+                                                   for k in ("wind_n", "drag_c", "drag_on", "weight_c", "g", "line"))
 C_WINDS = (C_WIND, C_WIND + 1, C_WIND + 2)  #: the wind's N, E, D
 
 
@@ -497,7 +498,7 @@ def compiled_station() -> Callable | None:
     return _njit(station_step, "aaifffffffbffff")
 
 
-__all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
+__all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_LINE", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
            "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "drum_speed", "force_limited_current",
            "hold_current", "hold_generator",
            "machine_mode_code", "pi_step", "station_step", "substeps"]

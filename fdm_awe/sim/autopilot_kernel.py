@@ -167,11 +167,9 @@ def compiled_autopilot_kernel() -> Callable | None:
 
     if compiled_kernel() is None:
         return None
-    from .. import wind
     from ..autopilot import attitude, auto_step, fold, guidance, motor, rejoin, thrust, underspeed, winch
     from ..definitions import aircraft
-    from ..groundstation import lumped, lumped_state, station, substeps
-    from ..groundstation import winch as gs_winch
+    from ..groundstation import linemodels, station
     from ..jitcache import compile_cached
     from ..pointmass import aero
     from ..pointmass import fold as pm_fold
@@ -185,13 +183,13 @@ def compiled_autopilot_kernel() -> Callable | None:
         return nb.types.UniTuple(i8, 2)(i1, a1, a1, a2, a1, a1, i8, i8, i1, a1, a1, a1, a1, a2, a2, a1, a1, a1, a1, a1,
                                         a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
 
-    helpers = auto_step.CALLED + attitude.CALLED + (
+    helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
         attitude_from_row, kernel.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
         law_stale, command_values, track_error)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
     modules = (events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust,
-               underspeed, aircraft, winch, lumped, lumped_state, station, substeps, gs_winch, aero, pm_fold, attitude_law, native, row, sampler,
-               wind)
+               underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
+               sampler) + linemodels.kernel_sources()
     return compile_cached(autopilot_steps, signature, helpers, modules, "fdm_awe.sim.autopilot_kernel")
 
 #: the flight controls the autopilot sets (the fold's only on the foldable aircraft)

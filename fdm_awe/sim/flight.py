@@ -75,7 +75,7 @@ from ..definitions.aircraft import Glider, load_glider
 from ..errors import InputError
 from ..groundstation import GroundStation, GroundStationParams, load_ground_station
 from ..groundstation.line import check_line
-from ..groundstation.lumped_state import check_tether_plant
+from ..groundstation.linemodels import TetherModel, parse_tether
 from ..groundstation.steady import motor_max_reel_in_speed
 from ..groundstation.tether import check_tether_drag_scale
 from ..ocp.problem import Scenario
@@ -228,7 +228,7 @@ class _Rig:
 
 def _rig(reference: Any, wind: _FlightWind, gsp: GroundStationParams, config: str, dt: float,
          turbulence: TurbulenceSetting | None, params: Any, paper: bool, tether_drag_scale: float,
-         tether: str) -> _Rig:
+         tether: TetherModel) -> _Rig:
     """Build the plant (see :func:`fly`), start it on the reference's first point and wire the
     autopilot and the co-simulation."""
     h0 = -float(reference.sample(0.0).pos[2])
@@ -240,7 +240,7 @@ def _rig(reference: Any, wind: _FlightWind, gsp: GroundStationParams, config: st
     else:
         gs = GroundStation(gsp, wind_ned=w0 if wind.profile.uniform else wind.at(line_height(h0)),
                            tether_drag_scale=tether_drag_scale, tether=tether)
-        gs.set_line_wind(wind.profile, wind.ned[:2])  # the lumped line's nodes: the profile at their own heights
+        gs.set_line_wind(wind.profile, wind.ned[:2])  # a line's nodes: the profile at their own heights
     _start_on_reference(glider, gs, reference.sample(0.0), w0, paper)
     ps = params if params is not None else autopilot_params()
     thruster = IdealThruster.for_glider(glider, airframes.unfolded.propulsion) if paper else None
@@ -284,7 +284,7 @@ def fly(
     t_end: float | None = None,
     plant: str = "physical",
     tether_drag_scale: float = 1.0,
-    tether: str = "straight",
+    tether: TetherModel | str = "straight",
     references: ReferenceSet | None = None,
     flight_wind: dict[str, Any] | None = None,
 ) -> FlightReport:
@@ -297,9 +297,11 @@ def fly(
     kinematic winch, :mod:`fdm_awe.sim.paper_plant`). ``tether_drag_scale`` (-, 0 .. 10, default 1 =
     the defined line) scales the ground station's line drag on the glider, as
     ``CycleProblem.tether_drag_scale`` scales the optimiser's (the paper plant's ideal line has no drag).
-    ``tether``: the ground station's line model, ``"straight"`` (default) or ``"lumped:N"``
-    (:mod:`fdm_awe.groundstation.lumped`; its shape is sampled into the report's ``line_shape``
-    and its own ledger into ``ledger``). ``turbulence``: None, a named level's ``(level, seed)``
+    ``tether``: the ground station's line model, a :class:`~fdm_awe.groundstation.linemodels.TetherModel`
+    (``--tether`` parsed once by :func:`~fdm_awe.groundstation.linemodels.parse_tether`) or its
+    form: ``"straight"`` (default), ``"lumped:N"`` (:mod:`fdm_awe.groundstation.lumped`; its shape is
+    sampled into the report's ``line_shape`` and its own ledger into ``ledger``) or another entry of
+    :data:`~fdm_awe.groundstation.linemodels.LINE_MODELS`. ``turbulence``: None, a named level's ``(level, seed)``
     or a :class:`~fdm_awe.turbulence.Turbulence` form, realised in the reference's wind with
     the cycle's mean height as hub height; the report's ``turbulence`` holds its parameters,
     targets and the turbulence the glider met (:func:`fdm_awe.turbulence.measure`).
@@ -326,7 +328,8 @@ def fly(
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
     tether_drag_scale = check_tether_drag_scale(tether_drag_scale)  # also for the paper plant (no station)
     paper = plant == "paper"
-    nseg = check_tether_plant(tether, paper)  # a lumped line only on the physical plant
+    model = parse_tether(tether).check_plant(paper)  # e.g. a lumped line only on the physical plant
+    shape = model.has_shape  # a line with nodes: its shape sampled, its own ledger booked
     refs, current = _flyable_set(references, reference)
     reference = flyable_reference(reference) if refs is None else refs.entries[current].reference
     period = reference.period if refs is None else refs.longest_period
@@ -337,22 +340,22 @@ def fly(
     wind = _FlightWind(meta if flight_wind is None else flight_wind)
     gsp = _station_params(meta, paper)
     turb = turbulence_setting(reference, turbulence, flight_wind)
-    rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, tether)
+    rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, model)
     if setup is not None:
         setup(rig.ap, rig.sim)
     gl = GliderLedger(rig.glider, ideal_thrust=paper)
     # cycles are counted by the autopilot's path parameter (the glider's own period); the
     # flight ends when the last cycle is flown, or at a generous time cap
     T_total = t_end if t_end is not None else time_cap(cycles, period)
-    log = FlightLog(int(round(T_total / dt)), dt, rig, gl, bool(nseg))
+    log = FlightLog(int(round(T_total / dt)), dt, rig, gl, shape)
     stop = _StopRequest()
     flown = [False]  # whether every requested cycle was flown
     # the path parameter at which the flight ends (a reference switch moves it to the new period)
     s_end = [math.inf if t_end is not None else cycles * reference.period]
     cw = CycleWind(rig.glider, dt, wind.profile if refs is None else refs.profile, refs, current)
     hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw,
-                      gust_on_line=turb is not None and not paper and bool(rig.gs.tether_segments))
-    if on_step is None and not paper and not nseg and wind.profile.uniform:
+                      gust_on_line=turb is not None and not paper and shape)
+    if on_step is None and not paper and not shape and wind.profile.uniform:
         # no per-step work in Python: the autopilot may fly whole blocks compiled
         rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, s_end, cw)
     rig.ap.on_cycle = _cycle_boundary(rig, cw, s_end, cycles)
@@ -365,7 +368,7 @@ def fly(
     mets = cycle_metrics(spans, dt, log.e_load[: k_end + 1], e_thrust, log.e_supply[: k_end + 1], log.err[: k_end + 1])
     if mets:  # the last cycle's wind, from its rows so far
         cw.close(mets[-1].index, float(res.t[-1]), mets[-1].complete)
-    ledger, rel = _ledger(gl, rig.gs, float(e_thrust[k_end]), bool(nseg))
+    ledger, rel = _ledger(gl, rig.gs, float(e_thrust[k_end]), shape)
     status, msg = _status(res, ap, interrupted, flown[0] or t_end is not None, T_total, cycles, mets)
     if ap.mode == "RECOVER" and ap.recover_cause is not None and "FS_TRK_ERR" in ap.recover_cause:
         msg += _failsafe_wind(res, ap, cw.profile, dt)
@@ -380,7 +383,7 @@ def fly(
                                                                           math.hypot(wind.ned[0], wind.ned[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=log.err[: k_end + 1], reference_pos=log.refpos[: k_end + 1],
-        autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=tether,
+        autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=str(model),
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
         control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
@@ -537,9 +540,9 @@ def _thrust_energy(res: FlightResult, log: FlightLog, rig: _Rig, paper: bool, dt
     return np.r_[0.0, np.cumsum(0.5 * (p_prop[1:] + p_prop[:-1]) * dt)]
 
 
-def _ledger(gl: GliderLedger, gs: Any, thrust_electrical: float, lumped: bool) -> tuple[dict[str, Any], float]:
-    """The flight's energy ledger [J] (the glider's, the station's, with the lumped line's own
-    ledger when ``lumped``) and the largest of their residuals relative to their largest term."""
+def _ledger(gl: GliderLedger, gs: Any, thrust_electrical: float, own: bool) -> tuple[dict[str, Any], float]:
+    """The flight's energy ledger [J] (the glider's, the station's, with the line's own ledger
+    when ``own``, the lumped line's) and the largest of their residuals relative to their largest term."""
     led = gs.ledger
     g_res, g_large = gl.residual()
     gs_res = led.residual()
@@ -548,7 +551,7 @@ def _ledger(gl: GliderLedger, gs: Any, thrust_electrical: float, lumped: bool) -
     ledger = {**{f"glider_{k}_J": v for k, v in gl.terms().items()}, "glider_residual_J": g_res,
               **{f"station_{k}_J": v for k, v in led.as_dict().items()},
               "station_residual_J": gs_res, "thrust_electrical_J": thrust_electrical}
-    if lumped:  # the lumped line's own ledger (hook to drum); its residual is the integrator's error
+    if own:  # the lumped line's own ledger (hook to drum); its residual is the integrator's error
         ll = gs.line_ledger
         ledger.update({f"line_{k}_J": v for k, v in ll.as_dict().items() if k != "relative_residual"})
         rel = max(rel, ll.relative_residual())

@@ -1,9 +1,10 @@
 """The co-simulation step compiled: ground station, tether hook, JSBSim step, state read, events.
 
 :func:`cosim_steps` runs ``n`` steps of :class:`fdm_awe.sim.loop.CoSim`'s loop body without Python
-in between: the ground station's compiled step (:func:`fdm_awe.groundstation.substeps.station_step`)
-on the hook kinematics of the current state, the force written to the JSBSim tether hook, one
-``FGFDMExec::Run()``, the state's properties read into the next log row, the next hook
+in between: the ground station's step (its line model's:
+:func:`fdm_awe.groundstation.linemodels.line_step` dispatches on the model's code in the
+station's constants) on the hook kinematics of the current state, the force written to the
+JSBSim tether hook, one ``FGFDMExec::Run()``, the state's properties read into the next log row, the next hook
 kinematics (:func:`fdm_awe.sixdof.row.hook_kinematics`), and the event checks
 (:func:`fdm_awe.sim.events.step_event`): the same functions the Python loop runs. JSBSim is called through its
 library (:mod:`fdm_awe.sixdof.native`); the operations are those of the Python path
@@ -38,7 +39,8 @@ import sys
 from typing import Any, Callable
 
 from .events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
-from ..groundstation.substeps import STATION_CONSTANTS as _STATION_CONSTANTS
+from ..groundstation.linemodels import compiled_all, kernel_called, kernel_sources, line_step
+from ..groundstation.substeps import C_LINE
 from ..sixdof.row import hook_kinematics
 
 # parameter offsets in ``p``
@@ -61,22 +63,16 @@ TAIL_COLUMNS = ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "
 
 
 def _globals() -> tuple:
-    """The compiled ground-station step and the native calls (None without numba)."""
-    from ..groundstation.substeps import compiled_station
-
-    station = compiled_station()
-    if station is None:
-        return None, None, None, None, None
-    from ..groundstation.lumped import compiled_lumped
+    """The native calls (None without numba or with the line models' steps not compiled)."""
+    if not compiled_all():
+        return None, None, None
     from ..sixdof.native import native_calls
 
-    return (station, compiled_lumped()) + native_calls()
+    return native_calls()
 
 
 # module globals of the kernel: frozen into it when it is compiled
-station, lumped_station, native_run, native_get, native_set = _globals()
-#: constants of the straight line's step: a longer constants array selects the lumped line
-N_STATION = len(_STATION_CONSTANTS)
+native_run, native_get, native_set = _globals()
 
 
 def cosim_step(h, p, lim, log, s_gs, c_gs, k):
@@ -90,12 +86,8 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
     dt = p[P_DT]
     nsub = int(p[P_NSUB])
     motor = p[P_MOTOR] != 0.0
-    if c_gs.shape[0] > N_STATION:  # the lumped-mass line (fdm_awe.groundstation.lumped)
-        (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = lumped_station(
-            s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
-    else:
-        (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = station(
-            s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
+    (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = line_step(
+        int(c_gs[C_LINE]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
     p[P_FX], p[P_FY], p[P_FZ] = fx, fy, fz
     if not math.isfinite(fx + fy + fz):
         return E_FORCE
@@ -146,10 +138,8 @@ def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
 def compiled_kernel() -> Callable | None:
     """:func:`cosim_steps` compiled by numba, or None (numba or the compiled ground station
     missing, ``FDM_AWE_JIT=0``)."""
-    if station is None or lumped_station is None:
+    if native_run is None:
         return None
-    from .. import wind
-    from ..groundstation import lumped, lumped_state, substeps, winch
     from ..jitcache import compile_cached
     from ..sixdof import native
 
@@ -158,11 +148,11 @@ def compiled_kernel() -> Callable | None:
         return nb.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
 
     # tied to the source files of the functions compiled into it (numba's cache checks only
-    # this file): an edit of the event check, the row's relations, the ground station's step,
-    # the lumped line or the wind profile compiles the kernel anew
-    return compile_cached(cosim_steps, signature, (hook_kinematics, step_event, cosim_step),
-                          (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], substeps,
-                           winch, lumped, lumped_state, native, wind), "fdm_awe.sim.kernel")
+    # this file): an edit of the event check, the row's relations or a line model's step (the
+    # registry's sources: the drivetrain, the lines, the wind profile) compiles the kernel anew
+    return compile_cached(cosim_steps, signature, kernel_called() + (hook_kinematics, step_event, cosim_step),
+                          (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], native)
+                          + kernel_sources(), "fdm_awe.sim.kernel")
 
 
 __all__ = ["EVENT_CODES", "GS_COLUMNS", "N_LIMITS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]

@@ -58,7 +58,7 @@ FLY_SEEDS_RANGE = (1, 100)
 class FlySpec:
     """How every point is flown: ``air`` (``calm`` or a turbulence form without its seed),
     ``seeds`` (1..N; calm air is flown once), ``cycles`` per flight, ``tether`` line model
-    (``straight`` or ``lumped:N``)."""
+    (a ``--tether`` form of :data:`fdm_awe.groundstation.linemodels.LINE_MODELS`)."""
 
     air: str = "light"
     seeds: int = 5
@@ -79,12 +79,9 @@ class FlySpec:
             if ":" in self.air and self.air.split(":")[0] in ("light", "moderate", "severe"):
                 raise InputError(f"--fly-air {self.air!r}: give the form without a seed (the seeds are 1..--fly-seeds)")
             Turbulence.parse(f"{self.air}:1", "--fly-air")
-        from ..groundstation.lumped import parse_tether
+        from ..groundstation.linemodels import parse_tether
 
-        try:
-            parse_tether(self.tether)
-        except InputError as exc:
-            raise InputError(f"--fly-tether: {exc}") from None
+        parse_tether(self.tether, "--fly-tether")
         return self
 
     def seed_list(self) -> list[int | None]:
