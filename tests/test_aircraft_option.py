@@ -214,3 +214,20 @@ def test_export_refuses_a_non_empty_folder_unless_forced(tmp_path):
     code, out, err = _run(["info", "--export", str(dest), "--force"])  # the copy's files replaced
     assert code == 0 and "0.738 kg" in _run(["info", "--aircraft", str(dest)])[1]
     assert _run(["info", "--force"])[0] == 2
+
+
+def test_a_folder_changed_between_two_solves_is_a_new_nlp(heavy, tmp_path):
+    """The optimiser's caches key on the aircraft's files (their hash), not only on its folder."""
+    import shutil
+
+    from fdm_awe.ocp.build import structure_key
+    from fdm_awe.ocp.problem import CycleProblem
+
+    root = tmp_path / "edited"
+    shutil.copytree(heavy, root)
+    before = CycleProblem(config="nominal", aircraft=str(root))
+    _heavier(root, 1.05)
+    after = CycleProblem(config="nominal", aircraft=str(root))
+    assert before.aircraft == after.aircraft and before.aircraft.sha256 != after.aircraft.sha256
+    assert structure_key(before) != structure_key(after)
+    assert structure_key(CycleProblem(config="nominal")) == structure_key(CycleProblem(config="nominal", aircraft="glider"))

@@ -25,11 +25,13 @@ CACHE_SIZE = 8
 
 
 def structure_key(problem: CycleProblem) -> tuple:
-    """Everything that shapes the NLP except the wind (a parameter)."""
+    """Everything that shapes the NLP except the wind (a parameter); the aircraft by its
+    definition and the hash of its files (a folder changed between two solves is a new NLP)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
             problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile,
-            problem.line_model, problem.recovery_tension, problem.supply_voltage, problem.aircraft)
+            problem.line_model, problem.recovery_tension, problem.supply_voltage, problem.aircraft,
+            None if problem.aircraft is None else problem.aircraft.sha256)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
