@@ -97,7 +97,8 @@ class Aircraft:
 
     @functools.cached_property
     def sha256(self) -> str:
-        """SHA-256 of the definition's files (relative path and bytes of each, in sorted order)."""
+        """SHA-256 of the definition's files (relative path and bytes of each, in sorted order),
+        computed when the aircraft is resolved (:func:`resolve_aircraft`)."""
         h = hashlib.sha256()
         for p in self.files():
             h.update(p.relative_to(self.root).as_posix().encode() + b"\0")
@@ -200,7 +201,9 @@ def _check_files(a: Aircraft, option: str, spec: str) -> None:
 def _resolve(spec: str, option: str) -> Aircraft:
     if spec in AIRCRAFT:
         root = AIRCRAFT[spec]
-        return Aircraft(spec, root, _prefix(root, option, spec))
+        a = Aircraft(spec, root, _prefix(root, option, spec))
+        a.sha256  # noqa: B018 - the files' hash as resolved
+        return a
     root = Path(os.path.expanduser(spec))
     try:
         exists, folder = root.exists(), root.is_dir()
@@ -216,6 +219,7 @@ def _resolve(spec: str, option: str) -> Aircraft:
     root = root.resolve()
     a = Aircraft(str(root), root, _prefix(root, option, spec))
     _check_files(a, option, spec)
+    a.sha256  # noqa: B018 - the files' hash as resolved (and checked)
     return a.check()
 
 
