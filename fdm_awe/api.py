@@ -369,7 +369,8 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
              generator: str | None = None, wind_profile: str | None = None, wind_ref_height: float | None = None,
              bank_rate_max: float | None = None, alpha_rate_max: float | None = None,
              catch_speed_max: float | None = None, mesh: str | None = None, starts: int = 1,
-             time_budget: float = 180.0, verify: bool = False, verbose: bool = False) -> OptimizeResult:
+             time_budget: float = 180.0, verify: bool = False, aircraft: str | os.PathLike | None = None,
+             verbose: bool = False) -> OptimizeResult:
     """Optimise one periodic pumping cycle, as ``fdm-awe optimize`` does.
 
     Parameters
@@ -414,6 +415,9 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
         Solver seconds before the optimisation is reported as failed.
     verify : bool
         Re-integrate the optimal controls and add the check (``verification``) to the document.
+    aircraft : str or path, optional
+        The glider: a name of the package's aircraft table (``"glider"``, the default) or a
+        definition folder (``fdm-awe info --export DIR`` writes one to start from).
     verbose : bool
         Print the command's lines (progress, summary).
 
@@ -430,7 +434,8 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
                       tether_drag_scale=tether_drag_scale, line=line, propeller=propeller, line_weight=line_weight,
                       generator=generator, wind_profile=wind_profile, wind_ref_height=wind_ref_height,
                       bank_rate_max=bank_rate_max, alpha_rate_max=alpha_rate_max, catch_speed_max=catch_speed_max,
-                      mesh=mesh, starts=starts, time_budget=time_budget, verify=verify)
+                      mesh=mesh, starts=starts, time_budget=time_budget, verify=verify,
+                      aircraft=None if aircraft is None else os.fspath(aircraft))
     with _quiet(verbose):
         problem = O.problem_from_args(args)
         from .ocp.solve import get_nlp, solve_cycle
@@ -468,7 +473,8 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         mode: str = "AUTO", params: str | os.PathLike | None = None, mavlink: str | None = None,
         mavlink_key: str | os.PathLike | None = None, realtime: float | None = None,
         out: str | os.PathLike | None = None, rrd: str | os.PathLike | None = None,
-        json: str | os.PathLike | None = None, verbose: bool = False, **options: Any) -> FlightResult:
+        json: str | os.PathLike | None = None, aircraft: str | os.PathLike | None = None, verbose: bool = False,
+        **options: Any) -> FlightResult:
     """Fly pumping cycles of a reference in 6-DOF co-simulation, as ``fdm-awe fly`` does.
 
     Parameters
@@ -509,6 +515,10 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         Pace against the wall clock at this factor.
     out, rrd, json : path, optional
         Output folder (recording, plots, CSV, report), recording and JSON file, as the command's.
+    aircraft : str or path, optional
+        The glider flown (and optimised without a reference): a name of the package's aircraft
+        table (``"glider"``, the default) or a definition folder; a reference optimised for
+        another aircraft is flown with a warning.
     verbose : bool
         Print the command's lines (progress, the per-cycle table).
     **options
@@ -536,7 +546,8 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                       mode=mode, params=None if params is None else os.fspath(params), mavlink=mavlink,
                       mavlink_key=None if mavlink_key is None else os.fspath(mavlink_key), realtime=realtime,
                       out=None if out is None else os.fspath(out), rrd=None if rrd is None else os.fspath(rrd),
-                      json=None if json is None else os.fspath(json), quiet=True, **options)
+                      json=None if json is None else os.fspath(json), quiet=True,
+                      aircraft=None if aircraft is None else os.fspath(aircraft), **options)
     got: dict[str, Any] = {}
     with _quiet(verbose), _keep_plot_backend(), tempfile.TemporaryDirectory(prefix="fdm-awe-api-") as tmp:
         if args.json is None:
@@ -549,7 +560,7 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
 def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.SWEEP_CONFIGS,
           scenario: str = D.SCENARIO, mesh: str | None = None, workers: int | None = 1,
           scheduler: str | None = None, cold: bool = False, cold_check: bool = True, json: str | os.PathLike | None = None,
-          verbose: bool = False, **options: Any) -> SweepResult:
+          aircraft: str | os.PathLike | None = None, verbose: bool = False, **options: Any) -> SweepResult:
     """Power curves and design sweeps on Dask, as ``fdm-awe sweep`` does.
 
     Parameters
@@ -575,6 +586,9 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
         Also solve warm-started points cold and keep the better (``--no-cold-check`` when False).
     json : path, optional
         Also write the ``--json`` document there.
+    aircraft : str or path, optional
+        The glider of every point: a name of the package's aircraft table (``"glider"``, the
+        default) or a definition folder.
     verbose : bool
         Print the command's lines.
     **options
@@ -590,7 +604,8 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
 
     args = _namespace("sweep", ["--out", os.fspath(out)], wind=wind, config=config, scenario=scenario, mesh=mesh,
                       workers=workers, scheduler=scheduler, cold=cold, no_cold_check=not cold_check,
-                      json=None if json is None else os.fspath(json), no_progress=not verbose, **options)
+                      json=None if json is None else os.fspath(json), no_progress=not verbose,
+                      aircraft=None if aircraft is None else os.fspath(aircraft), **options)
     if scheduler is not None and "workers" not in options:
         args.workers = None
     with _quiet(verbose), _keep_plot_backend():

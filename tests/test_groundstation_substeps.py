@@ -192,4 +192,4 @@ def test_pi_step_compiled_equals_python_and_holds_at_the_limits():
         assert (duty, integ) == jit(*args)
         assert c.duty_min <= duty <= c.duty_max and c.duty_min <= integ <= c.duty_max
     # saturated high with a positive error: the integrator holds (conditional integration)
-    assert pi_step(c.kp, c.ki, c.duty_min, c.duty_max, 1e3, 0.5, 1e-3) == (c.duty_max, 0.5)
+    assert pi_step(c.kp, c.ki, c.duty_min, c.duty_max, 1e4, 0.5, 1e-3) == (c.duty_max, 0.5)

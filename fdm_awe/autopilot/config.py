@@ -1,4 +1,5 @@
-"""Autopilot definition file (``aircraft/<name>/autopilot.xml``) -> a :class:`ParamStore`.
+"""Autopilot definition file (``aircraft/<name>/autopilot.xml`` of the aircraft flown,
+:attr:`fdm_awe.definitions.catalog.Aircraft.autopilot_file`) -> a :class:`ParamStore`.
 
 Every ``<param id unit min max doc kind>value</param>`` becomes one MAVLink-visible parameter,
 range-checked at load (one-line DefinitionError naming file and element) and on every change.
@@ -12,13 +13,10 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import ROOT
+from ..definitions.catalog import default_aircraft
 from ..definitions.xmlutil import XmlDoc, to_float
 from ..errors import DefinitionError
 from .params import KINDS, ParamStore
-
-DEFAULT_FILE = ROOT / "aircraft" / "glider_foldable" / "autopilot.xml"
-
 
 @dataclass(frozen=True)
 class ParamDef:
@@ -33,8 +31,9 @@ class ParamDef:
 
 def load_autopilot_definition(path: str | Path | None = None) -> list[ParamDef]:
     """The parameters of an autopilot definition file (root element ``<fdm_awe_autopilot>``, the
-    package's own: JSBSim's ``<autopilot>`` is a section of an aircraft file), range-checked."""
-    doc = XmlDoc.load(path or DEFAULT_FILE)
+    package's own: JSBSim's ``<autopilot>`` is a section of an aircraft file), range-checked;
+    None: the package's glider's."""
+    doc = XmlDoc.load(path or default_aircraft().autopilot_file)
     if doc.root.tag != "fdm_awe_autopilot":
         raise DefinitionError(doc.path, doc.root.tag, "root element must be <fdm_awe_autopilot>")
     out: list[ParamDef] = []

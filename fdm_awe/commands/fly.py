@@ -54,6 +54,7 @@ from typing import Any, Callable
 from .. import defaults as D
 from ..errors import EXIT_INTERRUPTED, InputError
 from ..fileio import write_json
+from ._aircraft import add_aircraft_arg, aircraft_from_args, check_reference_aircraft
 from . import _checks as chk
 from .optimize import (NOMINAL_DEFAULT_WHY, add_margin_args, add_plant_model_args, add_smoothness_args,
                        add_wind_profile_args, check_plant_args, margin_bounds, smoothness_bounds, wind_profile_from_args)
@@ -151,6 +152,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--config", choices=("foldable", "nominal"), default=None,
                    help=f"foldable folds for recovery, nominal never folds; default the --reference file's, else {D.CONFIG} ("
                         + NOMINAL_DEFAULT_WHY + ")")
+    add_aircraft_arg(p, "the glider flown (and optimised, when fly optimises the reference; a --reference optimised "
+                        "for another aircraft is flown with a warning)")
     p.add_argument("--allow-mismatch", action="store_true",
                    help="fly a --reference with a --config/--scenario other than the one it was optimised for (a warning "
                         "is printed; without this option the mismatch is refused)")
@@ -226,6 +229,7 @@ def _check(args: argparse.Namespace) -> None:
     """Every option on its own (ranges, forms) and the options a reference fixes."""
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
 
+    aircraft_from_args(args)  # the aircraft's files checked first (a missing file names --aircraft)
     chk.integer(args.cycles, "--cycles", 1, 1000, what="pumping cycles")
     chk.number(args.dt, "--dt", 1e-4, 0.05, unit="s", what="co-simulation step")
     chk.number(args.wind, "--wind", 0.0, 25.0, unit="m/s", what="wind speed")
@@ -316,7 +320,8 @@ def reference_problem(args: argparse.Namespace):
                         tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
                         generator=args.generator, line_model=args.line_model or "straight",
-                        wind_profile=wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)).validate()
+                        wind_profile=wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO),
+                        aircraft=aircraft_from_args(args)).validate()
 
 
 def optimise_reference(problem):
@@ -386,7 +391,7 @@ def run(args: argparse.Namespace, given: Any = None, result: dict[str, Any] | No
         problem = reference_problem(args)
     plant = flight_plant(args, ref)
     args.tether.check_plant(plant == "paper", _plant_why(args, plant))
-    params = _autopilot_params(args.params)  # checked before any work
+    params = _autopilot_params(args.params, aircraft=aircraft_from_args(args))  # checked before any work
     _check_budget(args, params, ref, problem)
     out_dir = Path(args.out) if args.out else None
     with _check_outputs(args, out_dir, optimising=ref is None):  # --out locked until the last file is written
@@ -500,22 +505,24 @@ def _open_link(args: argparse.Namespace) -> Any:
     return open_link(args.mavlink)
 
 
-def _autopilot_params(path: str | None, option: str = "--params") -> Any:
-    """The autopilot's parameters, from the file ``path`` (``--params``) when given: a JSON
-    parameter file, or a path where none exists yet (created at the first change). A folder, a
-    device, a FIFO or a malformed file is refused in one line naming ``option``."""
+def _autopilot_params(path: str | None, option: str = "--params", aircraft: Any = None) -> Any:
+    """The autopilot's parameters of ``aircraft``'s autopilot definition (None: the package's
+    glider), from the file ``path`` (``--params``) when given: a JSON parameter file, or a path
+    where none exists yet (created at the first change). A folder, a device, a FIFO or a
+    malformed file is refused in one line naming ``option``."""
     from ..autopilot.config import autopilot_params
     from ..autopilot.params import ParamStore
     from ..errors import DefinitionError
     from ..fileio import check_input_file
 
+    definition = None if aircraft is None else aircraft.autopilot_file
     if path is None:
-        return autopilot_params()
+        return autopilot_params(definition)
     p = Path(path)
     if p.exists():
         check_input_file(p, option)  # a regular file (none yet: created at the first change)
     try:
-        return autopilot_params(store=ParamStore(p))
+        return autopilot_params(definition, store=ParamStore(p))
     except DefinitionError as exc:
         raise InputError(f"{option} {exc.path}: {exc.element}: {exc.problem}") from None
 
@@ -550,6 +557,7 @@ def _checked_reference(args: argparse.Namespace, ref: Any, source: object) -> An
     """``ref`` (from ``source``) checked against the options: its configuration and scenario,
     the turbulence form against its wind; ``args.config`` defaults to the reference's."""
     check_reference_options(args, ref.meta, source)
+    check_reference_aircraft(ref.meta, aircraft_from_args(args), source)
     if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
         from ..sim.flight import turbulence_setting
 
@@ -587,6 +595,8 @@ def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any]
     refs = ReferenceSet.from_folder(args.references)
     first = refs.entries[0]
     check_reference_options(args, first.reference.meta, first.source)
+    for e in refs.entries:
+        check_reference_aircraft(e.reference.meta, aircraft_from_args(args), e.source)
     args.config = args.config or (first.reference.meta.get("config") if first.reference.meta.get("config") in
                                   ("foldable", "nominal") else DEFAULT_CONFIG)
     start_w = args.start_wind if args.start_wind is not None else args.wind
@@ -746,7 +756,7 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
                             on_step=hooks.on_step if hooks.per_step else None, params=params, setup=hooks.setup,
                             plant=plant, tether_drag_scale=scale, tether=args.tether, references=refs,
-                            flight_wind=flight_wind)
+                            flight_wind=flight_wind, aircraft=aircraft_from_args(args))
         if hooks.endpoint is not None:
             hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
             if (stay is not None and not getattr(args, "exit_after_cycles", False) and report.status != "interrupted"

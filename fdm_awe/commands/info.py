@@ -2,6 +2,10 @@
 sizing of every tether line (rated tension, safety factor, breaking load, diameter, mass per
 length, EA, equivalent line drag coefficient at the shortest and longest working line).
 
+``--aircraft NAME|DIR`` shows another aircraft (:mod:`fdm_awe.definitions.catalog`);
+``--export DIR`` writes a copy of the aircraft's definition (and of the ground station's) to
+start from: a new or empty folder, or with ``--force`` any folder (the copy's files replaced).
+
 ``--json`` is checked before the definitions are read and written atomically (NaN as null).
 """
 
@@ -11,29 +15,46 @@ import argparse
 import math
 from typing import Any
 
+from ._aircraft import add_aircraft_arg, aircraft_from_args
+
 HELP = "show the airframe, propulsion and ground-station definitions and the reference glide"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON (NaN written as null)")
+    add_aircraft_arg(p, "the aircraft shown (and exported)")
     p.add_argument("--export", metavar="DIR",
-                   help="write a copy of the definition folders (aircraft/, engine/, tether/) into DIR, a new or empty "
-                        "folder, to start your own definitions from; prints the files and nothing else")
+                   help="write a copy of the aircraft's definition (aircraft/, engine/) and of the ground station's "
+                        "(tether/) into DIR, a new or empty folder, to start your own definitions from (--aircraft DIR "
+                        "flies the copy); prints the files and nothing else")
+    p.add_argument("--force", action="store_true",
+                   help="with --export: write into a folder that is not empty (the copy's files are replaced, other "
+                        "files kept)")
 
 
-def export_definitions(dest: str, option: str = "--export") -> list[str]:
-    """Copy the definition folders of :data:`fdm_awe.ROOT` into ``dest`` (a new or empty folder;
+def export_definitions(dest: str, option: str = "--export", aircraft: Any = None, force: bool = False) -> list[str]:
+    """Copy the definition of ``aircraft`` (:meth:`~fdm_awe.definitions.catalog.Aircraft.files`;
+    None: the package's glider) and the ground station's folder ``tether/`` of
+    :data:`fdm_awe.ROOT` into ``dest`` (a new or empty folder, or with ``force`` any folder;
     anything else is refused in one line naming ``option``, before anything is written). The copy
     is made in a temporary folder next to ``dest`` and renamed into place, so ``dest`` holds all
-    of it or nothing. Returns the files written, relative to ``dest``."""
+    of it or nothing; with ``force`` into a folder that is not empty, each file is replaced
+    atomically. Returns the files written, relative to ``dest``."""
     import os
     import shutil
     import tempfile
     from pathlib import Path
 
-    from .. import DEFINITION_FOLDERS, ROOT
+    from .. import ROOT
+    from ..definitions.catalog import resolve_aircraft
     from ..errors import InputError
     from ..fileio import check_name_length
+
+    a = resolve_aircraft(aircraft)
+    skip = shutil.ignore_patterns("__pycache__", "*.py[cod]", "__init__.py")
+    sources = [(p, p.relative_to(a.root)) for p in a.files()]
+    sources += [(p, p.relative_to(ROOT)) for p in sorted((ROOT / "tether").rglob("*"))
+                if p.is_file() and not skip(str(p.parent), [p.name]) and "__pycache__" not in p.parts]
 
     d = Path(dest)
     if str(dest) == "":
@@ -42,8 +63,9 @@ def export_definitions(dest: str, option: str = "--export") -> list[str]:
     if d.exists() or d.is_symlink():
         if not d.is_dir():
             raise InputError(f"{option} {d}: exists and is not a folder (allowed: a new or empty folder)")
-        if any(d.iterdir()):
-            raise InputError(f"{option} {d}: folder exists and is not empty (allowed: a new or empty folder)")
+        if any(d.iterdir()) and not force:
+            raise InputError(f"{option} {d}: folder exists and is not empty (allowed: a new or empty folder, or add "
+                             f"--force to replace the copy's files in it)")
     parent = d.absolute().parent
     if not parent.is_dir():
         raise InputError(f"{option} {d}: {parent} is not a folder (allowed: a new folder in an existing one)")
@@ -54,20 +76,26 @@ def export_definitions(dest: str, option: str = "--export") -> list[str]:
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o777 & ~umask)  # a folder as mkdir makes it (mkdtemp's is private)
-        for folder in DEFINITION_FOLDERS:
-            shutil.copytree(ROOT / folder, tmp / folder, ignore=shutil.ignore_patterns("__pycache__", "*.py[cod]",
-                                                                                     "__init__.py"))
+        for src, rel in sources:
+            (tmp / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, tmp / rel)
         files = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
-        if d.is_dir():
-            d.rmdir()  # empty (checked above): replaced by the complete copy
-        os.replace(tmp, d)
+        if d.is_dir() and any(d.iterdir()):  # --force: each file of the copy replaced in place
+            for rel in files:
+                (d / rel).parent.mkdir(parents=True, exist_ok=True)
+                os.replace(tmp / rel, d / rel)
+            shutil.rmtree(tmp, ignore_errors=True)
+        else:
+            if d.is_dir():
+                d.rmdir()  # empty (checked above): replaced by the complete copy
+            os.replace(tmp, d)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return files
 
 
-def drive_info(gs: Any) -> dict[str, float]:
+def drive_info(gs: Any, aircraft: Any = None) -> dict[str, float]:
     """What the supply voltage and the machine's ratings of ground station ``gs`` allow: the
     largest reel-in speed [m/s] on a slack line and against the autopilot's lower line tension
     (WINCH_TLO), the line tensions [N] the rated and peak currents and the motor's current
@@ -75,12 +103,13 @@ def drive_info(gs: Any) -> dict[str, float]:
     friction, the generator's largest brake at the current limit with it), the converter's
     tension limit and band [N] with the current [A] that holds the limit on a standing drum,
     the drive's design reel-in speed [m/s] and the supply it needs against WINCH_TLO [V] (NaN
-    where the file gives no design speed)."""
+    where the file gives no design speed); WINCH_TLO of ``aircraft``'s autopilot definition
+    (None: the package's glider)."""
     from ..autopilot.config import autopilot_params
     from ..groundstation.steady import motor_max_reel_in_speed, motor_supply_needed
 
     w, m, c = gs.winch, gs.machine, gs.converter
-    t_lo = float(autopilot_params()["WINCH_TLO"])
+    t_lo = float(autopilot_params(None if aircraft is None else aircraft.autopilot_file)["WINCH_TLO"])
     v_design = w.design_reel_in_speed
     return {"supply_voltage_V": c.supply_voltage, "reel_in_max_mps": float(motor_max_reel_in_speed(0.0, gs)),
             "lower_tension_N": t_lo, "reel_in_max_at_lower_tension_mps": float(motor_max_reel_in_speed(t_lo, gs)),
@@ -112,7 +141,7 @@ def drive_text(d: dict[str, float]) -> str:
     return text
 
 
-def ground_station_info(wing_area: float) -> dict[str, object]:
+def ground_station_info(wing_area: float, aircraft: Any = None) -> dict[str, object]:
     """Print the winch and the sizing of every tether line of the ground-station definition
     (:func:`fdm_awe.groundstation.line.line_summary` at the optimiser's shortest and longest
     working line, drag coefficient on the unfolded wing area ``wing_area`` [m^2]); return them
@@ -125,7 +154,7 @@ def ground_station_info(wing_area: float) -> dict[str, object]:
     w, m, c = gs.winch, gs.machine, gs.converter
     print(f"ground station: {gs.path}  drum r {w.radius:g} m  DC machine k {m.k:.4g} V s/rad  R {m.resistance:g} ohm  "
           f"supply {c.supply_voltage:g} V  load {c.load_resistance:g} ohm")
-    drive = drive_info(gs)
+    drive = drive_info(gs, aircraft)
     print(drive_text(drive))
     defaults = {scn: str(d["line"]) for scn, d in PLANT_DEFAULTS.items()}
     lines: dict[str, object] = {}
@@ -148,17 +177,23 @@ def run(args: argparse.Namespace) -> int:
             from ..errors import InputError
 
             raise InputError("--json: not with --export (the export writes the definition files only)")
-        files = export_definitions(args.export)
+        files = export_definitions(args.export, aircraft=aircraft_from_args(args), force=args.force)
         print(f"exported {len(files)} definition files to {args.export}: " + ", ".join(files))
         print(f"{args.export} has the layout of the package's definition root (a JSBSim root: aircraft/NAME/NAME.xml, "
-              "engine/*.xml, tether/ground_station.xml)")
+              f"engine/*.xml, tether/ground_station.xml); --aircraft {args.export} flies it")
         return 0
+    if args.force:
+        from ..errors import InputError
+
+        raise InputError("--force: only with --export (it lets the export write into a folder that is not empty)")
     chk.outputs(files=[("--json", args.json)])
-    from ..definitions.aircraft import load_glider
     from ..pointmass.performance import steady_glide
 
-    glider = load_glider()
-    out: dict[str, object] = {}
+    aircraft = aircraft_from_args(args)
+    glider = aircraft.glider()
+    print(f"aircraft: {aircraft.label()}  ({aircraft.root}, {aircraft.jsbsim_name('foldable')}; sha256 "
+          f"{aircraft.sha256[:12]})")
+    out: dict[str, object] = {"aircraft": {**aircraft.record(), "root": str(aircraft.root)}}
     for cfg in ("unfolded", "folded"):
         af = glider.config(cfg)
         a = af.aero
@@ -166,16 +201,18 @@ def run(args: argparse.Namespace) -> int:
         print(f"{cfg:>8}: {af.source.name}  S {a.S:.5f} m2  b {a.b:.3f} m  AR {a.aspect_ratio:.2f}  "
               f"CL = {a.CL0:.4f} + {a.CLalpha:.4f} a (max {a.CLmax:.2f})  "
               f"CD = {a.CD0:.4f} + {a.CDalpha1:.4f} a + {a.CDalpha2:.4f} a^2")
+        v_stall = a.stall_speed(af.mass.mass)
+        print(f"{'':>10}mass {af.mass.mass:.4g} kg  stall speed {v_stall:.3f} m/s (1 g, CLmax, sea level)")
         print(f"{'':>10}best glide: alpha {sg.alpha:.5f} rad  CL {sg.CL:.4f}  L/D {sg.L_over_D:.3f}  "
               f"V {sg.V:.3f} m/s  gamma {sg.gamma:.5f} rad  sink {sg.sink_rate:.3f} m/s")
-        out[cfg] = {"S_m2": a.S, "span_m": a.b, "AR": a.aspect_ratio, "mass_kg": af.mass.mass,
+        out[cfg] = {"S_m2": a.S, "span_m": a.b, "AR": a.aspect_ratio, "mass_kg": af.mass.mass, "stall_speed_mps": v_stall,
                     "glide": {"alpha_rad": sg.alpha, "CL": sg.CL, "L_over_D": sg.L_over_D, "V_mps": sg.V, "gamma_rad": sg.gamma}}
     p = glider.unfolded.propulsion
     print(f"propulsion: P = {p.P0:g} W + T (V + v_i) / ({p.eta_prop:g} * {p.eta_motor:g}), A_p {p.disk_area:.4f} m2, "
           f"T_max {p.T_max:g} N; paper: P = {p.PT0:g} + {p.PT1:g} T + {p.PT2:g} T^2")
     out["propulsion"] = {"P0_W": p.P0, "eta_prop": p.eta_prop, "eta_motor": p.eta_motor, "disk_area_m2": p.disk_area,
                          "T_max_N": p.T_max}
-    out.update(ground_station_info(glider.unfolded.aero.S))
+    out.update(ground_station_info(glider.unfolded.aero.S, aircraft))
     if args.json:
         from ..fileio import write_json
 

@@ -13,6 +13,7 @@ import sys
 from typing import Any
 
 from .. import defaults as D
+from ._aircraft import add_aircraft_arg, aircraft_from_args
 
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
 
@@ -25,6 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"model family (docs/design.md section 4; default {D.SCENARIO})")
     p.add_argument("--config", choices=("nominal", "foldable"), default=D.CONFIG,
                    help="nominal: unfolded throughout; foldable: folded for recovery; " + NOMINAL_DEFAULT_WHY)
+    add_aircraft_arg(p, "the glider optimised (the reference records it)")
     p.add_argument("--wind", type=float, default=D.WIND_MPS, metavar="M_S",
                    help=f"wind speed magnitude [m/s], 0..25 (default {D.WIND_MPS:g})")
     p.add_argument("--wind-from", type=float, default=D.WIND_FROM_DEG, metavar="DEG",
@@ -376,6 +378,7 @@ def problem_from_args(args: argparse.Namespace):
     from ..ocp.problem import Bounds, CycleProblem
     from . import _checks as chk
 
+    aircraft = aircraft_from_args(args)  # its files checked first (a missing file names --aircraft)
     check_solver_args(args)
     check_plant_args(args)
     drum = _drum_capacity()
@@ -425,7 +428,7 @@ def problem_from_args(args: argparse.Namespace):
                         fold_time=fold_time, recovery_tension=getattr(args, "recovery_tension", None),
                         supply_voltage=volts,
                         wind_profile=wind_profile_from_args(args),
-                        line_model=getattr(args, "line_model", None) or "straight").validate()
+                        line_model=getattr(args, "line_model", None) or "straight", aircraft=aircraft).validate()
 
 
 def print_summary(res, file=None) -> None:
@@ -437,6 +440,8 @@ def print_summary(res, file=None) -> None:
         head += f" at {res.problem.wind_profile.ref_height:g} m ({res.problem.wind_profile.label()})"
     if res.problem is not None:
         head += f" / {plant_text(res.problem)}"
+        if res.problem.aircraft is not None and not res.problem.aircraft.builtin:
+            head += f" / aircraft {res.problem.aircraft.label()}"
     if not res.ok:
         print(f"{head}: FAILED ({res.reason}) after {res.iterations} iterations, {res.solve_s:.2f} s", file=file)
         return

@@ -40,6 +40,8 @@ import argparse
 import math
 from typing import Any
 
+from ._aircraft import add_aircraft_arg
+
 HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
 
 
@@ -50,6 +52,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"wind speeds [m/s], each 0..25: START:STOP:STEP or a comma list (default {D.SWEEP_WINDS})")
     p.add_argument("--config", default=D.SWEEP_CONFIGS,
                    help=f"configurations: nominal,foldable (default {D.SWEEP_CONFIGS})")
+    add_aircraft_arg(p, "the glider of every point (its design axes vary it; a changed folder's points are new points)")
     p.add_argument("--scenario", default=D.SCENARIO, choices=("physical", "paper"),
                    help=f"scenario family (default {D.SCENARIO})")
     p.add_argument("--folded-span", metavar="LIST", help="folded spans b_f [m] (default: the folded definition's)")
@@ -149,10 +152,14 @@ MAX_WORKERS = 1024
 
 
 def check_args(args: argparse.Namespace) -> None:
-    """The integer options and ``--scheduler`` (one-line errors naming the option)."""
+    """The integer options and ``--scheduler`` (one-line errors naming the option); the
+    ``--aircraft`` folder's files first."""
     from ..errors import InputError
     from ..sweep.spec import ANCHOR_EVERY_RANGE, MAX_ITER_RANGE, MAX_ITER_TOTAL_RANGE
     from . import _checks as chk
+    from ._aircraft import aircraft_from_args
+
+    aircraft_from_args(args)
 
     chk.integer(args.max_iter, "--max-iter", *MAX_ITER_RANGE, what="IPOPT iterations per solve")
     chk.integer(args.max_iter_total, "--max-iter-total", *MAX_ITER_TOTAL_RANGE, what="IPOPT iterations per point")
@@ -193,7 +200,7 @@ def design_axes(args: argparse.Namespace) -> dict[str, tuple]:
     if args.folded_span is not None:  # a folded wing no longer than the unfolded one, at every wing area
         from ..sweep.runner import base_glider
 
-        base = base_glider()
+        base = base_glider(_aircraft_fields(args)["aircraft"])
         for S in out["wing_areas"]:
             b_u = unfolded_span(base, S)
             for b in out["folded_spans"]:
@@ -202,6 +209,17 @@ def design_axes(args: argparse.Namespace) -> dict[str, tuple]:
                     raise InputError(f"--folded-span {args.folded_span!r}: {b:g} m out of range (allowed > 0 and <= "
                                      f"the unfolded span {b_u:.4g} m at {at})")
     return out
+
+
+def _aircraft_fields(args: argparse.Namespace) -> dict[str, str | None]:
+    """The spec's ``aircraft`` and ``aircraft_sha256`` of ``--aircraft`` (both None for the
+    package's glider: its points keep their ids)."""
+    from ._aircraft import aircraft_from_args
+
+    a = aircraft_from_args(args)
+    if a.builtin and a.name == "glider":
+        return {"aircraft": None, "aircraft_sha256": None}
+    return {"aircraft": a.name if a.builtin else str(a.root), "aircraft_sha256": a.sha256}
 
 
 def build_spec(args: argparse.Namespace):
@@ -255,7 +273,7 @@ def build_spec(args: argparse.Namespace):
         stall_margin=(float(args.stall_margin or 0.0) if bounds == "table3" or args.stall_margin is not None
                       else FLYABLE_STALL_MARGIN),  # checked above
         line_model=getattr(args, "line_model", None) or "straight",
-        bounds=bounds,
+        bounds=bounds, **_aircraft_fields(args),
     ).validate()
     return canonical_spec(spec)
 

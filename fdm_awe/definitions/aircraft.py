@@ -1,8 +1,9 @@
 """Airframe parameters read from the JSBSim aircraft definitions (the single source of truth).
 
 The point-mass model, the optimiser and the 6-DOF model all read the same numbers from the
-same XML files: ``aircraft/glider_unfolded/glider_unfolded.xml`` (unfolded configuration) and
-``aircraft/glider_folded/glider_folded.xml`` (folded configuration). Nothing here holds a copy
+same XML files of one aircraft (:class:`~.catalog.Aircraft`, ``--aircraft``; the package's
+``glider``: ``aircraft/glider_unfolded/glider_unfolded.xml``, the unfolded configuration, and
+``aircraft/glider_folded/glider_folded.xml``, the folded one). Nothing here holds a copy
 of an airframe number. What the forms share (metrics but span and area, skids, tether hook,
 drive, point-mass propulsion values, control surfaces, the aerodynamic model) the aircraft files
 take from JSBSim section files in ``aircraft/common/``; :class:`~.xmlutil.XmlDoc` merges them in
@@ -37,6 +38,7 @@ import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -45,8 +47,8 @@ from .. import ROOT
 from ..errors import DefinitionError, InputError
 from .xmlutil import XmlDoc, check_numbers, element_number, location
 
-#: Configuration name -> JSBSim aircraft name of its static definition.
-CONFIG_AIRCRAFT: dict[str, str] = {"unfolded": "glider_unfolded", "folded": "glider_folded"}
+#: The static configurations (each an aircraft form of :data:`~.catalog.FORMS`).
+CONFIGS = ("unfolded", "folded")
 
 #: Allowed range ``(lo, hi, lo_open, hi_open)`` of each point-mass polar coefficient (one
 #: configuration, normalised with its own S): ``C_L = CL0 + CLalpha a``, ``C_D = CD0 + CDalpha1 a
@@ -183,7 +185,7 @@ def aircraft_path(name: str, root: Path | None = None) -> Path:
     return (root or ROOT) / "aircraft" / name / f"{name}.xml"
 
 
-def _mass(doc: XmlDoc) -> MassParams:
+def mass_params(doc: XmlDoc) -> MassParams:
     mb = doc.find("mass_balance")
     assert mb is not None
     m_e = doc.number("mass_balance/emptywt", lo=0.0, lo_open=True, unit="kg")
@@ -432,7 +434,7 @@ def check_aircraft_file(path: str | Path, root: Path | None = None) -> XmlDoc:
 
     doc = _load_aircraft_doc(path)
     _geometry(doc)
-    _mass(doc)
+    mass_params(doc)
     _propulsion(doc)
     _airframe_checks(doc)
     if is_foldable(doc):
@@ -452,13 +454,13 @@ def load_airframe_file(path: str | Path, config: str = "custom") -> Airframe:
     if is_foldable(doc):
         raise DefinitionError(doc.path, "property aero/pm/CL0",
                               "a morphing aircraft (aero/unfolded/*, aero/folded/*) has no single static form; "
-                              "load glider_unfolded or glider_folded")
+                              "load the unfolded or the folded form")
     airframe = Airframe(
         config=config,
         aircraft=doc.root.attrib.get("name", Path(path).stem),
         source=Path(path),
         aero=_aero(doc),
-        mass=_mass(doc),
+        mass=mass_params(doc),
         propulsion=_propulsion(doc),
     )
     _stability(doc, "aero/coef")
@@ -466,11 +468,15 @@ def load_airframe_file(path: str | Path, config: str = "custom") -> Airframe:
     return airframe
 
 
-def load_airframe(config: str = "unfolded", root: Path | None = None) -> Airframe:
-    """Airframe of configuration ``config`` (``"unfolded"`` or ``"folded"``)."""
-    if config not in CONFIG_AIRCRAFT:
-        raise InputError(f"configuration {config!r} unknown (allowed: {', '.join(CONFIG_AIRCRAFT)})")
-    return load_airframe_file(aircraft_path(CONFIG_AIRCRAFT[config], root), config)
+def load_airframe(config: str = "unfolded", aircraft: Any = None) -> Airframe:
+    """Airframe of configuration ``config`` (``"unfolded"`` or ``"folded"``) of ``aircraft``
+    (:func:`~.catalog.resolve_aircraft`: a table name, a definition folder, an
+    :class:`~.catalog.Aircraft`; None: the package's glider)."""
+    from .catalog import resolve_aircraft
+
+    if config not in CONFIGS:
+        raise InputError(f"configuration {config!r} unknown (allowed: {', '.join(CONFIGS)})")
+    return load_airframe_file(resolve_aircraft(aircraft).path(config), config)
 
 
 @dataclass(frozen=True)
@@ -484,10 +490,14 @@ class Glider:
         return self.unfolded if name == "unfolded" else self.folded
 
 
-def load_glider(root: Path | None = None) -> Glider:
-    """Both configurations; checks that they describe the same vehicle (mass, propulsion)."""
-    u = load_airframe("unfolded", root)
-    f = load_airframe("folded", root)
+def load_glider(aircraft: Any = None) -> Glider:
+    """Both configurations of ``aircraft`` (as :func:`load_airframe`); checks that they describe
+    the same vehicle (mass, propulsion)."""
+    from .catalog import resolve_aircraft
+
+    a = resolve_aircraft(aircraft)
+    u = load_airframe("unfolded", a)
+    f = load_airframe("folded", a)
     if abs(u.mass.mass - f.mass.mass) > 1e-9 * u.mass.mass:
         raise DefinitionError(f.source, "mass_balance", f"total mass {f.mass.mass:g} kg differs from the unfolded form's {u.mass.mass:g} kg")
     if u.propulsion != f.propulsion:

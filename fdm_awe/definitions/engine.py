@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -128,12 +129,15 @@ def engine_files(adoc: XmlDoc, root: Path | None = None) -> tuple[XmlDoc, XmlDoc
     return mdoc, pdoc
 
 
-def load_electric_drive(aircraft: str = "glider_foldable", root: Path | None = None) -> ElectricDrive:
-    """The drive of ``aircraft/NAME/NAME.xml`` from the engine files it names (DefinitionError:
-    file, element and allowed range)."""
-    root = ROOT if root is None else Path(root)
-    adoc = XmlDoc.load(root / "aircraft" / aircraft / f"{aircraft}.xml")
-    mdoc, pdoc = engine_files(adoc, root)
+def load_electric_drive(aircraft: Any = None) -> ElectricDrive:
+    """The drive of ``aircraft``'s morphing aircraft (:func:`~.catalog.resolve_aircraft`: a table
+    name, a definition folder, an :class:`~.catalog.Aircraft`; None: the package's glider) from
+    the engine files it names (DefinitionError: file, element and allowed range)."""
+    from .catalog import resolve_aircraft
+
+    a = resolve_aircraft(aircraft)
+    adoc = XmlDoc.load(a.path("foldable"))
+    mdoc, pdoc = engine_files(adoc, a.root)
     return ElectricDrive(diameter=_propeller(pdoc), ct=_fit(pdoc, "C_THRUST"), cp=_fit(pdoc, "C_POWER"), **motor_constants(mdoc),
                          source=(mdoc.path, pdoc.path))
 

@@ -93,8 +93,8 @@ class Drivetrain:
         n = len(STATE) + len(LEDGER_FIELDS)
         #: the state array of a station's step: the drivetrain's states and ledger, then
         #: ``line_state`` slots of the line model's block (:mod:`.linemodels`)
-        self.state = np.zeros(n + line_state)
-        self._s = self.state[:n]
+        self._all = np.zeros(n + line_state)
+        self._s = self._all[:n]
         tp, wp, mp, cp, ctrl = params.tether, params.winch, params.machine, params.converter, params.controller
         #: the constants of :func:`.substeps.advance` (``DRIVETRAIN_CONSTANTS``), as floats (Python)
         self._cl = [wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
@@ -110,9 +110,9 @@ class Drivetrain:
     # -- state -------------------------------------------------------------------------
     @property
     def state(self) -> np.ndarray:
-        """The states and the ledger's terms in one float64 array (layout above): the array the
-        steps update in place, not a copy."""
-        return self._s
+        """The states and the ledger's terms in one float64 array (layout above), then the line
+        model's block (``line_state`` slots): the array the steps update in place, not a copy."""
+        return self._all
 
     @property
     def constants(self) -> list[float]:
@@ -124,14 +124,6 @@ class Drivetrain:
     def is_compiled(self) -> bool:
         """Its step runs compiled (numba); False: the same function runs in Python."""
         return self._kernel is not None
-
-    def move_state(self, buffer: np.ndarray) -> None:
-        """Keep the states and the ledger in ``buffer`` from now on (a float64 array of the
-        length of :attr:`state`, e.g. the head of a larger step array); their values are copied
-        into it."""
-        buffer[:] = self._s
-        self._s = buffer
-        self.ledger.buffer = buffer[len(STATE):]
 
     def reset(self, length: float, omega: float, mode: str = GENERATOR,
               load_resistance: float | None = None, boost_duty: float | None = None) -> None:

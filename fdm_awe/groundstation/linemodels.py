@@ -143,7 +143,7 @@ def _lumped_reset(s: np.ndarray) -> None:
 
 
 def _straight_called() -> tuple:
-    return substeps._CALLED + (station_step,)
+    return substeps.CALLED + (station_step,)
 
 
 #: the registry, ``code`` = position
@@ -153,8 +153,8 @@ LINE_MODELS: tuple[LineKind, ...] = (
              station_step, substeps.compiled_station, _straight_called, lambda: (substeps, winch)),
     LineKind("lumped", 1, f"lumped:N (N {lumped_state.N_MIN} .. {lumped_state.N_MAX})", "lumped:10",
              "N elastic segments with mass, weight and drag; the recording shows its nodes and tensions",
-             lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped._CALLED
-             + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped._SOURCES,
+             lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
+             + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped.SOURCES,
              parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - lumped_state.OFF,
              constants=_lumped_constants, ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
              tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset, kinematic_winch=False),

@@ -476,11 +476,11 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
 
 
-_CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,
+CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,
            place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
-_SOURCES = (substeps, winch, wind, lumped_state)
+SOURCES = (substeps, winch, wind, lumped_state)
 
 
 @functools.lru_cache(maxsize=None)
@@ -496,7 +496,7 @@ def compiled_lumped() -> Callable | None:
 
     register_calls()
     # tied also to the drum step, the wind profile and the line's layout compiled into it
-    return compile_cached(lumped_station_step, signature, _CALLED, _SOURCES, "fdm_awe.groundstation.lumped")
+    return compile_cached(lumped_station_step, signature, CALLED, SOURCES, "fdm_awe.groundstation.lumped")
 
 
 @functools.lru_cache(maxsize=None)
@@ -512,10 +512,10 @@ def compiled_function(name: str) -> Callable:
         from numba.extending import register_jitable
 
         register_calls()
-        for g in _CALLED:
+        for g in CALLED:
             register_jitable(g)
         kern = numba.njit(cache=True)(f)
-        follow_sources(kern, _SOURCES)
+        follow_sources(kern, SOURCES)
         return kern
     except ImportError:
         return f

@@ -38,7 +38,7 @@ from typing import Any, Callable
 
 from ..jitcache import compile_cached
 from . import substeps, winch
-from .substeps import _SE, _STRAIN, STATION_CONSTANTS, _register, compiled_station, station_step
+from .substeps import SE, STRAIN, STATION_CONSTANTS, compiled_station, register_calls, station_step
 
 #: the rigid line's axial stiffness at steps of :data:`REFERENCE_STEP`, N/m, the same at every
 #: length (see the module docstring)
@@ -76,8 +76,8 @@ def rigid_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_
     if s[6] == 0.0:  # not broken: the stiffness back to k at the new start length (booked)
         k_was = c[_C_EA] / length
         sp = s[8] if s[8] > 0.0 else 0.0
-        s[_STRAIN] += 0.5 * (k - k_was) * sp * sp
-        s[_SE] = 0.5 * k * sp * sp
+        s[STRAIN] += 0.5 * (k - k_was) * sp * sp
+        s[SE] = 0.5 * k * sp * sp
     c[_C_EA] = k * length
     return station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
 
@@ -93,6 +93,6 @@ def compiled_rigid() -> Callable | None:
         f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
         return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
 
-    _register()
+    register_calls()
     return compile_cached(rigid_station_step, signature, (station_step, stiffness), (substeps, winch),
                           "fdm_awe.groundstation.rigid")

@@ -42,8 +42,8 @@ MACHINE_MODES = ("idle", "generator", "motor")
 STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
 _NS = len(STATE)
 # ledger terms, offsets in the state array (ledger.FIELDS order; DRAG_W, WEIGHT_W: also the lumped line's)
-(_GLIDER_WORK, _SUPPLY, _WOUND, _STRAIN, _LOAD, _COPPER, _SEMI, _BRAKE, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
- _NUMERICAL, _DRUM, _AIRGAP, DRAG_W, WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, _SE) = range(_NS, _NS + 25)
+(_GLIDER_WORK, _SUPPLY, _WOUND, STRAIN, _LOAD, _COPPER, _SEMI, _BRAKE, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
+ _NUMERICAL, _DRUM, _AIRGAP, DRAG_W, WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, SE) = range(_NS, _NS + 25)
 
 #: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
 #: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
@@ -392,7 +392,7 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     s[_WOUND] += 0.5 * (J_end - J) * w0 * w0
     sp = stretch if stretch > 0.0 else 0.0
     k_end = 0.0 if broken else EA / l0
-    s[_STRAIN] += 0.5 * (k_end - k) * sp * sp
+    s[STRAIN] += 0.5 * (k_end - k) * sp * sp
     s[_LOAD] += h * S_load
     s[_COPPER] += h * R * S_i2
     s[_SEMI] += h * two_ud * S_i
@@ -404,7 +404,7 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
     s[_NUMERICAL] += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
     s[_DRUM] += h * r * S_Tw
     s[_AIRGAP] += h * K * S_iw
-    s[_SK], s[_SI], s[_SC], s[_SE] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
+    s[_SK], s[_SI], s[_SC], s[SE] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
     return t_sum / n, S_load / n, e_supply / n, ev
 
 
@@ -445,17 +445,17 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
 
 
 #: the functions called by :func:`advance` and :func:`station_step` (compiled with them)
-_CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, force_limited_current, hold_generator,
+CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, force_limited_current, hold_generator,
            *DRUM_RELATIONS, cross_flow_drag, weight_share,
            machine_mode_code, substeps, advance)
 
 
 @functools.lru_cache(maxsize=None)
 def register_calls() -> None:
-    """Let numba compile the calls of :data:`_CALLED` inside compiled functions (once)."""
+    """Let numba compile the calls of :data:`CALLED` inside compiled functions (once)."""
     from numba.extending import register_jitable
 
-    for g in _CALLED:
+    for g in CALLED:
         register_jitable(g)
 
 

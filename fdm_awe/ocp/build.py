@@ -25,11 +25,13 @@ CACHE_SIZE = 8
 
 
 def structure_key(problem: CycleProblem) -> tuple:
-    """Everything that shapes the NLP except the wind (a parameter)."""
+    """Everything that shapes the NLP except the wind (a parameter); the aircraft by its
+    definition and the hash of its files (a folder changed between two solves is a new NLP)."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
             problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile,
-            problem.line_model, problem.recovery_tension, problem.supply_voltage)
+            problem.line_model, problem.recovery_tension, problem.supply_voltage, problem.aircraft,
+            None if problem.aircraft is None else problem.aircraft.sha256)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
@@ -49,7 +51,7 @@ def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchEle
     if cache and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key], 0.0
-    model = CycleModel.build(problem, glider or load_glider(), winch or WinchElectrics.from_ground_station(line=problem.line))
+    model = CycleModel.build(problem, glider or load_glider(problem.aircraft), winch or WinchElectrics.from_ground_station(line=problem.line))
     nlp = nlpcache.load(problem, model) if disk_cache else None
     if nlp is None:
         nlp = CycleNLP(problem, model)

@@ -45,7 +45,6 @@ tether, winch and energy terms around it. Evaluates on floats/NumPy and CasADi s
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from pathlib import Path
 from typing import Any, Sequence
 
 from ..constants import G0, RHO0
@@ -53,8 +52,7 @@ from ..pointmass import mathops as mo
 from ..groundstation.line import STRAIGHT_DRAG_SHARE
 from ..pointmass.aero import fold_blend, tether_drag_coefficient
 from ..pointmass.fold import fold_fraction  # the fold law, one source with the autopilot
-from ..definitions.aircraft import FOLD_TIME_MAX_S, AeroParams, Airframe, Glider, aircraft_path
-from ..definitions.xmlutil import XmlDoc
+from ..definitions.aircraft import AeroParams, Airframe, Glider
 from ..pointmass.model import Environment, PointMassModel
 from .energy import (WinchElectrics, duty_cycled_power, generator_load_power, generator_tension, ideal_generator_power,
                      mechanical_tether_power, motor_supply_power, thrust_power)
@@ -76,16 +74,14 @@ BOOST_DUTY = "D2"
 #: so stopping the motor never saves power there (and its on-fraction would be undetermined at
 #: zero thrust); the paper's eq. 39 fit models no motor.
 MOTOR_OFF_MODELS = ("engine",)
-#: the morphing aircraft whose fold actuator and blend the fold transitions follow
-FOLDABLE_AIRCRAFT = "glider_foldable"
+def definition_fold_time(aircraft: Any = None) -> float:
+    """Fold time [s] of the morphing aircraft's definition (``fcs/wing-fold-time-s`` of the
+    aircraft's ``P_foldable``: the actuator's full travel; ``aircraft`` as
+    :func:`~fdm_awe.definitions.catalog.resolve_aircraft` takes it, None the package's glider),
+    range-checked as the aircraft check does (DefinitionError naming file, property and range)."""
+    from ..definitions.catalog import resolve_aircraft
 
-
-def definition_fold_time(root: Path | None = None) -> float:
-    """Fold time [s] of the morphing aircraft's definition (``fcs/wing-fold-time-s`` of
-    ``aircraft/glider_foldable``: the actuator's full travel), range-checked as the aircraft
-    check does (DefinitionError naming file, property and range)."""
-    doc = XmlDoc.load(aircraft_path(FOLDABLE_AIRCRAFT, root))
-    return doc.property_value("fcs/wing-fold-time-s", lo=0.0, hi=FOLD_TIME_MAX_S, lo_open=True, unit="s")
+    return resolve_aircraft(aircraft).fold_time()
 
 
 @dataclass(frozen=True)
@@ -131,11 +127,12 @@ class CycleModel:
         if volts is not None:
             winch = winch.with_supply_voltage(volts)
         spec = problem.scenario_spec
-        drive = load_electric_drive() if spec.propeller == "engine" else None
+        aircraft = getattr(problem, "aircraft", None)  # the problem's (None: the package's glider)
+        drive = load_electric_drive(aircraft) if spec.propeller == "engine" else None
         fold_time = 0.0
         if foldable:
             t = getattr(problem, "fold_time", None)
-            fold_time = definition_fold_time(Path(glider.unfolded.source).resolve().parents[2]) if t is None else float(t)
+            fold_time = definition_fold_time(aircraft) if t is None else float(t)
         line: dict[str, Any] = {}
         if getattr(problem, "line_model", "straight") == "calibrated":
             a, b, c, g_rec = winch.calibrated_line(problem.config)

@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field, fields, replace
 
 from ..definitions.aircraft import FOLD_TIME_MAX_S
+from ..definitions.catalog import Aircraft, resolve_aircraft
 from ..errors import InputError
 from ..groundstation.line import check_line, check_line_model
 from ..groundstation.tether import check_tether_drag_scale
@@ -272,6 +273,10 @@ class CycleProblem:
     #: straight line) or ``calibrated`` (the shares fitted to flights on the lumped line, with the
     #: still line's drag in the wind: ``tether/calibrated`` of the ground-station definition)
     line_model: str = "straight"
+    #: the aircraft optimised (:class:`~fdm_awe.definitions.catalog.Aircraft`, resolved when the
+    #: problem is made from a table name or a definition folder: ``--aircraft``). None: the
+    #: package's glider
+    aircraft: Aircraft | None = None
 
     def __post_init__(self) -> None:
         # None = the scenario's default; an unknown scenario is left for validate() to name
@@ -279,6 +284,8 @@ class CycleProblem:
         for name, value in defaults.items():
             if getattr(self, name) is None:
                 object.__setattr__(self, name, value)
+        if not isinstance(self.aircraft, Aircraft):
+            object.__setattr__(self, "aircraft", resolve_aircraft(self.aircraft, "aircraft"))
 
     def validate(self) -> "CycleProblem":
         Scenario.named(self.scenario)

@@ -112,5 +112,7 @@ class CycleResult:
                        "wind_profile": pr.wind_profile.as_dict(),
                        "mesh": {"n_gen": pr.mesh.n_gen, "n_rec": pr.mesh.n_rec, "degree": pr.mesh.degree},
                        "bounds": {k: v for k, v in pr.bounds.__dict__.items()}})
+            if pr.aircraft is not None:  # which aircraft (table name or folder, content hash)
+                md["aircraft"] = pr.aircraft.record()
         return md
 

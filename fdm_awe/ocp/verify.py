@@ -103,7 +103,7 @@ def verify(result: CycleResult, nlp: Any = None, model: CycleModel | None = None
         raise ValueError(f"cannot verify a {result.status} result")
     pr = result.problem
     if model is None:
-        model = nlp.model if nlp is not None else CycleModel.build(pr, load_glider(), WinchElectrics.from_ground_station(line=pr.line))
+        model = nlp.model if nlp is not None else CycleModel.build(pr, load_glider(pr.aircraft), WinchElectrics.from_ground_station(line=pr.line))
     wind = wind_vector(result.wind_mps, result.wind_from_deg)[:2]
     d = pr.mesh.degree
     names = ("x", "y", "z", "V", "gamma", "psi", "l")

@@ -32,7 +32,7 @@ from ..sim.cycles import OTHER_PHASE, PHASE_CODES
 from .blueprint import cycle_blueprint, flight_blueprint
 from .forces import GliderForces, flight_forces
 from .rrd import RecordingSink, RrdFile
-from .scene import REFERENCE_COLOR, scene_extent
+from .scene import REFERENCE_COLOR, recorded_aircraft, scene_extent
 from .series import Series, cycle_series, flight_series, load_reference, robust_range
 from .world import (
     FORCE_SCALE, GLIDER_SCALE, log_airframe, log_error_line, log_forces, log_forces_description, log_glider, log_path,
@@ -235,25 +235,28 @@ def _send_path_so_far(rf: RecordingSink, s: Series, sent: RowsSent, *, every_s: 
 
 
 def log_flight_start(rf: RecordingSink, reference: Any, pos: np.ndarray | None = None, *,
-                     glider_scale: float = GLIDER_SCALE, force_scale: float = FORCE_SCALE) -> None:
+                     glider_scale: float = GLIDER_SCALE, force_scale: float = FORCE_SCALE, aircraft: Any = None) -> None:
     """Static scene of a flight: ground covering ``pos`` (n, 3) and the reference, winch, wind,
-    the reference path, the glider's body and the description of the force arrows."""
+    the reference path, the body of ``aircraft`` (None: the package's glider) and the
+    description of the force arrows."""
     ref = _reference_points(reference)
     log_static_scene(rf, scene_extent(pos, ref[0] if ref else None), ref[2] if ref is not None else None)
     if ref is not None:
         log_path(rf, "world/reference", ref[0], ref[1], radius=0.4, reference=True)
-    log_airframe(rf, glider_scale)
+    log_airframe(rf, glider_scale, aircraft)
     log_forces_description(rf, force_scale)
 
 
 def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderForces, sent: RowsSent | None = None, *,
-                    rows: slice = slice(None), scene_hz: float = 30.0, force_scale: float = FORCE_SCALE) -> RowsSent:
+                    rows: slice = slice(None), scene_hz: float = 30.0, force_scale: float = FORCE_SCALE,
+                    aircraft: Any = None) -> RowsSent:
     """Everything over time of the ``rows`` of a flight (or of a slice of one): pose and wing,
     tether, force arrows, reference marker and tracking error (3D scene at about ``scene_hz``),
     every plot at full rate, the mode lane, the phase lane and the path flown so far. ``s`` and
     ``forces`` are the flight's :func:`~fdm_awe.recording.series.flight_series` and
     :func:`~fdm_awe.recording.forces.flight_forces` on the recording's time axis; ``sent``
-    carries the state between consecutive slices. Returns it, updated."""
+    carries the state between consecutive slices; the wing drawn is ``aircraft``'s (None: the
+    one the flight records, else the package's glider). Returns it, updated."""
     sent = RowsSent() if sent is None else sent
     res = getattr(flight, "result", None) or flight
     idx = np.arange(len(s.t))[rows]
@@ -263,7 +266,10 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
     i = idx[_decimate(t, scene_hz)]
     if len(i):
         pos = s.pos
-        sent.fold = log_glider(rf, s.t[i], pos[i], np.asarray(res.quat, float)[i], s["fold"][i], last_fold=sent.fold)
+        if aircraft is None:
+            aircraft = recorded_aircraft(getattr(flight, "aircraft", None))
+        sent.fold = log_glider(rf, s.t[i], pos[i], np.asarray(res.quat, float)[i], s["fold"][i], last_fold=sent.fold,
+                               aircraft=aircraft)
         shape = getattr(flight, "line_shape", None)
         if shape is not None and len(shape["t"]):  # the lumped line: its nodes and tensions
             log_tether_nodes(rf, s.t[0] + shape["t"], shape["nodes"], shape["tension"])
@@ -313,9 +319,10 @@ def record_flight(flight: Any, reference: Any = None, path: str | Path = "flight
     s = flight_series(flight)
     title = describe(s.meta, "flight")
     blueprint = flight_blueprint(title, power_range(s))
+    aircraft = recorded_aircraft(getattr(flight, "aircraft", None))
     with RrdFile(path, name=name or title, blueprint=blueprint, keep_on_error=False) as rf:
-        log_flight_start(rf, reference, s.pos, glider_scale=glider_scale)
-        log_flight_rows(rf, flight, s, flight_forces(flight), scene_hz=scene_hz)
+        log_flight_start(rf, reference, s.pos, glider_scale=glider_scale, aircraft=aircraft)
+        log_flight_rows(rf, flight, s, flight_forces(flight), scene_hz=scene_hz, aircraft=aircraft)
         log_flight_end(rf, flight, s)
     return Path(path)
 
@@ -355,8 +362,9 @@ def record_cycle(reference: Any, path: str | Path = "cycle.rrd", *, glider_scale
             quat = np.array([_air_path_quat(d["gamma"], d["psi"], d["phi"], d["alpha"]) for d in smp])
             fold = np.array([d.get("fold", 0.0) for d in smp])
             tens = np.array([d.get("tension", 0.0) for d in smp])
-            log_airframe(rf, glider_scale)
-            log_glider(rf, tt, pos, quat, fold)
+            aircraft = recorded_aircraft(tr.metadata.get("aircraft"))
+            log_airframe(rf, glider_scale, aircraft)
+            log_glider(rf, tt, pos, quat, fold, aircraft=aircraft)
             log_tether(rf, tt, pos, tens)
         _send_plots(rf, s, CYCLE_PLOTS)
         log_phase(rf, s.t, s.phase)

@@ -57,11 +57,12 @@ class GliderForces:
         return np.linalg.norm(self[name], axis=1)
 
 
-def glider_mass() -> float:
-    """Mass of the glider [kg] from the aircraft files (both forms weigh the same)."""
+def glider_mass(aircraft: Any = None) -> float:
+    """Mass of the glider [kg] from the files of ``aircraft`` (None: the package's glider; both
+    forms weigh the same)."""
     from ..definitions.aircraft import load_glider
 
-    return float(load_glider().unfolded.mass.mass)
+    return float(load_glider(aircraft).unfolded.mass.mass)
 
 
 def body_axes(euler: np.ndarray) -> np.ndarray:
@@ -85,12 +86,16 @@ def wind_axes(dcm: np.ndarray, alpha: np.ndarray, beta: np.ndarray) -> tuple[np.
 
 def flight_forces(flight: Any, mass: float | None = None) -> GliderForces:
     """The forces of a flight (FlightReport or FlightResult) per logged row; ``mass`` [kg]
-    defaults to :func:`glider_mass`. Fewer than two rows: every force NaN but the logged ones."""
+    defaults to the mass the report records (``aircraft.mass_kg``), else :func:`glider_mass`.
+    Fewer than two rows: every force NaN but the logged ones."""
     from ..constants import G0
 
     res = getattr(flight, "result", None) or flight
     t = np.asarray(res.t, float)
     n = len(t)
+    if mass is None:
+        rec = getattr(flight, "aircraft", None)
+        mass = rec.get("mass_kg") if isinstance(rec, dict) else None
     m = glider_mass() if mass is None else float(mass)
     dcm = body_axes(res.euler)
     tether = np.asarray(res.tether_force, float)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -114,15 +115,33 @@ def _join(parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.nd
     return np.vstack(verts), np.vstack(tris).astype(np.uint32)
 
 
+def recorded_aircraft(record: Any) -> Any:
+    """The :class:`~fdm_awe.definitions.catalog.Aircraft` a flight report or reference records
+    (``aircraft``: a table ``name`` or a ``directory``); None (the package's glider) when it
+    records none or its folder is gone (a recording is drawn all the same)."""
+    from ..definitions.catalog import resolve_aircraft
+    from ..errors import FdmAweError
+
+    if not isinstance(record, dict):
+        return None
+    spec = record.get("name") or record.get("directory")
+    try:
+        return resolve_aircraft(spec) if isinstance(spec, str) else None
+    except FdmAweError:
+        return None
+
+
 @lru_cache(maxsize=4)
-def glider_shape() -> GliderShape:
-    """Shape of the foldable glider from ``aircraft/`` (spans, chord, nose, tail arms and areas)."""
-    from .. import ROOT
+def glider_shape(aircraft: Any = None) -> GliderShape:
+    """Shape of the foldable glider (spans, chord, nose, tail arms and areas) from the files of
+    ``aircraft`` (a :class:`~fdm_awe.definitions.catalog.Aircraft`; None: the package's glider)."""
     from ..definitions.aircraft import load_glider
+    from ..definitions.catalog import resolve_aircraft
     from ..definitions.xmlutil import XmlDoc, location
 
-    g = load_glider()
-    doc = XmlDoc.load(ROOT / "aircraft" / "glider_unfolded" / "glider_unfolded.xml")
+    a = resolve_aircraft(aircraft)
+    g = load_glider(a)
+    doc = XmlDoc.load(a.path("unfolded"))
     num = {k: doc.number(f"metrics/{k}", lo=0.0, lo_open=True) for k in ("htailarm", "htailarea", "vtailarm", "vtailarea")}
     prop = location(doc.path, doc.find("propulsion/engine/thruster/location"), "propulsion/engine/thruster/location")
     # structural x points aft: the propeller (on the nose) lies cg_x - prop_x ahead of the CG

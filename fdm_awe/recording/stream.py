@@ -148,8 +148,9 @@ class LiveFlight(StepBuffer):
     fields = STEP_FIELDS + ("vn", "ve", "vd", "fx", "fy", "fz", "aileron", "elevator", "rudder", "throttle", "fold_cmd")
 
     def __init__(self, sink: RecordingSink, reference: Any = None, *, flush_s: float = 0.2, scene_hz: float = 30.0,
-                 chain: Any = None) -> None:
+                 chain: Any = None, aircraft: Any = None) -> None:
         from .flight import RowsSent, log_flight_start
+        from .forces import glider_mass
 
         super().__init__(chain=chain)
         self.sink = sink
@@ -160,7 +161,9 @@ class LiveFlight(StepBuffer):
         self._sent = RowsSent()
         self._energy: dict[str, float] = {}
         self._last = time.monotonic()
-        log_flight_start(sink, reference)
+        self.aircraft = aircraft  #: the glider flown (an Aircraft; None: the package's glider)
+        self._mass = glider_mass(aircraft)  # kg
+        log_flight_start(sink, reference, aircraft=aircraft)
 
     @classmethod
     def open(cls, reference: Any, *, url: str | None = None, spawn: bool = False, **kw: Any) -> "LiveFlight":
@@ -206,8 +209,9 @@ class LiveFlight(StepBuffer):
         for key in _ENERGIES:
             unit, v = s.columns[key]
             s.columns[key] = (unit, v + self._energy.get(key, 0.0))
-        self._sent = log_flight_rows(self.sink, res, s, flight_forces(res), self._sent,
-                                     rows=slice(self._next - first, end - first), scene_hz=self.scene_hz)
+        self._sent = log_flight_rows(self.sink, res, s, flight_forces(res, self._mass), self._sent,
+                                     rows=slice(self._next - first, end - first), scene_hz=self.scene_hz,
+                                     aircraft=self.aircraft)
         self._energy = {key: float(s[key][end - 1 - first]) for key in _ENERGIES}
         self._next = end
 
@@ -234,7 +238,7 @@ def open_live(args: argparse.Namespace, reference: Any) -> LiveFlight | None:
     """The live stream ``fdm-awe fly`` asked for (``--spawn`` / ``--connect``, checked by
     :func:`check_live_args`), or None."""
     if getattr(args, "spawn", False) or getattr(args, "connect", None):
-        return LiveFlight.open(reference, url=args.connect, spawn=args.spawn)
+        return LiveFlight.open(reference, url=args.connect, spawn=args.spawn, aircraft=getattr(args, "aircraft_def", None))
     return None
 
 

@@ -20,7 +20,7 @@ the viewer shows altitude upwards):
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -96,10 +96,11 @@ def log_paths_so_far(rf: RecordingSink, entity: str, t: np.ndarray, paths: Seque
     rf.columns(entity, np.asarray(t, float), cols.partition(lengths=lengths))
 
 
-def log_airframe(rf: RecordingSink, scale: float = GLIDER_SCALE) -> None:
-    """The static part of the glider: its enlargement and the body mesh (fuselage, tail, fin)."""
+def log_airframe(rf: RecordingSink, scale: float = GLIDER_SCALE, aircraft: Any = None) -> None:
+    """The static part of the glider: its enlargement and the body mesh (fuselage, tail, fin) of
+    ``aircraft`` (None: the package's glider)."""
     rr = rf.rr
-    verts, tris = glider_shape().body_mesh()
+    verts, tris = glider_shape(aircraft).body_mesh()
     rf.static("world/glider/airframe", rr.Transform3D(scale=scale))
     rf.static("world/glider/airframe", rr.AnyValues(description=f"the glider, drawn {scale:g} times enlarged"))
     rf.static("world/glider/airframe/body", rr.Mesh3D(vertex_positions=verts, triangle_indices=tris,
@@ -107,12 +108,13 @@ def log_airframe(rf: RecordingSink, scale: float = GLIDER_SCALE) -> None:
 
 
 def log_glider(rf: RecordingSink, t: np.ndarray, pos: np.ndarray, quat_wxyz: np.ndarray, fold: np.ndarray | None,
-               *, fold_step: float = 0.01, last_fold: float | None = None) -> float | None:
+               *, fold_step: float = 0.01, last_fold: float | None = None, aircraft: Any = None) -> float | None:
     """Glider pose over time and its wing mesh; the wing is re-sent only when the fold state has
     moved by ``fold_step`` since the last sent shape (``last_fold``: sent before these rows,
-    None: nothing yet). Returns the fold state of the last wing sent."""
+    None: nothing yet); the wing of ``aircraft`` (None: the package's glider). Returns the fold
+    state of the last wing sent."""
     rr = rf.rr
-    shape = glider_shape()
+    shape = glider_shape(aircraft)
     ok = np.all(np.isfinite(pos), axis=1) & np.all(np.isfinite(quat_wxyz), axis=1)
     t, pos, q = t[ok], pos[ok], quat_wxyz[ok]
     if not len(t):

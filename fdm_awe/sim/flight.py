@@ -72,6 +72,7 @@ from ..autopilot.schedule import ReferenceSet, ScheduledReference
 from ..autopilot.shaping import flyable_reference
 from ..autopilot.wind_estimate import wind_before, wind_before_text
 from ..definitions.aircraft import Glider, load_glider
+from ..definitions.catalog import Aircraft, resolve_aircraft
 from ..errors import InputError
 from ..groundstation import GroundStation, GroundStationParams, load_ground_station
 from ..groundstation.line import check_line
@@ -228,13 +229,13 @@ class _Rig:
 
 def _rig(reference: Any, wind: _FlightWind, gsp: GroundStationParams, config: str, dt: float,
          turbulence: TurbulenceSetting | None, params: Any, paper: bool, tether_drag_scale: float,
-         tether: TetherModel) -> _Rig:
-    """Build the plant (see :func:`fly`), start it on the reference's first point and wire the
-    autopilot and the co-simulation."""
+         tether: TetherModel, aircraft: Aircraft) -> _Rig:
+    """Build the plant (see :func:`fly`) of ``aircraft``, start it on the reference's first
+    point and wire the autopilot and the co-simulation."""
     h0 = -float(reference.sample(0.0).pos[2])
     w0 = wind.glider_start(h0)
-    glider = JSBSimGlider("glider_foldable", dt=dt, wind_ned=w0, turbulence=turbulence)
-    airframes = load_glider()
+    glider = JSBSimGlider.of(aircraft, dt=dt, wind_ned=w0, turbulence=turbulence)
+    airframes = load_glider(aircraft)
     if paper:
         gs = IdealWinch(gsp, P_rw=Scenario.named("paper").P_rw, wind_ned=w0)
     else:
@@ -242,7 +243,7 @@ def _rig(reference: Any, wind: _FlightWind, gsp: GroundStationParams, config: st
                            tether_drag_scale=tether_drag_scale, tether=tether)
         gs.set_line_wind(wind.profile, wind.ned[:2])  # a line's nodes: the profile at their own heights
     _start_on_reference(glider, gs, reference.sample(0.0), w0, paper)
-    ps = params if params is not None else autopilot_params()
+    ps = params if params is not None else autopilot_params(aircraft.autopilot_file)
     thruster = IdealThruster.for_glider(glider, airframes.unfolded.propulsion) if paper else None
     ap = Autopilot(glider, airframes, ps, reference, config=config, load_resistance=gsp.converter.load_resistance,
                    thruster=thruster, winch="ideal" if paper else "physical", line_EA=gsp.tether.axial_stiffness,
@@ -287,6 +288,7 @@ def fly(
     tether: TetherModel | str = "straight",
     references: ReferenceSet | None = None,
     flight_wind: dict[str, Any] | None = None,
+    aircraft: Any = None,
 ) -> FlightReport:
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
@@ -323,6 +325,11 @@ def fly(
     Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
     a normal report with status ``interrupted`` holding everything flown so far (see
     :class:`_StopRequest`); a KeyboardInterrupt in ``setup`` propagates (nothing was flown).
+
+    ``aircraft``: the glider flown (:func:`~fdm_awe.definitions.catalog.resolve_aircraft`: a
+    table name, a definition folder or an :class:`~fdm_awe.definitions.catalog.Aircraft`;
+    None: the package's glider): its JSBSim root and morphing aircraft, its point-mass forms and
+    its autopilot definition (``params`` None: that definition's defaults).
     """
     if plant not in PLANTS:
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
@@ -333,14 +340,15 @@ def fly(
     refs, current = _flyable_set(references, reference)
     reference = flyable_reference(reference) if refs is None else refs.entries[current].reference
     period = reference.period if refs is None else refs.longest_period
-    params = params if params is not None else autopilot_params()
+    aircraft = resolve_aircraft(aircraft, "aircraft")
+    params = params if params is not None else autopilot_params(aircraft.autopilot_file)
     check_step(dt, params, "dt")  # the attitude loops fly with it (budget)
     check_length(cycles, period, dt, t_end, "cycles")  # the flight's steps fit in memory (budget)
     meta = reference.meta
     wind = _FlightWind(meta if flight_wind is None else flight_wind)
     gsp = _station_params(meta, paper)
     turb = turbulence_setting(reference, turbulence, flight_wind)
-    rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, model)
+    rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, model, aircraft)
     if setup is not None:
         setup(rig.ap, rig.sim)
     gl = GliderLedger(rig.glider, ideal_thrust=paper)
@@ -391,6 +399,7 @@ def fly(
         wind_estimates=list(cw.records),
         recover_cause=ap.recover_cause if ap.mode == "RECOVER" else None,
         cycle_index=log.cycle[: k_end + 1].copy(),
+        aircraft={**aircraft.record(), "mass_kg": float(rig.airframes.unfolded.mass.mass)},
     )
 
 

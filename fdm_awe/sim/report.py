@@ -129,6 +129,9 @@ class FlightReport:
     #: per row of ``result``: the cycle index of the reference point flown (0-based; -1 outside
     #: AUTO cycling), what :func:`fdm_awe.sim.cycles.segment_cycles` cuts the cycles by
     cycle_index: np.ndarray | None = field(repr=False, default=None)
+    #: the aircraft flown (:meth:`fdm_awe.definitions.catalog.Aircraft.record`: table name or
+    #: folder, content hash) with its mass ``mass_kg`` [kg]; None before a run
+    aircraft: dict[str, Any] | None = None
 
     @property
     def exit_code(self) -> int:
@@ -149,7 +152,7 @@ class FlightReport:
         of a cycle without a reference point) are ``null``: the JSON never carries NaN."""
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
-            "config": self.config, "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
+            "config": self.config, "aircraft": _json_tree(self.aircraft), "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
             "line": self.line, "generator": self.generator, "tether": self.tether,
             "status": self.status, "recover_cause": self.recover_cause,
             "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),

@@ -21,13 +21,13 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from ..constants import G0
-from .. import ROOT
 from ..definitions.aircraft import check_aircraft_file
+from ..definitions.catalog import Aircraft, default_aircraft
 from ..definitions.engine import engine_files, motor_constants
 from ..errors import DefinitionError, InputError
 from ..turbulence import TURBULENCE_LEVELS, Turbulence, TurbulenceSetting
@@ -57,14 +57,18 @@ class JSBSimGlider:
     :mod:`fdm_awe.turbulence`).
     """
 
-    def __init__(self, name: str = "glider_foldable", dt: float = 1.0 / 120.0,
+    def __init__(self, name: str | None = None, dt: float = 1.0 / 120.0,
                  wind_ned: Sequence[float] = (0.0, 0.0, 0.0),
                  turbulence: TurbulenceSetting | tuple[str, int] | None = None,
-                 root: str | Path = ROOT, home_lat_deg: float = 0.0) -> None:
+                 root: str | Path | None = None, home_lat_deg: float = 0.0) -> None:
         if not (0.0 < dt <= 0.1):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 0.1 s)")
         if not (-80.0 <= home_lat_deg <= 80.0):
             raise InputError(f"home_lat_deg: {home_lat_deg!r} out of range (allowed -80 .. 80)")
+        if name is None or root is None:  # the package's aircraft: its morphing form, its root
+            ac = default_aircraft()
+            name = ac.jsbsim_name("foldable") if name is None else name
+            root = ac.root if root is None else root
         self.name = name
         self.root = Path(root)
         self.dt = float(dt)
@@ -83,6 +87,12 @@ class JSBSimGlider:
         self._state: SixDofState | None = None
         self._controls = Surfaces()
         self._native: tuple[np.ndarray | None, str] | None = None
+
+    @classmethod
+    def of(cls, aircraft: Aircraft, **kwargs: Any) -> "JSBSimGlider":
+        """The morphing form of ``aircraft`` (:class:`~fdm_awe.definitions.catalog.Aircraft`:
+        its JSBSim root and name); ``kwargs`` as the constructor's."""
+        return cls(aircraft.jsbsim_name("foldable"), root=aircraft.root, **kwargs)
 
     # ------------------------------------------------------------------ construction steps
     def _load(self) -> None:

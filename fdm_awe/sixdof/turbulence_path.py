@@ -43,7 +43,7 @@ def sample_turbulence(turbulence, wind_ned: Sequence[float], height: float, airs
     w0 = np.asarray(wind_ned, float)
     if swing is not None:
         heading = math.atan2(w0[1], w0[0])
-    g = JSBSimGlider("glider_foldable", dt=dt, wind_ned=tuple(w0), turbulence=turbulence)
+    g = JSBSimGlider(dt=dt, wind_ned=tuple(w0), turbulence=turbulence)  # the package's glider: the wind it meets
     g.reset((0.0, 0.0, -float(height)), float(airspeed), psi=float(heading))
     f = g.fdm
     for p in _INTEGRATORS:

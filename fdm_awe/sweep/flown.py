@@ -46,7 +46,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import write_json
-from .runner import Warm, base_glider, point_glider, point_problem, point_winch
+from .runner import Warm, point_aircraft, point_glider, point_problem, point_winch, base_glider
 from .spec import Point
 
 #: allowed cycles per flight and seeds per air condition
@@ -119,7 +119,7 @@ def point_result(point: Point, warm: Warm) -> Any:
 
     problem = point_problem(point).validate()
     glider = point_glider(point)
-    nlp, _ = get_nlp(problem, None if glider is base_glider() else glider, point_winch(point))
+    nlp, _ = get_nlp(problem, None if glider is base_glider(point.aircraft) else glider, point_winch(point))
     params = nlp.params(wind_vector(problem.wind_speed, problem.wind_from_deg)[:2], 1.0, warm.k_wrap, 1.0, 0.0)
     raw = RawSolution("ok", "stored solution", 0, 0.0, warm.w, warm.lam_x, warm.lam_g, 0.0, params)
     return ok_result(problem, nlp, warm.k_wrap, "stored solution", raw, 0.0, 0.0, 0)
@@ -165,7 +165,8 @@ def run_flight(point: Point, warm: Warm, air: str, seed: int | None, cycles: int
         ref = point_reference(point, warm)
         turb = None if air == "calm" else Turbulence.parse(f"{air}:{seed}", "--fly-air")
         rep = fly(ref, config=point.config, cycles=cycles, turbulence=turb,
-                  plant="paper" if point.scenario == "paper" else "physical", tether=tether)
+                  plant="paper" if point.scenario == "paper" else "physical", tether=tether,
+                  aircraft=point_aircraft(point.aircraft))
         cyc = []
         for c in rep.cycles:
             T = float(c.T1_s + c.T2_s)

@@ -41,7 +41,7 @@ def spec_references(spec: SweepSpec) -> ReferenceCurves:
     from .design import Design, design_glider
     from .runner import base_glider
 
-    base = base_glider()
+    base = base_glider(spec.aircraft)
     g = design_glider(base, Design(wing_area=spec.wing_areas[0]))
     line = spec.line_names()[0]
     d, cdp = tether_properties(line, spec.line_diameters[0] if line == "sized" else None)

@@ -89,12 +89,21 @@ def upstream_input(upstream: Any) -> tuple[Warm | None, bool]:
     return upstream, False
 
 
-@functools.lru_cache(maxsize=1)
-def base_glider() -> Any:
-    """The definitions' glider, loaded once per process (the design variants start from it)."""
+@functools.lru_cache(maxsize=4)
+def point_aircraft(aircraft: str | None = None) -> Any:
+    """The :class:`~fdm_awe.definitions.catalog.Aircraft` of a point's or spec's ``aircraft``
+    (None: the package's glider), resolved once per process."""
+    from ..definitions.catalog import resolve_aircraft
+
+    return resolve_aircraft(aircraft, "--aircraft")
+
+
+@functools.lru_cache(maxsize=4)
+def base_glider(aircraft: str | None = None) -> Any:
+    """The definitions' own glider of ``aircraft`` (:func:`point_aircraft`)."""
     from ..definitions.aircraft import load_glider
 
-    return load_glider()
+    return load_glider(point_aircraft(aircraft))
 
 
 def canonical_spec(spec: Any) -> Any:
@@ -102,7 +111,7 @@ def canonical_spec(spec: Any) -> Any:
     point ids and the optimiser's cached NLP with the unchanged glider and line)."""
     from dataclasses import replace
 
-    g = base_glider()
+    g = base_glider(spec.aircraft)
     f, u = g.folded.aero, g.unfolded.aero
     from .design import polar_constants
 
@@ -134,7 +143,7 @@ def point_design(point: Point) -> Design:
 
 def point_glider(point: Point) -> Any:
     """The glider variant of ``point`` (the definitions' own glider when nothing changes)."""
-    return design_glider(base_glider(), point_design(point))
+    return design_glider(base_glider(point.aircraft), point_design(point))
 
 
 #: the margins of a ``flyable`` point where the sweep gives none: ``fdm-awe fly``'s defaults
@@ -171,7 +180,7 @@ def point_problem(point: Point) -> Any:
                         line_weight=point.line_weight, line=point.line,
                         fold_time=point.fold_time if point.config == "foldable" else None,
                         wind_profile=WindProfile.parse(point.wind_profile, option="point wind profile"),
-                        line_model=point.line_model, **margins)
+                        line_model=point.line_model, aircraft=point_aircraft(point.aircraft), **margins)
 
 
 @functools.lru_cache(maxsize=16)
@@ -263,7 +272,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
 
         problem = point_problem(point)
         warm = warm_in.as_result(problem) if warm_in is not None else None
-        custom = glider is not base_glider()
+        custom = glider is not base_glider(point.aircraft)
         # the iteration limit decides failures; the CPU-time limit is lifted so that a busy
         # machine cannot change a result
         opts = {"ipopt.max_iter": int(point.max_iter), "ipopt.max_cpu_time": 1e6}

@@ -101,7 +101,7 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
                 "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False,
                 "wind_profile": "uniform", "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight",
-                "bounds": "table3"}
+                "bounds": "table3", "aircraft": None, "aircraft_sha256": None}
 
 #: bounds a point is optimised with: ``table3`` (the optimiser's own, Table 3) or ``flyable``
 #: (``fdm-awe fly``'s: |bank| at most 0.8 rad and the point's margins, by default fly's C_L at most
@@ -148,6 +148,10 @@ class Point:
     #: the optimiser's line model (:data:`fdm_awe.groundstation.line.LINE_MODELS`)
     line_model: str = "straight"
     bounds: str = "table3"  #: :data:`BOUNDS` the cycle is optimised with
+    #: the glider (``--aircraft``: a table name or a definition folder; None: the package's
+    #: glider) and the content hash of its files (part of the id: a changed folder is a new point)
+    aircraft: str | None = None
+    aircraft_sha256: str | None = None
 
     @property
     def id(self) -> str:
@@ -219,6 +223,9 @@ class SweepSpec:
     stall_margin: float = 0.0
     line_model: str = "straight"
     bounds: str = "table3"  #: :data:`BOUNDS` of every point
+    #: every point's glider and the hash of its files (:class:`Point`; None: the package's glider)
+    aircraft: str | None = None
+    aircraft_sha256: str | None = None
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -336,23 +343,26 @@ class SweepSpec:
                                           cold_check=bool(self.cold_check), wind_profile=self.wind_profile,
                                           tension_margin=float(self.tension_margin),
                                           stall_margin=float(self.stall_margin), line_model=self.line_model,
-                                          bounds=self.bounds)
+                                          bounds=self.bounds, aircraft=self.aircraft,
+                                          aircraft_sha256=self.aircraft_sha256)
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)
         return out
 
-    @staticmethod
-    def _fold_time(t: float | None) -> float:
+    def _fold_time(self, t: float | None) -> float:
         """``t`` [s], or the aircraft definition's fold time for None."""
         if t is not None:
             return float(t)
         from ..ocp.model import definition_fold_time
 
-        return float(definition_fold_time())
+        return float(definition_fold_time(self.aircraft))
 
     def to_dict(self) -> dict:
         d = asdict(self)
+        for k in ("aircraft", "aircraft_sha256"):  # the package's glider: as before the option
+            if d[k] is None:
+                del d[k]
         d["mesh"] = {"n_gen": self.mesh.n_gen, "n_rec": self.mesh.n_rec, "degree": self.mesh.degree}
         return d
 

@@ -63,7 +63,11 @@ wind of every file written before profiles existed. ``line_model`` (physical sce
 ``cl_max_share`` and, with a reel-in margin, ``reel_in_speed_max_m_s``; each a number within
 :data:`~fdm_awe.trajectory.checks.MARGIN_RANGES`) are the margins the cycle keeps below the
 line's rating, the stall and the drive's fastest reel-in; absent in files written before they
-were recorded (their ``bounds`` say the same).
+were recorded (their ``bounds`` say the same). ``aircraft`` (an object:
+:meth:`~fdm_awe.definitions.catalog.Aircraft.record`, ``name`` of the package's aircraft table
+or ``directory`` of a definition folder, and ``sha256`` of its files) is the aircraft the
+cycle was optimised for; absent in files written before it was recorded (the package's glider).
+``fdm-awe fly`` warns when it flies another aircraft.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,

@@ -261,6 +261,11 @@ def _check_plant(src: str, md: dict[str, Any], scenario: str, config: str) -> No
         raise InputError(f"{src}: metadata.line_model: {_show(lm)} not allowed (allowed {', '.join(LINE_MODELS)}; "
                          f"calibrated in the physical scenario only; absent = straight)")
     md["line_model"] = "straight" if lm is None else lm
+    ac = md.get("aircraft")  # absent: a file written before it was recorded (the package's glider)
+    if ac is not None and not (isinstance(ac, dict) and isinstance(ac.get("sha256"), str)
+                               and sum(isinstance(ac.get(k), str) for k in ("name", "directory")) == 1):
+        raise InputError(f"{src}: metadata.aircraft: {_show(ac)} not allowed (allowed an object with a name or a "
+                         f"directory and its sha256; absent = the package's glider)")
     lw = md.get("line_weight")
     if lw is not None and (not isinstance(lw, bool) or (lw and scenario != "physical")):
         raise InputError(f"{src}: metadata.line_weight: {_show(lw)} not allowed (allowed true or false; true only in the physical scenario)")
