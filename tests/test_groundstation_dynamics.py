@@ -9,6 +9,7 @@ import math
 import numpy as np
 import pytest
 
+from fdm_awe.constants import G0
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation.tether import line_drag_share
@@ -82,7 +83,7 @@ def test_generator_through_the_line_reaches_design6():
 def test_motor_full_duty_no_tension_reaches_armature_speed():
     # Slack line (glider next to the winch), T1 always on: V_a = K w + R i + 2 U_d with
     # K i = M_c + B w  ->  w = (V_a - 2 U_d - R M_c / K) / (K + R B / K)  (reel-in).
-    K, R, Va, Ud, Mc, B = P.machine.k, 0.7, 24.0, 0.5, 0.11337, 2e-4
+    K, R, Va, Ud, Mc, B = P.machine.k, 0.7, P.converter.supply_voltage, 0.5, 0.11337, 2e-4
     w = (Va - 2 * Ud - R * Mc / K) / (K + R * B / K)
     i = (Mc + B * w) / K
     gs = GroundStation(P)
@@ -124,7 +125,7 @@ def test_pi_reel_in_settles_without_steady_error():
     assert r["overshoot"] < 0.02
     assert r["final"] == pytest.approx(-3.0, rel=1e-6)  # integral action: no steady error
     # steady duty equals the armature equation's (independent closed form)
-    K, R, Va, Ud, Mc, B, rw = P.machine.k, 0.7, 24.0, 0.5, 0.11337, 2e-4, 0.03
+    K, R, Va, Ud, Mc, B, rw = P.machine.k, 0.7, P.converter.supply_voltage, 0.5, 0.11337, 2e-4, 0.03
     w = 3.0 / rw
     i = (rw * 5.0 + Mc + B * w) / K
     assert r["duty"][-1] == pytest.approx((K * w + R * i + 2 * Ud) / Va, rel=1e-6)
@@ -147,8 +148,11 @@ def _stall_then_release(monkeypatch=None, naive=False):
     gs.reset(200.0, 0.0, "motor")
     cmd = WinchCommand("motor", reel_speed_ref=-3.0)
     dt = 1 / 120
+    # a pull the motor cannot hold at full duty: r_w G > K (V_a - 2 U_d) / R (278 N at 48 V)
+    stall = 1.25 * P.machine.k * (P.converter.supply_voltage - 2 * P.converter.device_drop) / (
+        P.machine.resistance * P.winch.radius)
     for _ in range(120):
-        out = gs.step_with_tension(dt, 150.0, cmd)  # stall: 150 N x 0.03 m > K (V_a - 1) / R
+        out = gs.step_with_tension(dt, stall, cmd)
     sat = (out.duty, out.reel_speed, gs.drivetrain.integ)
     vs = [gs.step_with_tension(dt, 5.0, cmd).reel_speed for _ in range(360)]
     return sat, (max(-np.array(vs)) - 3.0) / 3.0, vs[-1]
@@ -392,7 +396,7 @@ def test_force_points_to_winch_and_slack_line_pulls_nothing_but_weight():
     gs.reset(100.0, 0.0, "generator")
     out = gs.step(1 / 120, 90.0 * U, (0, 0, 0), GEN)  # d < l: slack
     assert out.tension == 0.0 and out.slack
-    np.testing.assert_allclose(out.force_on_glider_ned, [0, 0, 0.5 * 0.0004 * 100.0 * 9.81], rtol=1e-9)
+    np.testing.assert_allclose(out.force_on_glider_ned, [0, 0, 0.5 * 0.0004 * 100.0 * G0], rtol=1e-9)
 
 
 @pytest.mark.parametrize(
