@@ -166,30 +166,38 @@ def test_info_shows_the_sizing_of_each_line(tmp_path, capsys):
 
 def test_info_shows_what_the_drive_allows(tmp_path, capsys):
     """`fdm-awe info` prints what the supply and the machine's ratings allow: the largest reel-in
-    speed (5.36 m/s at 24 V on a slack line, less against the lower line tension), the line
-    tensions of the rated and peak currents (50 N, the line's rating, and twice that), and the
-    supply the drive's design reel-in speed needs, in the JSON too."""
+    speed (11.10 m/s at the definition's 48 V on a slack line, the steady motor's at full duty;
+    less against the lower line tension), the line tensions of the rated and peak currents
+    (50 N, the line's rating, and twice that), and the supply the drive's design reel-in speed
+    needs (40.8 V against 2 N: the 48 V supply is sized for it), in the JSON too."""
     import json
 
     import pytest
 
     from fdm_awe.groundstation import load_ground_station
-    from fdm_awe.groundstation.steady import motor_steady
+    from fdm_awe.groundstation.steady import motor_max_reel_in_speed, motor_steady
 
     out = tmp_path / "i.json"
     assert main(["info", "--json", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "drive: supply 24 V: reel-in at most 5.36 m/s" in text and "needs" in text
+    assert "drive: supply 48 V: reel-in at most 11.10 m/s" in text and "needs" in text
     d = json.loads(out.read_text())["ground_station"]["drive"]
-    assert d["reel_in_max_at_lower_tension_mps"] < d["reel_in_max_mps"] == pytest.approx(5.355, abs=0.005)
+    gs = load_ground_station()
+    # r_w (V_a - 2 U_d - R M_c / K) / (K + R B / K) = 0.03 (48 - 1 - 0.639) / 0.12527 = 11.103 m/s
+    assert d["reel_in_max_at_lower_tension_mps"] < d["reel_in_max_mps"] == pytest.approx(11.103, abs=0.005)
+    assert d["reel_in_max_mps"] == pytest.approx(motor_max_reel_in_speed(0.0, gs), rel=1e-12)
     assert d["rated_tension_N"] == pytest.approx(50.0, abs=0.5) and d["peak_tension_N"] == pytest.approx(
         2.0 * d["rated_tension_N"])
     # the supply the design speed needs is the one at which the steady motor runs at full duty
-    gs = load_ground_station()
     full = motor_steady(d["design_reel_in_speed_mps"], d["lower_tension_N"], gs).duty * gs.converter.supply_voltage
     assert d["supply_needed_V"] == pytest.approx(full, rel=1e-12)
     assert (d["supply_needed_V"] > d["supply_voltage_V"]) == (d["design_reel_in_speed_mps"] > d[
         "reel_in_max_at_lower_tension_mps"])
+    # the 48 V supply covers the design reel-in speed (9.3 m/s against 2 N takes 40.8 V)
+    assert d["supply_needed_V"] == pytest.approx(40.8, abs=0.05) and d["supply_voltage_V"] == 48.0
+    assert d["supply_needed_V"] < d["supply_voltage_V"]
+    assert d["design_reel_in_speed_mps"] < d["reel_in_max_at_lower_tension_mps"]
+    assert "needs 40.8 V against 2 N" in text
     # the converter's tension limit: the line's rating, and the current that holds it on the drum
     assert "tension limit 50 N" in text and d["tension_limit_N"] == gs.converter.tension_limit
     k, r, mc = gs.machine.k, gs.winch.radius, gs.winch.coulomb_friction

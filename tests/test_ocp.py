@@ -31,7 +31,11 @@ COARSE = Mesh(20, 12, 3)
 #: sized line, the glider's own drive, the line's weight) the foldable cycle at 8 m/s exists.
 #: The wing folds instantly there (``fold_time`` 0, as when those numbers were published): with
 #: the definition's 2 s fold the 8 m/s cycle on this plant exists too, at about -92 W.
-FAILING_FOLD_PLANT = {**LEGACY_PHYSICAL_PLANT, "fold_time": 0.0}
+#: The winch ran on the 24 V supply of the time (``supply_voltage`` 24: 5.36 m/s fastest reel-in):
+#: with the definition's 48 V (11.1 m/s) the folded recovery on this plant closes with the real
+#: propeller too (measured: the elastic solve of the static-thrust test's start ends with a
+#: largest slack of 9e-9, against 2.05 at 24 V), so the failure is the 24 V drive's.
+FAILING_FOLD_PLANT = {**LEGACY_PHYSICAL_PLANT, "fold_time": 0.0, "supply_voltage": 24.0}
 #: the paper scenario has no stiff generator coupling: 30 intervals of degree 4 reproduce its
 #: path within ~0.03 % (the physical scenario's check runs on the default mesh)
 PAPER_MESH = Mesh(30, 16, 4)
