@@ -8,6 +8,7 @@ from scipy.integrate import solve_ivp
 
 from fdm_awe.autopilot.guidance import Guidance, GuidanceGains
 from fdm_awe.autopilot.tracking import TrackingReference
+from fdm_awe.constants import G0, RHO0
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.pointmass.model import Environment, PointMassModel
 
@@ -88,7 +89,7 @@ def test_a_heading_error_does_not_turn_the_turn_into_a_brake():
     gd = Guidance(gains, g.unfolded.mass.mass, g.unfolded.aero, g.folded.aero)
     from fdm_awe.autopilot.tracking import RefPoint
 
-    V, a = 20.0, 2.0 * 9.81
+    V, a = 20.0, 2.0 * G0
     ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, a, 0.0]),
                    V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
     wind = np.zeros(3)
@@ -113,15 +114,15 @@ def test_a_push_over_is_flown_with_negative_lift(negative_lift):
                           phi_max=1.1, thrust_max=8.0, negative_lift=negative_lift)
     gd = Guidance(gains, g.unfolded.mass.mass, aero, g.folded.aero)
     V = 20.0
-    ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, 0.0, 1.5 * 9.81]),
+    ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, 0.0, 1.5 * G0]),
                    V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
     c = gd.update(ref, ref.pos, ref.vel, np.zeros(3), np.zeros(3), 0.0, 0.0)
-    down_force = g.unfolded.mass.mass * 0.5 * 9.81
+    down_force = g.unfolded.mass.mass * 0.5 * G0
     if negative_lift:
         assert c.mu == pytest.approx(0.0, abs=1e-9)
         # the wing's (negative) lift and the propeller's share along the lift axis (thrust on
         # the body x-axis, alpha below the air velocity) push down together
-        qS = 0.5 * 1.225 * V * V * aero.S
+        qS = 0.5 * RHO0 * V * V * aero.S
         assert c.alpha < 0.0 and c.thrust > 0.0
         assert c.lift_coefficient == pytest.approx(aero.CL0 + aero.CLalpha * c.alpha, rel=1e-9)
         assert qS * c.lift_coefficient + c.thrust * math.sin(c.alpha) == pytest.approx(-down_force, rel=1e-4)
@@ -141,7 +142,7 @@ def _lift_vector(gd, cmd, vel, wind=np.zeros(3)):
     up0 = np.cross(right0, e1)
     eL = math.cos(cmd.mu) * up0 + math.sin(cmd.mu) * right0
     prop = cmd.thrust * math.sin(cmd.alpha) if gd.k.thrust_on_body_axis else 0.0
-    return (0.5 * 1.225 * V * V * gd.aero_u.S * cmd.lift_coefficient + prop) * eL
+    return (0.5 * RHO0 * V * V * gd.aero_u.S * cmd.lift_coefficient + prop) * eL
 
 
 def test_a_faster_glider_turns_on_the_paths_radius():
@@ -154,7 +155,7 @@ def test_a_faster_glider_turns_on_the_paths_radius():
 
     g = load_glider()
     m = g.unfolded.mass.mass
-    V, a = 20.0, 2.0 * 9.81
+    V, a = 20.0, 2.0 * G0
     ref = RefPoint(0.0, 0, 0, np.array([0.0, 0.0, -100.0]), np.array([V, 0.0, 0.0]), np.array([0.0, a, 0.0]),
                    V, 0.0, 0.0, 0.0, 0.0, 100.0, 0.0)
     for Vg, scale_max, factor in ((26.0, 2.25, (26.0 / V) ** 2), (26.0, None, 1.0), (26.0, 1.2, 1.2), (16.0, 2.25, 1.0)):
@@ -165,7 +166,7 @@ def test_a_faster_glider_turns_on_the_paths_radius():
         c = gd.update(ref, ref.pos, vel, np.zeros(3), np.zeros(3), 0.0, 0.0)
         lift = _lift_vector(gd, c, vel)
         assert lift[1] == pytest.approx(m * a * factor, rel=1e-6)
-        assert -lift[2] == pytest.approx(m * 9.81, rel=1e-6)
+        assert -lift[2] == pytest.approx(m * G0, rel=1e-6)
 
 
 def test_the_bank_limit_opens_in_a_steep_dive():
@@ -178,7 +179,7 @@ def test_the_bank_limit_opens_in_a_steep_dive():
     m = g.unfolded.mass.mass
     gains = GuidanceGains(kp=0.0, kd=0.0, ki=0.0, a_max=15.0, int_max=20.0, alpha_min=-0.2, alpha_max=0.35,
                           phi_max=1.1, thrust_max=8.0, energy_trade=0.0, phi_max_vertical=2.2)
-    V, a = 25.0, 3.0 * 9.81
+    V, a = 25.0, 3.0 * G0
     gam = math.radians(-60.0)
     vel = V * np.array([math.cos(gam), 0.0, -math.sin(gam)])
     for v, expect in ((vel, None), (np.array([V, 0.0, 0.0]), 1.1)):
@@ -187,7 +188,7 @@ def test_the_bank_limit_opens_in_a_steep_dive():
         c = gd.update(ref, ref.pos, v, np.zeros(3), np.zeros(3), 0.0, 0.0)
         if expect is None:
             e1 = v / V
-            F = m * (np.array([0.0, a, 0.0]) - np.array([0.0, 0.0, 9.81]))
+            F = m * (np.array([0.0, a, 0.0]) - np.array([0.0, 0.0, G0]))
             F_perp = F - float(F @ e1) * e1
             assert c.mu > 1.3  # past the level-flight limit, inside 1.1 + 1.1 * sin^2(60 deg)
             np.testing.assert_allclose(_lift_vector(gd, c, v), F_perp, rtol=1e-6, atol=1e-9)

@@ -36,11 +36,14 @@ def test_a_running_mean_of_one_hold_interval_turns_a_staircase_into_ramps():
 def test_the_flyable_reference_stays_near_the_optimisers_path_and_consistent():
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps_sized.json")
     h = hold_interval(ref)
-    assert h == pytest.approx(ref.T1 / ref.meta["mesh"]["n_gen"])  # 60 intervals over T1, 0.78 s
+    # the longer of the phases' intervals: here the recovery's, 20 over T2 (0.761 s; the
+    # generation's 60 over T1 are 0.746 s)
+    mesh = ref.meta["mesh"]
+    assert h == pytest.approx(ref.T2 / mesh["n_rec"]) and h > ref.T1 / mesh["n_gen"]
     fly = flyable_reference(ref)
     assert fly.meta["shaping_windows_s"] == [pytest.approx(w * h, rel=1e-5) for w in WINDOWS]
     dev = np.linalg.norm(fly.pos - ref.pos, axis=1)
-    assert np.sqrt(np.mean(dev ** 2)) < 0.4 and dev.max() < 2.0  # m: 0.25 RMS, 1.4 at most
+    assert np.sqrt(np.mean(dev ** 2)) < 0.4 and dev.max() < 2.0  # m: 0.29 RMS, 1.46 at most
     # one filter for all columns: the smoothed velocity is the smoothed position's rate
     tt = np.linspace(0.0, ref.period, 3001)[:-1]
     pos = np.array([fly.sample(t).pos for t in tt])

@@ -74,10 +74,14 @@ def _model(profile: WindProfile):
 S = [150.0, 20.0, -90.0, 18.0, 0.1, 0.3]
 U_GEN, U_REC, WIND = [0.1, 0.2, 1.0], [0.1, 0.2, 1.0, -3.0], (6.0, -1.0)
 #: the phase blocks of the nominal physical model (sized line, engine drive, line weight) at
-#: S, U_GEN / U_REC and WIND, evaluated by the model before wind profiles existed
-GEN_BEFORE = [23.110148146597144, 4.292789057933406, -1.797001499642907, -209.07134220402037, -4.419560651962359,
+#: S, U_GEN / U_REC and WIND, evaluated by the model before wind profiles existed (the parent
+#: of commit 6af3129) with standard gravity G0 (fdm_awe.constants) in both of its places: the
+#: model's ``g`` and the line weight's (the ground-station file's ``tether/gravity``), first
+#: recorded with its 9.81. Only entries 3 and 4 of each block moved (at most 1.5e-4 relative); with
+#: 9.81 in both places the present model still gives the first record bit for bit.
+GEN_BEFORE = [23.110148146597144, 4.292789057933406, -1.797001499642907, -209.07100285698823, -4.419372754673169,
               2.1430035183085665]
-REC_BEFORE = [23.110148146597144, 4.292789057933406, -1.797001499642907, -2.305775976476039, 1.0457156672886196,
+REC_BEFORE = [23.110148146597144, 4.292789057933406, -1.797001499642907, -2.3054351269560076, 1.0459043965090635,
               0.2865061135123682, -3.0]
 
 
