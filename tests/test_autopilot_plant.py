@@ -313,24 +313,34 @@ def test_flown_fold_follows_the_references_fold_time():
 
 
 def test_a_soft_stop_spares_the_folded_glider_the_roll_kick():
-    """The foldable glider stops its motor folded (the stored physical 8 m/s cycle, about 52 s
-    in). Cut at once, the drive brakes the propeller through its coil and the reaction rolls
-    the folded glider by about 1 rad with the ailerons at their stop for over a second; the
-    soft stop (throttle to 0 over soft_stop_s) keeps the roll rate and the bank's excursion
-    below half of that."""
-    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_8mps_sized.json")
+    """The foldable glider stops its motor folded: the stored physical 8 m/s cycle flown with
+    half the line drag (FOLDABLE, which runs its motor all cycle) with the motor planned off
+    from 3.5 s into the recovery (folded since about 2 s in; the stop about 54 s in). Cut at
+    once, the drive brakes the propeller through its coil and the reaction rolls the folded
+    glider at 2.9 rad/s, its bank swinging by 0.36 rad with the ailerons at their stop for half
+    a second; the soft stop (throttle to 0 over soft_stop_s) keeps the roll rate (0.22 rad/s)
+    and the bank's excursion (0.11 rad) below half of that, the ailerons off their stop. (The
+    sized-line cycle re-made for the 48 V supply stops its motor 1 s into its recovery, half
+    folded, and is folded for only 2 s.)"""
+    ref = TrackingReference.from_ocp_file(FOLDABLE)
+    ref.motor_on = np.where(ref.t >= ref.T1 + 3.5, 0.0, ref.motor_on)
     out = {}
-    for soft in (1.0, 0.0):
+    t_stop = None
+    for soft in (0.0, 1.0):
         def setup(ap, sim, soft=soft):
             ap.motor_gate = MotorGate(soft_stop_s=soft)
 
-        rep = fly(ref, config="foldable", cycles=1, setup=setup, t_end=56.0)
+        rep = fly(ref, config="foldable", cycles=1, setup=setup, t_end=58.0, tether_drag_scale=ref.meta["tether_drag_scale"])
+        assert rep.status == "ok", rep.message
         d = rep.result.data
-        col = {n: d[:, COLUMNS.index(n)] for n in ("t", "fold", "p", "phi", "aileron")}
-        k = int(np.flatnonzero((col["t"] > 40.0) & (col["fold"] > 0.99))[0])  # folded: the motor stops
-        w = (col["t"] > col["t"][k] - 0.2) & (col["t"] < col["t"][k] + 2.0)
+        col = {n: d[:, COLUMNS.index(n)] for n in ("t", "fold", "p", "phi", "aileron", "throttle")}
+        if t_stop is None:  # the cut: the first row the motor is off in recovery
+            t_stop = float(col["t"][np.flatnonzero((col["t"] > ref.T1) & (col["throttle"] == 0.0))[0]])
+        k = int(np.argmin(np.abs(col["t"] - t_stop)))
+        w = (col["t"] > t_stop - 0.2) & (col["t"] < t_stop + 2.0)
+        assert np.all(col["fold"][w] > 0.99)  # folded throughout
         out[soft] = (np.max(np.abs(col["p"][w])), np.max(np.abs(col["phi"][w] - col["phi"][k])),
                      np.sum(np.abs(col["aileron"][w]) >= 0.999))
     (p_soft, phi_soft, sat_soft), (p_cut, phi_cut, sat_cut) = out[1.0], out[0.0]
-    assert p_cut > 2.0 and phi_cut > 0.6  # the kick is there without the soft stop
+    assert p_cut > 2.0 and phi_cut > 0.25 and sat_cut > 0  # the kick is there without the soft stop
     assert p_soft < 0.5 * p_cut and phi_soft < 0.5 * phi_cut and sat_soft < 0.5 * sat_cut

@@ -48,7 +48,7 @@ def _cycle_of_rows(rep) -> np.ndarray:
     return out
 
 
-def test_every_row_carries_its_cycle_0_to_k_minus_1(cycles_rrd):
+def test_every_row_carries_its_cycle_0_to_k_minus_1(small_circle, cycles_rrd):
     rep, path = cycles_rrd
     assert rep.status == "ok" and [c.index for c in rep.cycles] == list(range(CYCLES))
     assert all(c.complete for c in rep.cycles)
@@ -65,13 +65,14 @@ def test_every_row_carries_its_cycle_0_to_k_minus_1(cycles_rrd):
     assert len(t) == len(expect)
     # rrd_values reads a sequence as if it were nanoseconds: back to the cycle numbers
     np.testing.assert_array_equal(np.rint(np.asarray(cyc_t) * 1e9).astype(int), np.sort(expect))
-    # each cycle starts about one period after the last (the glider's own pace)
+    # each cycle starts where the last one ended (the rows' labels and the cycle log agree, to a
+    # row) and at least about one lap of the circle after it (the glider's own pace: a cycle is
+    # never cut short; the rejoin of a lost path may fly a lap twice over: the first cycle takes
+    # 17.9 s, the second 9.5 s, the circle's period is 8.95 s)
     starts = [float(rep.result.t[np.argmax(expect == k)] - rep.result.t[0]) for k in range(CYCLES)]
-    assert np.all(np.diff(starts) > 0.8 * small_circle_period(rep))
-
-
-def small_circle_period(rep) -> float:
-    return float(sum(c.T1_s + c.T2_s for c in rep.cycles[:-1]) / max(len(rep.cycles) - 1, 1))
+    row = float(np.median(np.diff(rep.result.t)))
+    np.testing.assert_allclose(np.diff(starts), [c.T1_s + c.T2_s for c in rep.cycles[:-1]], rtol=0.0, atol=1.5 * row)
+    assert np.all(np.diff(starts) > 0.8 * small_circle.period)
 
 
 def test_no_wall_clock_timeline(cycles_rrd):

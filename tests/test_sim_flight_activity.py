@@ -29,23 +29,29 @@ def test_a_flown_cycle_reports_its_control_activity():
 
 def test_the_references_line_pull_smooths_the_catch_and_tracks_better():
     """GUID_REFPULL (the reference's line pull on a line that is not taut, in recovery and at
-    generation's catch) against the measured pull, on the demo's foldable cycle (physical,
-    8 m/s, sized line; its catch closes at 12 m/s). With the measured pull the angle of attack
-    and the bank stepped when the line snapped taut: measured 0.178 against 0.103 total RMS
-    above 0.5 Hz, tracking 1.85 against 0.91 m RMS over 3 cycles (2 cycles: 0.148 against
-    0.096, 1.66 against 0.90 m). Asserted with margins: a quarter less activity and no worse
-    tracking, every cycle flown to its end."""
+    generation's catch) against the measured pull, on the stored nominal 8 m/s cycle (physical,
+    ref_physical_nominal_8mps: its recovery's line and the next generation's catch are slack).
+    With the measured pull the angle of attack and the bank step when the line snaps taut:
+    measured 0.146 against 0.098 total RMS above 0.5 Hz, tracking 1.26 against 1.01 m RMS over
+    2 cycles (in 5 s windows: the second cycle's catch 0.139 against 0.104, the recovery's start
+    0.123 against 0.108, the rest alike; 3 cycles: 0.159 against 0.102, 1.42 against 1.13 m).
+    Asserted with margins: a quarter less activity and no worse tracking, every cycle flown to
+    its end. (The demo's foldable 8 m/s cycle, re-made for the 48 V supply, no longer shows it
+    in the total: the reference's pull halves its catch's activity, 0.56 against 0.29 in the
+    second cycle's first 5 s, but its total is the folded recovery's roll where the motor stops,
+    0.70 in those 5 s either way: 0.185 against 0.179 over 2 cycles, tracking 2.55 against
+    1.35 m.)"""
     import numpy as np
 
     from fdm_awe.autopilot.config import autopilot_params
 
-    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_8mps_sized.json")
+    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_8mps.json")
     out = {}
     for pull in (0.0, 1.0):
         ps = autopilot_params()
         ps.set("GUID_REFPULL", pull)
-        rep = fly(ref, config="foldable", cycles=2, params=ps)
-        assert rep.status == "ok", rep.message
+        rep = fly(ref, config="nominal", cycles=2, params=ps)
+        assert rep.status == "ok" and all(c.complete for c in rep.cycles), rep.message
         err = np.asarray(rep.track_error, float)
         out[pull] = (rep.control_activity.total, float(np.sqrt(np.nanmean(err * err))))
     (act0, rms0), (act1, rms1) = out[0.0], out[1.0]
