@@ -142,11 +142,11 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     trimmed on the length, but never more than WINCH_VCATCH faster than the glider approaches,
     plus WINCH_SLK_KL per metre of slack line (the slack closes no faster than that: the line is
     caught at WINCH_VCATCH), and at least as fast as the glider approaches where more than
-    WINCH_SLACK of line hangs, whatever slack the reference planned (a glider that turns out
-    for generation on a slack line runs out against a standing drum: the drum's inertia
-    against the line's stiffness is the catch's peak tension; 0 WINCH_VCATCH: the reference's
-    speed alone), easing off above REC_TENSION; every reel-in within the drive's largest
-    speed.
+    WINCH_SLACK of line hangs and the tension is at most WINCH_TLO (slack, not sagging),
+    whatever slack the reference planned (a glider turning out on a slack line runs out
+    against a standing drum: its inertia against the line's stiffness makes the catch's peak;
+    0 WINCH_VCATCH: the reference's speed alone), easing off above REC_TENSION; every reel-in
+    within the drive's largest speed.
 
     Outputs: ``motor_mode`` 1.0 (motor) or 0.0 (generator), ``reel_speed_ref`` [m/s] (0.0, the
     command's default, where the generator ignores it), ``load_resistance`` [ohm] and
@@ -190,13 +190,13 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
         v += 0.5 * (length - gs_length)
         v_catch = lim[WL_VCATCH]
         if v_catch > 0.0 and not ideal and dist == dist:
-            # at least the glider's approach where more than WINCH_SLACK of line hangs (not
-            # the reference's planned slack: the glider turns out for generation on the line
-            # as it hangs then), never much faster than the approach (the physical station's
+            # at least the approach where more than WINCH_SLACK hangs on a line pulling at most
+            # WINCH_TLO (not the reference's planned slack; a lumped line sagging in the wind
+            # pulls), never much faster than the approach (the physical station's
             # law: the paper plant's kinematic winch reels in as the paper's cycle says)
             kept = lim[WL_SLACK]
             slack = gs_length - dist
-            if slack > kept:
+            if slack > kept and gs_tension <= lim[WL_TLO]:
                 v = min(v, take_up_speed(dist, dist_rate, gs_length, kept, lim[WL_SLK_KL], v_catch))
             # the slack closes at most at WINCH_SLK_KL per metre plus WINCH_VCATCH: the line is
             # caught at no more than WINCH_VCATCH
