@@ -60,7 +60,7 @@ import os
 from typing import Callable
 
 from .. import wind
-from ..jitcache import compile_cached, follow_sources
+from ..jitcache import follow_sources
 from ..wind import shear_factor
 from . import lumped_state, substeps, winch
 from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
@@ -69,7 +69,8 @@ from .lumped_state import (  # noqa: F401 - the line's layout and views, also re
     L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
     ZETA, LineLedger, line_constants, nodes, state_size, tensions, velocities,
 )
-from .substeps import DRAG_W, WEIGHT_W, advance, compiled_station, cross_flow_drag, machine_mode_code, register_calls
+from .linestep import compile_line_step
+from .substeps import DRAG_W, WEIGHT_W, advance, cross_flow_drag, machine_mode_code, register_calls
 
 # station constants used here (positions in STATION_CONSTANTS)
 _C_MU, _C_EA, _C_TBREAK, _C_G, _C_DRAGON, _C_WN, _C_WE, _C_WD = 4, 5, 6, substeps.C_G, substeps.C_DRAG_ON, *substeps.C_WINDS
@@ -486,17 +487,9 @@ SOURCES = (substeps, winch, wind, lumped_state)
 @functools.lru_cache(maxsize=None)
 def compiled_lumped() -> Callable | None:
     """:func:`lumped_station_step` compiled by numba (cached on disk), or None (numba missing,
-    ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead)."""
-    if compiled_station() is None:
-        return None
-
-    def signature(nb):
-        f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
-        return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
-
-    register_calls()
-    # tied also to the drum step, the wind profile and the line's layout compiled into it
-    return compile_cached(lumped_station_step, signature, CALLED, SOURCES, "fdm_awe.groundstation.lumped")
+    ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead); tied also to the
+    drum step, the wind profile and the line's layout compiled into it."""
+    return compile_line_step(lumped_station_step, CALLED, SOURCES, "fdm_awe.groundstation.lumped")
 
 
 @functools.lru_cache(maxsize=None)

@@ -36,9 +36,9 @@ from __future__ import annotations
 import functools
 from typing import Any, Callable
 
-from ..jitcache import compile_cached
 from . import substeps, winch
-from .substeps import SE, STRAIN, STATION_CONSTANTS, compiled_station, register_calls, station_step
+from .linestep import compile_line_step
+from .substeps import SE, STRAIN, STATION_CONSTANTS, station_step
 
 #: the rigid line's axial stiffness at steps of :data:`REFERENCE_STEP`, N/m, the same at every
 #: length (see the module docstring)
@@ -86,13 +86,5 @@ def rigid_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_
 def compiled_rigid() -> Callable | None:
     """:func:`rigid_station_step` compiled by numba (cached on disk), or None (numba missing,
     ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead)."""
-    if compiled_station() is None:
-        return None
-
-    def signature(nb):
-        f8, b1, a = nb.float64, nb.boolean, nb.float64[::1]
-        return (a, a, nb.int64, f8, f8, f8, f8, f8, f8, f8, b1, f8, f8, f8, f8)
-
-    register_calls()
-    return compile_cached(rigid_station_step, signature, (station_step, stiffness), (substeps, winch),
-                          "fdm_awe.groundstation.rigid")
+    return compile_line_step(rigid_station_step, (station_step, stiffness), (substeps, winch),
+                             "fdm_awe.groundstation.rigid")
