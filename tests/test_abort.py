@@ -294,8 +294,10 @@ def test_moderate_turbulence_the_cycle_cannot_be_flown_in_ends_parked():
     with a slack line for 100 s): the default failsafe (50 m for 5 s) takes it to RECOVER, which
     parks. (With the line limits on, the default, the winch keeps the line taut and this cycle
     is flown: :func:`test_the_line_limits_fly_the_cycle_the_slack_line_lost`; with the path
-    rejoin on, the default, it is flown too.)"""
-    rep, ap = _lost_path_flight({**NO_LINE_LIMITS, "US_V_ENTER": 0.0, "RJ_TRK_ERR": 0.0}, cycles=1,
+    rejoin on, the default, it is flown too.) The return to AUTO when the wind is back after a
+    lull (FS_RESUME) is off here: this is the failsafe and its park (the return:
+    tests/test_resume.py)."""
+    rep, ap = _lost_path_flight({**NO_LINE_LIMITS, "US_V_ENTER": 0.0, "RJ_TRK_ERR": 0.0, "FS_RESUME": 0.0}, cycles=1,
                                 turbulence=("moderate", 1))
     assert (ap.params["FS_TRK_ERR"], ap.params["FS_TRK_TIME"]) == (50.0, 5.0)
     fs = [t for t, m in ap.log if m.startswith("failsafe")]

@@ -65,7 +65,8 @@ def test_a_lost_path_in_iec_a_is_rejoined_and_the_cycle_is_flown(seed):
     failsafe stays unused, the glider stays high above the ground (74 and 95 m at the lowest)
     and the line below half its breaking load (225 N; 16 and 46 N at the most). The stored
     cycle re-made for the 48 V supply: of seeds 1-399 only these and 39 (flown, but down to
-    12 m) are parked without the rejoin; the earlier seeds 8 and 9 now keep their path."""
+    12 m) are parked without the rejoin; the earlier seeds 8 and 9 now keep their path. (The
+    flight without the rejoin stays parked: its return to AUTO after the lull, FS_RESUME, off.)"""
     rep = _flight(seed)
     notes = [text for _, text in rep.autopilot_log]
     assert rep.status == "ok" and rep.cycles[0].complete, rep.message
@@ -73,7 +74,7 @@ def test_a_lost_path_in_iec_a_is_rejoined_and_the_cycle_is_flown(seed):
     assert not any(text.startswith("failsafe") for text in notes)
     assert float(np.min(-rep.result.pos[:, 2])) > 30.0
     assert float(np.nanmax(rep.result.tension)) < 112.5
-    old = _flight(seed, params={"RJ_TRK_ERR": 0.0})
+    old = _flight(seed, params={"RJ_TRK_ERR": 0.0, "FS_RESUME": 0.0})  # parked for good
     assert old.status == "parked" and not old.cycles[0].complete
     assert "FS_TRK_ERR 50 m" in old.message
 

@@ -70,7 +70,6 @@ from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
 from ..autopilot.schedule import ReferenceSet, ScheduledReference
 from ..autopilot.shaping import flyable_reference
-from ..autopilot.wind_estimate import wind_before, wind_before_text
 from ..definitions.aircraft import Glider, load_glider
 from ..definitions.catalog import Aircraft, resolve_aircraft
 from ..errors import InputError
@@ -90,7 +89,8 @@ from .events import machine_current
 from .flight_log import LINE_SHAPE_HZ, FlightLog
 from .glider_ledger import GliderLedger
 from .loop import COLUMNS, CoSim, FlightResult, Limits
-from .onboard_wind import SENSE_HZ, CycleWind, note_text
+from .onboard_wind import CycleWind, note_text
+from .resume import HoldWatch, failsafe_wind, lost_path
 from .propulsion import logged_propulsion
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
 from .report import FLIGHT_STATUSES, PLANT_NOTES, CycleMetrics, FlightReport
@@ -361,7 +361,7 @@ def fly(
     # the path parameter at which the flight ends (a reference switch moves it to the new period)
     s_end = [math.inf if t_end is not None else cycles * reference.period]
     cw = CycleWind(rig.glider, dt, wind.profile if refs is None else refs.profile, refs, current)
-    hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw,
+    hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw, HoldWatch(rig.glider, dt, cw.profile, cw),
                       gust_on_line=turb is not None and not paper and shape)
     if on_step is None and not paper and not shape and wind.profile.uniform:
         # no per-step work in Python: the autopilot may fly whole blocks compiled
@@ -378,8 +378,8 @@ def fly(
         cw.close(mets[-1].index, float(res.t[-1]), mets[-1].complete)
     ledger, rel = _ledger(gl, rig.gs, float(e_thrust[k_end]), shape)
     status, msg = _status(res, ap, interrupted, flown[0] or t_end is not None, T_total, cycles, mets)
-    if ap.mode == "RECOVER" and ap.recover_cause is not None and "FS_TRK_ERR" in ap.recover_cause:
-        msg += _failsafe_wind(res, ap, cw.profile, dt)
+    if ap.mode == "RECOVER" and lost_path(ap.recover_cause):
+        msg += failsafe_wind(res, ap, cw.profile, dt)
     m = gsp.machine  # the armature current against the machine's ratings (the paper plant's winch has none)
     i_pk, above, rated = (None, None, []) if paper else machine_current(res.t, res.current, m.rated_current,
                                                                           m.peak_current)
@@ -459,12 +459,12 @@ def _loop_facts(sim: CoSim, steps: int) -> dict[str, Any]:
 
 def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest, flown: list[bool],
                on_step: Callable[[int, Any, Any], bool | None] | None, s_end: list[float], cw: CycleWind,
-               gust_on_line: bool) -> Callable[[int, Any, Any], bool]:
+               watch: HoldWatch, gust_on_line: bool) -> Callable[[int, Any, Any], bool]:
     """The co-simulation's ``on_step`` of a flight: the next step's wind at the glider's (and
     the line's) height, the step's bookkeeping, the caller's ``on_step``, and the flight's end
     (the caller's, the path parameter at ``s_end[0]`` [s] in AUTO, which sets ``flown[0]``, or a
     stop request; inf: the flight runs its whole length). A step flown in AUTO cycling is kept
-    for the cycle's wind estimate (``cw``)."""
+    for the cycle's wind estimate (``cw``); one held after a lost path, for the wind's return (``watch``)."""
     glider, gs, ap = rig.glider, rig.gs, rig.ap
     profile = wind.profile
     wind_at = wind.at
@@ -479,6 +479,8 @@ def _step_hook(rig: _Rig, wind: _FlightWind, log: FlightLog, stop: _StopRequest,
         log.book(k, s)
         if ap.mode == "AUTO" and ap.cycling:
             cw.add(k, s.raw)
+        else:
+            watch.step(k, s.t, s.raw, ap)
         if on_step is not None and on_step(k, s, o):
             return True  # the caller ends the flight here
         return _flight_ends(ap, s_end, flown, stop)
@@ -565,21 +567,6 @@ def _ledger(gl: GliderLedger, gs: Any, thrust_electrical: float, own: bool) -> t
         ledger.update({f"line_{k}_J": v for k, v in ll.as_dict().items() if k != "relative_residual"})
         rel = max(rel, ll.relative_residual())
     return ledger, rel
-
-
-def _failsafe_wind(res: FlightResult, ap: Autopilot, profile: WindProfile, dt: float) -> str:
-    """What the lost-path failsafe met, for the flight's message: the onboard wind estimate over
-    the window before it (:func:`fdm_awe.autopilot.wind_estimate.wind_before`, samples at
-    :data:`~fdm_awe.sim.onboard_wind.SENSE_HZ`), a lull named by its wind and length; "" when
-    it cannot tell."""
-    t_fs = [t for t, text in ap.log if text.startswith("failsafe")]
-    w_cycle = float(ap.reference.meta.get("wind_mps", math.nan)) if ap.reference is not None else math.nan
-    if not t_fs or not w_cycle > 0.0:
-        return ""
-    k = slice(None, None, max(1, int(round(1.0 / (SENSE_HZ * dt)))))
-    w = wind_before(res.t[k], res.vel[k], res.airspeed[k], res.euler[k], -res.pos[k][:, 2],
-                    None if profile.uniform else profile.factor, t_fs[-1], w_cycle)
-    return "" if w is None else f"; {wind_before_text(w, w_cycle)}"
 
 
 def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_total: float, cycles: int,

@@ -58,13 +58,18 @@ class CycleWind:
         first = (-(k0 + 1)) % self.stride
         self._chunks.append(np.array(rows[first::self.stride], float))
 
-    def _take(self) -> np.ndarray | None:
-        """The rows kept since the last cycle boundary (then forgotten), None without any."""
+    def peek(self) -> np.ndarray | None:
+        """The rows kept since the last cycle boundary (kept), None without any."""
         if self._rows:
             self._chunks.append(np.array(self._rows, float))
             self._rows = []
-        chunks, self._chunks = self._chunks, []
-        return np.vstack(chunks) if chunks else None
+        return np.vstack(self._chunks) if self._chunks else None
+
+    def _take(self) -> np.ndarray | None:
+        """The rows kept since the last cycle boundary (then forgotten), None without any."""
+        rows = self.peek()
+        self._chunks = []
+        return rows
 
     def close(self, cycle: int, t: float, complete: bool = True) -> dict[str, Any] | None:
         """Estimate the wind of cycle ``cycle`` (ended at ``t`` [s]) from its rows; returns its
