@@ -57,9 +57,10 @@ def test_motor_update_and_ceiling_compiled_equal_python_over_sequences():
         t, seg, err = rnd.uniform(-5.0, 50.0), rnd.randrange(200), _errors(rnd, gate[G_RESCUE_ERROR_M])
         for _ in range(600):
             e = next(err)
+            slow = rnd.random() < 0.8
             before = mem_py.copy()
-            py = motor_update(plan, seg, t, e, gate, mem_py)
-            assert same_bits(j_update(plan, seg, t, e, gate, mem_jit), py), (case, t)
+            py = motor_update(plan, seg, t, e, gate, mem_py, slow)
+            assert same_bits(j_update(plan, seg, t, e, gate, mem_jit, slow), py), (case, t)
             assert np.array_equal(mem_py, mem_jit), (case, t, mem_py, mem_jit)
             tc = t + rnd.choice((0.0, 0.1 * gate[G_SOFT_START_S], rnd.uniform(0.0, 2.0)))
             assert same_bits(j_ceiling(tc, gate, mem_jit), motor_ceiling(tc, gate, mem_py)), (case, tc)
@@ -80,11 +81,11 @@ class _BooleanSwitch:
     def __init__(self, gate: MotorGate) -> None:
         self.gate, self.running, self.switches, self.rescue, self.switch_t = gate, True, 0, False, -math.inf
 
-    def update(self, plan: np.ndarray, seg: int, t: float, track_error: float) -> bool:
+    def update(self, plan: np.ndarray, seg: int, t: float, track_error: float, slow: bool = True) -> bool:
         gate = self.gate
         want = bool(plan[seg])
         if not want:
-            if track_error > gate.rescue_error_m:
+            if track_error > gate.rescue_error_m and slow:
                 self.rescue = True
             elif not track_error > 0.5 * gate.rescue_error_m:
                 self.rescue = False
@@ -111,8 +112,8 @@ def test_motor_switch_gives_what_the_boolean_form_gave():
         sw, old = MotorSwitch(gate), _BooleanSwitch(gate)
         t, err = 0.0, _errors(rnd, gate.rescue_error_m)
         for _ in range(3000):
-            e, tc = next(err), t % ref.period
-            assert sw.update(ref, tc, t, e) is old.update(plan, ref.segment_index(tc), t, e)
+            e, tc, slow = next(err), t % ref.period, rnd.random() < 0.8
+            assert sw.update(ref, tc, t, e, slow) is old.update(plan, ref.segment_index(tc), t, e, slow)
             assert (sw.running, sw.switches, sw.rescue, sw.switch_t) == (old.running, old.switches, old.rescue, old.switch_t)
             assert type(sw.running) is bool and type(sw.switches) is int and type(sw.rescue) is bool
             assert sw.ceiling(t + 0.3) == old.ceiling(t + 0.3)
@@ -120,6 +121,22 @@ def test_motor_switch_gives_what_the_boolean_form_gave():
             t += 1.0 / 120.0 if rnd.random() < 0.98 else rnd.uniform(0.0, 5.0)
         assert sw.switches > 0, case
     assert rescued > 0
+
+
+def test_the_rescue_runs_the_motor_only_for_a_slow_glider():
+    """Past the rescue error on a stopped segment the motor starts for a glider no faster in the
+    air than its reference point (``slow``), not for a faster one (a dive: energy to spare, and
+    a fixed-pitch propeller spun up at that speed draws its power for next to no thrust); a
+    rescue under way ends below half the rescue error as before."""
+    gate = MotorGate(min_dwell_s=0.0).vector()
+    plan = np.zeros(4)
+    fast, slow = motor_memory(), motor_memory()
+    for mem in (fast, slow):
+        mem[M_RUNNING] = 0.0
+    assert motor_update(plan, 0, 1.0, 12.0, gate, fast, False) == 0.0 and fast[M_RESCUE] == 0.0
+    assert motor_update(plan, 0, 1.0, 12.0, gate, slow, True) == 1.0 and slow[M_RESCUE] == 1.0
+    assert motor_update(plan, 0, 2.0, 8.0, gate, slow, False) == 1.0  # still above half: runs on
+    assert motor_update(plan, 0, 3.0, 4.0, gate, slow, True) == 0.0 and slow[M_RESCUE] == 0.0
 
 
 def test_gate_vector_layout():

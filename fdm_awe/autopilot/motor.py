@@ -149,17 +149,20 @@ def motor_memory() -> np.ndarray:
 
 
 def motor_update(plan: np.ndarray, seg: int, t: float, track_error: float, gate: np.ndarray,
-                 mem: np.ndarray) -> float:
+                 mem: np.ndarray, slow: bool) -> float:
     """Whether the motor runs this step (1.0, else 0.0) on segment ``seg`` of a reference whose
     plan is ``plan`` (:meth:`MotorGate.plan_vector`), at time ``t`` [s]: as the plan says, or for
     a position error ``track_error`` [m] (the last step's; NaN: none yet) beyond the gate's
-    ``rescue_error_m`` (until it is back below half of that); a switch at least ``min_dwell_s``
-    after the last. ``gate``: :meth:`MotorGate.vector`; ``mem``: the switch's state (layout
-    ``M_*``, :func:`motor_memory`), updated in place."""
+    ``rescue_error_m`` (until it is back below half of that) of a glider that is ``slow`` (flies
+    no faster in the air than its reference point: off its path and faster, e.g. in a dive, it
+    has energy to spare, and the fixed-pitch propeller spun up at that speed draws its power for
+    next to no thrust); a switch at least ``min_dwell_s`` after the last. ``gate``:
+    :meth:`MotorGate.vector`; ``mem``: the switch's state (layout ``M_*``, :func:`motor_memory`),
+    updated in place."""
     want = plan[seg] != 0.0
     if not want:
         e = track_error
-        if e > gate[G_RESCUE_ERROR_M]:
+        if e > gate[G_RESCUE_ERROR_M] and slow:
             mem[M_RESCUE] = 1.0
         elif not e > 0.5 * gate[G_RESCUE_ERROR_M]:  # below half of it, or no error yet (NaN)
             mem[M_RESCUE] = 0.0
@@ -221,16 +224,16 @@ class MotorSwitch:
         """Time of the last switch [s] (-inf before the first)."""
         return float(self.mem[M_SWITCH_T])
 
-    def update(self, ref: TrackingReference, t_cycle: float, t: float, track_error: float) -> bool:
+    def update(self, ref: TrackingReference, t_cycle: float, t: float, track_error: float, slow: bool = True) -> bool:
         """Whether the motor runs this step at cycle time ``t_cycle`` [s] of ``ref``, time ``t``
         [s]: as :meth:`MotorGate.plan` says, or for a position error ``track_error`` [m] (the
-        last step's) beyond the gate's ``rescue_error_m``; a switch at least ``min_dwell_s``
-        after the last (:func:`motor_update`)."""
+        last step's) beyond the gate's ``rescue_error_m`` of a ``slow`` glider; a switch at least
+        ``min_dwell_s`` after the last (:func:`motor_update`)."""
         gate = self.gate
         plan = self._plan
         if plan is None or plan[0] is not ref or plan[1] is not gate:
             plan = self._plan = (ref, gate, gate.plan_vector(ref), gate.vector())
-        return bool(motor_update(plan[2], ref.segment_index(t_cycle), t, track_error, plan[3], self.mem))
+        return bool(motor_update(plan[2], ref.segment_index(t_cycle), t, track_error, plan[3], self.mem, slow))
 
     def ceiling(self, t: float) -> float:
         """The throttle's ceiling at time ``t`` [s] (0 .. 1): rising from 0 to 1 over the gate's
