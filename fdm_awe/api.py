@@ -370,7 +370,7 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
              bank_rate_max: float | None = None, alpha_rate_max: float | None = None,
              catch_speed_max: float | None = None, mesh: str | None = None, starts: int = 1,
              time_budget: float = 180.0, verify: bool = False, aircraft: str | os.PathLike | None = None,
-             verbose: bool = False) -> OptimizeResult:
+             ground_station: str | os.PathLike | None = None, verbose: bool = False) -> OptimizeResult:
     """Optimise one periodic pumping cycle, as ``fdm-awe optimize`` does.
 
     Parameters
@@ -415,9 +415,9 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
         Solver seconds before the optimisation is reported as failed.
     verify : bool
         Re-integrate the optimal controls and add the check (``verification``) to the document.
-    aircraft : str or path, optional
-        The glider: a name of the package's aircraft table (``"glider"``, the default) or a
-        definition folder (``fdm-awe info --export DIR`` writes one to start from).
+    aircraft, ground_station : str or path, optional
+        The glider (a name of the package's aircraft table, ``"glider"``, the default, or a definition folder) and the
+        ground-station definition file (default: the package's); ``fdm-awe info --export DIR`` writes both to start from.
     verbose : bool
         Print the command's lines (progress, summary).
 
@@ -435,7 +435,7 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
                       generator=generator, wind_profile=wind_profile, wind_ref_height=wind_ref_height,
                       bank_rate_max=bank_rate_max, alpha_rate_max=alpha_rate_max, catch_speed_max=catch_speed_max,
                       mesh=mesh, starts=starts, time_budget=time_budget, verify=verify,
-                      aircraft=None if aircraft is None else os.fspath(aircraft))
+                      aircraft=None if aircraft is None else os.fspath(aircraft), ground_station=ground_station)
     with _quiet(verbose):
         problem = O.problem_from_args(args)
         from .ocp.solve import get_nlp, solve_cycle
@@ -474,7 +474,7 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         mavlink_key: str | os.PathLike | None = None, realtime: float | None = None,
         out: str | os.PathLike | None = None, rrd: str | os.PathLike | None = None,
         json: str | os.PathLike | None = None, aircraft: str | os.PathLike | None = None, verbose: bool = False,
-        **options: Any) -> FlightResult:
+        ground_station: str | os.PathLike | None = None, **options: Any) -> FlightResult:
     """Fly pumping cycles of a reference in 6-DOF co-simulation, as ``fdm-awe fly`` does.
 
     Parameters
@@ -515,10 +515,10 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
         Pace against the wall clock at this factor.
     out, rrd, json : path, optional
         Output folder (recording, plots, CSV, report), recording and JSON file, as the command's.
-    aircraft : str or path, optional
-        The glider flown (and optimised without a reference): a name of the package's aircraft
-        table (``"glider"``, the default) or a definition folder; a reference optimised for
-        another aircraft is flown with a warning.
+    aircraft, ground_station : str or path, optional
+        The glider flown (and optimised without a reference): a name of the package's aircraft table (``"glider"``,
+        the default) or a definition folder; the ground-station definition file (default: the package's). A reference
+        optimised for another aircraft or with another station is flown with a warning.
     verbose : bool
         Print the command's lines (progress, the per-cycle table).
     **options
@@ -547,7 +547,7 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
                       mavlink_key=None if mavlink_key is None else os.fspath(mavlink_key), realtime=realtime,
                       out=None if out is None else os.fspath(out), rrd=None if rrd is None else os.fspath(rrd),
                       json=None if json is None else os.fspath(json), quiet=True,
-                      aircraft=None if aircraft is None else os.fspath(aircraft), **options)
+                      aircraft=None if aircraft is None else os.fspath(aircraft), ground_station=ground_station, **options)
     got: dict[str, Any] = {}
     with _quiet(verbose), _keep_plot_backend(), tempfile.TemporaryDirectory(prefix="fdm-awe-api-") as tmp:
         if args.json is None:
@@ -557,10 +557,10 @@ def fly(reference: Any = None, *, scenario: str | None = None, config: str | Non
     return FlightResult(report=got["report"], document=doc, reference=got["reference"], exit_code=code)
 
 
-def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.SWEEP_CONFIGS,
+def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.SWEEP_CONFIGS, verbose: bool = False,
           scenario: str = D.SCENARIO, mesh: str | None = None, workers: int | None = 1,
           scheduler: str | None = None, cold: bool = False, cold_check: bool = True, json: str | os.PathLike | None = None,
-          aircraft: str | os.PathLike | None = None, verbose: bool = False, **options: Any) -> SweepResult:
+          aircraft: str | os.PathLike | None = None, ground_station: str | os.PathLike | None = None, **options: Any) -> SweepResult:
     """Power curves and design sweeps on Dask, as ``fdm-awe sweep`` does.
 
     Parameters
@@ -586,9 +586,9 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
         Also solve warm-started points cold and keep the better (``--no-cold-check`` when False).
     json : path, optional
         Also write the ``--json`` document there.
-    aircraft : str or path, optional
-        The glider of every point: a name of the package's aircraft table (``"glider"``, the
-        default) or a definition folder.
+    aircraft, ground_station : str or path, optional
+        The glider of every point (a name of the package's aircraft table, ``"glider"``, the default, or a
+        definition folder) and the ground-station definition file (default: the package's).
     verbose : bool
         Print the command's lines.
     **options
@@ -605,7 +605,7 @@ def sweep(out: str | os.PathLike, *, wind: str = D.SWEEP_WINDS, config: str = D.
     args = _namespace("sweep", ["--out", os.fspath(out)], wind=wind, config=config, scenario=scenario, mesh=mesh,
                       workers=workers, scheduler=scheduler, cold=cold, no_cold_check=not cold_check,
                       json=None if json is None else os.fspath(json), no_progress=not verbose,
-                      aircraft=None if aircraft is None else os.fspath(aircraft), **options)
+                      aircraft=None if aircraft is None else os.fspath(aircraft), ground_station=ground_station, **options)
     if scheduler is not None and "workers" not in options:
         args.workers = None
     with _quiet(verbose), _keep_plot_backend():

@@ -108,6 +108,16 @@ def test_live_flight_streams_what_the_file_holds(circle, viewer):  # noqa: F811
         assert info.on_timeline == info.rows > 0 and info.values == (0,), entity
     _, _, modes = rrd_values(saved, "/plots/mode/autopilot", "Scalars:scalars")
     assert set(np.asarray(modes, float).ravel()) == {10.0}  # AUTO
+    # the modes by name, streamed slice by slice: the same changes as the file of the flight
+    from fdm_awe.recording import record_flight
+
+    whole = record_flight(rep, circle, saved.with_name("whole.rrd"))
+    for entity, component in (("/modes/autopilot", "StateChange:state"), ("/modes/winch", "StateChange:state"),
+                              ("/mode_changes", "TextLog:text")):
+        live_rows, file_rows = ([(round(t, 6), r) for t, r in zip(*rrd_values(f, entity, component)[1:])]
+                                for f in (saved, whole))
+        assert sorted(live_rows) == sorted(file_rows) and live_rows, (entity, live_rows, file_rows)
+    assert (0.0, ["autopilot AUTO"]) in live_rows
     _, times, strips = rrd_values(saved, "/world/flown/live", "LineStrips3D:strips")
     counts = [sum(len(p) for p in row) for row in strips]
     assert times[:2] == pytest.approx([0.0, 1.0], abs=0.01) and counts[1] > counts[0]

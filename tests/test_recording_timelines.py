@@ -160,6 +160,47 @@ def test_mode_lane_shows_the_switch_to_recover(small_circle, tmp_path):
         assert np.asarray(phase, float).ravel()[-1] == 1.0  # RECOVER flies the recovery phase
 
 
+def _states(path, entity: str) -> tuple[np.ndarray, list[str]]:
+    """Times [s] and names of the state changes of lane ``entity``."""
+    _, t, rows = rrd_values(path, entity, "StateChange:state")
+    return np.asarray(t, float), [r[0] for r in rows]
+
+
+def test_the_modes_are_named_where_they_change(small_circle, tmp_path):
+    """The switch to RECOVER of the buffered and of the report's recording, by name: the
+    autopilot's lane AUTO from the first row, then RECOVER within one scene frame (1/30 s) of
+    the switch; the log of mode changes says ``AUTO -> RECOVER`` there as a warning, with the
+    phase's change to recovery and the winch's modes by name; the blueprint holds the state
+    lanes and the text view of the changes beside the numeric lane."""
+    from fdm_awe.recording.blueprint import MODE_LOG, STATE_PANEL
+    from fdm_awe.recording.inspect import rrd_view_classes
+
+    rep, from_report, from_buffer = _switched_flight(small_circle, tmp_path)
+    t_switch, frame = 240 / 120.0, 1.0 / 30.0
+    for path in (from_report, from_buffer):
+        t, names = _states(path, "/modes/autopilot")
+        assert names == ["AUTO", "RECOVER"] and t[0] == pytest.approx(0.0), (path, names)
+        assert abs(t[1] - t_switch) <= frame, (path, t)
+        tw, winch = _states(path, "/modes/winch")
+        assert set(winch) <= {"generator", "motor"} and winch and all(a != b for a, b in zip(winch, winch[1:])), path
+        _, tt, texts = rrd_values(path, "/" + MODE_LOG, "TextLog:text")
+        _, _, levels = rrd_values(path, "/" + MODE_LOG, "TextLog:level")
+        log = [(float(x), str(m[0]), str(lv[0])) for x, m, lv in zip(tt, texts, levels)]
+        assert (0.0, "autopilot AUTO", "INFO") in log, log
+        hit = [e for e in log if e[1] == "autopilot AUTO -> RECOVER"]
+        assert len(hit) == 1 and abs(hit[0][0] - t_switch) <= frame and hit[0][2] == "WARN", log
+        rec = [e for e in log if e[1] == "phase generation -> recovery"]
+        assert len(rec) == 1 and abs(rec[0][0] - t_switch) <= frame, log  # RECOVER flies the recovery phase
+        assert [e[1].split()[-1] for e in log if e[1].startswith("winch")] == winch, log
+        # the numeric lane stays, lined up with the plots, and steps at the same time
+        _, tn, rows = rrd_values(path, "/plots/mode/autopilot", "Scalars:scalars")
+        tn, v = np.asarray(tn), np.asarray(rows, float).ravel()
+        assert np.min(tn[v == MODE_NUMBERS["RECOVER"]]) == pytest.approx(t[1], abs=1e-6), path
+        kinds = rrd_view_classes(path)
+        assert kinds.get("mode changes") == "TextLog" and kinds.get(STATE_PANEL) == "StateTimeline", kinds
+        assert "modes/**" in rrd_views(path)[STATE_PANEL]
+
+
 def test_a_flight_started_in_recover_records_recover_from_its_first_row(small_circle, tmp_path):
     from fdm_awe.sim.flight import fly
 

@@ -47,8 +47,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tether-drag-scale", type=float, default=D.TETHER_DRAG_SCALE, metavar="F",
                    help=f"factor on the line drag, physical scenario, 0..10 (sensitivity study; default "
                         f"{D.TETHER_DRAG_SCALE:g} = the defined line)")
+    from ._station import add_station_arg
     from .optimize import add_plant_model_args, add_wind_profile_args
 
+    add_station_arg(p, "the ground station of both cycles (its drive and line; physical scenario)")
     add_plant_model_args(p)
     add_wind_profile_args(p)
     p.add_argument("--time-budget", type=float, default=120.0, metavar="S",
@@ -144,8 +146,10 @@ def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, d
 
 def run(args: argparse.Namespace) -> int:
     from . import _checks as chk
+    from ._station import station_from_args
     from .optimize import check_plant_args, check_solver_args, parse_mesh, wind_profile_from_args
 
+    station = station_from_args(args)  # its file checked first (a bad file names --ground-station)
     check_solver_args(args)
     check_plant_args(args)
     profile = wind_profile_from_args(args)
@@ -161,7 +165,8 @@ def run(args: argparse.Namespace) -> int:
                                        propeller=getattr(args, "propeller", None),
                                        line_weight=getattr(args, "line_weight", None),
                                        line=getattr(args, "line", None),
-                                       generator=getattr(args, "generator", None), wind_profile=profile).validate()
+                                       generator=getattr(args, "generator", None), wind_profile=profile,
+                                       ground_station=station).validate()
                 for cfg in ("nominal", "foldable") for w in winds}
     out: dict[tuple[str, float], dict] = {}
     for (cfg, w), pr in problems.items():
@@ -185,6 +190,7 @@ def run(args: argparse.Namespace) -> int:
                "wind_profile": profile.as_dict(),
                "plant": {"line": pr.line, "propeller": pr.propeller, "line_weight": pr.line_weight,
                          "generator": pr.generator},
+               "ground_station": station.record(),
                "paper_table3_as_printed": PAPER_TABLE3, "sign_note": "ours: gains > 0; paper Table 3: gains < 0",
                "results": res, "zero_wind": zero,
                "zero_wind_verdict": None if zero is None else {c: zero_wind_verdict(args.scenario, z) for c, z in zero.items()}}

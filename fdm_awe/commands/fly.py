@@ -54,7 +54,8 @@ from typing import Any, Callable
 from .. import defaults as D
 from ..errors import EXIT_INTERRUPTED, InputError
 from ..fileio import write_json
-from ._aircraft import add_aircraft_arg, aircraft_from_args, check_reference_aircraft
+from ._aircraft import add_aircraft_arg, aircraft_from_args
+from ._station import add_station_arg, check_reference_definitions, station_from_args
 from . import _checks as chk
 from .optimize import (NOMINAL_DEFAULT_WHY, add_margin_args, add_plant_model_args, add_smoothness_args,
                        add_wind_profile_args, check_plant_args, margin_bounds, smoothness_bounds, wind_profile_from_args)
@@ -152,8 +153,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--config", choices=("foldable", "nominal"), default=None,
                    help=f"foldable folds for recovery, nominal never folds; default the --reference file's, else {D.CONFIG} ("
                         + NOMINAL_DEFAULT_WHY + ")")
-    add_aircraft_arg(p, "the glider flown (and optimised, when fly optimises the reference; a --reference optimised "
-                        "for another aircraft is flown with a warning)")
+    add_aircraft_arg(p, "the glider flown (and optimised, when fly optimises the reference; a --reference optimised for another aircraft is flown with a warning)")
+    add_station_arg(p, "the ground station flown (and optimised with; a --reference optimised with another is flown with a warning)")
     p.add_argument("--allow-mismatch", action="store_true",
                    help="fly a --reference with a --config/--scenario other than the one it was optimised for (a warning "
                         "is printed; without this option the mismatch is refused)")
@@ -229,7 +230,7 @@ def _check(args: argparse.Namespace) -> None:
     """Every option on its own (ranges, forms) and the options a reference fixes."""
     from ..groundstation.tether import TETHER_DRAG_SCALE_MAX
 
-    aircraft_from_args(args)  # the aircraft's files checked first (a missing file names --aircraft)
+    aircraft_from_args(args), station_from_args(args)  # their files checked first (errors name --aircraft, --ground-station)
     chk.integer(args.cycles, "--cycles", 1, 1000, what="pumping cycles")
     chk.number(args.dt, "--dt", 1e-4, 0.05, unit="s", what="co-simulation step")
     chk.number(args.wind, "--wind", 0.0, 25.0, unit="m/s", what="wind speed")
@@ -321,7 +322,7 @@ def reference_problem(args: argparse.Namespace):
                         propeller=args.propeller, line_weight=args.line_weight, line=args.line,
                         generator=args.generator, line_model=args.line_model or "straight",
                         wind_profile=wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO),
-                        aircraft=aircraft_from_args(args)).validate()
+                        aircraft=aircraft_from_args(args), ground_station=station_from_args(args)).validate()
 
 
 def optimise_reference(problem):
@@ -557,7 +558,7 @@ def _checked_reference(args: argparse.Namespace, ref: Any, source: object) -> An
     """``ref`` (from ``source``) checked against the options: its configuration and scenario,
     the turbulence form against its wind; ``args.config`` defaults to the reference's."""
     check_reference_options(args, ref.meta, source)
-    check_reference_aircraft(ref.meta, aircraft_from_args(args), source)
+    check_reference_definitions(ref.meta, args, source)
     if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
         from ..sim.flight import turbulence_setting
 
@@ -568,9 +569,8 @@ def _checked_reference(args: argparse.Namespace, ref: Any, source: object) -> An
 
 
 def _read_reference(args: argparse.Namespace) -> Any:
-    """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference`
-    (checked field by field, one-line errors), its configuration and scenario checked against
-    the options; ``args.config`` defaults to the reference's."""
+    """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference` (checked field by
+    field, one-line errors), its configuration and scenario against the options; ``args.config`` defaults to its."""
     from ..autopilot.tracking import TrackingReference
 
     return _checked_reference(args, TrackingReference.from_ocp_file(args.reference), args.reference)
@@ -596,7 +596,7 @@ def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any]
     first = refs.entries[0]
     check_reference_options(args, first.reference.meta, first.source)
     for e in refs.entries:
-        check_reference_aircraft(e.reference.meta, aircraft_from_args(args), e.source)
+        check_reference_definitions(e.reference.meta, args, e.source)
     args.config = args.config or (first.reference.meta.get("config") if first.reference.meta.get("config") in
                                   ("foldable", "nominal") else DEFAULT_CONFIG)
     start_w = args.start_wind if args.start_wind is not None else args.wind
@@ -756,7 +756,7 @@ def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: flo
         report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
                             on_step=hooks.on_step if hooks.per_step else None, params=params, setup=hooks.setup,
                             plant=plant, tether_drag_scale=scale, tether=args.tether, references=refs,
-                            flight_wind=flight_wind, aircraft=aircraft_from_args(args))
+                            flight_wind=flight_wind, aircraft=aircraft_from_args(args), ground_station=station_from_args(args))
         if hooks.endpoint is not None:
             hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
             if (stay is not None and not getattr(args, "exit_after_cycles", False) and report.status != "interrupted"

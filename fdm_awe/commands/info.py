@@ -2,7 +2,8 @@
 sizing of every tether line (rated tension, safety factor, breaking load, diameter, mass per
 length, EA, equivalent line drag coefficient at the shortest and longest working line).
 
-``--aircraft NAME|DIR`` shows another aircraft (:mod:`fdm_awe.definitions.catalog`);
+``--aircraft NAME|DIR`` shows another aircraft (:mod:`fdm_awe.definitions.catalog`),
+``--ground-station FILE`` another ground-station definition (:mod:`fdm_awe.groundstation.source`);
 ``--export DIR`` writes a copy of the aircraft's definition (and of the ground station's) to
 start from: a new or empty folder, or with ``--force`` any folder (the copy's files replaced).
 
@@ -16,6 +17,7 @@ import math
 from typing import Any
 
 from ._aircraft import add_aircraft_arg, aircraft_from_args
+from ._station import add_station_arg, station_from_args
 
 HELP = "show the airframe, propulsion and ground-station definitions and the reference glide"
 
@@ -23,6 +25,7 @@ HELP = "show the airframe, propulsion and ground-station definitions and the ref
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the numbers as JSON (NaN written as null)")
     add_aircraft_arg(p, "the aircraft shown (and exported)")
+    add_station_arg(p, "the ground station shown (and exported as tether/ground_station.xml)")
     p.add_argument("--export", metavar="DIR",
                    help="write a copy of the aircraft's definition (aircraft/, engine/) and of the ground station's "
                         "(tether/) into DIR, a new or empty folder, to start your own definitions from (--aircraft DIR "
@@ -32,10 +35,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "files kept)")
 
 
-def export_definitions(dest: str, option: str = "--export", aircraft: Any = None, force: bool = False) -> list[str]:
+def export_definitions(dest: str, option: str = "--export", aircraft: Any = None, force: bool = False,
+                       station: Any = None) -> list[str]:
     """Copy the definition of ``aircraft`` (:meth:`~fdm_awe.definitions.catalog.Aircraft.files`;
     None: the package's glider) and the ground station's folder ``tether/`` of
-    :data:`fdm_awe.ROOT` into ``dest`` (a new or empty folder, or with ``force`` any folder;
+    :data:`fdm_awe.ROOT` (its ``ground_station.xml`` the file of ``station``,
+    :func:`~fdm_awe.groundstation.source.resolve_ground_station`; None: the package's) into ``dest`` (a new or empty folder, or with ``force`` any folder;
     anything else is refused in one line naming ``option``, before anything is written). The copy
     is made in a temporary folder next to ``dest`` and renamed into place, so ``dest`` holds all
     of it or nothing; with ``force`` into a folder that is not empty, each file is replaced
@@ -50,10 +55,14 @@ def export_definitions(dest: str, option: str = "--export", aircraft: Any = None
     from ..errors import InputError
     from ..fileio import check_name_length
 
+    from ..groundstation.definitions import DEFAULT_PATH
+    from ..groundstation.source import resolve_ground_station
+
     a = resolve_aircraft(aircraft)
+    st = resolve_ground_station(station)
     skip = shutil.ignore_patterns("__pycache__", "*.py[cod]", "__init__.py")
     sources = [(p, p.relative_to(a.root)) for p in a.files()]
-    sources += [(p, p.relative_to(ROOT)) for p in sorted((ROOT / "tether").rglob("*"))
+    sources += [(st.path if p == DEFAULT_PATH else p, p.relative_to(ROOT)) for p in sorted((ROOT / "tether").rglob("*"))
                 if p.is_file() and not skip(str(p.parent), [p.name]) and "__pycache__" not in p.parts]
 
     d = Path(dest)
@@ -141,29 +150,34 @@ def drive_text(d: dict[str, float]) -> str:
     return text
 
 
-def ground_station_info(wing_area: float, aircraft: Any = None) -> dict[str, object]:
+def ground_station_info(wing_area: float, aircraft: Any = None, station: Any = None) -> dict[str, object]:
     """Print the winch and the sizing of every tether line of the ground-station definition
-    (:func:`fdm_awe.groundstation.line.line_summary` at the optimiser's shortest and longest
-    working line, drag coefficient on the unfolded wing area ``wing_area`` [m^2]); return them
-    for the JSON (``ground_station``, ``lines`` by name, ``default_line`` per scenario)."""
-    from ..groundstation import load_ground_station
+    ``station`` (:func:`~fdm_awe.groundstation.source.resolve_ground_station`; None: the
+    package's) (:func:`fdm_awe.groundstation.line.line_summary` at the optimiser's shortest and
+    longest working line, drag coefficient on the unfolded wing area ``wing_area`` [m^2]); return
+    them for the JSON (``ground_station`` with the file's record, ``lines`` by name,
+    ``default_line`` per scenario)."""
     from ..groundstation.line import DEFAULT_LINE, LINES, line_summary
+    from ..groundstation.source import resolve_ground_station
     from ..ocp.problem import PLANT_DEFAULTS, working_lengths
 
-    gs = load_ground_station()
+    st = resolve_ground_station(station)
+    gs = st.load()
     w, m, c = gs.winch, gs.machine, gs.converter
-    print(f"ground station: {gs.path}  drum r {w.radius:g} m  DC machine k {m.k:.4g} V s/rad  R {m.resistance:g} ohm  "
+    whose = "the package's" if st.builtin else "--ground-station"
+    print(f"ground station: {gs.path}  ({whose}; sha256 {st.sha256[:12]})")
+    print(f"                drum r {w.radius:g} m  DC machine k {m.k:.4g} V s/rad  R {m.resistance:g} ohm  "
           f"supply {c.supply_voltage:g} V  load {c.load_resistance:g} ohm")
     drive = drive_info(gs, aircraft)
     print(drive_text(drive))
     defaults = {scn: str(d["line"]) for scn, d in PLANT_DEFAULTS.items()}
     lines: dict[str, object] = {}
     for name in LINES:
-        ls = line_summary(load_ground_station(line=name), lengths=working_lengths(), wing_area=wing_area)
+        ls = line_summary(st.load(name), lengths=working_lengths(), wing_area=wing_area)
         users = [scn for scn, n in defaults.items() if n == name]
         print(ls.text() + (f"  [default of the {' and '.join(users)} scenario]" if users else ""))
         lines[name] = ls.as_dict()
-    return {"ground_station": {"path": gs.path, "drum_radius_m": w.radius, "motor_constant_V_s_per_rad": m.k,
+    return {"ground_station": {**st.record(), "path": gs.path, "drum_radius_m": w.radius, "motor_constant_V_s_per_rad": m.k,
                                "armature_resistance_ohm": m.resistance, "supply_voltage_V": c.supply_voltage,
                                "load_resistance_ohm": c.load_resistance, "drive": drive},
             "lines": lines, "default_line": {"file": DEFAULT_LINE, **defaults}}
@@ -177,7 +191,8 @@ def run(args: argparse.Namespace) -> int:
             from ..errors import InputError
 
             raise InputError("--json: not with --export (the export writes the definition files only)")
-        files = export_definitions(args.export, aircraft=aircraft_from_args(args), force=args.force)
+        files = export_definitions(args.export, aircraft=aircraft_from_args(args), force=args.force,
+                                   station=station_from_args(args))
         print(f"exported {len(files)} definition files to {args.export}: " + ", ".join(files))
         print(f"{args.export} has the layout of the package's definition root (a JSBSim root: aircraft/NAME/NAME.xml, "
               f"engine/*.xml, tether/ground_station.xml); --aircraft {args.export} flies it")
@@ -189,7 +204,7 @@ def run(args: argparse.Namespace) -> int:
     chk.outputs(files=[("--json", args.json)])
     from ..pointmass.performance import steady_glide
 
-    aircraft = aircraft_from_args(args)
+    aircraft, station = aircraft_from_args(args), station_from_args(args)
     glider = aircraft.glider()
     print(f"aircraft: {aircraft.label()}  ({aircraft.root}, {aircraft.jsbsim_name('foldable')}; sha256 "
           f"{aircraft.sha256[:12]})")
@@ -212,7 +227,7 @@ def run(args: argparse.Namespace) -> int:
           f"T_max {p.T_max:g} N; paper: P = {p.PT0:g} + {p.PT1:g} T + {p.PT2:g} T^2")
     out["propulsion"] = {"P0_W": p.P0, "eta_prop": p.eta_prop, "eta_motor": p.eta_motor, "disk_area_m2": p.disk_area,
                          "T_max_N": p.T_max}
-    out.update(ground_station_info(glider.unfolded.aero.S, aircraft))
+    out.update(ground_station_info(glider.unfolded.aero.S, aircraft, station))
     if args.json:
         from ..fileio import write_json
 

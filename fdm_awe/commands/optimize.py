@@ -14,6 +14,7 @@ from typing import Any
 
 from .. import defaults as D
 from ._aircraft import add_aircraft_arg, aircraft_from_args
+from ._station import add_station_arg, station_from_args
 
 HELP = "optimise one periodic pumping cycle (generation + recovery) and write the reference trajectory"
 
@@ -27,6 +28,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--config", choices=("nominal", "foldable"), default=D.CONFIG,
                    help="nominal: unfolded throughout; foldable: folded for recovery; " + NOMINAL_DEFAULT_WHY)
     add_aircraft_arg(p, "the glider optimised (the reference records it)")
+    add_station_arg(p, "the ground station optimised with (its drive and line; the reference records it)")
     p.add_argument("--wind", type=float, default=D.WIND_MPS, metavar="M_S",
                    help=f"wind speed magnitude [m/s], 0..25 (default {D.WIND_MPS:g})")
     p.add_argument("--wind-from", type=float, default=D.WIND_FROM_DEG, metavar="DEG",
@@ -218,7 +220,7 @@ def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_
                     what="reel-in speed margin below the drive's fastest")
     rm = reel_in_default if rm is None else rm
     if rm > 0.0:  # below the fastest reel-in of the drive the cycle is optimised for (--supply-voltage)
-        out["reel_in_speed_max"] = drive_reel_in_speed(getattr(args, "supply_voltage", None)) / (1.0 + rm)
+        out["reel_in_speed_max"] = drive_reel_in_speed(getattr(args, "supply_voltage", None), station_from_args(args)) / (1.0 + rm)
     return out
 
 
@@ -226,17 +228,17 @@ def margin_bounds(args: argparse.Namespace, tension_default: float = 0.0, stall_
 REEL_IN_MARGIN_MAX = 1.0
 
 
-def drive_reel_in_speed(supply_voltage: float | None = None) -> float:
+def drive_reel_in_speed(supply_voltage: float | None = None, station: Any = None) -> float:
     """The drive's fastest reel-in [m/s]: a slack line at full duty from the supply of the
-    ground-station definition, or from ``supply_voltage`` [V] where given (``--supply-voltage``)
-    (:func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`; what the optimiser's reel-in
-    bound is without a margin)."""
+    ground-station definition ``station`` (None: the package's), or from ``supply_voltage`` [V]
+    where given (``--supply-voltage``) (:func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`;
+    what the optimiser's reel-in bound is without a margin)."""
     from dataclasses import replace
 
-    from ..groundstation import load_ground_station
+    from ..groundstation.source import station_params
     from ..groundstation.steady import motor_max_reel_in_speed
 
-    gs = load_ground_station()
+    gs = station_params(station)
     if supply_voltage is not None:
         gs = replace(gs, converter=replace(gs.converter, supply_voltage=float(supply_voltage)))
     return float(motor_max_reel_in_speed(0.0, gs))
@@ -366,22 +368,16 @@ T_MAX_LIMIT = 600.0
 REEL_IN_LIMIT = 50.0
 
 
-def _drum_capacity() -> float:
-    """The drum's capacity [m] (``tether/max_length`` of the ground-station definition)."""
-    from ..groundstation import load_ground_station
-
-    return load_ground_station().tether.max_length
-
-
 def problem_from_args(args: argparse.Namespace):
     """Build and validate the :class:`CycleProblem` from command-line arguments."""
     from ..ocp.problem import Bounds, CycleProblem
     from . import _checks as chk
 
     aircraft = aircraft_from_args(args)  # its files checked first (a missing file names --aircraft)
+    station = station_from_args(args)  # so is the ground station's (a bad file names --ground-station)
     check_solver_args(args)
     check_plant_args(args)
-    drum = _drum_capacity()
+    drum = station.load().tether.max_length  # the drum's capacity [m]
     chk.number(args.d0, "--d0", 0.0, drum, lo_open=True, hi_open=True, unit="m (below the drum's capacity)",
                what="tether length at the cycle start")
     chk.number(args.d_tf, "--d-tf", args.d0, drum, lo_open=True, unit="m (above --d0, up to the drum's capacity)",
@@ -428,7 +424,8 @@ def problem_from_args(args: argparse.Namespace):
                         fold_time=fold_time, recovery_tension=getattr(args, "recovery_tension", None),
                         supply_voltage=volts,
                         wind_profile=wind_profile_from_args(args),
-                        line_model=getattr(args, "line_model", None) or "straight", aircraft=aircraft).validate()
+                        line_model=getattr(args, "line_model", None) or "straight", aircraft=aircraft,
+                        ground_station=station).validate()
 
 
 def print_summary(res, file=None) -> None:
@@ -442,6 +439,8 @@ def print_summary(res, file=None) -> None:
         head += f" / {plant_text(res.problem)}"
         if res.problem.aircraft is not None and not res.problem.aircraft.builtin:
             head += f" / aircraft {res.problem.aircraft.label()}"
+        if res.problem.ground_station is not None and not res.problem.ground_station.builtin:
+            head += f" / ground station {res.problem.ground_station.label()}"
     if not res.ok:
         print(f"{head}: FAILED ({res.reason}) after {res.iterations} iterations, {res.solve_s:.2f} s", file=file)
         return

@@ -41,6 +41,7 @@ import math
 from typing import Any
 
 from ._aircraft import add_aircraft_arg
+from ._station import add_station_arg, station_from_args
 
 HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
 
@@ -50,9 +51,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("--wind", default=D.SWEEP_WINDS, metavar="SPEC",
                    help=f"wind speeds [m/s], each 0..25: START:STOP:STEP or a comma list (default {D.SWEEP_WINDS})")
-    p.add_argument("--config", default=D.SWEEP_CONFIGS,
-                   help=f"configurations: nominal,foldable (default {D.SWEEP_CONFIGS})")
+    p.add_argument("--config", default=D.SWEEP_CONFIGS, help=f"configurations: nominal,foldable (default {D.SWEEP_CONFIGS})")
     add_aircraft_arg(p, "the glider of every point (its design axes vary it; a changed folder's points are new points)")
+    add_station_arg(p, "the ground station of every point (a changed file's points are new points)")
     p.add_argument("--scenario", default=D.SCENARIO, choices=("physical", "paper"),
                    help=f"scenario family (default {D.SCENARIO})")
     p.add_argument("--folded-span", metavar="LIST", help="folded spans b_f [m] (default: the folded definition's)")
@@ -159,7 +160,7 @@ def check_args(args: argparse.Namespace) -> None:
     from . import _checks as chk
     from ._aircraft import aircraft_from_args
 
-    aircraft_from_args(args)
+    aircraft_from_args(args), station_from_args(args)  # their files checked first
 
     chk.integer(args.max_iter, "--max-iter", *MAX_ITER_RANGE, what="IPOPT iterations per solve")
     chk.integer(args.max_iter_total, "--max-iter-total", *MAX_ITER_TOTAL_RANGE, what="IPOPT iterations per point")
@@ -222,6 +223,15 @@ def _aircraft_fields(args: argparse.Namespace) -> dict[str, str | None]:
     return {"aircraft": a.name if a.builtin else str(a.root), "aircraft_sha256": a.sha256}
 
 
+def _station_fields(args: argparse.Namespace) -> dict[str, str | None]:
+    """The spec's ``ground_station`` and ``ground_station_sha256`` of ``--ground-station`` (both
+    None for the package's: its points keep their ids)."""
+    st = station_from_args(args)
+    if st.builtin:
+        return {"ground_station": None, "ground_station_sha256": None}
+    return {"ground_station": str(st.path), "ground_station_sha256": st.sha256}
+
+
 def build_spec(args: argparse.Namespace):
     """The :class:`~fdm_awe.sweep.spec.SweepSpec` of the command line (canonical ids)."""
     from ..ocp.problem import CONFIGS
@@ -251,7 +261,7 @@ def build_spec(args: argparse.Namespace):
         diameters = parse_floats(args.line_diameter, "--line-diameter", "m", *LINE_DIAMETER_RANGE)
         for d in diameters:  # the sized line resized: its breaking load must reach the rated tension
             try:
-                line_station("sized", d)
+                line_station("sized", d, station_from_args(args))
             except InputError as exc:
                 raise InputError(f"--line-diameter {args.line_diameter!r}: {exc}") from None
     spec = SweepSpec(
@@ -273,7 +283,7 @@ def build_spec(args: argparse.Namespace):
         stall_margin=(float(args.stall_margin or 0.0) if bounds == "table3" or args.stall_margin is not None
                       else FLYABLE_STALL_MARGIN),  # checked above
         line_model=getattr(args, "line_model", None) or "straight",
-        bounds=bounds, **_aircraft_fields(args),
+        bounds=bounds, **_aircraft_fields(args), **_station_fields(args),
     ).validate()
     return canonical_spec(spec)
 

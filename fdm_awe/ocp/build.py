@@ -13,7 +13,7 @@ from collections import OrderedDict
 from ..definitions.aircraft import Glider, load_glider
 from . import nlpcache
 from .collocation import CycleNLP
-from .energy import WinchElectrics
+from .energy import WinchElectrics, problem_winch
 from .model import CycleModel
 from .problem import CycleProblem
 
@@ -26,12 +26,13 @@ CACHE_SIZE = 8
 
 def structure_key(problem: CycleProblem) -> tuple:
     """Everything that shapes the NLP except the wind (a parameter); the aircraft by its
-    definition and the hash of its files (a folder changed between two solves is a new NLP)."""
+    definition and the hash of its files (a folder changed between two solves is a new NLP), the
+    ground station by its file and the hash of its bytes."""
     return (problem.scenario, problem.config, problem.d0, problem.d_tf, problem.elevation0_deg, problem.azimuth0_deg,
             problem.bounds, problem.mesh, problem.tether_drag_scale, problem.propeller,
             problem.line_weight, problem.line, problem.fold_time, problem.generator, problem.wind_profile,
             problem.line_model, problem.recovery_tension, problem.supply_voltage, problem.aircraft,
-            None if problem.aircraft is None else problem.aircraft.sha256)
+            None if problem.aircraft is None else problem.aircraft.sha256, problem.ground_station)
 
 
 def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchElectrics | None = None,
@@ -51,7 +52,7 @@ def get_nlp(problem: CycleProblem, glider: Glider | None = None, winch: WinchEle
     if cache and key in _CACHE:
         _CACHE.move_to_end(key)
         return _CACHE[key], 0.0
-    model = CycleModel.build(problem, glider or load_glider(problem.aircraft), winch or WinchElectrics.from_ground_station(line=problem.line))
+    model = CycleModel.build(problem, glider or load_glider(problem.aircraft), winch or problem_winch(problem))
     nlp = nlpcache.load(problem, model) if disk_cache else None
     if nlp is None:
         nlp = CycleNLP(problem, model)

@@ -110,6 +110,14 @@ class WinchElectrics:
         return max(omega, 0.0) * self.r_w
 
 
+def problem_winch(problem: Any) -> WinchElectrics:
+    """The :class:`WinchElectrics` of a :class:`~fdm_awe.ocp.problem.CycleProblem`: its ground
+    station (``problem.ground_station``; None: the package's) with its tether line."""
+    from ..groundstation.source import station_params
+
+    return WinchElectrics.from_ground_station(station_params(getattr(problem, "ground_station", None), problem.line))
+
+
 def smooth_pos(a: Any, eps: float) -> Any:
     """Smooth ``max(0, a)``: ``(a + sqrt(a^2 + eps^2)) / 2``."""
     return 0.5 * (a + mo.sqrt(a * a + eps * eps))

@@ -16,6 +16,7 @@ from ..definitions.aircraft import FOLD_TIME_MAX_S
 from ..definitions.catalog import Aircraft, resolve_aircraft
 from ..errors import InputError
 from ..groundstation.line import check_line, check_line_model
+from ..groundstation.source import StationFile, resolve_ground_station
 from ..groundstation.tether import check_tether_drag_scale
 from ..trajectory.schema import CONFIGS, GENERATORS, PROPELLERS, SCENARIOS
 from ..wind import WindProfile
@@ -259,8 +260,8 @@ class CycleProblem:
     #: (the line never pulls in recovery). None: the scenario's default (``free`` in
     #: ``physical``; always ``slack`` in ``paper``, whose reel-in power is a constant)
     recovery_tension: str | None = None
-    #: the winch's supply voltage V_a [V] (physical scenario; None: the ground-station
-    #: definition's, 24 V, an estimate: the paper gives none). A design variable of the drive: it
+    #: the winch's supply voltage V_a [V] (physical scenario; None: the one of the definition
+    #: :attr:`ground_station`; the paper gives none). A design variable of the drive: it
     #: sets the full-duty reel-in speed (5.36 m/s at 24 V on a slack line). The optimiser's only;
     #: a flight flies the definition's drive
     supply_voltage: float | None = None
@@ -277,6 +278,10 @@ class CycleProblem:
     #: problem is made from a table name or a definition folder: ``--aircraft``). None: the
     #: package's glider
     aircraft: Aircraft | None = None
+    #: the ground station optimised with (:class:`~fdm_awe.groundstation.source.StationFile`,
+    #: resolved when the problem is made from a definition file: ``--ground-station``): its
+    #: drive, line and calibrated line model. None: the package's ``tether/ground_station.xml``
+    ground_station: StationFile | None = None
 
     def __post_init__(self) -> None:
         # None = the scenario's default; an unknown scenario is left for validate() to name
@@ -286,6 +291,8 @@ class CycleProblem:
                 object.__setattr__(self, name, value)
         if not isinstance(self.aircraft, Aircraft):
             object.__setattr__(self, "aircraft", resolve_aircraft(self.aircraft, "aircraft"))
+        if not isinstance(self.ground_station, StationFile):
+            object.__setattr__(self, "ground_station", resolve_ground_station(self.ground_station, "ground_station"))
 
     def validate(self) -> "CycleProblem":
         Scenario.named(self.scenario)

@@ -114,5 +114,7 @@ class CycleResult:
                        "bounds": {k: v for k, v in pr.bounds.__dict__.items()}})
             if pr.aircraft is not None:  # which aircraft (table name or folder, content hash)
                 md["aircraft"] = pr.aircraft.record()
+            if pr.ground_station is not None:  # which ground station ("default" or the file, content hash)
+                md["ground_station"] = pr.ground_station.record()
         return md
 

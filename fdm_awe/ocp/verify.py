@@ -32,7 +32,7 @@ from scipy.integrate import solve_ivp
 
 from ..definitions.aircraft import load_glider
 from ..pointmass.model import wind_vector
-from .energy import WinchElectrics
+from .energy import problem_winch
 from .model import CycleModel
 from .result import CycleResult
 
@@ -103,7 +103,7 @@ def verify(result: CycleResult, nlp: Any = None, model: CycleModel | None = None
         raise ValueError(f"cannot verify a {result.status} result")
     pr = result.problem
     if model is None:
-        model = nlp.model if nlp is not None else CycleModel.build(pr, load_glider(pr.aircraft), WinchElectrics.from_ground_station(line=pr.line))
+        model = nlp.model if nlp is not None else CycleModel.build(pr, load_glider(pr.aircraft), problem_winch(pr))
     wind = wind_vector(result.wind_mps, result.wind_from_deg)[:2]
     d = pr.mesh.degree
     names = ("x", "y", "z", "V", "gamma", "psi", "l")

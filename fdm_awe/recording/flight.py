@@ -9,7 +9,8 @@ reference-trajectory file (or trajectory / CycleResult) the same way.
 A flight is recorded in three parts, which :class:`~fdm_awe.recording.stream.LiveFlight` also
 uses to stream a flight to a viewer while it is flown: :func:`log_flight_start` (the static
 scene: ground, winch, wind, reference path, airframe), :func:`log_flight_rows` (everything
-over time: pose, wing, tether, forces, plots, the mode lane, phase, the path flown so far every
+over time: pose, wing, tether, forces, plots, the mode lane (numbers, lined up with the plots)
+and the modes by name (state lanes and a log of the changes), phase, the path flown so far every
 second; callable for consecutive slices of rows) and :func:`log_flight_end` (the whole flown
 path, the event log and the report). Every temporal row carries its cycle on the ``cycle``
 timeline (:class:`~fdm_awe.recording.rrd.CycleClock`, fed by :func:`log_flight_rows`).
@@ -29,7 +30,7 @@ import numpy as np
 
 from ..mode_table import MODE_NUMBERS
 from ..sim.cycles import OTHER_PHASE, PHASE_CODES
-from .blueprint import cycle_blueprint, flight_blueprint
+from .blueprint import MODE_LANES, MODE_LOG, cycle_blueprint, flight_blueprint
 from .forces import GliderForces, flight_forces
 from .rrd import RecordingSink, RrdFile
 from .scene import REFERENCE_COLOR, recorded_aircraft, scene_extent
@@ -110,6 +111,18 @@ MODE_PLOTS: dict[str, tuple[str, str, tuple[int, int, int]]] = {
               + f", {OTHER_PHASE} other)", (44, 160, 44)),
 }
 
+#: the named mode lanes (state timelines under :data:`~.blueprint.MODE_LANES`): key -> (entity,
+#: state name -> colour); the autopilot's modes (fdm_awe.mode_table) and the winch's two modes
+MODE_STATES: dict[str, tuple[str, dict[str, tuple[int, int, int]]]] = {
+    "autopilot": (f"{MODE_LANES}/autopilot", {"MANUAL": (127, 127, 127), "FBWA": (148, 103, 189), "AUTO": (31, 119, 180),
+                                               "RECOVER": (214, 39, 40), "LOITER": (255, 127, 14),
+                                               "GUIDED": (188, 189, 34)}),
+    "winch": (f"{MODE_LANES}/winch", {"generator": (44, 160, 44), "motor": (214, 39, 40)}),
+}
+#: the level of a change into an autopilot mode in the log of mode changes (every other mode
+#: and the winch's and the phase's changes: INFO): leaving the pumping cycle is a warning
+MODE_LEVELS: dict[str, str] = {"MANUAL": "WARN", "FBWA": "WARN", "RECOVER": "WARN", "LOITER": "WARN", "GUIDED": "WARN"}
+
 _COLORS = {"generated": (44, 160, 44), "thrust": (214, 39, 40), "reel_in": (255, 127, 14), "net": (31, 119, 180),
            "winch_electrical": (31, 119, 180), "propeller": (214, 39, 40), "lift": (31, 119, 180),
            "drag": (255, 127, 14), "tether": (148, 103, 189)}
@@ -183,6 +196,8 @@ class RowsSent:
     path_runs: list[tuple[str, np.ndarray]] = field(default_factory=list)
     path_run: tuple[str, list[np.ndarray]] | None = None
     path_next: float = -np.inf  #: simulation time [s] from which the path so far is sent again
+    #: the last named state sent per lane of the mode changes (``autopilot``, ``winch``, ``phase``)
+    modes: dict[str, str] = field(default_factory=dict)
     path_last: float = -np.inf  #: simulation time [s] of the last point kept
 
 
@@ -202,6 +217,50 @@ def _send_modes(rf: RecordingSink, s: Series, rows: np.ndarray) -> None:
         keep = np.unique(np.r_[rows, change, change - 1].astype(int))
         entity, label, color = MODE_PLOTS[key]
         rf.scalars(entity, s.t[keep], values[keep], name=label, color=color)
+
+
+def mode_labels(s: Series) -> dict[str, list[str | None]]:
+    """The named modes of each row of ``s``: ``autopilot`` (its mode name, None where unknown;
+    absent when the rows carry no mode), ``winch`` (``generator`` or ``motor`` by the sign of the
+    electrical power, None before the station's first step) and ``phase`` (the phase label)."""
+    out: dict[str, list[str | None]] = {}
+    if s.mode is not None:
+        out["autopilot"] = [m if m in MODE_NUMBERS else None for m in s.mode]
+    pe = s["p_electrical"]
+    out["winch"] = [None if not np.isfinite(p) else ("motor" if p < 0.0 else "generator") for p in pe.tolist()]
+    out["phase"] = list(s.phase)
+    return out
+
+
+def _send_mode_names(rf: RecordingSink, s: Series, sent: RowsSent) -> None:
+    """The modes of rows ``s`` (a slice of a flight) by name: a state change on the named lanes
+    (:data:`MODE_STATES`; the phase has its own lane) and a line in the log of mode changes
+    (:data:`~.blueprint.MODE_LOG`) at each row whose mode differs from the row before (``sent``
+    holds the last one sent), at that row's time; the first known mode of a lane is logged too."""
+    rr = rf.rr
+    for key, labels in mode_labels(s).items():
+        prev = sent.modes.get(key)
+        idx, names = [], []
+        for i, name in enumerate(labels):
+            if name is not None and name != prev:
+                idx.append(i)
+                names.append(name)
+                prev = name
+        if not idx:
+            continue
+        times = np.asarray(s.t)[idx]
+        if key in MODE_STATES:
+            entity, colors = MODE_STATES[key]
+            rf.static(entity, rr.StateConfiguration(values=list(colors), colors=list(colors.values())))
+            rf.columns(entity, times, rr.StateChange.columns(state=names))
+        before = sent.modes.get(key)
+        for t, name in zip(times.tolist(), names):
+            text = f"{key} {name}" if before is None else f"{key} {before} -> {name}"
+            color = MODE_STATES[key][1].get(name) if key in MODE_STATES else None
+            level = MODE_LEVELS.get(name, "INFO") if key == "autopilot" else "INFO"
+            rf.at(MODE_LOG, t, rr.TextLog(text, level=level, color=color))
+            before = name
+        sent.modes[key] = names[-1]
 
 
 def _send_path_so_far(rf: RecordingSink, s: Series, sent: RowsSent, *, every_s: float = PATH_EVERY_S,
@@ -252,7 +311,8 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
                     aircraft: Any = None) -> RowsSent:
     """Everything over time of the ``rows`` of a flight (or of a slice of one): pose and wing,
     tether, force arrows, reference marker and tracking error (3D scene at about ``scene_hz``),
-    every plot at full rate, the mode lane, the phase lane and the path flown so far. ``s`` and
+    every plot at full rate, the mode lane, the modes by name (:func:`mode_labels`: state lanes and
+    the log of changes, at the rows where they change), the phase lane and the path flown so far. ``s`` and
     ``forces`` are the flight's :func:`~fdm_awe.recording.series.flight_series` and
     :func:`~fdm_awe.recording.forces.flight_forces` on the recording's time axis; ``sent``
     carries the state between consecutive slices; the wing drawn is ``aircraft``'s (None: the
@@ -283,6 +343,7 @@ def log_flight_rows(rf: RecordingSink, flight: Any, s: Series, forces: GliderFor
     part = s.rows(idx)
     _send_plots(rf, part, FLIGHT_PLOTS)
     _send_modes(rf, part, _decimate(t, scene_hz))
+    _send_mode_names(rf, part, sent)
     _send_path_so_far(rf, part, sent)
     scalars = {"L": forces.L, "D": forces.D, "C": forces.C, "tether_N": forces.magnitude("tether"),
                "thrust_N": s["thrust"]}

@@ -154,13 +154,15 @@ def rrd_timeline(path: str | Path, timeline: str) -> dict[str, TimelineInfo]:
     return out
 
 
-def rrd_views(path: str | Path) -> dict[str, list[str]]:
-    """View name -> its content queries, from the default blueprint stored in ``path``."""
+def _view_fields(path: str | Path) -> tuple[dict[str, str], dict[str, list[str]], dict[str, str]]:
+    """The views of the default blueprint stored in ``path``, by their entity: display names,
+    content queries and view classes."""
     from rerun.chunk import RrdReader
 
     reader = RrdReader(str(path))
     names: dict[str, str] = {}
     queries: dict[str, list[str]] = {}
+    classes: dict[str, str] = {}
     for entry in reader.blueprints():
         for chunk in reader.store(store=entry).stream():
             rb = chunk.to_record_batch()
@@ -170,8 +172,23 @@ def rrd_views(path: str | Path) -> dict[str, list[str]]:
                     names[ent] = rb.column(col).to_pylist()[-1][0]
                 elif col == "ViewContents:query":
                     queries[ent.rsplit("/ViewContents", 1)[0]] = list(rb.column(col).to_pylist()[-1])
+                elif col == "ViewBlueprint:class_identifier":
+                    classes[ent] = rb.column(col).to_pylist()[-1][0]
+    return names, queries, classes
+
+
+def rrd_views(path: str | Path) -> dict[str, list[str]]:
+    """View name -> its content queries, from the default blueprint stored in ``path``."""
+    names, queries, _ = _view_fields(path)
     return {name: queries.get(ent, []) for ent, name in names.items()}
 
 
+def rrd_view_classes(path: str | Path) -> dict[str, str]:
+    """View name -> its kind (rerun's view class: ``TimeSeries``, ``TextLog``, ``StateTimeline``,
+    ``3D``, ...), from the default blueprint stored in ``path``."""
+    names, _, classes = _view_fields(path)
+    return {name: classes.get(ent, "") for ent, name in names.items()}
+
+
 __all__ = ["EntityInfo", "TimelineInfo", "rerun_cli", "rrd_entities", "rrd_stats", "rrd_timeline", "rrd_values",
-           "rrd_verify", "rrd_views"]
+           "rrd_verify", "rrd_view_classes", "rrd_views"]

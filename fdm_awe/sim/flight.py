@@ -73,8 +73,9 @@ from ..autopilot.shaping import flyable_reference
 from ..definitions.aircraft import Glider, load_glider
 from ..definitions.catalog import Aircraft, resolve_aircraft
 from ..errors import InputError
-from ..groundstation import GroundStation, GroundStationParams, load_ground_station
+from ..groundstation import GroundStation, GroundStationParams
 from ..groundstation.line import check_line
+from ..groundstation.source import StationFile, resolve_ground_station
 from ..groundstation.linemodels import TetherModel, parse_tether
 from ..groundstation.steady import motor_max_reel_in_speed
 from ..groundstation.tether import check_tether_drag_scale
@@ -202,16 +203,16 @@ def turbulence_setting(reference: Any, turbulence: Turbulence | tuple[str, int] 
     return form.setting(math.hypot(wind.ned[0], wind.ned[1]), wind.profile, hub)
 
 
-def _station_params(meta: dict[str, Any], paper: bool) -> GroundStationParams:
-    """The ground station's definition with the line a reference (metadata ``meta``) was
-    optimised with; a reference written before lines were named was optimised with Table 1's
-    line (``paper``). Read, and what the plant cannot fly refused, before JSBSim loads."""
+def _station_params(meta: dict[str, Any], paper: bool, station: Any) -> tuple[StationFile, GroundStationParams]:
+    """The ground station ``station`` (:func:`~fdm_awe.groundstation.source.resolve_ground_station`) and its
+    definition with the line a reference (metadata ``meta``) was optimised with (none named: Table 1's,
+    ``paper``, that of references written before lines were named). Read and checked before JSBSim loads."""
     line = meta.get("line")
     if not paper and meta.get("generator") == "ideal":
         raise InputError("reference metadata.generator: 'ideal' is the optimiser's upper bound (a loss-free converter "
                          "holding any tension), which no ground station realises; allowed passive, boost")
-    gsp = load_ground_station(line="paper" if line is None else check_line(line, "reference metadata.line"))
-    return gsp
+    st = resolve_ground_station(station, "ground_station")
+    return st, st.load("paper" if line is None else check_line(line, "reference metadata.line"))
 
 
 @dataclass
@@ -288,7 +289,7 @@ def fly(
     tether: TetherModel | str = "straight",
     references: ReferenceSet | None = None,
     flight_wind: dict[str, Any] | None = None,
-    aircraft: Any = None,
+    aircraft: Any = None, ground_station: Any = None,
 ) -> FlightReport:
     """Fly ``cycles`` pumping cycles of ``reference`` (a :class:`~.autopilot.tracking.TrackingReference`).
 
@@ -307,9 +308,8 @@ def fly(
     or a :class:`~fdm_awe.turbulence.Turbulence` form, realised in the reference's wind with
     the cycle's mean height as hub height; the report's ``turbulence`` holds its parameters,
     targets and the turbulence the glider met (:func:`fdm_awe.turbulence.measure`).
-    The line is the one named by the reference metadata's ``line``
-    (:data:`fdm_awe.groundstation.line.LINES`); a reference without it flies Table 1's line
-    (``paper``), the line every reference written before lines were named was optimised with.
+    The line is the one named by the reference metadata's ``line`` (:data:`fdm_awe.groundstation.line.LINES`);
+    a reference without it flies Table 1's line (``paper``), that of every reference written before lines were named.
 
     The onboard wind estimate (:mod:`fdm_awe.sim.onboard_wind`) runs at every cycle boundary and
     is reported per cycle (``FlightReport.wind_estimates``). ``references``: a reference set
@@ -318,9 +318,8 @@ def fly(
     wind. ``flight_wind``: the wind the flight meets, as reference metadata gives it
     (``wind_ned_mps`` at the height of ``wind_profile``); None: the reference's own.
 
-    A step the autopilot's attitude loops cannot fly with, or a flight whose time cap (or
-    ``t_end``) holds more steps than a flight keeps in memory, is refused with an InputError
-    before JSBSim loads (:mod:`fdm_awe.sim.budget`).
+    A step the autopilot's attitude loops cannot fly with, or a flight whose time cap (or ``t_end``) holds
+    more steps than a flight keeps in memory, is refused with an InputError before JSBSim loads (:mod:`.budget`).
 
     Ctrl-C (SIGINT, or a KeyboardInterrupt raised in ``on_step``) ends the flight and returns
     a normal report with status ``interrupted`` holding everything flown so far (see
@@ -329,7 +328,8 @@ def fly(
     ``aircraft``: the glider flown (:func:`~fdm_awe.definitions.catalog.resolve_aircraft`: a
     table name, a definition folder or an :class:`~fdm_awe.definitions.catalog.Aircraft`;
     None: the package's glider): its JSBSim root and morphing aircraft, its point-mass forms and
-    its autopilot definition (``params`` None: that definition's defaults).
+    its autopilot definition (``params`` None: that definition's defaults). ``ground_station``: the
+    station flown (a definition file or :class:`~fdm_awe.groundstation.source.StationFile`; None: the package's).
     """
     if plant not in PLANTS:
         raise ValueError(f"plant {plant!r} unknown (allowed: {', '.join(PLANTS)})")
@@ -346,7 +346,7 @@ def fly(
     check_length(cycles, period, dt, t_end, "cycles")  # the flight's steps fit in memory (budget)
     meta = reference.meta
     wind = _FlightWind(meta if flight_wind is None else flight_wind)
-    gsp = _station_params(meta, paper)
+    station, gsp = _station_params(meta, paper, ground_station)
     turb = turbulence_setting(reference, turbulence, flight_wind)
     rig = _rig(reference, wind, gsp, config, dt, turb, params, paper, tether_drag_scale, model, aircraft)
     if setup is not None:
@@ -399,7 +399,7 @@ def fly(
         wind_estimates=list(cw.records),
         recover_cause=ap.recover_cause if ap.mode == "RECOVER" else None,
         cycle_index=log.cycle[: k_end + 1].copy(),
-        aircraft={**aircraft.record(), "mass_kg": float(rig.airframes.unfolded.mass.mass)},
+        aircraft={**aircraft.record(), "mass_kg": float(rig.airframes.unfolded.mass.mass)}, ground_station=station.record(),
     )
 
 

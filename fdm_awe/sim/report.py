@@ -132,6 +132,9 @@ class FlightReport:
     #: the aircraft flown (:meth:`fdm_awe.definitions.catalog.Aircraft.record`: table name or
     #: folder, content hash) with its mass ``mass_kg`` [kg]; None before a run
     aircraft: dict[str, Any] | None = None
+    #: the ground station flown (:meth:`fdm_awe.groundstation.source.StationFile.record`: ``file``
+    #: "default" or the path of a user's definition, and ``sha256``); None before a run
+    ground_station: dict[str, str] | None = None
 
     @property
     def exit_code(self) -> int:
@@ -152,7 +155,8 @@ class FlightReport:
         of a cycle without a reference point) are ``null``: the JSON never carries NaN."""
         return {
             "scenario": self.scenario, "plant": self.plant, "plant_note": PLANT_NOTES.get(self.plant, ""),
-            "config": self.config, "aircraft": _json_tree(self.aircraft), "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
+            "config": self.config, "aircraft": _json_tree(self.aircraft),
+            "ground_station": _json_tree(self.ground_station), "wind_mps": _json_float(self.wind_mps), "tether_drag_scale": self.tether_drag_scale,
             "line": self.line, "generator": self.generator, "tether": self.tether,
             "status": self.status, "recover_cause": self.recover_cause,
             "message": self.message, "sim_time_s": _json_float(self.sim_time_s), "wall_s": _json_float(self.wall_s, 3),

@@ -160,12 +160,13 @@ def resized_line(tether: Any, diameter: float) -> Any:
                    sizing=LineSizing(rated_tension=rated, safety_factor=z.safety_factor))
 
 
-def line_station(line: str, diameter: float | None = None) -> Any:
-    """Ground-station parameters with the tether line ``line`` of the definition, the sized line
-    resized to ``diameter`` [m] when given (:func:`resized_line`)."""
-    from ..groundstation import load_ground_station
+def line_station(line: str, diameter: float | None = None, station: Any = None) -> Any:
+    """Ground-station parameters with the tether line ``line`` of the definition ``station``
+    (:func:`~fdm_awe.groundstation.source.resolve_ground_station`; None: the package's), the
+    sized line resized to ``diameter`` [m] when given (:func:`resized_line`)."""
+    from ..groundstation.source import station_params
 
-    gs = load_ground_station(line=line)
+    gs = station_params(station, line)
     return gs if diameter is None else replace(gs, tether=resized_line(gs.tether, diameter))
 
 

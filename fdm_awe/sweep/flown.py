@@ -46,7 +46,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..fileio import write_json
-from .runner import Warm, point_aircraft, point_glider, point_problem, point_winch, base_glider
+from .runner import Warm, point_aircraft, point_glider, point_ground_station, point_problem, point_winch, base_glider
 from .spec import Point
 
 #: allowed cycles per flight and seeds per air condition
@@ -134,12 +134,13 @@ def point_reference(point: Point, warm: Warm) -> Any:
     return TrackingReference.from_ocp(reference_from_result(point_result(point, warm), f"sweep point {point.id}"))
 
 
-def _ratings(line: str) -> tuple[float | None, float | None]:
-    """Rated line tension [N] and rated armature current [A] of the ground station."""
+def _ratings(line: str, ground_station: str | None = None) -> tuple[float | None, float | None]:
+    """Rated line tension [N] and rated armature current [A] of the ground station (the
+    definition file ``ground_station``; None: the package's)."""
     try:
         from .design import line_station
 
-        st = line_station(line)
+        st = line_station(line, station=point_ground_station(ground_station))
         rated_T = getattr(st.tether, "rated_tension", None)
         if rated_T is None:
             sizing = getattr(st.tether, "sizing", None)
@@ -166,14 +167,14 @@ def run_flight(point: Point, warm: Warm, air: str, seed: int | None, cycles: int
         turb = None if air == "calm" else Turbulence.parse(f"{air}:{seed}", "--fly-air")
         rep = fly(ref, config=point.config, cycles=cycles, turbulence=turb,
                   plant="paper" if point.scenario == "paper" else "physical", tether=tether,
-                  aircraft=point_aircraft(point.aircraft))
+                  aircraft=point_aircraft(point.aircraft), ground_station=point_ground_station(point.ground_station))
         cyc = []
         for c in rep.cycles:
             T = float(c.T1_s + c.T2_s)
             cyc.append({"complete": bool(c.complete), "E_net_J": _num(c.E_net_J), "T_s": _num(T),
                         "P_W": _num(c.E_net_J / T) if T > 0 else None, "track_rms_m": _num(c.track_rms_m)})
         tension = np.asarray(rep.result.tension, float) if rep.result is not None else np.zeros(0)
-        rated_T, rated_I = _ratings(point.line)
+        rated_T, rated_I = _ratings(point.line, point.ground_station)
         rec.update({"status": rep.status, "message": str(rep.message).splitlines()[0] if rep.message else "",
                     "cycle_list": cyc, "peak_tension_N": _num(np.nanmax(tension)) if tension.size else None,
                     "peak_current_A": _num(rep.peak_current_A), "rated_tension_N": rated_T, "rated_current_A": rated_I,

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -83,12 +83,12 @@ def reference_curves(winds: Sequence[float], aero: AeroParams, tether_diameter: 
     return ReferenceCurves(v, loyd, qs, a, CL, CD, cdt, length, el, az, f, float(tether_diameter))
 
 
-def tether_properties(line: str = "sized", diameter: float | None = None) -> tuple[float, float]:
+def tether_properties(line: str = "sized", diameter: float | None = None, station: Any = None) -> tuple[float, float]:
     """Tether diameter [m] and normal drag coefficient of the ground-station definition's line
     ``line`` (:data:`fdm_awe.groundstation.line.LINES`), the sized line resized to ``diameter``
-    [m] when given (:func:`fdm_awe.sweep.design.line_station`): the line a sweep point optimises
-    with."""
+    [m] when given (:func:`fdm_awe.sweep.design.line_station`; ``station`` the definition, None:
+    the package's): the line a sweep point optimises with."""
     from .design import line_station
 
-    t = line_station(line, diameter).tether
+    t = line_station(line, diameter, station).tether
     return float(t.diameter), float(t.cd_perpendicular)

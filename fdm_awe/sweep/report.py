@@ -39,12 +39,13 @@ def spec_references(spec: SweepSpec) -> ReferenceCurves:
     """Reference curves for the sweep's first wing area, tether range and tether line (its first
     diameter for the sized line), over its winds."""
     from .design import Design, design_glider
-    from .runner import base_glider
+    from .runner import base_glider, point_ground_station
 
     base = base_glider(spec.aircraft)
     g = design_glider(base, Design(wing_area=spec.wing_areas[0]))
     line = spec.line_names()[0]
-    d, cdp = tether_properties(line, spec.line_diameters[0] if line == "sized" else None)
+    d, cdp = tether_properties(line, spec.line_diameters[0] if line == "sized" else None,
+                               point_ground_station(spec.ground_station))
     d0, dtf = spec.tether_ranges[0]
     winds = sorted(set(spec.winds))
     return reference_curves(winds, g.unfolded.aero, d, cdp, d0, dtf)

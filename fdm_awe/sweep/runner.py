@@ -99,6 +99,15 @@ def point_aircraft(aircraft: str | None = None) -> Any:
 
 
 @functools.lru_cache(maxsize=4)
+def point_ground_station(ground_station: str | None = None) -> Any:
+    """The :class:`~fdm_awe.groundstation.source.StationFile` of a point's or spec's
+    ``ground_station`` (None: the package's), resolved once per process."""
+    from ..groundstation.source import resolve_ground_station
+
+    return resolve_ground_station(ground_station, "--ground-station")
+
+
+@functools.lru_cache(maxsize=4)
 def base_glider(aircraft: str | None = None) -> Any:
     """The definitions' own glider of ``aircraft`` (:func:`point_aircraft`)."""
     from ..definitions.aircraft import load_glider
@@ -120,14 +129,15 @@ def canonical_spec(spec: Any) -> Any:
     def same(v: Any, ref: float) -> Any:
         return None if v is not None and abs(v - ref) <= 1e-9 * max(1.0, abs(ref)) else v
 
-    d_sized = line_station("sized").tether.diameter
+    station = point_ground_station(spec.ground_station)
+    d_sized = line_station("sized", station=station).tether.diameter
     out = replace(spec, folded_spans=tuple(dict.fromkeys(same(v, f.b) for v in spec.folded_spans)),
                   folded_drag_areas=tuple(dict.fromkeys(same(v, area_f) for v in spec.folded_drag_areas)),
                   wing_areas=tuple(dict.fromkeys(same(v, u.S) for v in spec.wing_areas)),
                   line_diameters=tuple(dict.fromkeys(same(v, d_sized) for v in spec.line_diameters)))
     for d in out.line_diameters:  # a diameter the sized line cannot have (breaks below its rating): refused now
         if d is not None and "sized" in out.line_names():
-            line_station("sized", d)
+            line_station("sized", d, station)
     # refuse impossible designs now (InputError naming the value), not point by point later
     for S in out.wing_areas:
         for b in out.folded_spans if "foldable" in out.configs else (None,):
@@ -180,13 +190,15 @@ def point_problem(point: Point) -> Any:
                         line_weight=point.line_weight, line=point.line,
                         fold_time=point.fold_time if point.config == "foldable" else None,
                         wind_profile=WindProfile.parse(point.wind_profile, option="point wind profile"),
-                        line_model=point.line_model, aircraft=point_aircraft(point.aircraft), **margins)
+                        line_model=point.line_model, aircraft=point_aircraft(point.aircraft),
+                        ground_station=point_ground_station(point.ground_station), **margins)
 
 
 @functools.lru_cache(maxsize=16)
-def point_station(line: str, diameter: float | None) -> Any:
-    """Ground-station parameters of a point's tether line (:func:`~.design.line_station`)."""
-    return line_station(line, diameter)
+def point_station(line: str, diameter: float | None, ground_station: str | None = None) -> Any:
+    """Ground-station parameters of a point's tether line in the definition ``ground_station``
+    (None: the package's; :func:`~.design.line_station`)."""
+    return line_station(line, diameter, point_ground_station(ground_station))
 
 
 def point_winch(point: Point) -> Any:
@@ -196,7 +208,7 @@ def point_winch(point: Point) -> Any:
         return None
     from ..ocp.energy import WinchElectrics
 
-    return WinchElectrics.from_ground_station(point_station(point.line, point.line_diameter))
+    return WinchElectrics.from_ground_station(point_station(point.line, point.line_diameter, point.ground_station))
 
 
 def base_record(point: Point) -> dict[str, Any]:
@@ -264,7 +276,7 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
     try:
         glider = point_glider(point)
         rec.update(describe(glider))
-        rec.update(describe_line(point_station(point.line, point.line_diameter).tether))
+        rec.update(describe_line(point_station(point.line, point.line_diameter, point.ground_station).tether))
         if point.config == "nominal":  # the folded wing plays no part
             for k in ("S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2"):
                 rec[k] = None

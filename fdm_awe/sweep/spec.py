@@ -101,7 +101,8 @@ LINE_DIAMETER_RANGE = (1e-5, 5e-3)
 _ID_DEFAULTS = {"max_iter_total": DEFAULT_MAX_ITER_TOTAL, "warm_fallback": "all", "propeller": None,
                 "line_weight": False, "line": "paper", "line_diameter": None, "cold_check": False,
                 "wind_profile": "uniform", "tension_margin": 0.0, "stall_margin": 0.0, "line_model": "straight",
-                "bounds": "table3", "aircraft": None, "aircraft_sha256": None}
+                "bounds": "table3", "aircraft": None, "aircraft_sha256": None, "ground_station": None,
+                "ground_station_sha256": None}
 
 #: bounds a point is optimised with: ``table3`` (the optimiser's own, Table 3) or ``flyable``
 #: (``fdm-awe fly``'s: |bank| at most 0.8 rad and the point's margins, by default fly's C_L at most
@@ -152,6 +153,10 @@ class Point:
     #: glider) and the content hash of its files (part of the id: a changed folder is a new point)
     aircraft: str | None = None
     aircraft_sha256: str | None = None
+    #: the ground-station definition file (``--ground-station``; None: the package's) and the
+    #: hash of its bytes (part of the id: a changed file is a new point)
+    ground_station: str | None = None
+    ground_station_sha256: str | None = None
 
     @property
     def id(self) -> str:
@@ -226,6 +231,9 @@ class SweepSpec:
     #: every point's glider and the hash of its files (:class:`Point`; None: the package's glider)
     aircraft: str | None = None
     aircraft_sha256: str | None = None
+    #: every point's ground-station file and the hash of its bytes (:class:`Point`; None: the package's)
+    ground_station: str | None = None
+    ground_station_sha256: str | None = None
 
     def plant(self) -> dict[str, object]:
         """The propeller and line weight of every point: the spec's, else the scenario's default."""
@@ -344,7 +352,8 @@ class SweepSpec:
                                           tension_margin=float(self.tension_margin),
                                           stall_margin=float(self.stall_margin), line_model=self.line_model,
                                           bounds=self.bounds, aircraft=self.aircraft,
-                                          aircraft_sha256=self.aircraft_sha256)
+                                          aircraft_sha256=self.aircraft_sha256, ground_station=self.ground_station,
+                                          ground_station_sha256=self.ground_station_sha256)
                                 if p.id not in seen:
                                     seen.add(p.id)
                                     out.append(p)
@@ -360,7 +369,8 @@ class SweepSpec:
 
     def to_dict(self) -> dict:
         d = asdict(self)
-        for k in ("aircraft", "aircraft_sha256"):  # the package's glider: as before the option
+        # the package's glider and ground station: as before the options
+        for k in ("aircraft", "aircraft_sha256", "ground_station", "ground_station_sha256"):
             if d[k] is None:
                 del d[k]
         d["mesh"] = {"n_gen": self.mesh.n_gen, "n_rec": self.mesh.n_rec, "degree": self.mesh.degree}

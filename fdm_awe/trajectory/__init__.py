@@ -67,7 +67,11 @@ were recorded (their ``bounds`` say the same). ``aircraft`` (an object:
 :meth:`~fdm_awe.definitions.catalog.Aircraft.record`, ``name`` of the package's aircraft table
 or ``directory`` of a definition folder, and ``sha256`` of its files) is the aircraft the
 cycle was optimised for; absent in files written before it was recorded (the package's glider).
-``fdm-awe fly`` warns when it flies another aircraft.
+``fdm-awe fly`` warns when it flies another aircraft. ``ground_station`` (an object:
+:meth:`~fdm_awe.groundstation.source.StationFile.record`, ``file`` "default" or the path of a
+user's definition, and ``sha256`` of its bytes) is the ground station the cycle was optimised
+with; absent in files written before it was recorded (the package's). ``fdm-awe fly`` warns
+when it flies another station.
 
 :func:`read_reference` checks a file field by field (:func:`check_reference_document`, then
 :func:`check_reference`: every column a list of finite numbers within :data:`COLUMN_RANGES`,

@@ -266,6 +266,10 @@ def _check_plant(src: str, md: dict[str, Any], scenario: str, config: str) -> No
                                and sum(isinstance(ac.get(k), str) for k in ("name", "directory")) == 1):
         raise InputError(f"{src}: metadata.aircraft: {_show(ac)} not allowed (allowed an object with a name or a "
                          f"directory and its sha256; absent = the package's glider)")
+    st = md.get("ground_station")  # absent: a file written before it was recorded (the package's station)
+    if st is not None and not (isinstance(st, dict) and isinstance(st.get("sha256"), str) and isinstance(st.get("file"), str)):
+        raise InputError(f"{src}: metadata.ground_station: {_show(st)} not allowed (allowed an object with a file "
+                         f"(\"default\" or a path) and its sha256; absent = the package's ground station)")
     lw = md.get("line_weight")
     if lw is not None and (not isinstance(lw, bool) or (lw and scenario != "physical")):
         raise InputError(f"{src}: metadata.line_weight: {_show(lw)} not allowed (allowed true or false; true only in the physical scenario)")
