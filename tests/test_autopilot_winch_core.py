@@ -15,7 +15,8 @@ from types import SimpleNamespace
 import numpy as np
 from jit_helpers import compiled, same_bits
 
-from fdm_awe.autopilot.tracking import GENERATION, RECOVERY, RefPoint
+from fdm_awe.trajectory.schema import GENERATION, RECOVERY
+from fdm_awe.autopilot.tracking import RefPoint
 from fdm_awe.autopilot.winch import (LIMIT_PARAMS, WL_THI, WL_VCATCH, cycle_winch, cycle_winch_values,
                                      lower_limit_holds, take_up_speed, upper_limit_load)
 from fdm_awe.groundstation import WinchCommand

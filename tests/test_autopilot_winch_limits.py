@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.config import autopilot_params
-from fdm_awe.autopilot.tracking import GENERATION, RECOVERY
+from fdm_awe.trajectory.schema import GENERATION, RECOVERY
 from fdm_awe.autopilot.winch import RL_MAX, cycle_winch_values, limit_vector
 from fdm_awe.groundstation import load_ground_station
 from fdm_awe.groundstation.steady import generator_steady, motor_max_reel_in_speed

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
-from fdm_awe.groundstation.substeps import compiled, compiled_station, drum_speed, pi_step
+from fdm_awe.groundstation.substeps import compiled, compiled_station, pi_step
+from fdm_awe.groundstation.winch import drum_speed
 
 P = load_ground_station()
 U = np.array([math.cos(math.radians(30.0)), 0.0, -math.sin(math.radians(30.0))])

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from fdm_awe.sim import events as ce
-from fdm_awe.sim.loop import STATUSES, CoSim, Limits
+from fdm_awe.sim.result import STATUSES
+from fdm_awe.sim.loop import CoSim, Limits
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
@@ -272,7 +273,7 @@ def test_step_event_compiled_equals_python_and_reaches_every_code():
 def test_kernel_row_layout_matches_the_logged_columns():
     """The compiled step's ground-station columns start with CoSim's logged ones, in order."""
     from fdm_awe.sim import kernel as ck
-    from fdm_awe.sim.loop import COLUMNS
+    from fdm_awe.sim.result import COLUMNS
 
     logged = COLUMNS[COLUMNS.index("tension"):COLUMNS.index("fz") + 1]
     assert tuple(c.replace("p_electrical", "p_elec") for c in ck.GS_COLUMNS[:len(logged)]) == logged

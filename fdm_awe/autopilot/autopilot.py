@@ -5,10 +5,9 @@ guidance (:mod:`.guidance`, path tracking by point-mass force inversion)
   -> thrust loop (throttle)                         -> surfaces, throttle, fold command
 phase logic (generation / recovery)                 -> winch command (machine mode, reel speed)
 
-Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NUMBERS`):
+Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mode_table.MODE_NUMBERS`):
 
-- ``MANUAL``: surfaces and throttle held at :attr:`Autopilot.manual` (neutral by default);
-  the winch holds in generator mode.
+- ``MANUAL``: surfaces and throttle held at :attr:`Autopilot.manual` (neutral by default); the winch in generator mode.
 - ``FBWA``: wings level at the trim angle of attack for the current airspeed, no thrust.
 - ``AUTO``: with cycling started and a reference loaded, fly the pumping cycle: follow the
   reference path; generation = unfolded wing, generator (passive rectifier into R_L, optionally
@@ -23,11 +22,11 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NU
   ``motor_on``, :class:`MotorGate`): where the optimiser stopped it the throttle is cut (the
   ESC brakes the propeller to a stop: no thrust, no drag, only the idle power P0).
   Without cycling or without a reference, AUTO holds FBWA.
-- ``RECOVER``: the safe mode. Unfold, glide (motor stopped) to a circle of ``REC_RADIUS``
-  about the winch and descend on it at ``REC_AIRSPEED`` (as steeply as the glider must); the
-  motor runs only to hold the level floor circle and against a stall in the flare; the winch reels in whatever line hangs
-  slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level and flare. Losing
-  the reference in AUTO (mission cleared) switches to RECOVER.
+- ``RECOVER``: the safe mode. Unfold, glide (motor stopped) to a circle of ``REC_RADIUS`` about
+  the winch and descend on it at ``REC_AIRSPEED`` (as steeply as the glider must); the motor runs
+  only to hold the level floor circle and against a stall in the flare; the winch reels in
+  whatever line hangs slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level
+  and flare. Losing the reference in AUTO (mission cleared) switches to RECOVER.
 - ``LOITER``: hold (MAVLink's hold and pause, ArduPlane's LOITER number): RECOVER's path that never
   lands: glide to the ``REC_RADIUS`` circle about the winch and circle there at ``REC_HOLD_ALT``
   with the line reeled in to the distance (RECOVER with ``REC_LAND`` 0, the park). AUTO afterwards
@@ -59,21 +58,22 @@ import numpy as np
 from ..constants import G0, RHO0
 from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
+from ..mode_table import MODE_NUMBERS
 from ..sixdof.adapter import JSBSimGlider
+from ..sixdof.attitude_law import StabilizerGains
 from ..sixdof.row import WOW
-from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
+from ..trajectory import PHASE_NAMES
 from .attitude import AttitudeLoops
 from .auto_mode import AutoStep
 from .auto_step import M_ERR, M_SREF, M_TLAST
 from .fold import fold_command, reference_fold_time
 from .guidance import P_CLMAX, Guidance, GuidanceCommand, GuidanceGains, norm3
-from .modes import MODE_NUMBERS
 from .motor import MotorGate, MotorSwitch
 from .params import ParamStore
 from .recovery import Recovery
 from .thrust import ThrustLoop
-from .tracking import PHASE_NAMES, RefPoint, TrackingReference
+from .tracking import RefPoint, TrackingReference
 from .vehicle import Waypoint
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER", "LOITER")

@@ -26,7 +26,8 @@ from ..groundstation import WinchCommand
 from ..sixdof.state import SixDofState
 from .guidance import Guidance, norm3
 from .params import ParamStore
-from .tracking import RECOVERY, RefPoint
+from ..trajectory.schema import RECOVERY
+from .tracking import RefPoint
 from .winch import pay_out
 
 

@@ -22,7 +22,8 @@ from ..groundstation import WinchCommand
 from ..sixdof.state import SixDofState
 from .guidance import norm3
 from .params import ParamStore
-from .tracking import GENERATION, RefPoint
+from ..trajectory.schema import GENERATION
+from .tracking import RefPoint
 
 
 #: the winch's line limits, autopilot parameters in the order of the ``lim`` vector of

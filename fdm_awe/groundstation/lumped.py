@@ -46,10 +46,10 @@ integrator's error, not a booked term. Axial line inertia moving with the drum s
 drum's inertia ``mu l r_w^2`` as for the straight line.
 
 The line's state, ledger and constants live in the ground station's arrays after the
-drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views; its names are also
-reached here). Every function here is plain Python over floats and arrays; numba compiles
-:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state`
-and :mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
+drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views). Every function here
+is plain Python over floats and arrays; numba compiles :func:`lumped_station_step` (its cache
+tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state` and :mod:`fdm_awe.wind`),
+Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
@@ -63,12 +63,9 @@ from .. import wind
 from ..jitcache import follow_sources
 from ..wind import shear_factor
 from . import lumped_state, substeps, winch
-from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
-    C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
-    CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
-    L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
-    ZETA, LineLedger, line_constants, nodes, state_size, tensions, velocities,
-)
+from .lumped_state import (C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN,
+                           C_ZETA, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
+                           L_SK, L_SP, LED, NODES, R_DX, R_DY, R_DZ, R_INNER, R_READY, R_TG, R_TMAX, R_WZ)
 from .linestep import compile_line_step
 from .substeps import DRAG_W, WEIGHT_W, advance, cross_flow_drag, machine_mode_code, register_calls
 

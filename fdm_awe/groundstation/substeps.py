@@ -30,7 +30,7 @@ from typing import Callable
 
 from ..jitcache import compile_with_notice, follow_sources
 from . import winch
-from .winch import DRUM_RELATIONS, drum_speed, drum_step, end_stop
+from .winch import DRUM_RELATIONS, drum_step, end_stop
 
 #: Event codes (0: none).
 EVENTS = (None, "tether_fully_reeled_in", "tether_fully_paid_out", "tether_break")
@@ -499,6 +499,6 @@ def compiled_station() -> Callable | None:
 
 
 __all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_LINE", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
-           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "drum_speed", "force_limited_current",
+           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "force_limited_current",
            "hold_current", "hold_generator",
            "machine_mode_code", "pi_step", "station_step", "substeps"]
