@@ -5,9 +5,7 @@ ground-station state and energy ledger; and the fall-backs where it cannot run."
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import math
-import os
 import random
 
 import numpy as np
@@ -17,6 +15,7 @@ from fdm_awe.sim import events as ce
 from fdm_awe.sim.result import STATUSES
 from fdm_awe.sim.loop import CoSim, Limits
 from fdm_awe.errors import InputError
+from fdm_awe.jitcache import jit_off
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
 from fdm_awe.sixdof import row as R
@@ -94,7 +93,7 @@ def _assert_same(a, b):
 
 def _numba_expected() -> bool:
     """numba installed and not switched off: the compiled loop must run, its tests must not skip."""
-    return importlib.util.find_spec("numba") is not None and os.environ.get("FDM_AWE_JIT", "1") != "0"
+    return jit_off() is None
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -45,9 +45,7 @@ LONG_MODULES: dict[str, int] = {
     "commands/fly.py": 903,
     "commands/optimize.py": 531,
     "definitions/aircraft.py": 505,
-    "groundstation/lumped.py": 521,
     "groundstation/station.py": 503,
-    "groundstation/substeps.py": 504,
     "sim/flight.py": 621,
     "sixdof/adapter.py": 523,
 }

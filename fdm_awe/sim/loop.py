@@ -42,6 +42,7 @@ import numpy as np
 
 from .events import E_FORCE, E_HOOK, E_INTERRUPT, E_JSBSIM, E_NONE, event_message, limit_vector, step_event
 from ..errors import InputError
+from ..jitcache import jit_off
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.row import FBZ, MASS, T, VT
 from ..sixdof.state import SixDofState, Surfaces
@@ -164,6 +165,9 @@ class CoSim:
         """(kernel, handles, ground-station arrays) of the compiled loop, or why it can't run."""
         if self.compiled is False:
             return "compiled=False"
+        why = jit_off()
+        if why:
+            return why
         if not isinstance(self.glider, JSBSimGlider):
             return "not a JSBSimGlider"
         if not hasattr(self.gs, "compiled_step_args"):
