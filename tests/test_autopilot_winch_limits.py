@@ -126,8 +126,8 @@ def test_recovery_never_reels_in_faster_than_the_approach_plus_the_catch_margin(
         assert motor == 1.0 and not low
         reel_in = -v
         # (a glider moving out faster pulls the line off the drum: the motor's set-point pays
-        # out at most 0.5 m/s, the line draws the rest)
-        assert reel_in <= max(approach + vc + k * max(slack, 0.0), -0.5) + 1e-9, (approach, slack, v)
+        # out at most REC_PAY_MAX, the line draws the rest)
+        assert reel_in <= max(approach + vc + k * max(slack, 0.0), -P["REC_PAY_MAX"]) + 1e-9, (approach, slack, v)
         assert reel_in <= V_IN_MAX + 1e-12
     # the glider approaches at 5 m/s with 30 m of slack: reel in at least at the approach even
     # where the reference reels in slowly, and even where the reference planned that slack

@@ -621,27 +621,19 @@ class Autopilot:
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
         """RECOVER's (and LOITER's) commands: the recovery's path flown by the guidance, or the flare
         (wings level)."""
-        p = self.params
         self.phase = "recovery"
         rec = self.recovery
         if rec.stage is None:
             rec.enter(s)
-        h = -float(s.pos_ned[2])
         wind = s.vel_ned - s.vel_air_ned
         r = rec.reference(s, wind, dt)
         wcmd = rec.winch(s, gs)
         if r is None:
-            # flare: wings level, angle of attack for level flight plus a sink-rate term
-            # (hold ~0.5 m/s down) until the skids touch
+            # flare: wings level until the skids touch (:meth:`Recovery.flare`)
             self.ref_point = None
-            v_down = float(s.vel_ned[2])
-            sink_target = 0.3 + 0.7 * min(h / max(p["REC_FLARE_ALT"], 0.1), 1.0)  # 1.0 m/s at the top, 0.3 at touchdown
-            alpha = self.glider.trim_alpha(max(s.airspeed, 5.0)) + 0.05 * (v_down - sink_target)
-            a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
-            # the motor only guards against stalling (below 80 % of the recovery airspeed)
-            thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
+            alpha, thrust = rec.flare(s, self.glider.trim_alpha(max(s.airspeed, 5.0)))
             thr = self._recover_throttle(thrust, thrust <= 0.0, s, dt)
-            return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
+            return self._hold(s, alpha, 0.0, 0.0, dt, thr), wcmd
         self.ref_point = r
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         # the motor is stopped while the path descends (the glide), it holds the level floor
