@@ -4,6 +4,11 @@
   ``hasattr``/``delattr`` with the name as a constant) where ``x`` is not ``self``/``cls`` and
   ``_name`` belongs to another module of the package, no ``from m import _name`` of another
   module, no import of a private module (``pkg._mod``) from outside its package.
+- No re-exports: every import (``from m import name``), module attribute (``m.name``) and dotted
+  reference in text (``fdm_awe.m.name``) of the package, the tests, the scripts, the
+  documentation and the example notebooks names the module that defines the name; no module
+  keeps an import it does not use or lists a foreign name in ``__all__``; only the package faces
+  of :data:`PUBLIC_FACES` gather their modules' names.
 - No import circle between the package's modules (module-level imports, those under
   ``if TYPE_CHECKING:`` left out: they never run).
 - No module over :data:`MAX_MODULE_LINES` lines and no function over :data:`MAX_FUNCTION_LINES`
