@@ -438,16 +438,16 @@ def optimize(*, scenario: str = D.SCENARIO, config: str = D.CONFIG, wind: float 
                       aircraft=None if aircraft is None else os.fspath(aircraft), ground_station=ground_station)
     with _quiet(verbose):
         problem = O.problem_from_args(args)
-        from .ocp.solve import get_nlp, solve_cycle
+        from .ocp import build, solve
 
-        res = solve_cycle(problem, n_starts=args.starts, time_budget_s=args.time_budget)
+        res = solve.solve_cycle(problem, n_starts=args.starts, time_budget_s=args.time_budget)
         if verbose:
             O.print_summary(res)
         doc = res.summary()
         if res.ok and verify:
             from .ocp.verify import verify as check
 
-            doc["verification"] = check(res, get_nlp(problem)[0]).as_dict()
+            doc["verification"] = check(res, build.get_nlp(problem)[0]).as_dict()
     return OptimizeResult(result=res, document=doc)
 
 

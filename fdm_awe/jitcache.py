@@ -1,4 +1,13 @@
-"""Numba's on-disk cache, tied to every source a compiled kernel holds.
+"""Compiled code: whether it runs (the ``FDM_AWE_JIT`` switch), compiling it, and numba's
+on-disk cache, tied to every source a compiled kernel holds. The one module that decides and
+compiles: every other module asks it (:func:`jit_off`) and hands it its functions
+(:func:`compile_cached` for a kernel of one signature, :func:`compile_lazy` for a function
+compiled for the types of its first call, :func:`register_helpers` for the plain functions a
+kernel calls).
+
+The switch: ``FDM_AWE_JIT=0`` in the environment runs every compiled function's one source as
+plain Python (numba is then not even imported); without numba the same. It is read at every
+question, so a process (or a test) that sets it before building a model gets the Python path.
 
 Numba checks a cached kernel only against the file that defines it. A kernel that compiles
 functions of other modules into itself (the co-simulation loop holds the ground station's step,
@@ -16,12 +25,42 @@ loaded from the cache in time prints nothing.
 
 from __future__ import annotations
 
+import functools
+import importlib.util
 import os
 import sys
 import threading
 import time
 from types import ModuleType
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable
+
+#: the environment variable of the switch: ``0`` runs the plain Python functions
+JIT_SWITCH = "FDM_AWE_JIT"
+
+
+def jit_off() -> str | None:
+    """Why compiled code does not run (``"FDM_AWE_JIT=0"``: the Python path asked for; numba
+    not installed), or None when it may. The environment is read at every call."""
+    if os.environ.get(JIT_SWITCH, "1") == "0":
+        return f"{JIT_SWITCH}=0"
+    if importlib.util.find_spec("numba") is None:
+        return "numba is not installed"
+    return None
+
+
+@functools.lru_cache(maxsize=None)
+def _register(fn: Callable) -> None:
+    from numba.extending import register_jitable
+
+    register_jitable(fn)
+
+
+def register_helpers(helpers: Iterable[Callable]) -> None:
+    """Let numba compile calls of the plain functions ``helpers`` inside compiled functions
+    (each registered once; only when compiled code runs, :func:`jit_off`)."""
+    if jit_off() is None:
+        for g in helpers:
+            _register(g)
 
 
 def follow_sources(kern: Any, modules: Iterable[ModuleType]) -> None:
@@ -85,17 +124,18 @@ def compile_with_notice(kern: Any, sig: Any, what: str, stream: Any = None) -> f
 def compile_cached(fn: Any, signature: Any, helpers: Iterable[Any], sources: Iterable[ModuleType], what: str) -> Any:
     """``fn`` compiled by numba for its one ``signature`` (a callable of the ``numba`` module
     returning the signature), cached on disk and tied to ``sources`` (:func:`follow_sources`),
-    with ``helpers`` (plain functions it calls) compiled into it. Returns the dispatcher, or None
-    after one :class:`RuntimeWarning` naming ``what`` when numba fails (a broken numba install
-    must not stop a simulation: the caller runs the Python function instead)."""
+    with ``helpers`` (plain functions it calls) compiled into it. Returns the dispatcher; None
+    where compiled code does not run (:func:`jit_off`), or after one :class:`RuntimeWarning`
+    naming ``what`` when numba fails (a broken numba install must not stop a simulation): the
+    caller runs the Python function instead."""
     import warnings
 
+    if jit_off() is not None:
+        return None
     try:
         import numba
-        from numba.extending import register_jitable
 
-        for g in helpers:
-            register_jitable(g)
+        register_helpers(helpers)
         kern = numba.njit(cache=True)(fn)
         follow_sources(kern, sources)
         # its one signature, compiled or loaded from the cache here (a note while it compiles)
@@ -105,3 +145,19 @@ def compile_cached(fn: Any, signature: Any, helpers: Iterable[Any], sources: Ite
     except Exception as exc:
         warnings.warn(f"{what}: numba failed ({exc}); the Python code runs instead", RuntimeWarning, stacklevel=3)
         return None
+
+
+def compile_lazy(fn: Callable, helpers: Iterable[Callable], sources: Iterable[ModuleType]) -> Callable:
+    """``fn`` compiled by numba for the types of its first call (cached on disk, tied to
+    ``sources``, ``helpers`` compiled into it), or ``fn`` itself where compiled code does not
+    run (:func:`jit_off`): for studies and tests of a model's functions alone."""
+    if jit_off() is not None:
+        return fn
+    try:
+        import numba
+    except ImportError:
+        return fn
+    register_helpers(helpers)
+    kern = numba.njit(cache=True)(fn)
+    follow_sources(kern, sources)
+    return kern

@@ -43,7 +43,7 @@ def abort_run(case: str, trigger_s: float, air: str, after_s: float, dt: float =
     import numpy as np
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.sim.loop import COLUMNS
+    from fdm_awe.sim.result import COLUMNS
     from fdm_awe.sim.flight import fly
 
     path, plant = CASES[case]

@@ -88,7 +88,8 @@ def whole_process(n: int, cli_args: list[str], cache_dir: str | None, fresh: boo
 
 def main() -> int:
     from fdm_awe.ocp.problem import CycleProblem, Mesh
-    from fdm_awe.ocp.solve import clear_cache, solve_cycle
+    from fdm_awe.ocp.build import clear_cache
+    from fdm_awe.ocp.solve import solve_cycle
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)

@@ -31,7 +31,7 @@ os.environ.setdefault("JSBSIM_DEBUG", "0")
 from fdm_awe.sim.loop import CoSim, Limits  # noqa: E402
 from fdm_awe.fileio import write_json  # noqa: E402
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station  # noqa: E402
-from fdm_awe.groundstation import lumped  # noqa: E402
+from fdm_awe.groundstation import lumped_state  # noqa: E402
 from fdm_awe.sixdof import JSBSimGlider  # noqa: E402
 
 MODELS = ("straight", "lumped:10", "lumped:30")
@@ -78,7 +78,7 @@ def bench_station(model: str, line: float, steps: int) -> tuple[float, float, fl
         gs.step(DT, pos, vel, hold)
     us = (time.perf_counter() - t0) / steps * 1e6
     cpu_us = (time.process_time() - c0) / steps * 1e6
-    inner = float(gs._s_all[lumped.R_INNER]) * gs._substeps(DT) if gs.tether_segments else 0.0
+    inner = float(gs._s_all[lumped_state.R_INNER]) * gs._substeps(DT) if gs.tether_segments else 0.0
     return us, cpu_us, inner
 
 

@@ -17,8 +17,9 @@ import numpy as np  # noqa: E402
 from pymavlink import mavutil  # noqa: E402
 
 from fdm_awe.mavlink.endpoint import MavlinkEndpoint  # noqa: E402
-from fdm_awe.mavlink.params import ParamStore  # noqa: E402
-from fdm_awe.mavlink.vehicle import NavTarget, Telemetry, Waypoint  # noqa: E402
+from fdm_awe.autopilot.params import ParamStore  # noqa: E402
+from fdm_awe.mavlink.vehicle import NavTarget, Telemetry  # noqa: E402
+from fdm_awe.autopilot.vehicle import Waypoint  # noqa: E402
 
 GCS_SYSID = 255
 GCS_COMPID = 190

@@ -12,15 +12,17 @@ import numpy as np
 import pytest
 
 from flight_helpers import DATA
-from fdm_awe.autopilot.autopilot import Autopilot, MotorGate, reference_fold_time
+from fdm_awe.autopilot.autopilot import Autopilot
+from fdm_awe.autopilot.motor import MotorGate
+from fdm_awe.autopilot.fold import reference_fold_time
 from fdm_awe.autopilot.motor import _flip_short
 from fdm_awe.autopilot.config import autopilot_params
 from fdm_awe.autopilot.tracking import TrackingReference
-from fdm_awe.sim.loop import COLUMNS
+from fdm_awe.sim.result import COLUMNS
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.errors import InputError
 from fdm_awe.sim.flight import fly
-from fdm_awe.ocp.model import fold_fraction
+from fdm_awe.pointmass.fold import fold_fraction
 from fdm_awe.ocp.result import CycleResult
 from fdm_awe.trajectory import COLUMN_UNITS, check_reference_document, read_reference, write_reference
 from fdm_awe.sixdof import JSBSimGlider

@@ -96,7 +96,7 @@ def test_the_drum_stays_held_where_the_reference_holds_it(held_drum_flight):
     reference. Inverting the propeller's thrust on the airspeed axis left its T sin(alpha)
     (~0.3 N) in the pull, and the drum paid out ~2 m there (1.86 m measured, the glider
     climbing that much further, on thrust); with the thrust on the body axis 0.03 m goes out."""
-    from fdm_awe.sim.loop import COLUMNS
+    from fdm_awe.sim.result import COLUMNS
 
     ref, rep = held_drum_flight
     gen = ref.phase == 0

@@ -15,10 +15,15 @@ from types import SimpleNamespace
 import numpy as np
 from jit_helpers import compiled, same_bits
 
-from fdm_awe.autopilot.tracking import GENERATION, RECOVERY, RefPoint
-from fdm_awe.autopilot.winch import (LIMIT_PARAMS, WL_THI, WL_VCATCH, cycle_winch, cycle_winch_values,
+from fdm_awe.trajectory.schema import GENERATION, RECOVERY
+from fdm_awe.autopilot.tracking import RefPoint
+from fdm_awe.autopilot.winch import (LIMIT_PARAMS, WL_PAY_MAX, WL_THI, WL_VCATCH, cycle_winch, cycle_winch_values,
                                      lower_limit_holds, take_up_speed, upper_limit_load)
 from fdm_awe.groundstation import WinchCommand
+
+
+#: the recovery phase's reel gains at their definition defaults (the law as it was built)
+REC_DEFAULTS = {"REC_LEN_KL": 0.5, "REC_TENS_KT": 0.2, "REC_PAY_MAX": 0.5}
 
 
 def _case(rnd: random.Random):
@@ -35,12 +40,14 @@ def _case(rnd: random.Random):
 
 def _limits(rnd: random.Random, off: bool = False) -> np.ndarray:
     """A random ``lim`` vector (:data:`LIMIT_PARAMS`, then the drive's reel-in speed); ``off``:
-    every limit off and no drive bound (the law before the limits)."""
+    every line limit off, the recovery's reel gains at their defaults and no drive bound (the law
+    before the limits)."""
     if off:
-        return np.array([0.0] * len(LIMIT_PARAMS) + [math.inf])
+        return np.array([0.0] * (len(LIMIT_PARAMS) - 3) + [*REC_DEFAULTS.values(), math.inf])
     lim = np.array([rnd.choice((0.0, rnd.uniform(1.0, 10.0))), rnd.uniform(0.0, 8.0), rnd.uniform(0.0, 0.5),
                     rnd.uniform(0.0, 2.0), rnd.uniform(0.0, 10.0), rnd.choice((0.0, rnd.uniform(0.2, 3.0))),
-                    rnd.choice((0.0, rnd.uniform(20.0, 120.0))), rnd.uniform(0.0, 1.0), rnd.uniform(2.0, 8.0)])
+                    rnd.choice((0.0, rnd.uniform(20.0, 120.0))), rnd.uniform(0.0, 1.0), rnd.uniform(0.0, 2.0),
+                    rnd.uniform(0.0, 1.0), rnd.choice((0.5, rnd.uniform(0.0, 3.0))), rnd.uniform(2.0, 8.0)])
     assert lim.size == len(LIMIT_PARAMS) + 1
     return lim
 
@@ -64,7 +71,7 @@ def _branch(args, out) -> str:
         upper = on and lim[WL_THI] > 0 and args[9] > lim[WL_THI]
         return f"generator/{trimmed}" + (f"/{out[2] in (0.2, 20.0)}" if trimmed else "") + ("/upper" if upper else "")
     approach = on and lim[WL_VCATCH] > 0 and args[16] == args[16]
-    return f"motor/{on}" + (f"/{args[9] > rec}/{out[1] == 0.5}/{approach}" if on else "")
+    return f"motor/{on}" + (f"/{args[9] > rec}/{out[1] == lim[WL_PAY_MAX]}/{approach}" if on else "")
 
 
 def test_cycle_winch_values_compiled_equals_python_on_every_branch():
@@ -114,7 +121,7 @@ def test_cycle_winch_builds_the_command_it_built():
     defaults = 0
     for _ in range(2000):
         case = _case(rnd)
-        case[3].update({n: 0.0 for n in LIMIT_PARAMS})
+        case[3].update({n: 0.0 for n in LIMIT_PARAMS if n.startswith("WINCH_")}, **REC_DEFAULTS)
         got, low = cycle_winch(*case, dist=case[0].length, dist_rate=-3.0)
         assert not low  # the limits are off
         want = _command_before(*case)

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.config import autopilot_params
-from fdm_awe.autopilot.tracking import GENERATION, RECOVERY
+from fdm_awe.trajectory.schema import GENERATION, RECOVERY
 from fdm_awe.autopilot.winch import RL_MAX, cycle_winch_values, limit_vector
 from fdm_awe.groundstation import load_ground_station
 from fdm_awe.groundstation.steady import generator_steady, motor_max_reel_in_speed
@@ -126,8 +126,8 @@ def test_recovery_never_reels_in_faster_than_the_approach_plus_the_catch_margin(
         assert motor == 1.0 and not low
         reel_in = -v
         # (a glider moving out faster pulls the line off the drum: the motor's set-point pays
-        # out at most 0.5 m/s, the line draws the rest)
-        assert reel_in <= max(approach + vc + k * max(slack, 0.0), -0.5) + 1e-9, (approach, slack, v)
+        # out at most REC_PAY_MAX, the line draws the rest)
+        assert reel_in <= max(approach + vc + k * max(slack, 0.0), -P["REC_PAY_MAX"]) + 1e-9, (approach, slack, v)
         assert reel_in <= V_IN_MAX + 1e-12
     # the glider approaches at 5 m/s with 30 m of slack: reel in at least at the approach even
     # where the reference reels in slowly, and even where the reference planned that slack

@@ -23,6 +23,7 @@ from scipy.optimize import brentq, fsolve
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation import lumped as L
+from fdm_awe.groundstation import lumped_state as LS
 from fdm_awe.groundstation.linemodels import parse_tether
 from fdm_awe.groundstation.substeps import C_DRAG_ON, C_G, C_WIND
 
@@ -35,7 +36,7 @@ def _line(n: int, length: float, *, drag: bool = False, gravity: bool = True, ze
     gs = GroundStation(load_ground_station(line="sized"), tether=f"lumped:{n}")
     c = np.array(gs._sc)
     s = gs._s_all.copy()
-    c[L.C_ZETA] = zeta
+    c[LS.C_ZETA] = zeta
     c[DRAG_ON] = 1.0 if drag else 0.0
     if not gravity:
         c[G_IDX] = 0.0
@@ -47,15 +48,15 @@ def _line(n: int, length: float, *, drag: bool = False, gravity: bool = True, ze
 def _hook_force(s: np.ndarray, c: np.ndarray, n: int) -> np.ndarray:
     """Force of the line on the hook support (the last segment's tension plus the half node
     mass's weight), N NED."""
-    nd = L.nodes(s, n)
-    T = L.tensions(s, n)
+    nd = LS.nodes(s, n)
+    T = LS.tensions(s, n)
     u = (nd[-1] - nd[-2]) / np.linalg.norm(nd[-1] - nd[-2])
     return -T[-1] * u + np.array([0.0, 0.0, 0.5 * c[4] * s[0] / n * c[G_IDX]])
 
 
 def _winch_force(s: np.ndarray, c: np.ndarray, n: int) -> np.ndarray:
-    nd = L.nodes(s, n)
-    T = L.tensions(s, n)
+    nd = LS.nodes(s, n)
+    T = LS.tensions(s, n)
     u = (nd[1] - nd[0]) / np.linalg.norm(nd[1] - nd[0])
     return T[0] * u + np.array([0.0, 0.0, 0.5 * c[4] * s[0] / n * c[G_IDX]])
 
@@ -114,7 +115,7 @@ def test_static_catenary_matches_the_elastic_closed_form(n: int) -> None:
                                                           - math.sqrt(1 + (Vb / H) ** 2))
         return x, zu
 
-    nd = L.nodes(s, n)
+    nd = LS.nodes(s, n)
     sag = max(abs(shape(i * L0 / n)[1] - height * shape(i * L0 / n)[0] / span) for i in range(n + 1))
     sag_lumped = max(abs(-nd[i, 2] - height * nd[i, 0] / span) for i in range(n + 1))
     err = max(math.hypot(nd[i, 0] - shape(i * L0 / n)[0], -nd[i, 2] - shape(i * L0 / n)[1]) for i in range(n + 1))
@@ -134,10 +135,10 @@ def test_cross_flow_shape_is_the_normal_drag_catenary() -> None:
     s, c, gs = _line(n, L0, drag=True, gravity=False, wind=(U, 0.0, 0.0))
     L.place_line(s, c, n, 0.0, chord, 0.0)
     L.compiled_function("relax_line")(s, c, n, 40.0)
-    T = L.tensions(s, n)
+    T = LS.tensions(s, n)
     assert T.min() > 0.99 * T.max()  # normal load only: a uniform tension
     EA = c[5]
-    q = -c[L.C_DRAGK] * U * U  # N/m of stretched line, flow normal to the line
+    q = -c[LS.C_DRAGK] * U * U  # N/m of stretched line, flow normal to the line
     # the exact shape: tan(phi) = (q/T) s from the middle, a catenary of parameter T/q whose
     # arc is the line stretched by T/EA
 
@@ -148,7 +149,7 @@ def test_cross_flow_shape_is_the_normal_drag_catenary() -> None:
     T_ref = brentq(arc_gap, 1.0, 1e4)
     a = q / T_ref
     sag_ref = (math.cosh(a * chord / 2.0) - 1.0) / a
-    nd = L.nodes(s, n)
+    nd = LS.nodes(s, n)
     sag = nd[:, 0].max()
     assert abs(T.mean() - T_ref) < 0.01 * T_ref
     assert abs(sag - sag_ref) < 0.01 * sag_ref
@@ -193,7 +194,7 @@ def test_energy_is_conserved_with_drag_and_damping_off(moving: bool) -> None:
     hook0 = (80.0, 0.0, -90.0)  # chord 120.4 m: a taut line released straight, it swings and rings
     L.place_line(s, c, n, *hook0)
     L.store_energies(s, c, n, 0)
-    led = L.LineLedger(s)
+    led = LS.LineLedger(s)
     if moving:  # the hook on a circle, the line reeled out and in again
         hook = lambda t: (80.0 * math.cos(0.3 * t), 80.0 * math.sin(0.3 * t), -90.0 - 0.5 * math.sin(0.5 * t))
         length = lambda t: L0 + 0.5 * math.sin(0.4 * t)
@@ -239,7 +240,7 @@ def test_glider_end_force_against_the_straight_line_shares() -> None:
     # drag at the glider's speed (straight line, velocity growing linearly along it: 1/4)
     f, p, v, c = _swept_line(n, drag=True, gravity=False, radius=radius, speed=speed)
     u = p / np.linalg.norm(p)
-    full_drag = -c[L.C_DRAGK] * radius * speed * speed
+    full_drag = -c[LS.C_DRAGK] * radius * speed * speed
     share_drag = -(f - (f @ u) * u) @ (v / speed) / full_drag
     assert 0.225 < share_drag < 0.275  # within 10 % of the straight line's 1/4
     # weight: what adding it changes in the force normal to the chord, as a share of the
@@ -283,7 +284,8 @@ def test_flight_with_the_lumped_line_records_its_shape(tmp_path) -> None:
     from pathlib import Path
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.sim.flight import LINE_SHAPE_HZ, fly
+    from fdm_awe.sim.flight_log import LINE_SHAPE_HZ
+    from fdm_awe.sim.flight import fly
     from fdm_awe.recording import record_flight
 
     ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps_sized.json")

@@ -13,7 +13,9 @@ import numpy as np
 import pytest
 
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
-from fdm_awe.groundstation.substeps import compiled, compiled_station, drum_speed, pi_step
+from fdm_awe.groundstation.substeps import compiled, compiled_station, pi_step
+from fdm_awe.groundstation.winch import drum_speed
+from fdm_awe.jitcache import jit_off, register_helpers
 
 P = load_ground_station()
 U = np.array([math.cos(math.radians(30.0)), 0.0, -math.sin(math.radians(30.0))])
@@ -23,7 +25,7 @@ GEN = WinchCommand("generator")
 
 def _require_compiled() -> None:
     """Skip under ``FDM_AWE_JIT=0``; otherwise fail when the step did not compile."""
-    if os.environ.get("FDM_AWE_JIT", "1") == "0":
+    if jit_off() == "FDM_AWE_JIT=0":
         pytest.skip("FDM_AWE_JIT=0: only Python runs")
     assert compiled() is not None and compiled_station() is not None, "numba did not compile the ground-station step"
 
@@ -162,9 +164,9 @@ def _jit(f):
     """``f`` compiled by numba (its calls registered as in the ground station's step)."""
     import numba
 
-    from fdm_awe.groundstation.substeps import register_calls
+    from fdm_awe.groundstation.substeps import CALLED
 
-    register_calls()
+    register_helpers(CALLED)
     return numba.njit(f)
 
 

@@ -154,23 +154,45 @@ def test_loaded_modules_follow_the_layers() -> None:
 
 
 def test_the_mavlink_package_adapts_to_the_autopilot() -> None:
-    """The names the link uses are the autopilot's own objects, re-exported."""
-    from fdm_awe.autopilot import modes, params, vehicle
-    from fdm_awe.mavlink import params as link_params
+    """The link's vocabulary is the autopilot's own objects: the package's public face offers
+    them, and no module of the link defines its own parameter store, vehicle interface or mode
+    table."""
+    import fdm_awe.mavlink as link
+    from fdm_awe import mode_table
+    from fdm_awe.autopilot import params, vehicle
     from fdm_awe.mavlink import vehicle as link_vehicle
 
-    assert link_params.ParamStore is params.ParamStore and link_params.Param is params.Param
-    assert link_vehicle.MODE_NUMBERS is modes.MODE_NUMBERS and link_vehicle.MODE_NAMES is modes.MODE_NAMES
-    assert link_vehicle.Waypoint is vehicle.Waypoint and link_vehicle.VehicleInterface is vehicle.VehicleInterface
+    assert link.ParamStore is params.ParamStore and link.Param is params.Param
+    assert link.MODE_NUMBERS is mode_table.MODE_NUMBERS and link.MODE_NAMES is mode_table.MODE_NAMES
+    assert link.Waypoint is vehicle.Waypoint and link.VehicleInterface is vehicle.VehicleInterface
+    own = {n for m in _modules("fdm_awe.mavlink") for n in _top_level_definitions(m)}
+    assert not own & {"ParamStore", "Param", "MODE_NUMBERS", "MODE_NAMES", "Waypoint", "VehicleInterface", "PHASES"}
     assert tuple(link_vehicle.PHASE_CODES) == vehicle.PHASES  # a wire number for every vehicle phase
 
 
+def _top_level_definitions(module: str) -> set[str]:
+    """The names ``module`` defines at its top level (functions, classes, assignments)."""
+    tree = ast.parse(_source(module).read_text())
+    out: set[str] = set()
+    for st in tree.body:
+        if isinstance(st, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            out.add(st.name)
+        elif isinstance(st, (ast.Assign, ast.AnnAssign)):
+            for t in (st.targets if isinstance(st, ast.Assign) else [st.target]):
+                out.update(n.id for n in ast.walk(t) if isinstance(n, ast.Name))
+    return out
+
+
 def test_one_phase_table() -> None:
-    """The autopilot, the optimiser's result and the recordings use the trajectory's phase names."""
+    """The autopilot, the optimiser's result and the recordings use the trajectory's phase names:
+    none of them defines its own."""
     from fdm_awe import trajectory
-    from fdm_awe.autopilot import tracking
+    from fdm_awe.autopilot import auto_mode
     from fdm_awe.recording import series
 
-    assert tracking.PHASE_NAMES is trajectory.PHASE_NAMES == ("generation", "recovery")
-    assert (tracking.GENERATION, tracking.RECOVERY) == (trajectory.GENERATION, trajectory.RECOVERY) == (0, 1)
-    assert series.PHASE_NAMES is trajectory.PHASE_NAMES
+    assert trajectory.PHASE_NAMES == ("generation", "recovery")
+    assert (trajectory.GENERATION, trajectory.RECOVERY) == (0, 1)
+    assert vars(auto_mode)["PHASE_NAMES"] is vars(series)["PHASE_NAMES"] is trajectory.PHASE_NAMES
+    for unit in ("fdm_awe.autopilot", "fdm_awe.ocp", "fdm_awe.recording", "fdm_awe.sim"):
+        own = {m: _top_level_definitions(m) & {"PHASE_NAMES", "GENERATION", "RECOVERY"} for m in _modules(unit)}
+        assert not {m: n for m, n in own.items() if n}, own

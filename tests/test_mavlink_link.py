@@ -21,9 +21,10 @@ from pymavlink import mavutil
 from pymavlink.dialects.v20 import common as mav
 
 from fdm_awe.errors import InputError
-from fdm_awe.mavlink.endpoint import DEFAULT_RATES, MavlinkEndpoint
+from fdm_awe.mavlink.streams import DEFAULT_RATES
+from fdm_awe.mavlink.endpoint import MavlinkEndpoint
 from fdm_awe.mavlink.geo import GeoFrame, Home
-from fdm_awe.mavlink.params import ParamStore
+from fdm_awe.autopilot.params import ParamStore
 from fdm_awe.sim.pacing import RealtimePacer
 
 TEST_RATES = {"HEARTBEAT": 1.0, "ATTITUDE": 20.0, "GLOBAL_POSITION_INT": 10.0, "VFR_HUD": 4.0,

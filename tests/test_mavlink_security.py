@@ -114,7 +114,7 @@ def test_param_set_of_a_switch_takes_only_0_or_1(tmp_path):
     answer carries the old value, a STATUSTEXT says why, the file keeps the old value; 1 is
     taken. The autopilot definition's switches are all 0/1 only."""
     from fdm_awe.autopilot.config import autopilot_params
-    from fdm_awe.mavlink.params import ParamStore
+    from fdm_awe.autopilot.params import ParamStore
 
     path = tmp_path / "params.json"
     v = StandInVehicle()

@@ -24,7 +24,7 @@ from fdm_awe.errors import InputError
 from fdm_awe.mavlink.params import from_wire, param_text
 from fdm_awe.mavlink.signing import load_key, passphrase_key
 from fdm_awe.mavlink.statustext import chunks
-from fdm_awe.mavlink.winch import G0
+from fdm_awe.constants import G0
 
 KEY = hashlib.sha256(b"tethered glider test key").digest()
 REF = Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json"

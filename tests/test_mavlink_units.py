@@ -9,8 +9,10 @@ import pytest
 
 from fdm_awe.errors import DefinitionError, InputError
 from fdm_awe.mavlink.geo import GeoFrame, Home
-from fdm_awe.mavlink.params import ParamStore
-from fdm_awe.mavlink.vehicle import MODE_NAMES, MODE_NUMBERS, Waypoint, mode_number
+from fdm_awe.autopilot.params import ParamStore
+from fdm_awe.mode_table import MODE_NAMES, MODE_NUMBERS
+from fdm_awe.autopilot.vehicle import Waypoint
+from fdm_awe.autopilot.modes import mode_number
 from fdm_awe.sim.pacing import RealtimePacer
 
 
@@ -202,6 +204,6 @@ def test_pacer_rejects_bad_factor():
 def test_stand_in_vehicle_satisfies_the_protocol():
     from mavlink_helpers import StandInVehicle
 
-    from fdm_awe.mavlink.vehicle import VehicleInterface
+    from fdm_awe.autopilot.vehicle import VehicleInterface
     assert isinstance(StandInVehicle(), VehicleInterface)
     assert not isinstance(object(), VehicleInterface)

@@ -18,7 +18,8 @@ from fdm_awe.ocp.energy import (WinchElectrics, design_reference_generator, gene
                                 motor_supply_power)
 from fdm_awe.ocp.problem import LEGACY_PHYSICAL_PLANT, Bounds, CycleProblem, Mesh
 from fdm_awe.trajectory import read_reference, write_reference
-from fdm_awe.ocp.solve import get_nlp, solve_cycle
+from fdm_awe.ocp.build import get_nlp
+from fdm_awe.ocp.solve import solve_cycle
 from fdm_awe.ocp.verify import ENERGY_TOL_REL, POSITION_TOL_REL, verify
 
 #: coarse mesh for convergence-only checks (verification accuracy is tested on finer meshes: at
@@ -170,7 +171,7 @@ def test_reference_file_round_trip(paper3, tmp_path):
     # by the state scales and hold within the result's largest scaled violation each, so the
     # two ends differ by at most twice that (times the scale); the line length at the start is
     # the distance of a start point within that violation of the 200 m sphere (x, y, z each)
-    from fdm_awe.ocp.collocation import STATE_SCALE
+    from fdm_awe.ocp.layout import STATE_SCALE
 
     viol = res.max_violation
     assert viol < 1e-6
@@ -381,7 +382,7 @@ def test_ipopt_instances_share_derivatives_bit_identically():
     """The IPOPT instances of one NLP (one per option set) reuse the derivative functions the
     first one generated: a warm solve with such an instance is bit-identical to one with an
     instance that generated its own."""
-    from fdm_awe.ocp.solve import WARM_OPTIONS
+    from fdm_awe.ocp.local import WARM_OPTIONS
     from fdm_awe.pointmass.model import wind_vector
 
     pr = CycleProblem(scenario="physical", config="nominal", wind_speed=8.0, mesh=Mesh(6, 4, 3))

@@ -10,7 +10,7 @@ import pytest
 from fdm_awe.ocp import nlpcache
 from fdm_awe.ocp.guess import default_starts, loop_guess
 from fdm_awe.ocp.problem import CycleProblem, Mesh
-from fdm_awe.ocp.solve import get_nlp
+from fdm_awe.ocp.build import get_nlp
 from fdm_awe.pointmass.model import wind_vector
 
 MESH = Mesh(6, 4, 3)

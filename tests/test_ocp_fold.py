@@ -18,11 +18,14 @@ import pytest
 from fdm_awe.pointmass.aero import POLAR_FIELDS, fold_blend
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.errors import InputError
-from fdm_awe.ocp.collocation import STATE_SCALE, CycleNLP, fold_intervals
+from fdm_awe.ocp.layout import STATE_SCALE, fold_intervals
+from fdm_awe.ocp.collocation import CycleNLP
 from fdm_awe.ocp.energy import WinchElectrics
-from fdm_awe.ocp.model import CycleModel, fold_fraction
+from fdm_awe.ocp.model import CycleModel
+from fdm_awe.pointmass.fold import fold_fraction
 from fdm_awe.ocp.problem import CycleProblem, Mesh
-from fdm_awe.ocp.solve import get_nlp, solve_cycle, structure_key
+from fdm_awe.ocp.build import get_nlp, structure_key
+from fdm_awe.ocp.solve import solve_cycle
 from fdm_awe.ocp.verify import verify
 from fdm_awe.sixdof import JSBSimGlider
 

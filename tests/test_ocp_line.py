@@ -22,7 +22,7 @@ from fdm_awe.ocp.model import CycleModel
 from fdm_awe.ocp.problem import LEGACY_PHYSICAL_PLANT, PLANT_DEFAULTS, CycleProblem, Mesh, Scenario
 from fdm_awe.ocp.result import CycleResult
 from fdm_awe.trajectory import COLUMN_UNITS, read_reference, write_reference
-from fdm_awe.ocp.solve import structure_key
+from fdm_awe.ocp.build import structure_key
 
 DATA = Path(__file__).parent / "data"
 COARSE = Mesh(6, 4, 3)

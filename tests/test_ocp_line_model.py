@@ -17,7 +17,7 @@ from fdm_awe.groundstation import load_ground_station
 from fdm_awe.ocp.energy import WinchElectrics, motor_supply_power
 from fdm_awe.ocp.model import CycleModel
 from fdm_awe.ocp.problem import CycleProblem
-from fdm_awe.ocp.solve import structure_key
+from fdm_awe.ocp.build import structure_key
 
 WIND = (10.0, 0.0)  # north, east [m/s]: from the south
 STATE = [170.0, 30.0, -100.0, 20.0, 0.1, 1.5]  # downwind of the winch, a little east

@@ -14,7 +14,8 @@ from fdm_awe.groundstation import load_ground_station
 from fdm_awe.ocp.energy import WinchElectrics
 from fdm_awe.ocp.model import CycleModel
 from fdm_awe.ocp.problem import CycleProblem, Mesh
-from fdm_awe.ocp.solve import solve_cycle, structure_key
+from fdm_awe.ocp.solve import solve_cycle
+from fdm_awe.ocp.build import structure_key
 from fdm_awe.pointmass.model import Environment, PointMassModel
 
 

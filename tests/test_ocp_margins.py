@@ -14,7 +14,8 @@ import pytest
 from fdm_awe.cli import main
 from fdm_awe.errors import InputError
 from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
-from fdm_awe.ocp.solve import solve_cycle, structure_key
+from fdm_awe.ocp.solve import solve_cycle
+from fdm_awe.ocp.build import structure_key
 from fdm_awe.trajectory import read_reference, write_reference
 from fdm_awe.trajectory.files import margins_text
 

@@ -16,7 +16,8 @@ from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.ocp.energy import WinchElectrics, duty_cycled_power, motor_off_power, thrust_power
 from fdm_awe.ocp.model import ON_FRACTION, CycleModel
 from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
-from fdm_awe.ocp.solve import get_nlp, solve_cycle
+from fdm_awe.ocp.build import get_nlp
+from fdm_awe.ocp.solve import solve_cycle
 from fdm_awe.sixdof import JSBSimGlider
 from fdm_awe.sixdof.state import Surfaces
 

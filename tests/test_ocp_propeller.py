@@ -12,7 +12,8 @@ from fdm_awe.errors import InputError
 from fdm_awe.ocp.energy import WinchElectrics
 from fdm_awe.ocp.model import CycleModel
 from fdm_awe.ocp.problem import CycleProblem, Mesh
-from fdm_awe.ocp.solve import solve_cycle, structure_key
+from fdm_awe.ocp.solve import solve_cycle
+from fdm_awe.ocp.build import structure_key
 from fdm_awe.pointmass.propeller import power_engine, power_physical
 
 

@@ -95,7 +95,7 @@ def test_supply_voltage_is_a_design_value_of_the_drive():
     """A higher supply voltage reels in faster at full duty (the steady motor's speed at that
     voltage), and the NLP's reel-in bound follows it: the definition's 48 V against the 24 V
     supply of before (11.10 against 5.36 m/s on a slack line)."""
-    from fdm_awe.ocp.solve import get_nlp
+    from fdm_awe.ocp.build import get_nlp
 
     w = WinchElectrics.from_ground_station()
     assert w.V_a == pytest.approx(48.0)

@@ -16,7 +16,8 @@ import pytest
 
 from fdm_awe.errors import InputError
 from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
-from fdm_awe.ocp.solve import get_nlp, solve_cycle
+from fdm_awe.ocp.build import get_nlp
+from fdm_awe.ocp.solve import solve_cycle
 from fdm_awe.pointmass.model import wind_vector
 
 COARSE = Mesh(20, 12, 3)

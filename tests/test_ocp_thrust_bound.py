@@ -13,7 +13,7 @@ import pytest
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.ocp.model import ON_FRACTION
 from fdm_awe.ocp.problem import Bounds, CycleProblem, Mesh
-from fdm_awe.ocp.solve import get_nlp
+from fdm_awe.ocp.build import get_nlp
 
 #: the speed [m/s] where the propeller's full-throttle thrust fit crosses zero
 V_ZERO_THRUST = 27.35

@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from fdm_awe.sim.loop import COLUMNS, Event, FlightResult
+from fdm_awe.sim.result import COLUMNS, Event, FlightResult
 from fdm_awe.recording import (
     export_csv, export_cycle_csv, flight_markdown, plot_compare, plot_cycle, plot_flight, record_cycle,
     record_flight, rrd_entities, rrd_verify, table3_markdown,

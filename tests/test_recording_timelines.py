@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fdm_awe.autopilot.modes import MODE_NUMBERS
+from fdm_awe.mode_table import MODE_NUMBERS
 from fdm_awe.recording import FlightRecording, record_flight, rrd_entities, rrd_values
 from fdm_awe.recording.flight import LIVE_PATH, PATH_EVERY_S
 from fdm_awe.recording.inspect import rrd_timeline, rrd_views

@@ -114,7 +114,7 @@ def test_power_panel_range_excludes_the_start_up_spike():
     legend says how the range was chosen."""
     from fdm_awe.recording.plots import POWER_LABEL, time_figure
     from fdm_awe.recording.series import robust_note
-    from fdm_awe.sim.loop import COLUMNS
+    from fdm_awe.sim.result import COLUMNS
 
     res = _synthetic_result(n=2401, p_elec=20.0)
     t, p = res.data[:, 0], COLUMNS.index("p_prop")

@@ -82,8 +82,8 @@ def test_ground_station_over_mavlink_commands_the_real_autopilot(reference, tmp_
     from fdm_awe.autopilot.config import autopilot_params
     from fdm_awe.mavlink.bridge import telemetry_builder
     from fdm_awe.mavlink.endpoint import MavlinkEndpoint
-    from fdm_awe.mavlink.params import ParamStore
-    from fdm_awe.mavlink.vehicle import MODE_NUMBERS
+    from fdm_awe.autopilot.params import ParamStore
+    from fdm_awe.mode_table import MODE_NUMBERS
     from fdm_awe.sim.pacing import RealtimePacer
 
     import socket

@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.tracking import TrackingReference
-from fdm_awe.sim.flight import (NO_CYCLE, OTHER_PHASE, CycleMetrics, CycleSpan, FlightReport, cycle_metrics, fly,
-                            segment_cycles)
+from fdm_awe.sim.cycles import NO_CYCLE, OTHER_PHASE, CycleSpan, cycle_metrics, segment_cycles
+from fdm_awe.sim.report import CycleMetrics, FlightReport
+from fdm_awe.sim.flight import fly
 
 pytestmark = pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")
 

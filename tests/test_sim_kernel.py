@@ -5,17 +5,17 @@ ground-station state and energy ledger; and the fall-backs where it cannot run."
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import math
-import os
 import random
 
 import numpy as np
 import pytest
 
 from fdm_awe.sim import events as ce
-from fdm_awe.sim.loop import STATUSES, CoSim, Limits
+from fdm_awe.sim.result import STATUSES
+from fdm_awe.sim.loop import CoSim, Limits
 from fdm_awe.errors import InputError
+from fdm_awe.jitcache import jit_off
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
 from fdm_awe.sixdof import row as R
@@ -93,7 +93,7 @@ def _assert_same(a, b):
 
 def _numba_expected() -> bool:
     """numba installed and not switched off: the compiled loop must run, its tests must not skip."""
-    return importlib.util.find_spec("numba") is not None and os.environ.get("FDM_AWE_JIT", "1") != "0"
+    return jit_off() is None
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -272,7 +272,7 @@ def test_step_event_compiled_equals_python_and_reaches_every_code():
 def test_kernel_row_layout_matches_the_logged_columns():
     """The compiled step's ground-station columns start with CoSim's logged ones, in order."""
     from fdm_awe.sim import kernel as ck
-    from fdm_awe.sim.loop import COLUMNS
+    from fdm_awe.sim.result import COLUMNS
 
     logged = COLUMNS[COLUMNS.index("tension"):COLUMNS.index("fz") + 1]
     assert tuple(c.replace("p_electrical", "p_elec") for c in ck.GS_COLUMNS[:len(logged)]) == logged

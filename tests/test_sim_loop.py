@@ -11,7 +11,8 @@ from scipy.optimize import fsolve
 
 from sim_helpers import FixedLengthLine, LineOutput
 from fdm_awe import ROOT
-from fdm_awe.sim.loop import COLUMNS, CoSim, Limits
+from fdm_awe.sim.result import COLUMNS
+from fdm_awe.sim.loop import CoSim, Limits
 from fdm_awe.definitions.xmlutil import XmlDoc
 from fdm_awe.groundstation import WinchCommand
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces

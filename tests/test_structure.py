@@ -4,6 +4,11 @@
   ``hasattr``/``delattr`` with the name as a constant) where ``x`` is not ``self``/``cls`` and
   ``_name`` belongs to another module of the package, no ``from m import _name`` of another
   module, no import of a private module (``pkg._mod``) from outside its package.
+- No re-exports: every import (``from m import name``), module attribute (``m.name``) and dotted
+  reference in text (``fdm_awe.m.name``) of the package, the tests, the scripts, the
+  documentation and the example notebooks names the module that defines the name; no module
+  keeps an import it does not use or lists a foreign name in ``__all__``; only the package faces
+  of :data:`PUBLIC_FACES` gather their modules' names.
 - No import circle between the package's modules (module-level imports, those under
   ``if TYPE_CHECKING:`` left out: they never run).
 - No module over :data:`MAX_MODULE_LINES` lines and no function over :data:`MAX_FUNCTION_LINES`
@@ -24,8 +29,9 @@ caught; third-party private members are not the package's (those read on purpose
 from __future__ import annotations
 
 import ast
+import re
 import sys
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from functools import cache
 from pathlib import Path
 
@@ -39,15 +45,13 @@ MAX_FUNCTION_LINES = 80
 #: modules over MAX_MODULE_LINES lines -> their length (lines) when the rule came in; may only shrink
 LONG_MODULES: dict[str, int] = {
     "api.py": 622,
-    "autopilot/autopilot.py": 670,
+    "autopilot/autopilot.py": 662,
     "autopilot/guidance.py": 590,
     "commands/fly.py": 903,
     "commands/optimize.py": 531,
     "definitions/aircraft.py": 505,
-    "groundstation/lumped.py": 521,
     "groundstation/station.py": 503,
-    "groundstation/substeps.py": 504,
-    "sim/flight.py": 621,
+    "sim/flight.py": 606,
     "sixdof/adapter.py": 523,
 }
 
@@ -349,6 +353,237 @@ def test_function_length() -> None:
     assert not new, f"functions over {MAX_FUNCTION_LINES} lines: {new}"
     assert not grown, f"listed long functions grew (now, listed): {grown}"
     assert not back, f"within {MAX_FUNCTION_LINES} lines now (or gone): remove from LONG_FUNCTIONS: {back}"
+
+
+# --- no re-exports: every name is imported from the module that defines it ---------------------
+
+#: the package's public faces: ``__init__`` modules that gather their package's names on purpose
+#: (users import ``from fdm_awe.trajectory import read_reference``) -> what they offer; nowhere
+#: else is a name imported from a module that does not define it
+PUBLIC_FACES: dict[str, str] = {
+    "fdm_awe": "the Python API on the package's top level (fdm_awe.api's names, looked up on first use)",
+    "fdm_awe.groundstation": "the ground station, its parameters' loader and its steady-state relations",
+    "fdm_awe.mavlink": "the link's vocabulary: the autopilot's vehicle interface, parameters and modes, the geo frame",
+    "fdm_awe.recording": "the recordings' one-line entry points (looked up on first use)",
+    "fdm_awe.sixdof": "the JSBSim glider, its state and surfaces, the stabiliser",
+    "fdm_awe.trajectory": "the reference trajectory: its schema, files, checks and sampler",
+}
+
+#: the repository's other Python sources checked for imports through a re-export (besides the package)
+OTHER_SOURCES = ("tests", "scripts", "examples", "docs")
+
+
+@cache
+def _defined(path: Path) -> frozenset[str]:
+    """The names ``path`` binds at module level other than by an import (functions, classes,
+    assignments, loop and ``with`` targets; also under ``if``/``try``)."""
+    out: set[str] = set()
+
+    def targets(node: ast.AST) -> None:
+        out.update(n.id for n in ast.walk(node) if isinstance(n, ast.Name))
+
+    def visit(body: list[ast.stmt]) -> None:
+        for st in body:
+            if isinstance(st, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                out.add(st.name)
+            elif isinstance(st, ast.Assign):
+                for t in st.targets:
+                    targets(t)
+            elif isinstance(st, (ast.AnnAssign, ast.AugAssign, ast.For)):
+                targets(st.target)
+            elif isinstance(st, ast.With):
+                for item in st.items:
+                    if item.optional_vars is not None:
+                        targets(item.optional_vars)
+            if isinstance(st, (ast.If, ast.Try, ast.With, ast.For, ast.While)):
+                for b in (st.body, getattr(st, "orelse", []), getattr(st, "finalbody", []),
+                          *(h.body for h in getattr(st, "handlers", []))):
+                    visit(b)
+
+    visit(_tree(path).body)
+    return frozenset(out)
+
+
+def _module_path(name: str) -> Path | None:
+    """The file of the package's module ``name`` (``fdm_awe.a.b``), None if it is none."""
+    if name != "fdm_awe" and not name.startswith("fdm_awe."):
+        return None
+    rel = Path(*name.split(".")[1:])
+    for p in ((PKG / rel / "__init__.py"), (PKG / rel).with_suffix(".py")):
+        if p.is_file():
+            return p
+    return None
+
+
+def _not_defined(module: str, name: str, faces: Iterable[str]) -> bool:
+    """``name`` taken from the package's module ``module`` is neither a sub-module nor defined
+    there, and ``module`` is not a public face."""
+    path = _module_path(module)
+    return (path is not None and module not in faces and _module_path(f"{module}.{name}") is None
+            and not (name.startswith("__") and name.endswith("__")) and name not in _defined(path))
+
+
+def _reexport_uses(label: str, tree: ast.Module, path: Path | None, faces: Iterable[str]) -> Iterator[str]:
+    """``from m import name`` and ``m.name`` (``m`` a module of the package, bound by an import)
+    in ``tree`` where ``m`` does not define ``name`` (``path``: the package file of ``tree``,
+    for its relative imports; None outside the package)."""
+    aliases: dict[str, str] = {}  # name bound by an import -> the package's module it holds
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Import):
+            for a in n.names:
+                if _module_path(a.name) is not None:
+                    aliases[a.asname or a.name.split(".")[0]] = a.name if a.asname else a.name.split(".")[0]
+        elif isinstance(n, ast.ImportFrom):
+            module = _resolve(path, n) if path is not None else (n.module or "")
+            for a in n.names:
+                if _module_path(f"{module}.{a.name}") is not None:
+                    aliases[a.asname or a.name] = f"{module}.{a.name}"
+                elif _not_defined(module, a.name, faces):
+                    yield f"{label}:{n.lineno}: from {module} import {a.name}"
+
+    def held(node: ast.expr) -> str | None:  # the package's module an expression names, if any
+        if isinstance(node, ast.Name):
+            return aliases.get(node.id)
+        if isinstance(node, ast.Attribute):
+            base = held(node.value)
+            sub = f"{base}.{node.attr}" if base else None
+            return sub if sub and _module_path(sub) is not None else None
+        return None
+
+    for n in ast.walk(tree):
+        if isinstance(n, ast.Attribute):
+            module = held(n.value)
+            if module and _not_defined(module, n.attr, faces):
+                yield f"{label}:{n.lineno}: {ast.unparse(n)}"
+
+
+def _used_names(tree: ast.Module) -> set[str]:
+    """The names ``tree`` reads (also inside string annotations), ``__all__``'s strings left out."""
+    used = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+    notes = [n.annotation for n in ast.walk(tree) if isinstance(n, (ast.arg, ast.AnnAssign)) and n.annotation]
+    notes += [n.returns for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)) and n.returns]
+    for note in notes:
+        for c in ast.walk(note):
+            if isinstance(c, ast.Constant) and isinstance(c.value, str):
+                try:
+                    used |= {x.id for x in ast.walk(ast.parse(c.value, mode="eval")) if isinstance(x, ast.Name)}
+                except SyntaxError:
+                    pass
+    return used
+
+
+def _reexports(path: Path, faces: Iterable[str]) -> Iterator[str]:
+    """A module (not a public face) that hands on names of others: a name imported from the
+    package at module level and not used, or one in its ``__all__`` that it does not define."""
+    if _module_name(path) in faces:
+        return
+    tree, rel = _tree(path), _rel(path)
+    used = _used_names(tree)
+    for st in _module_level(tree.body):
+        if isinstance(st, ast.ImportFrom):
+            module = _resolve(path, st)
+            for a in st.names:
+                name = a.asname or a.name
+                if _module_path(module) is not None and _module_path(f"{module}.{a.name}") is None and name not in used:
+                    yield f"{rel}:{st.lineno}: {name} imported from {module}, not used"
+        elif isinstance(st, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in st.targets):
+            for c in ast.walk(st.value):
+                if isinstance(c, ast.Constant) and isinstance(c.value, str) and c.value not in _defined(path):
+                    yield f"{rel}:{st.lineno}: __all__ names {c.value}, defined elsewhere"
+
+
+def _module_level(body: list[ast.stmt]) -> Iterator[ast.stmt]:
+    """The statements of a module's body, also those under ``if``/``try``."""
+    for st in body:
+        yield st
+        if isinstance(st, (ast.If, ast.Try)):
+            for b in (st.body, st.orelse, getattr(st, "finalbody", []), *(h.body for h in getattr(st, "handlers", []))):
+                yield from _module_level(b)
+
+
+def _other_sources() -> Iterator[tuple[str, ast.Module]]:
+    """(label, syntax tree) of the repository's Python sources outside the package: the tests,
+    scripts and documentation's Python files, and the code cells of the example notebooks."""
+    import json
+
+    root = PKG.parent
+    for folder in OTHER_SOURCES:
+        for p in sorted((root / folder).rglob("*.py")):
+            yield p.relative_to(root).as_posix(), ast.parse(p.read_text(), str(p))
+        for p in sorted((root / folder).rglob("*.ipynb")):
+            cells = json.loads(p.read_text()).get("cells", [])
+            for i, c in enumerate(cells):
+                if c.get("cell_type") == "code":
+                    src = "".join(c.get("source", []))
+                    src = "\n".join("" if ln.lstrip().startswith(("%", "!")) else ln for ln in src.splitlines())
+                    yield f"{p.relative_to(root).as_posix()}[cell {i}]", ast.parse(src)
+
+
+#: a dotted name of the package in text (docstrings, comments, documentation)
+DOTTED = re.compile(r"\bfdm_awe(?:\.[A-Za-z_]\w*)+")
+
+
+def _dotted_references(label: str, text: str, faces: Iterable[str]) -> Iterator[str]:
+    """Dotted names ``fdm_awe.m.name`` in ``text`` whose module ``m`` does not define ``name``."""
+    for i, line in enumerate(text.splitlines(), 1):
+        for m in DOTTED.finditer(line):
+            parts = m.group(0).split(".")
+            k = max(j for j in range(1, len(parts) + 1) if _module_path(".".join(parts[:j])) is not None)
+            if k < len(parts) and _not_defined(".".join(parts[:k]), parts[k], faces):
+                yield f"{label}:{i}: {m.group(0)}"
+
+
+def test_no_reexports() -> None:
+    """No module hands on names it imports (except the public faces), and every import, module
+    attribute and dotted reference of the repository names the module that defines the name."""
+    faces = tuple(PUBLIC_FACES)
+    bad = [line for p in _files() for line in _reexports(p, faces)]
+    bad += [line for p in _files() for line in _reexport_uses(_rel(p), _tree(p), p, faces)]
+    bad += [line for label, tree in _other_sources() for line in _reexport_uses(label, tree, None, faces)]
+    root = PKG.parent
+    texts = [(_rel(p), p.read_text()) for p in _files()]
+    texts += [(p.relative_to(root).as_posix(), p.read_text()) for folder in ("tests", "scripts")
+              for p in sorted((root / folder).rglob("*.py"))]
+    texts += [(p.relative_to(root).as_posix(), p.read_text())
+              for p in [root / "README.md", *sorted((root / "docs").rglob("*.md"))]]
+    bad += [line for label, text in texts for line in _dotted_references(label, text, faces)]
+    assert not bad, ("names taken from a module that does not define them (import them from their own module):\n"
+                     + "\n".join(bad))
+
+
+def test_the_reexport_check_sees_what_it_must(tmp_path, monkeypatch) -> None:
+    """The check itself, on a generated package: a re-export through ``__all__``, an unused
+    import kept for old imports, an import, a module attribute and a dotted reference through a
+    module that does not define the name are found; the defining module's path, a public face,
+    a sub-module and a name used in a string annotation are not."""
+    (tmp_path / "a.py").write_text("X = 1\n\ndef f():\n    return X\n")
+    (tmp_path / "b.py").write_text("from .a import X, f\n\n__all__ = ['X', 'g']\n\ndef g():\n    return X + f()\n")
+    (tmp_path / "shim.py").write_text("from .a import f  # kept for old imports\n")
+    (tmp_path / "c.py").write_text("from .b import X\nfrom . import b, a\n\n\ndef h() -> 'f':\n"
+                                   "    return X + b.X + b.g() + a.X  # see fdm_awe.b.X and fdm_awe.a.X\n")
+    (tmp_path / "face").mkdir()
+    (tmp_path / "face" / "__init__.py").write_text("from ..a import X\n")
+    (tmp_path / "face" / "m.py").write_text("Y = 2\n")
+    (tmp_path / "d.py").write_text("from .face import X, m\nfrom .face.m import Y\nimport fdm_awe.face.m\n\n"
+                                   "Z = X + Y + m.Y + fdm_awe.face.m.Y\n")
+    (tmp_path / "e.py").write_text("from typing import TYPE_CHECKING\n\nif TYPE_CHECKING:\n    from .a import f\n\n\n"
+                                   "def k(x: 'f') -> None:\n    pass\n")
+    monkeypatch.setattr(sys.modules[__name__], "PKG", tmp_path)
+    caches = (_files, _tree, _defined)
+    for f in caches:
+        f.cache_clear()
+    faces = ("fdm_awe", "fdm_awe.face")
+    try:
+        found = {p.name: sorted(line.split(": ", 1)[1] for line in (*_reexports(p, faces), *_reexport_uses(
+            _rel(p), _tree(p), p, faces), *_dotted_references(_rel(p), p.read_text(), faces))) for p in _files()}
+    finally:
+        monkeypatch.undo()
+        for f in caches:
+            f.cache_clear()
+    assert found == {"a.py": [], "b.py": ["__all__ names X, defined elsewhere"],
+                     "shim.py": ["f imported from fdm_awe.a, not used"],
+                     "c.py": sorted(["from fdm_awe.b import X", "b.X", "fdm_awe.b.X"]),
+                     "__init__.py": [], "m.py": [], "d.py": [], "e.py": []}
 
 
 #: the MAVLink protocol modules: handed the endpoint, they use it as a :class:`~fdm_awe.mavlink.link.Link`

@@ -333,7 +333,7 @@ def test_custom_glider_nlp_is_built_once_per_variant():
     """A design variant's NLP is cached by value: the second wind of its chain reuses it, an
     equal variant built anew hits the same entry, another variant gets its own NLP."""
     from fdm_awe.ocp.problem import CycleProblem, Mesh
-    from fdm_awe.ocp.solve import get_nlp
+    from fdm_awe.ocp.build import get_nlp
 
     g = load_glider()
     pr = CycleProblem(scenario="physical", config="foldable", wind_speed=6.0, mesh=Mesh(6, 4, 2))

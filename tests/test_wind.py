@@ -65,7 +65,7 @@ def test_profile_input_errors_are_one_line():
 
 # ---------------------------------------------------------------- the model
 def _model(profile: WindProfile):
-    from fdm_awe.ocp.solve import get_nlp
+    from fdm_awe.ocp.build import get_nlp
 
     pr = CycleProblem(config="nominal", wind_speed=8.0, mesh=Mesh(20, 12, 3), wind_profile=profile)
     return pr, get_nlp(pr)[0].model
@@ -125,7 +125,7 @@ def log_cycle():
 def test_optimiser_solves_a_log_profile_cycle_and_its_reintegration_holds(log_cycle):
     """Coarse mesh: the re-integration holds at the level the coarse uniform cycle does (defects
     of a few per cent of the path; verify.py's tolerances are the default mesh's)."""
-    from fdm_awe.ocp.solve import get_nlp
+    from fdm_awe.ocp.build import get_nlp
     from fdm_awe.ocp.verify import verify
 
     pr, res = log_cycle

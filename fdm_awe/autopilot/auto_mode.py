@@ -30,7 +30,8 @@ from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDA
                         REF_WHERE, REJOINED, TRACK_LOST, M_US, M_GP, GROUND, PATH_REJOIN, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
 from .guidance import GuidanceCommand, polar_arguments
-from .tracking import GENERATION, PHASE_NAMES, RECOVERY, RefPoint, TrackingReference
+from ..trajectory.schema import GENERATION, PHASE_NAMES, RECOVERY
+from .tracking import RefPoint, TrackingReference
 from .winch import N_LIMITS, limit_vector, winch_command
 
 #: the AUTO step's phase codes of the autopilot's phases

@@ -236,9 +236,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     elif protect:
         us = 2.0 if valid and gso[GS_SLACK] != 0.0 else 1.0
     # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
-    # the rescue only for a glider no faster in the air than its reference point, or pulling up
-    # or protecting its airspeed (motor_update)
-    slow = pull or protect or not v_air > rrow[R_AIRSPEED]
+    slow = pull or protect or not v_air > rrow[R_AIRSPEED]  # the rescue's glider (motor_update)
     motor = motor_update(segs[SEG_RUN], seg, t, mem[M_ERR], gate, motor_mem, slow) != 0.0
     if motor:
         t_max = gk[GK_THRUST_MAX]

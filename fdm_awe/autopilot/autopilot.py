@@ -5,10 +5,9 @@ guidance (:mod:`.guidance`, path tracking by point-mass force inversion)
   -> thrust loop (throttle)                         -> surfaces, throttle, fold command
 phase logic (generation / recovery)                 -> winch command (machine mode, reel speed)
 
-Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NUMBERS`):
+Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mode_table.MODE_NUMBERS`):
 
-- ``MANUAL``: surfaces and throttle held at :attr:`Autopilot.manual` (neutral by default);
-  the winch holds in generator mode.
+- ``MANUAL``: surfaces and throttle held at :attr:`Autopilot.manual` (neutral by default); the winch in generator mode.
 - ``FBWA``: wings level at the trim angle of attack for the current airspeed, no thrust.
 - ``AUTO``: with cycling started and a reference loaded, fly the pumping cycle: follow the
   reference path; generation = unfolded wing, generator (passive rectifier into R_L, optionally
@@ -23,11 +22,11 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.autopilot.modes.MODE_NU
   ``motor_on``, :class:`MotorGate`): where the optimiser stopped it the throttle is cut (the
   ESC brakes the propeller to a stop: no thrust, no drag, only the idle power P0).
   Without cycling or without a reference, AUTO holds FBWA.
-- ``RECOVER``: the safe mode. Unfold, glide (motor stopped) to a circle of ``REC_RADIUS``
-  about the winch and descend on it at ``REC_AIRSPEED`` (as steeply as the glider must); the
-  motor runs only to hold the level floor circle and against a stall in the flare; the winch reels in whatever line hangs
-  slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level and flare. Losing
-  the reference in AUTO (mission cleared) switches to RECOVER.
+- ``RECOVER``: the safe mode. Unfold, glide (motor stopped) to a circle of ``REC_RADIUS`` about
+  the winch and descend on it at ``REC_AIRSPEED`` (as steeply as the glider must); the motor runs
+  only to hold the level floor circle and against a stall in the flare; the winch reels in
+  whatever line hangs slack (at most ``REC_REEL_SPD``); below ``REC_FLARE_ALT`` fly wings level
+  and flare. Losing the reference in AUTO (mission cleared) switches to RECOVER.
 - ``LOITER``: hold (MAVLink's hold and pause, ArduPlane's LOITER number): RECOVER's path that never
   lands: glide to the ``REC_RADIUS`` circle about the winch and circle there at ``REC_HOLD_ALT``
   with the line reeled in to the distance (RECOVER with ``REC_LAND`` 0, the park). AUTO afterwards
@@ -59,21 +58,22 @@ import numpy as np
 from ..constants import G0, RHO0
 from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
+from ..mode_table import MODE_NUMBERS
 from ..sixdof.adapter import JSBSimGlider
+from ..sixdof.attitude_law import StabilizerGains
 from ..sixdof.row import WOW
-from ..sixdof.stabilizer import StabilizerGains
 from ..sixdof.state import SixDofState, Surfaces
+from ..trajectory import PHASE_NAMES
 from .attitude import AttitudeLoops
 from .auto_mode import AutoStep
 from .auto_step import M_ERR, M_SREF, M_TLAST
 from .fold import fold_command, reference_fold_time
 from .guidance import P_CLMAX, Guidance, GuidanceCommand, GuidanceGains, norm3
-from .modes import MODE_NUMBERS
 from .motor import MotorGate, MotorSwitch
 from .params import ParamStore
 from .recovery import Recovery
 from .thrust import ThrustLoop
-from .tracking import PHASE_NAMES, RefPoint, TrackingReference
+from .tracking import RefPoint, TrackingReference
 from .vehicle import Waypoint
 
 MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER", "LOITER")
@@ -621,27 +621,19 @@ class Autopilot:
     def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
         """RECOVER's (and LOITER's) commands: the recovery's path flown by the guidance, or the flare
         (wings level)."""
-        p = self.params
         self.phase = "recovery"
         rec = self.recovery
         if rec.stage is None:
             rec.enter(s)
-        h = -float(s.pos_ned[2])
         wind = s.vel_ned - s.vel_air_ned
         r = rec.reference(s, wind, dt)
         wcmd = rec.winch(s, gs)
         if r is None:
-            # flare: wings level, angle of attack for level flight plus a sink-rate term
-            # (hold ~0.5 m/s down) until the skids touch
+            # flare: wings level until the skids touch (:meth:`Recovery.flare`)
             self.ref_point = None
-            v_down = float(s.vel_ned[2])
-            sink_target = 0.3 + 0.7 * min(h / max(p["REC_FLARE_ALT"], 0.1), 1.0)  # 1.0 m/s at the top, 0.3 at touchdown
-            alpha = self.glider.trim_alpha(max(s.airspeed, 5.0)) + 0.05 * (v_down - sink_target)
-            a_max = min(p["LIM_ALPHA_MAX"], 0.9 * self.guidance.aero_u.alpha_max_lift)  # stall margin
-            # the motor only guards against stalling (below 80 % of the recovery airspeed)
-            thrust = min(max(4.0 * (0.8 * p["REC_AIRSPEED"] - s.airspeed), 0.0), 8.0)
+            alpha, thrust = rec.flare(s, self.glider.trim_alpha(max(s.airspeed, 5.0)))
             thr = self._recover_throttle(thrust, thrust <= 0.0, s, dt)
-            return self._hold(s, min(max(alpha, 0.0), a_max), 0.0, 0.0, dt, thr), wcmd
+            return self._hold(s, alpha, 0.0, 0.0, dt, thr), wcmd
         self.ref_point = r
         f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
         # the motor is stopped while the path descends (the glide), it holds the level floor

@@ -15,9 +15,9 @@ same table: MAVSDK's flight modes MANUAL, MISSION (AUTO), RETURN_TO_LAUNCH (RTL)
 from __future__ import annotations
 
 from fdm_awe.errors import InputError
-from fdm_awe.mode_table import MODE_NAMES, MODE_NUMBERS  # the one table, below every layer that shows modes
+from fdm_awe.mode_table import MODE_NUMBERS  # the one table, below every layer that shows modes
 
-__all__ = ["MODE_NAMES", "MODE_NUMBERS", "mode_number"]
+__all__ = ["mode_number"]
 
 def mode_number(name: str) -> int:
     """``custom_mode`` number of a mode name; InputError for a name not in MODE_NUMBERS."""

@@ -12,7 +12,12 @@ must reach the winch) and against a stall in the flare. With
 ``REC_LAND`` 0, or when
 vertical gusts exceed ``REC_GUST_MAX`` near the hold, the glider parks in the hold at
 ``REC_HOLD_ALT``. The winch brakes a paying-out drum in generator mode first, then reels in the
-slack beyond ``REC_SLACK`` (at most ``REC_REEL_SPD``), and spools free on the final approach.
+slack beyond ``REC_SLACK`` (``REC_SLK_KL`` per metre, at most ``REC_REEL_SPD``), and spools free
+on the final approach (``REC_SPOOL_RL``).
+
+Every number of the recovery is an autopilot parameter (``REC_*``, ``autopilot.xml``, MAVLink
+visible); what remains here are the geometry's own tolerances (a metre about the altitude
+reference, the turn's 0.1 rad window, calm air below 1 m/s).
 """
 
 from __future__ import annotations
@@ -26,7 +31,8 @@ from ..groundstation import WinchCommand
 from ..sixdof.state import SixDofState
 from .guidance import Guidance, norm3
 from .params import ParamStore
-from .tracking import RECOVERY, RefPoint
+from ..trajectory.schema import RECOVERY
+from .tracking import RefPoint
 from .winch import pay_out
 
 
@@ -90,23 +96,24 @@ class Recovery:
         if self.stage in ("final", "flare"):
             # final approach and touchdown: free spool (open-circuit generator: only the drum's
             # friction and inertia resist), the line pays out if the glider reaches its end
-            return pay_out(s, gs, 1.0e4, 2.0, self.winch_kind, p["REC_TENSION"])
+            return pay_out(s, gs, p["REC_SPOOL_RL"], p["REC_SPOOL_SLK"], self.winch_kind, p["REC_TENSION"],
+                           p["REC_SLK_KL"], p["REC_TENS_KT"])
         if gs is not None and (gs.reel_speed > p["REC_BRAKE_SPD"] or gs.tension > p["REC_TENSION"]):
             # the drum pays out fast or the line pulls: the generator brakes it through the
             # load (switching the machine to motor mode now would plug it: full supply voltage
             # on a back-EMF of the same sign, the armature current limited by its resistance only)
-            return pay_out(s, gs, self.R_L, 0.0, self.winch_kind, p["REC_TENSION"])
+            return pay_out(s, gs, self.R_L, 0.0, self.winch_kind, p["REC_TENSION"], p["REC_SLK_KL"], p["REC_TENS_KT"])
         # keep REC_SLACK metres of slack: reel in the excess (the half-bridge drives the
         # motor one way only; line goes out through the generator when pulled)
-        reel = -min(max(0.5 * (slack - p["REC_SLACK"]), 0.0), p["REC_REEL_SPD"])
+        reel = -min(max(p["REC_SLK_KL"] * (slack - p["REC_SLACK"]), 0.0), p["REC_REEL_SPD"])
         return WinchCommand(mode="motor", reel_speed_ref=reel)
 
     def _circle_field(self, q: np.ndarray, centre: np.ndarray | None = None, radius: float = 0.0) -> np.ndarray:
         """Horizontal unit vector of a circle's guidance field at horizontal position ``q`` (m,
         north/east of the winch): tangent to the circle of ``radius`` [m] about ``centre`` [m]
         (default: REC_RADIUS about the winch) in the recovery's sense on it, turned towards it
-        by ``atan((rho - R) / (R / 2))`` off it (straight at the centre far outside, straight
-        out near the centre)."""
+        by ``atan((rho - R) / (w R))`` off it (REC_CAPT_W ``w``; straight at the centre far
+        outside, straight out near the centre)."""
         if centre is None:
             R = self.params["REC_RADIUS"]
         else:
@@ -115,7 +122,7 @@ class Recovery:
         rho = math.hypot(q[0], q[1])
         er = q / rho if rho > 1e-6 else np.array([1.0, 0.0])
         et = self._sense * np.array([-er[1], er[0]])
-        beta = math.atan((rho - R) / (0.5 * R))
+        beta = math.atan((rho - R) / (self.params["REC_CAPT_W"] * R))
         return math.cos(beta) * et - math.sin(beta) * er
 
     def _turn_onto_final(self, q: np.ndarray, wind: np.ndarray) -> tuple[np.ndarray, np.ndarray, float] | None:
@@ -130,14 +137,14 @@ class Recovery:
         lie that run and REC_RADIUS ``R`` from the winch at right angles: beyond the landing
         bound when a weak headwind makes the run long.) The turn, in the circle's sense, is
         tangent to the circle and to the line: radius ``r`` for 45 deg bank at the fastest
-        ground speed, ``(V + |wind|)^2 / g`` (REC_AIRSPEED ``V``), at most 0.45 R; its centre
+        ground speed, ``(V + |wind|)^2 / g`` (REC_AIRSPEED ``V``), at most REC_TURN_RMAX R; its centre
         ``r`` off the line and ``R - r`` from the winch, so it begins at the circle's bearing
         ``atan(r / sqrt(R^2 - 2 R r))`` before the downwind point (or at most 0.1 rad after;
         a glider that reaches the final altitude later circles once more)."""
         R = self.params["REC_RADIUS"]
         V = self.params["REC_AIRSPEED"]
         wn = math.hypot(wind[0], wind[1])
-        r = min((V + wn) ** 2 / self.guidance.g, 0.45 * R)
+        r = min((V + wn) ** 2 / self.guidance.g, self.params["REC_TURN_RMAX"] * R)
         xc = math.sqrt(R * R - 2.0 * R * r)  # the centre's distance down the line from the winch
         lead = math.atan2(r, xc)  # bearing of the circle's tangent point off its downwind point
         psi_q = math.atan2(q[1], q[0])
@@ -160,13 +167,13 @@ class Recovery:
         return uw + math.sqrt(max(V * V - float(wind @ wind) + uw * uw, 0.25 * V * V))
 
     def _watch_gusts(self, wind: np.ndarray, h: float, dt: float) -> None:
-        """Filter the vertical wind's mean square over ~10 s (``wind`` [m/s] NED, step ``dt``
-        [s]); a landing recovery whose gusts exceed REC_GUST_MAX on the circle, below
-        REC_HOLD_ALT + 10 m (``h`` [m]), parks in the hold instead."""
+        """Filter the vertical wind's mean square over REC_GUST_TAU (``wind`` [m/s] NED, step
+        ``dt`` [s]); a landing recovery whose gusts exceed REC_GUST_MAX on the circle, below
+        REC_HOLD_ALT + REC_GUST_BAND (``h`` [m]), parks in the hold instead."""
         p = self.params
-        self._gust2 += (float(wind[2]) ** 2 - self._gust2) * min(dt / 10.0, 1.0)
+        self._gust2 += (float(wind[2]) ** 2 - self._gust2) * min(dt / p["REC_GUST_TAU"], 1.0)
         if not self.park and p["REC_LAND"] > 0.5 and math.sqrt(self._gust2) > p["REC_GUST_MAX"] \
-                and self.stage in ("return", "hold") and h < p["REC_HOLD_ALT"] + 10.0:
+                and self.stage in ("return", "hold") and h < p["REC_HOLD_ALT"] + p["REC_GUST_BAND"]:
             self.park = True
             self._note(f"recovery: vertical gusts {math.sqrt(self._gust2):.1f} m/s RMS above REC_GUST_MAX: "
                        f"no landing, parking in the hold at {p['REC_HOLD_ALT']:.0f} m")
@@ -186,7 +193,7 @@ class Recovery:
         floor = p["REC_FINAL_ALT"] if land else p["REC_HOLD_ALT"]
         sink = V / p["REC_SLOPE"]
         if self.stage in ("return", "hold"):
-            on_circle = abs(math.hypot(q[0], q[1]) - R) < 0.25 * R
+            on_circle = abs(math.hypot(q[0], q[1]) - R) < p["REC_CIRC_BAND"] * R
             if self.stage == "return" and on_circle and h < floor + 3.0:
                 self.stage = "hold"
                 self._note(f"recovery: on the circle at {h:.1f} m")
@@ -244,6 +251,24 @@ class Recovery:
         return RefPoint(t_cycle=0.0, cycle=0, phase=RECOVERY, pos=pos, vel=vel, acc=acc, airspeed=V, alpha=0.0,
                         phi=0.0, thrust=0.0, tension=0.0, length=0.0, reel_speed=0.0)
 
+    def flare(self, s: SixDofState, trim_alpha: float) -> tuple[float, float]:
+        """The flare's angle of attack [rad] and thrust [N] at glider state ``s``, wings level:
+        ``trim_alpha`` [rad] (level flight at the airspeed) plus REC_FLR_KA per m/s of sink above
+        the aimed sink rate (REC_FLR_SINK at REC_FLARE_ALT, falling linearly to REC_FLR_SINK_TD
+        at touchdown), within 0 and the stall margin (REC_FLR_AMARG of the maximum-lift angle,
+        at most LIM_ALPHA_MAX); the motor only guards against a stall: REC_FLR_KT per m/s below
+        REC_FLR_VMIN times REC_AIRSPEED, at most REC_FLR_TMAX."""
+        p = self.params
+        h = -float(s.pos_ned[2])
+        v_down = float(s.vel_ned[2])
+        td = p["REC_FLR_SINK_TD"]
+        sink_target = td + (p["REC_FLR_SINK"] - td) * min(h / max(p["REC_FLARE_ALT"], 0.1), 1.0)
+        alpha = trim_alpha + p["REC_FLR_KA"] * (v_down - sink_target)
+        a_max = min(p["LIM_ALPHA_MAX"], p["REC_FLR_AMARG"] * self.guidance.aero_u.alpha_max_lift)
+        stall_guard = p["REC_FLR_KT"] * (p["REC_FLR_VMIN"] * p["REC_AIRSPEED"] - s.airspeed)
+        thrust = min(max(stall_guard, 0.0), p["REC_FLR_TMAX"])
+        return min(max(alpha, 0.0), a_max), thrust
+
     @property
     def holds(self) -> bool:
         """The recovery holds on the circle for good (REC_LAND 0, or vertical gusts above
@@ -251,8 +276,9 @@ class Recovery:
         return self.stage == "hold" and self.park
 
     def in_hold(self, s: SixDofState) -> bool:
-        """Glider state ``s`` circles within 5 m of REC_HOLD_ALT, within a quarter of REC_RADIUS
-        of the circle."""
+        """Glider state ``s`` circles within REC_HOLD_TOL of REC_HOLD_ALT, within REC_CIRC_BAND
+        times REC_RADIUS of the circle."""
+        p = self.params
         rho = math.hypot(float(s.pos_ned[0]), float(s.pos_ned[1]))
-        return (abs(-float(s.pos_ned[2]) - self.params["REC_HOLD_ALT"]) < 5.0
-                and abs(rho - self.params["REC_RADIUS"]) < 0.25 * self.params["REC_RADIUS"])
+        return (abs(-float(s.pos_ned[2]) - p["REC_HOLD_ALT"]) < p["REC_HOLD_TOL"]
+                and abs(rho - p["REC_RADIUS"]) < p["REC_CIRC_BAND"] * p["REC_RADIUS"])

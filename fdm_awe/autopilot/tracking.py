@@ -19,9 +19,9 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import InputError
-from ..trajectory import GENERATION, HELD, LINEAR, PHASE_NAMES, RECOVERY, CycleSampler
+from ..trajectory import HELD, LINEAR, CycleSampler
 
-__all__ = ["GENERATION", "PHASE_NAMES", "RECOVERY", "TRACKING_RULES", "RefPoint", "TrackingReference"]
+__all__ = ["TRACKING_RULES", "RefPoint", "TrackingReference"]
 
 #: How the autopilot samples its reference: the path, the ground velocity and acceleration, the
 #: airspeed, the feed-forward controls (alpha, bank, thrust: a smooth feed-forward, although the

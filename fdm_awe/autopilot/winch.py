@@ -22,15 +22,18 @@ from ..groundstation import WinchCommand
 from ..sixdof.state import SixDofState
 from .guidance import norm3
 from .params import ParamStore
-from .tracking import GENERATION, RefPoint
+from ..trajectory.schema import GENERATION
+from .tracking import RefPoint
 
 
-#: the winch's line limits, autopilot parameters in the order of the ``lim`` vector of
-#: :func:`cycle_winch_values` (:func:`limit_vector`); then the drive's largest reel-in speed
+#: the winch's line limits and the recovery phase's reel gains, autopilot parameters in the
+#: order of the ``lim`` vector of :func:`cycle_winch_values` (:func:`limit_vector`); then the
+#: drive's largest reel-in speed
 LIMIT_PARAMS = ("WINCH_TLO", "WINCH_THYST", "WINCH_TLO_KT", "WINCH_SLK_KL", "WINCH_SLACK", "WINCH_VCATCH",
-                "WINCH_THI", "WINCH_THI_KRL")
-(WL_TLO, WL_THYST, WL_TLO_KT, WL_SLK_KL, WL_SLACK, WL_VCATCH, WL_THI, WL_THI_KRL, WL_VIN_MAX) = range(9)
-N_LIMITS = 9
+                "WINCH_THI", "WINCH_THI_KRL", "REC_LEN_KL", "REC_TENS_KT", "REC_PAY_MAX")
+(WL_TLO, WL_THYST, WL_TLO_KT, WL_SLK_KL, WL_SLACK, WL_VCATCH, WL_THI, WL_THI_KRL, WL_LEN_KL, WL_TENS_KT, WL_PAY_MAX,
+ WL_VIN_MAX) = range(12)
+N_LIMITS = 12
 #: the load resistance's range in generation [ohm] (the length trim's and the upper limit's)
 RL_MIN, RL_MAX = 0.2, 20.0
 
@@ -145,8 +148,8 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     WINCH_SLACK of line hangs and the tension is at most WINCH_TLO (slack, not sagging),
     whatever slack the reference planned (a glider turning out on a slack line runs out
     against a standing drum: its inertia against the line's stiffness makes the catch's peak;
-    0 WINCH_VCATCH: the reference's speed alone), easing off above REC_TENSION; every reel-in
-    within the drive's largest speed.
+    0 WINCH_VCATCH: the reference's speed alone), trimmed by REC_LEN_KL, REC_TENS_KT above
+    REC_TENSION, paying out at most REC_PAY_MAX; every reel-in within the drive's largest speed.
 
     Outputs: ``motor_mode`` 1.0 (motor) or 0.0 (generator), ``reel_speed_ref`` [m/s] (0.0, the
     command's default, where the generator ignores it), ``load_resistance`` [ohm] and
@@ -184,10 +187,10 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
         # the generator's T2 duty as the optimiser chose it (0: the passive rectifier)
         return 0.0, 0.0, rl, d2, False
     # reel in at the reference speed scaled by the path rate, trimmed towards the reference
-    # length, and ease off when the line pulls the glider harder than REC_TENSION
+    # length, easing off when the line pulls the glider harder than REC_TENSION
     v = rate * reel_speed
     if gs_valid:
-        v += 0.5 * (length - gs_length)
+        v += lim[WL_LEN_KL] * (length - gs_length)
         v_catch = lim[WL_VCATCH]
         if v_catch > 0.0 and not ideal and dist == dist:
             # at least the approach where more than WINCH_SLACK hangs on a line pulling at most
@@ -202,19 +205,20 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
             # caught at no more than WINCH_VCATCH
             v = max(v, dist_rate - v_catch - lim[WL_SLK_KL] * max(slack, 0.0))
         if gs_tension > rec_tension:
-            v += 0.2 * (gs_tension - rec_tension)
-    return 1.0, max(min(v, 0.5), -v_in_max), math.nan, math.nan, False
+            v += lim[WL_TENS_KT] * (gs_tension - rec_tension)
+    return 1.0, max(min(v, lim[WL_PAY_MAX]), -v_in_max), math.nan, math.nan, False
 
 
 def pay_out(s: SixDofState, gs: Any, load_resistance: float, slack: float, winch: str,
-            max_tension: float) -> WinchCommand:
+            max_tension: float, k_slack: float, k_tension: float) -> WinchCommand:
     """Let line out in generator mode: through the load resistor (``load_resistance`` [ohm]) on
-    the real winch; on a kinematic winch, at the glider's opening speed plus a catch-up on
-    ``slack`` [m] of line beyond the glider's distance and on a tension above ``max_tension``
-    [N] (REC_TENSION)."""
+    the real winch; on a kinematic winch, at the glider's opening speed plus a catch-up of
+    ``k_slack`` [1/s] (REC_SLK_KL) per metre of line short of the glider's distance plus
+    ``slack`` [m], and of ``k_tension`` [m/(N s)] (REC_TENS_KT) per newton above
+    ``max_tension`` [N] (REC_TENSION)."""
     if winch != "ideal" or gs is None:
         return WinchCommand(mode="generator", load_resistance=load_resistance)
     d = norm3(s.hook_pos_ned)
     d_rate = float(s.hook_pos_ned @ s.hook_vel_ned) / max(d, 1e-6)
-    v = max(d_rate, 0.0) + 0.5 * max(d + slack - gs.length, 0.0) + 0.2 * max(gs.tension - max_tension, 0.0)
+    v = max(d_rate, 0.0) + k_slack * max(d + slack - gs.length, 0.0) + k_tension * max(gs.tension - max_tension, 0.0)
     return WinchCommand(mode="generator", reel_speed_ref=v)

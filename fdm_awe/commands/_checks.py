@@ -19,7 +19,7 @@ from typing import Iterable, Sequence
 from ..errors import InputError
 from ..fileio import (check_input_dir, check_input_file, check_name_length, check_output_dir, check_output_file,
                       lock_folder)
-from ..turbulence import SEED_MAX, SEED_MIN, Turbulence
+from ..turbulence import Turbulence
 
 #: the named turbulence levels of ``fly --turbulence`` (JSBSim's Milspec severities with a fixed
 #: wind at 20 ft; the other forms: :mod:`fdm_awe.turbulence`)
@@ -266,6 +266,6 @@ def scheduler_address(address: str | None, option: str = "--scheduler") -> str |
     return address
 
 
-__all__ = ["MAVLINK_KINDS", "MAVLINK_LISTEN_KINDS", "SCHEDULER_SCHEMES", "SEED_MAX", "SEED_MIN", "TURBULENCE_LEVELS",
+__all__ = ["MAVLINK_KINDS", "MAVLINK_LISTEN_KINDS", "SCHEDULER_SCHEMES", "TURBULENCE_LEVELS",
            "definition_files", "input_dir", "input_file", "integer", "io_file", "mavlink_url", "number", "outputs",
            "scheduler_address", "turbulence"]

@@ -108,9 +108,9 @@ def add_plant_model_args(p: argparse.ArgumentParser, prefix: str = "", line_axis
     drive, the line's weight), so that a command can tell an explicit option from its default.
     ``line_axis``: ``--line`` takes a comma list of line names (a sweep axis). ``generators``:
     the ``--generator`` choices (None: every generator of
-    :data:`fdm_awe.ocp.problem.GENERATORS`; empty: no such option, the sweep's case)."""
+    :data:`fdm_awe.trajectory.schema.GENERATORS`; empty: no such option, the sweep's case)."""
     from ..groundstation.line import LINE_MODELS, LINES  # plain module: no CasADi import
-    from ..ocp.problem import GENERATORS, PROPELLERS
+    from ..trajectory.schema import GENERATORS, PROPELLERS
 
     gens = GENERATORS if generators is None else generators
     if gens:
@@ -498,10 +498,10 @@ def _run_checked(args: argparse.Namespace, problem: Any, traj: str | None) -> in
     the outputs; returns the exit code."""
     from ..fileio import write_json
     from ..trajectory import write_reference
-    from ..ocp.solve import get_nlp, solve_cycle
+    from ..ocp import build, solve
 
     print(f"optimising {problem.scenario}/{problem.config} at {problem.wind_speed:g} m/s ...", file=sys.stderr, flush=True)
-    res = solve_cycle(problem, n_starts=args.starts, time_budget_s=args.time_budget)
+    res = solve.solve_cycle(problem, n_starts=args.starts, time_budget_s=args.time_budget)
     if res.ok and traj:
         write_reference(res, traj)  # atomic (temporary name, then renamed)
     print_summary(res)
@@ -509,7 +509,7 @@ def _run_checked(args: argparse.Namespace, problem: Any, traj: str | None) -> in
     if res.ok and args.verify:
         from ..ocp.verify import verify
 
-        v = verify(res, get_nlp(problem)[0])
+        v = verify(res, build.get_nlp(problem)[0])
         print(f"  check: interval defects sum to {100 * v.position_error_rel:.3f} % of the {v.path_length_m:.0f} m path; "
               f"energies re-integrated: " + ", ".join(f"{k} {100 * e:.2f} %" for k, e in v.energy_error_rel.items())
               + f"; max scaled constraint violation {v.nlp_max_violation:.1e}")

@@ -234,7 +234,7 @@ def _station_fields(args: argparse.Namespace) -> dict[str, str | None]:
 
 def build_spec(args: argparse.Namespace):
     """The :class:`~fdm_awe.sweep.spec.SweepSpec` of the command line (canonical ids)."""
-    from ..ocp.problem import CONFIGS
+    from ..trajectory.schema import CONFIGS
     from ..sweep.runner import canonical_spec
     from ..errors import InputError
     from ..groundstation.line import LINES

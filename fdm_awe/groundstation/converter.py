@@ -37,11 +37,8 @@ controller, the drum pays out instead of braking (docs/design.md 5).
 
 from __future__ import annotations
 
-from .substeps import force_limited_current, hold_current, hold_generator, link_coefficients
-
 GENERATOR = "generator"
 MOTOR = "motor"
 MODES = (GENERATOR, MOTOR)
 
-__all__ = ["GENERATOR", "MODES", "MOTOR", "force_limited_current", "hold_current", "hold_generator",
-           "link_coefficients"]
+__all__ = ["GENERATOR", "MODES", "MOTOR"]

@@ -46,31 +46,27 @@ integrator's error, not a booked term. Axial line inertia moving with the drum s
 drum's inertia ``mu l r_w^2`` as for the straight line.
 
 The line's state, ledger and constants live in the ground station's arrays after the
-drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views; its names are also
-reached here). Every function here is plain Python over floats and arrays; numba compiles
-:func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state`
-and :mod:`fdm_awe.wind`), Python runs the same source when ``FDM_AWE_JIT=0``.
+drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views). Every function here
+is plain Python over floats and arrays; numba compiles :func:`lumped_station_step` (its cache
+tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state` and :mod:`fdm_awe.wind`),
+Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
 from __future__ import annotations
 
 import functools
 import math
-import os
 from typing import Callable
 
 from .. import wind
-from ..jitcache import follow_sources
+from ..jitcache import compile_lazy
 from ..wind import shear_factor
 from . import lumped_state, substeps, winch
-from .lumped_state import (  # noqa: F401 - the line's layout and views, also reached as lumped.<name>
-    C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN, C_ZETA, CFL,
-    CONSTANTS, FIELDS, HEAD, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
-    L_SK, L_SP, LED, N_MAX, N_MIN, NODES, OFF, R_DX, R_DY, R_DZ, R_INNER, R_NSEG, R_READY, R_TG, R_TMAX, R_WZ,
-    ZETA, LineLedger, line_constants, nodes, state_size, tensions, velocities,
-)
+from .lumped_state import (C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN,
+                           C_ZETA, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
+                           L_SK, L_SP, LED, NODES, R_DX, R_DY, R_DZ, R_INNER, R_READY, R_TG, R_TMAX, R_WZ)
 from .linestep import compile_line_step
-from .substeps import DRAG_W, WEIGHT_W, advance, cross_flow_drag, machine_mode_code, register_calls
+from .substeps import DRAG_W, WEIGHT_W, advance, cross_flow_drag, machine_mode_code
 
 # station constants used here (positions in STATION_CONSTANTS)
 _C_MU, _C_EA, _C_TBREAK, _C_G, _C_DRAGON, _C_WN, _C_WE, _C_WD = 4, 5, 6, substeps.C_G, substeps.C_DRAG_ON, *substeps.C_WINDS
@@ -497,18 +493,4 @@ def compiled_function(name: str) -> Callable:
     """The function ``name`` of this module (e.g. ``"relax_line"``, ``"inner_steps"``) compiled
     by numba for the types of its first call, or the Python function itself when numba is
     missing or ``FDM_AWE_JIT=0`` (for studies and tests of the line alone)."""
-    f = globals()[name]
-    if os.environ.get("FDM_AWE_JIT", "1") == "0":
-        return f
-    try:
-        import numba  # here: optional, and its import costs start-up time
-        from numba.extending import register_jitable
-
-        register_calls()
-        for g in CALLED:
-            register_jitable(g)
-        kern = numba.njit(cache=True)(f)
-        follow_sources(kern, SOURCES)
-        return kern
-    except ImportError:
-        return f
+    return compile_lazy(globals()[name], substeps.CALLED + CALLED, SOURCES)

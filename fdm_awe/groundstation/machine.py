@@ -20,9 +20,9 @@ in :mod:`.substeps`), which lets the drum, line and armature be solved together 
 
 from __future__ import annotations
 
-from .substeps import MACHINE_MODES, armature_coefficients, machine_mode_code
+from .substeps import MACHINE_MODES, machine_mode_code
 
-__all__ = ["armature_coefficients", "load_torques", "machine_mode"]
+__all__ = ["load_torques", "machine_mode"]
 
 
 def machine_mode(omega: float, current: float, tension: float, K: float, r: float) -> str:

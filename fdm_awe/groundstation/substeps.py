@@ -24,13 +24,11 @@ from __future__ import annotations
 
 import functools
 import math
-import os
-import warnings
-from typing import Callable
+from typing import Any, Callable
 
-from ..jitcache import compile_with_notice, follow_sources
+from ..jitcache import compile_cached
 from . import winch
-from .winch import DRUM_RELATIONS, drum_speed, drum_step, end_stop
+from .winch import DRUM_RELATIONS, drum_step, end_stop
 
 #: Event codes (0: none).
 EVENTS = (None, "tether_fully_reeled_in", "tether_fully_paid_out", "tether_break")
@@ -450,37 +448,15 @@ CALLED = (pi_step, link_coefficients, armature_coefficients, hold_current, force
            machine_mode_code, substeps, advance)
 
 
-@functools.lru_cache(maxsize=None)
-def register_calls() -> None:
-    """Let numba compile the calls of :data:`CALLED` inside compiled functions (once)."""
-    from numba.extending import register_jitable
+def _njit(f: Callable, sig: str) -> Callable | None:
+    """``f`` compiled by numba for ``sig`` (one letter per argument: ``f`` float, ``b`` bool,
+    ``a`` float array, ``i`` int), cached on disk and tied also to the drum's relations compiled
+    into it, or None (numba missing, ``FDM_AWE_JIT=0``, a broken numba install: the Python
+    functions run instead; :func:`fdm_awe.jitcache.compile_cached`)."""
+    def signature(nb: Any) -> tuple:
+        return tuple({"f": nb.float64, "b": nb.boolean, "a": nb.float64[::1], "i": nb.int64}[ch] for ch in sig)
 
-    for g in CALLED:
-        register_jitable(g)
-
-
-def _njit(f: Callable, sig: tuple) -> Callable | None:
-    """``f`` compiled by numba for ``sig`` (cached on disk), or None (numba missing, or
-    ``FDM_AWE_JIT=0``, or a broken numba install: the Python functions run instead)."""
-    if os.environ.get("FDM_AWE_JIT", "1") == "0":
-        return None
-    try:
-        import numba
-    except ImportError:
-        return None
-    try:
-        register_calls()
-        f8, b1 = numba.float64, numba.boolean
-        args = tuple({"f": f8, "b": b1, "a": f8[::1], "i": numba.int64}[ch] for ch in sig)
-        kern = numba.njit(cache=True)(f)
-        follow_sources(kern, (winch,))  # the drum's relations compiled into it
-        compile_with_notice(kern, args, f"fdm_awe.groundstation.substeps ({f.__name__})")
-        kern.disable_compile()  # its one signature, as numba.njit(args) gives it
-        return kern
-    except Exception as exc:  # a broken numba install must not stop a simulation
-        warnings.warn(f"fdm_awe.groundstation.substeps: numba failed ({exc}); the Python step runs instead",
-                      RuntimeWarning, stacklevel=3)
-        return None
+    return compile_cached(f, signature, CALLED, (winch,), f"fdm_awe.groundstation.substeps ({f.__name__})")
 
 
 @functools.lru_cache(maxsize=None)
@@ -499,6 +475,6 @@ def compiled_station() -> Callable | None:
 
 
 __all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_LINE", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
-           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "drum_speed", "force_limited_current",
+           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "force_limited_current",
            "hold_current", "hold_generator",
            "machine_mode_code", "pi_step", "station_step", "substeps"]

@@ -1,7 +1,10 @@
 """MAVLink link to ground stations (MAVProxy, MAVSDK, QGroundControl): an ArduPlane-like vehicle.
 
-- :mod:`fdm_awe.mavlink.vehicle`: Telemetry, Waypoint, VehicleInterface, mode table.
-- :mod:`fdm_awe.mavlink.params`: ParamStore (named parameters, ranges, callbacks, file).
+- :mod:`fdm_awe.mavlink.vehicle`: Telemetry, the wire's phase codes, RTL and the forced disarm; the
+  vehicle interface (Waypoint, VehicleInterface) is the autopilot's (:mod:`fdm_awe.autopilot.vehicle`),
+  the mode table :mod:`fdm_awe.mode_table`.
+- :mod:`fdm_awe.mavlink.params`: the wire's float32 values of the autopilot's ParamStore
+  (:mod:`fdm_awe.autopilot.params`: named parameters, ranges, callbacks, file).
 - :mod:`fdm_awe.mavlink.geo`: local NED <-> lat/lon/alt about a home.
 - :mod:`fdm_awe.mavlink.endpoint`: MavlinkEndpoint, the link and its update loop (imports
   pymavlink; import it only when a link is wanted), with one module per protocol:
@@ -19,10 +22,11 @@
 - :mod:`fdm_awe.mavlink.boot`: the heartbeat sent while the flight loads.
 """
 
+from fdm_awe.autopilot.params import Param, ParamStore
+from fdm_awe.autopilot.vehicle import VehicleInterface, Waypoint
 from fdm_awe.mavlink.geo import GeoFrame, Home
-from fdm_awe.mavlink.params import Param, ParamStore
-from fdm_awe.mavlink.vehicle import (MODE_NAMES, MODE_NUMBERS, PHASE_CODES, Telemetry,
-                                     VehicleInterface, Waypoint)
+from fdm_awe.mavlink.vehicle import PHASE_CODES, Telemetry
+from fdm_awe.mode_table import MODE_NAMES, MODE_NUMBERS
 
 __all__ = ["GeoFrame", "Home", "Param", "ParamStore", "MODE_NAMES", "MODE_NUMBERS",
            "PHASE_CODES", "Telemetry", "VehicleInterface", "Waypoint"]

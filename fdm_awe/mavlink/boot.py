@@ -21,7 +21,7 @@ from typing import Any
 from pymavlink.dialects.v20 import common as mav
 
 from . import signing as _signing
-from .vehicle import MODE_NUMBERS
+from ..mode_table import MODE_NUMBERS
 
 #: seconds between two boot heartbeats
 PERIOD_S = 1.0

@@ -25,7 +25,7 @@ MAV_CMD_GET_MESSAGE_INTERVAL       answers MESSAGE_INTERVAL
 MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES  sends AUTOPILOT_VERSION
 =================================  ==========================================================
 
-Mode numbers are those of :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`; a mode the vehicle
+Mode numbers are those of :data:`fdm_awe.mode_table.MODE_NUMBERS`; a mode the vehicle
 does not offer, or a number not in the table, is DENIED (LOITER is the hold of MAVSDK's ``hold()``
 and ``pause_mission()``: :mod:`fdm_awe.autopilot.modes`). SET_MODE is answered with
 COMMAND_ACK(command = 11), as ArduPilot does. A message the command asks for goes out after
@@ -42,7 +42,8 @@ from pymavlink.dialects.v20 import common as mav
 from .link import Link
 from .messages import as_finite, send_autopilot_version
 from .streams import MAX_RATE_HZ, stream_of_message
-from .vehicle import ARM_DISARM_FORCE, MODE_NAMES, MODE_NUMBERS, RTL_MODE
+from .vehicle import ARM_DISARM_FORCE, RTL_MODE
+from ..mode_table import MODE_NAMES, MODE_NUMBERS
 from .winch import WINCH_COMPID
 
 

@@ -69,7 +69,8 @@ from typing import Any, Callable
 
 from fdm_awe.errors import InputError
 from fdm_awe.mavlink.geo import GeoFrame, Home
-from fdm_awe.mavlink.vehicle import Telemetry, VehicleInterface
+from fdm_awe.mavlink.vehicle import Telemetry
+from fdm_awe.autopilot.vehicle import VehicleInterface
 
 # Imported at module level on purpose: importing this module is the opt-in to MAVLink.
 from pymavlink.dialects.v20 import common as mav  # noqa: E402
@@ -77,16 +78,15 @@ from pymavlink.dialects.v20 import common as mav  # noqa: E402
 from fdm_awe.mavlink import signing as _signing  # noqa: E402
 from fdm_awe.mavlink.commands import CommandHandler  # noqa: E402
 from fdm_awe.mavlink.ftp import on_ftp  # noqa: E402
-from fdm_awe.mavlink.messages import NAMED_VALUES  # noqa: E402
 from fdm_awe.mavlink.mission import MissionProtocol  # noqa: E402
 from fdm_awe.mavlink.param_protocol import ParamProtocol  # noqa: E402
 from fdm_awe.mavlink.pilot import PilotInput  # noqa: E402
 from fdm_awe.mavlink.statustext import END_SEVERITY, ChangeReporter, chunks  # noqa: E402
-from fdm_awe.mavlink.streams import DEFAULT_RATES, StreamSchedule, data_stream_rates  # noqa: E402
+from fdm_awe.mavlink.streams import StreamSchedule, data_stream_rates  # noqa: E402
 from fdm_awe.mavlink.transport import Receiver, open_link  # noqa: E402
 from fdm_awe.mavlink.winch import WINCH_COMPID, WinchComponent  # noqa: E402
 
-__all__ = ["MavlinkEndpoint", "DEFAULT_RATES", "NAMED_VALUES"]
+__all__ = ["MavlinkEndpoint"]
 
 
 def _check_options(sysid: int, compid: int, rx_rate_hz: float, link_timeout_s: float,

@@ -17,7 +17,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from .geo import GeoFrame
     from .signing import Signer
     from .streams import StreamSchedule
-    from .vehicle import Telemetry, VehicleInterface
+    from .vehicle import Telemetry
+    from ..autopilot.vehicle import VehicleInterface
     from .winch import WinchComponent
 
 

@@ -7,7 +7,7 @@ Telemetry fields that are missing or not finite go out as the message's "unknown
 
 ``HEARTBEAT``
     MAV_TYPE_FIXED_WING, MAV_AUTOPILOT_ARDUPILOTMEGA (the custom modes are ArduPlane's numbers,
-    :data:`fdm_awe.mavlink.vehicle.MODE_NUMBERS`, so MAVProxy, MAVSDK and QGroundControl name and
+    :data:`fdm_awe.mode_table.MODE_NUMBERS`, so MAVProxy, MAVSDK and QGroundControl name and
     command them), armed flag; MAV_STATE_CRITICAL when the simulation's health is lost. The winch's HEARTBEAT (:mod:`fdm_awe.mavlink.winch`) goes with it.
 ``ATTITUDE``, ``GLOBAL_POSITION_INT``, ``VFR_HUD``
     Euler angles and body rates; position about home (altitude AMSL and above home) and NED
@@ -71,7 +71,8 @@ from pymavlink.dialects.v20 import ardupilotmega as apm
 from pymavlink.dialects.v20 import common as mav
 
 from .link import Link
-from .vehicle import MODE_NUMBERS, PHASE_CODES, Telemetry
+from ..mode_table import MODE_NUMBERS
+from .vehicle import PHASE_CODES, Telemetry
 
 
 #: default rates of the streams, Hz of simulation time (also the order they go out in)

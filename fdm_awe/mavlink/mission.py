@@ -31,7 +31,7 @@ from pymavlink.dialects.v20 import common as mav
 
 from .link import Link
 from .messages import current_item
-from .vehicle import Waypoint
+from ..autopilot.vehicle import Waypoint
 
 
 _MISSION = mav.MAV_MISSION_TYPE_MISSION

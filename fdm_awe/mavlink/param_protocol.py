@@ -1,4 +1,4 @@
-"""The parameter protocol: the vehicle's :class:`~fdm_awe.mavlink.params.ParamStore` on the link.
+"""The parameter protocol: the vehicle's :class:`~fdm_awe.autopilot.params.ParamStore` on the link.
 
 PARAM_REQUEST_LIST streams every parameter as PARAM_VALUE, ``param_burst`` per update of the
 endpoint (so a long list does not stall a simulation step); PARAM_REQUEST_READ answers one
@@ -23,7 +23,8 @@ from typing import Any
 from pymavlink.dialects.v20 import common as mav
 
 from .link import Link
-from .params import ParamStore, from_wire, param_text
+from ..autopilot.params import ParamStore
+from .params import from_wire, param_text
 
 #: a refused PARAM_SET repeated (same id and value) within this wall-clock time gets no new STATUSTEXT, s
 REPEAT_S = 5.0

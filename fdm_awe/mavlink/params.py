@@ -1,5 +1,5 @@
-"""Parameters over MAVLink: the autopilot's :class:`~fdm_awe.autopilot.params.ParamStore`
-(defined by the autopilot, re-exported here) and the wire's float32 values.
+"""Parameters over MAVLink: the wire's float32 values of the autopilot's
+:class:`~fdm_awe.autopilot.params.ParamStore` (defined by the autopilot).
 
 On the wire a parameter is ``MAV_PARAM_TYPE_INT32`` (whole-number and on/off parameters) or
 ``REAL32``, its value always carried as a float (ArduPilot's encoding: no byte-wise int).
@@ -17,9 +17,7 @@ import math
 
 import numpy as np
 
-from fdm_awe.autopilot.params import KINDS, Param, ParamCallback, ParamStore
-
-__all__ = ["KINDS", "Param", "ParamCallback", "ParamStore", "from_wire", "param_text"]
+__all__ = ["from_wire", "param_text"]
 
 
 def from_wire(value: float) -> float:

@@ -3,8 +3,8 @@
 The endpoint (:mod:`fdm_awe.mavlink.endpoint`) speaks MAVLink; the autopilot speaks
 physics. The autopilot defines what it offers (:mod:`fdm_awe.autopilot.vehicle`: ``Waypoint``,
 ``VehicleInterface`` and the vehicle ``PHASES``; :mod:`fdm_awe.autopilot.modes`: the mode table
-:data:`MODE_NUMBERS`; :mod:`fdm_awe.autopilot.params`: ``ParamStore``); this module re-exports
-those names and adds the link's side:
+:data:`~fdm_awe.mode_table.MODE_NUMBERS`; :mod:`fdm_awe.autopilot.params`: ``ParamStore``); the link's
+modules import them from there, and this module adds the link's side:
 
 ``Telemetry``
     One snapshot of the simulated system, in SI units, ground frame NED with its
@@ -23,7 +23,7 @@ those names and adds the link's side:
     callbacks run).
 
 Mode numbers (``custom_mode`` in HEARTBEAT, ``DO_SET_MODE`` and ``SET_MODE``) come from the
-autopilot's single table :data:`MODE_NUMBERS` (ArduPlane's numbers where the meaning matches:
+autopilot's single table :data:`~fdm_awe.mode_table.MODE_NUMBERS` (ArduPlane's numbers where the meaning matches:
 RECOVER shows as ``RTL``); MAVLink RTL (MAV_CMD_NAV_RETURN_TO_LAUNCH) switches to RECOVER
 (:data:`RTL_MODE`). A disarm in flight is refused unless forced (:data:`ARM_DISARM_FORCE`).
 The vehicle phase goes out as a number (:data:`PHASE_CODES`).
@@ -36,12 +36,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fdm_awe.autopilot.modes import MODE_NAMES, MODE_NUMBERS, mode_number
-from fdm_awe.autopilot.params import ParamStore
-from fdm_awe.autopilot.vehicle import PHASES, VehicleInterface, Waypoint
+from fdm_awe.autopilot.vehicle import PHASES
 
-__all__ = ["ARM_DISARM_FORCE", "MODE_NAMES", "MODE_NUMBERS", "PHASES", "PHASE_CODES", "RTL_MODE", "NavTarget",
-           "ParamStore", "Telemetry", "VehicleInterface", "Waypoint", "mode_number"]
+__all__ = ["ARM_DISARM_FORCE", "PHASE_CODES", "RTL_MODE", "NavTarget", "Telemetry"]
 
 #: MAV_CMD_COMPONENT_ARM_DISARM param2 that forces an arm or disarm (ArduPilot's magic
 #: number): without it a disarm in flight is refused.

@@ -13,7 +13,7 @@ Fold transitions: when the wing takes time to fold
 n_fold`` long) and the others share the rest, ``(T_2 - 2 fold_time) / (N_2 - 2 n_fold)``
 (:func:`interval_lengths`). The fold state is linear in time inside a transition interval and
 1 outside, so every collocation point has a fixed fold state (:func:`interval_fold`, the law of
-:func:`fdm_awe.ocp.model.fold_fraction` at that point's time), the dynamics stay smooth within
+:func:`fdm_awe.pointmass.fold.fold_fraction` at that point's time), the dynamics stay smooth within
 each interval, and ``T_2 >= 2 fold_time``.
 """
 

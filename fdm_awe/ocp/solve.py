@@ -39,7 +39,7 @@ from ..pointmass.model import wind_vector
 from .assemble import accept, failed_result, ok_result
 from .collocation import RawSolution
 from .transfer import transfer_result
-from .build import clear_cache, get_nlp, structure_key
+from .build import get_nlp, structure_key
 from .energy import WinchElectrics
 from .guess import LoopStart
 from .local import MAX_ITER, MAX_ITER_TOTAL, SAFETY_WALL_S, WARM_OPTIONS, attempt_options, solve_local
@@ -49,8 +49,7 @@ from .strategy import (COLD_CHECK_W, REFINE, TIE_W, Outcome, auto_workers, famil
                        run_tasks, select, strategy_starts)
 
 #: the entry points of the optimiser (the NLP caches' are :mod:`fdm_awe.ocp.build`'s)
-__all__ = ["COARSE_MESH", "POLISH_OPTIONS", "STRATEGIES", "WARM_FALLBACKS", "clear_cache", "get_nlp", "solve_cycle",
-           "structure_key"]
+__all__ = ["COARSE_MESH", "POLISH_OPTIONS", "STRATEGIES", "WARM_FALLBACKS", "solve_cycle"]
 
 #: mesh of the first, cheap solve of a cold start; the target mesh is then solved from its
 #: interpolated solution (mesh continuation)

@@ -38,7 +38,7 @@ class StepBuffer:
     autopilot's mode in :attr:`modes` and the cycle index of the reference point flown in
     :attr:`cycles`, -1 outside AUTO cycling)."""
 
-    #: the buffered values of a row, in order (names of :data:`fdm_awe.sim.loop.COLUMNS`)
+    #: the buffered values of a row, in order (names of :data:`fdm_awe.sim.result.COLUMNS`)
     fields: tuple[str, ...] = STEP_FIELDS
 
     def __init__(self, *, chain: Any = None) -> None:
@@ -88,11 +88,11 @@ class StepBuffer:
             self.chain(k, s, o)
 
     def partial_result(self, status: str = "aborted", message: str = "", rows: slice = slice(None)) -> Any:
-        """The buffered steps (``rows`` of them) as a :class:`~fdm_awe.sim.loop.FlightResult`;
+        """The buffered steps (``rows`` of them) as a :class:`~fdm_awe.sim.result.FlightResult`;
         what :attr:`fields` lacks is NaN (controls), the ground velocity, when not buffered, by
         differences of the positions. The result also carries the rows' ``modes`` and
         ``cycle_index`` (read by :func:`~fdm_awe.recording.series.flight_series`)."""
-        from ..sim.loop import COLUMNS, Event, FlightResult
+        from ..sim.result import COLUMNS, Event, FlightResult
 
         buffered, phases = self.rows[rows], self.phases[rows]
         n = len(buffered)

@@ -37,7 +37,7 @@ def _table(header: Sequence[str], rows: Iterable[Sequence[str]]) -> str:
 
 
 def flight_markdown(report: Any, title: str | None = None) -> str:
-    """Report of a flight (:class:`fdm_awe.sim.flight.FlightReport`): run facts, per-cycle table, ledger.
+    """Report of a flight (:class:`fdm_awe.sim.report.FlightReport`): run facts, per-cycle table, ledger.
     A bare FlightResult (no cycles, no ledger) gets the run facts only."""
     r = report
     if not hasattr(r, "cycles"):
@@ -54,7 +54,7 @@ def flight_markdown(report: Any, title: str | None = None) -> str:
         out.append(f"- control activity (surface command RMS above {a.f_cut_hz:g} Hz, full deflections): aileron "
                    f"{_f(a.aileron, 3)}, elevator {_f(a.elevator, 3)}, rudder {_f(a.rudder, 3)}, total {_f(a.total, 3)}")
     if getattr(r, "plant", None):
-        from ..sim.flight import PLANT_NOTES
+        from ..sim.report import PLANT_NOTES
 
         out.append(f"- plant: {r.plant} ({PLANT_NOTES.get(r.plant, '')})")
     out.append("")

@@ -3,8 +3,8 @@
 One place derives what recordings, plots and CSV files show, so the three agree. Inputs are
 duck-typed so a partial run works too:
 
-- a flight: :class:`fdm_awe.sim.flight.FlightReport` (``.result`` a
-  :class:`fdm_awe.sim.loop.FlightResult`, plus ``track_error`` / ``reference_pos``) or a bare
+- a flight: :class:`fdm_awe.sim.report.FlightReport` (``.result`` a
+  :class:`fdm_awe.sim.result.FlightResult`, plus ``track_error`` / ``reference_pos``) or a bare
   ``FlightResult``; any number of rows >= 1, NaN where a value does not exist yet (the
   ground-station columns of the initial row);
 - an optimised cycle: a :class:`fdm_awe.trajectory.ReferenceTrajectory`, a

@@ -28,7 +28,7 @@ from ..errors import InputError
 F_CUT_HZ = 0.5
 #: s, Welch segment length: a frequency resolution of 0.125 Hz, four bins below the cut-off
 SEGMENT_S = 8.0
-#: the surfaces measured (columns of :data:`fdm_awe.sim.loop.COLUMNS`)
+#: the surfaces measured (columns of :data:`fdm_awe.sim.result.COLUMNS`)
 SURFACES = ("aileron", "elevator", "rudder")
 
 

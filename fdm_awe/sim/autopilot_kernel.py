@@ -31,6 +31,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .block_log import (AL_AIL, AL_CYCLE, AL_ELE, AL_ERR, AL_FOLD, AL_LOAD, AL_MASS, AL_RUD, AL_RX, AL_RY, AL_RZ,
+                        AL_SUPPLY, AL_THR, N_ALOG, N_COMMANDS)
 from .events import E_FORCE, E_HOOK, E_NONE
 from .flight_log import track_error
 from .glider_ledger import L_MASS, N_LEDGER, ledger_step
@@ -59,16 +61,6 @@ N_Q = 12
 #: why a block ended (``q[Q_WHY]``): its steps done (or an event), the next step is the Python
 #: autopilot's, the path parameter reached ``s_end``
 WHY_DONE, WHY_PYTHON, WHY_END = 0, 1, 2
-#: ``alog`` columns per row (row k: the step into row k): the commands of the step, the reference
-#: point flown (position m, cycle), the tracking error after the step [m], the station's energies
-#: into the load and from the supply [J], the glider's mass [slug] (the ledger's kinetic energy)
-ALOG_COLUMNS = ("aileron", "elevator", "rudder", "throttle", "fold_cmd", "ref_x", "ref_y", "ref_z", "cycle",
-                "track_error", "e_load", "e_supply", "mass_slug")
-(AL_AIL, AL_ELE, AL_RUD, AL_THR, AL_FOLD, AL_RX, AL_RY, AL_RZ, AL_CYCLE, AL_ERR, AL_LOAD, AL_SUPPLY,
- AL_MASS) = range(13)
-N_ALOG = 13
-if len(ALOG_COLUMNS) != N_ALOG:  # pragma: no cover - a definition error in this module
-    raise RuntimeError("fdm_awe.sim.autopilot_kernel: bookkeeping column names and offsets disagree")
 
 
 # over 80 lines: one flight step written out in the order of the Python loop (module doc), with
@@ -175,7 +167,7 @@ def compiled_autopilot_kernel() -> Callable | None:
     from ..pointmass import fold as pm_fold
     from ..sixdof import attitude_law, native, row
     from ..trajectory import sampler
-    from . import events, flight_log, glider_ledger, kernel
+    from . import block_log, events, flight_log, glider_ledger, kernel
 
     def signature(nb: Any) -> Any:
         f8, i8 = nb.float64, nb.int64
@@ -184,11 +176,11 @@ def compiled_autopilot_kernel() -> Callable | None:
                                         a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
 
     helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
-        attitude_from_row, kernel.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
+        attitude_from_row, row.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
         law_stale, command_values, track_error)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
-    modules = (events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin, thrust,
-               underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
+    modules = (block_log, events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin,
+               thrust, underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
                sampler) + linemodels.kernel_sources()
     return compile_cached(autopilot_steps, signature, helpers, modules, "fdm_awe.sim.autopilot_kernel")
 
@@ -209,7 +201,7 @@ class AutopilotBlocks:
         self._call, self.ap, self.ha, self.q, self.ledger, self._after = call, ap, ha, q, ledger, after
         scale, offset = ap.glider.si_factors()
         self.scale, self.offset = np.array(scale, float), np.array(offset, float)
-        #: the bookkeeping rows of the flight (:data:`ALOG_COLUMNS`), grown with the log
+        #: the bookkeeping rows of the flight (:data:`fdm_awe.sim.block_log.ALOG_COLUMNS`), grown with the log
         self.alog = np.full((1, N_ALOG), math.nan)
         self.steps = 0  #: steps flown in compiled blocks so far
         self._log: np.ndarray | None = None  # the loop's log of the last block
@@ -282,7 +274,7 @@ class AutopilotBlocks:
 
     def commands(self, k0: int, k1: int) -> list:
         """The five commands of rows ``k0 + 1 .. k1`` (lists)."""
-        return self.alog[k0 + 1: k1 + 1, :5].tolist()
+        return self.alog[k0 + 1: k1 + 1, :N_COMMANDS].tolist()
 
     def after(self, k0: int, k1: int, s: Any, gs_out: Any) -> bool:
         """The flight's bookkeeping of rows ``k0 + 1 .. k1``; true ends the flight."""

@@ -13,7 +13,7 @@ from the ground station's supply. Paper plant: ``E_generated_J`` = mechanical te
 ``E_thrust_J`` = the paper's P(T) fit of the commanded thrust, ``E_reel_in_J`` = the constant
 reel-in power x recovery time. ``E_net_J = E_generated_J - E_thrust_J - E_reel_in_J``.
 
-Status (``FlightReport.status``, :data:`FLIGHT_STATUSES`):
+Status (``FlightReport.status``, :data:`~fdm_awe.sim.report.FLIGHT_STATUSES`):
 
 - ``ok``: every requested cycle was flown to its end (with ``t_end`` given: the flight reached
   ``t_end`` without an event; its length, not a cycle count, was asked for);
@@ -28,12 +28,12 @@ Status (``FlightReport.status``, :data:`FLIGHT_STATUSES`):
 - ``parked``: the flight reached ``t_end`` (or its time cap, e.g. after a failsafe) in RECOVER
   holding on a short line (the autopilot's :attr:`~fdm_awe.autopilot.autopilot.Autopilot.parked`:
   REC_LAND 0 or gusts, circling at REC_HOLD_ALT about the winch);
-- an event of the co-simulation (:data:`fdm_awe.sim.loop.STATUSES`: ``ground_contact``,
+- an event of the co-simulation (:data:`fdm_awe.sim.result.STATUSES`: ``ground_contact``,
   ``tether_break``, ``nonfinite``, ``airspeed_limit``, ``load_limit``) or another
   ground-station event by name (e.g. ``tether_fully_reeled_in``).
 
-Cycles (:func:`segment_cycles`): every step is labelled with the cycle index of the reference
-point the autopilot flew it on (none outside AUTO cycling) and with the autopilot's phase
+Cycles (:func:`~fdm_awe.sim.cycles.segment_cycles`): every step is labelled with the cycle index
+of the reference point the autopilot flew it on (none outside AUTO cycling) and with the autopilot's phase
 (generation, recovery, or other). A cycle runs from its first step to the step before the next
 cycle's first step, or to the end of the flight; its ``T1_s``/``T2_s`` are the times flown in
 generation/recovery, its energies the changes of the cumulative energies over its steps (each
@@ -51,7 +51,7 @@ larger of the two).
 
 Modules: this one builds the plant, flies it and books every step; the report's dataclasses are
 :mod:`fdm_awe.sim.report`, the cycles' segmentation :mod:`fdm_awe.sim.cycles`, the glider's
-ledger :mod:`fdm_awe.sim.glider_ledger` (their names are re-exported here).
+ledger :mod:`fdm_awe.sim.glider_ledger`, the per-step bookkeeping :mod:`fdm_awe.sim.flight_log`.
 """
 
 
@@ -85,16 +85,17 @@ from ..turbulence import Turbulence, TurbulenceSetting, mean_height, measure
 from ..wind import WindProfile, line_height
 from .activity import control_activity
 from .budget import check_length, check_step, time_cap
-from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, CycleSpan, cycle_metrics, segment_cycles
+from .cycles import cycle_metrics, segment_cycles
 from .events import machine_current
-from .flight_log import LINE_SHAPE_HZ, FlightLog
+from .flight_log import FlightLog
 from .glider_ledger import GliderLedger
-from .loop import COLUMNS, CoSim, FlightResult, Limits
+from .result import COLUMNS, FlightResult
+from .loop import CoSim, Limits
 from .onboard_wind import CycleWind, note_text
 from .resume import HoldWatch, failsafe_wind, lost_path
 from .propulsion import logged_propulsion
 from .paper_plant import PLANTS, IdealThruster, IdealWinch
-from .report import FLIGHT_STATUSES, PLANT_NOTES, CycleMetrics, FlightReport
+from .report import CycleMetrics, FlightReport
 
 
 #: largest touchdown sink rate [m/s] of a landing (ground contact in RECOVER)
@@ -602,7 +603,4 @@ def _status(res: FlightResult, ap: Autopilot, interrupted: bool, flown: bool, T_
     return status, msg
 
 
-#: the report's names, re-exported: a flight's callers find them here
-__all__ = ["FLIGHT_STATUSES", "LAND_RADIUS_MAX", "LAND_SINK_MAX", "LAND_SPEED_MAX", "LINE_SHAPE_HZ", "NO_CYCLE",
-           "OTHER_PHASE", "PHASE_CODES", "PLANT_NOTES", "CycleMetrics", "CycleSpan", "FlightReport", "GliderLedger",
-           "cycle_metrics", "fly", "landing_verdict", "segment_cycles", "turbulence_setting"]
+__all__ = ["LAND_RADIUS_MAX", "LAND_SINK_MAX", "LAND_SPEED_MAX", "fly", "landing_verdict", "turbulence_setting"]

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from .block_log import AL_CYCLE, AL_ERR, AL_LOAD, AL_MASS, AL_RX, AL_RZ, AL_SUPPLY
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, step_reference
 from .glider_ledger import GliderLedger
 
@@ -82,9 +83,7 @@ class FlightLog:
         """Book steps ``k0 + 1 .. k1`` flown in one compiled block
         (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`: the autopilot in AUTO cycling, its
         phase that of every step; the glider's ledger advanced by the block itself) from its
-        rows ``alog`` (:data:`fdm_awe.sim.autopilot_kernel.ALOG_COLUMNS`)."""
-        from .autopilot_kernel import AL_CYCLE, AL_ERR, AL_LOAD, AL_MASS, AL_RX, AL_RZ, AL_SUPPLY
-
+        rows ``alog`` (:data:`fdm_awe.sim.block_log.ALOG_COLUMNS`)."""
         rows = alog[k0 + 1: k1 + 1]
         sl = slice(k0 + 1, k1 + 1)
         self.refpos[sl] = rows[:, AL_RX:AL_RZ + 1]

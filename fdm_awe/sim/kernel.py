@@ -27,7 +27,7 @@ Arguments are packed to keep a one-step call cheap:
   that one ``log[k].tolist()`` hands a step over to Python;
 - ``s_gs``, ``c_gs`` the ground station's state and constants (updated in place).
 
-Returns ``(steps done, event code)``; the event code (:data:`EVENT_CODES`) belongs to the last
+Returns ``(steps done, event code)``; the event code (:data:`fdm_awe.sim.events.EVENT_CODES`) belongs to the last
 step done (or, for a rejected hook or a non-finite force, to the step that was not done).
 """
 
@@ -38,7 +38,7 @@ import math
 import sys
 from typing import Any, Callable
 
-from .events import E_FORCE, E_HOOK, E_NONE, EVENT_CODES, N_LIMITS, step_event
+from .events import E_FORCE, E_HOOK, E_NONE, step_event
 from ..groundstation.linemodels import compiled_all, kernel_called, kernel_sources, line_step
 from ..groundstation.substeps import C_LINE
 from ..sixdof.row import hook_kinematics
@@ -155,6 +155,6 @@ def compiled_kernel() -> Callable | None:
                           + kernel_sources(), "fdm_awe.sim.kernel")
 
 
-__all__ = ["EVENT_CODES", "GS_COLUMNS", "N_LIMITS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
+__all__ = ["GS_COLUMNS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
 if len(GS_COLUMNS) != N_GS or len(TAIL_COLUMNS) != K_FZ + 1:  # pragma: no cover - a definition error here
     raise RuntimeError("fdm_awe.sim.kernel: column names and offsets disagree")

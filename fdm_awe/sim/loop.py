@@ -27,7 +27,7 @@ step either way; one that declares ``constant_commands = True`` lets the compile
 blocks of one simulated second when no ``on_step`` is given.
 
 This module wires blocks; it holds no physics. The run's result (statuses, events, the logged
-columns, :class:`FlightResult`) is :mod:`fdm_awe.sim.result`, its names re-exported here.
+columns, :class:`~fdm_awe.sim.result.FlightResult`) is :mod:`fdm_awe.sim.result`.
 """
 
 from __future__ import annotations
@@ -42,11 +42,12 @@ import numpy as np
 
 from .events import E_FORCE, E_HOOK, E_INTERRUPT, E_JSBSIM, E_NONE, event_message, limit_vector, step_event
 from ..errors import InputError
+from ..jitcache import jit_off
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.row import FBZ, MASS, T, VT
 from ..sixdof.state import SixDofState, Surfaces
 from ..units import FT, LBF
-from .result import COLUMNS, STATION_COLUMNS, STATUSES, Event, FlightResult, log_table
+from .result import COLUMNS, STATION_COLUMNS, Event, FlightResult, log_table
 
 #: ground-station columns of a run's per-step record
 _N_GS = len(STATION_COLUMNS)
@@ -164,6 +165,9 @@ class CoSim:
         """(kernel, handles, ground-station arrays) of the compiled loop, or why it can't run."""
         if self.compiled is False:
             return "compiled=False"
+        why = jit_off()
+        if why:
+            return why
         if not isinstance(self.glider, JSBSimGlider):
             return "not a JSBSimGlider"
         if not hasattr(self.gs, "compiled_step_args"):
@@ -449,4 +453,4 @@ class CoSim:
         return Event(kind, s.t, message)
 
 
-__all__ = ["COLUMNS", "STATUSES", "CoSim", "Controller", "Event", "FlightResult", "Limits"]
+__all__ = ["CoSim", "Controller", "Limits"]

@@ -93,7 +93,7 @@ class FlightReport:
     cycles: list[CycleMetrics]
     ledger: dict[str, Any]
     ledger_residual_rel: float
-    result: Any = field(repr=False, default=None)  #: fdm_awe.sim.loop.FlightResult
+    result: Any = field(repr=False, default=None)  #: fdm_awe.sim.result.FlightResult
     track_error: np.ndarray | None = field(repr=False, default=None)
     reference_pos: np.ndarray | None = field(repr=False, default=None)
     #: (time s, note): the autopilot's notes and the flight's logged events (``machine_current``)
@@ -105,8 +105,8 @@ class FlightReport:
     #: None on the paper plant, whose kinematic winch has none)
     generator: str | None = None
     tether: str = "straight"  #: the line model: "straight" or "lumped:N"
-    #: the lumped line's shape sampled at :data:`fdm_awe.sim.flight.LINE_SHAPE_HZ`: ``t`` (m,) s, ``nodes`` (m, N+1, 3)
-    #: m NED winch first, ``tension`` (m, N) N per segment; None for the straight line
+    #: the lumped line's shape sampled at :data:`fdm_awe.sim.flight_log.LINE_SHAPE_HZ`: ``t`` (m,) s,
+    #: ``nodes`` (m, N+1, 3) m NED winch first, ``tension`` (m, N) N per segment; None for the straight line
     line_shape: dict[str, np.ndarray] | None = field(repr=False, default=None)
     peak_current_A: float | None = None  #: largest armature current, A (None on the paper plant)
     #: time the armature current spent above the machine's rated current, s (None on the paper plant)

@@ -30,12 +30,12 @@ from ..definitions.aircraft import check_aircraft_file
 from ..definitions.catalog import Aircraft, default_aircraft
 from ..definitions.engine import engine_files, motor_constants
 from ..errors import DefinitionError, InputError
-from ..turbulence import TURBULENCE_LEVELS, Turbulence, TurbulenceSetting
+from ..turbulence import Turbulence, TurbulenceSetting
 from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
 from .row import (ALPHA, BETA, CURRENT, FBX, FBZ, FOLD, FOLD_PROPERTY, H_SL, LAT, LON, MASS, P_RATE, PHI,
                   PROPERTIES, PSI, QBAR, R_RATE, RHO, SHAFT_HP, THETA, THROTTLE, THRUST, V_DOWN, V_NORTH, VT,
                   WIND_DOWN, WIND_NORTH, WOW, T, hook_kinematics)
-from .state import SixDofState, Surfaces, dcm_body_to_ned
+from .state import SixDofState, Surfaces
 
 _WGS84_A = 6378137.0
 _WGS84_F = 1.0 / 298.257223563
@@ -520,4 +520,4 @@ def _r3(a: float) -> np.ndarray:
     return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-__all__ = ["JSBSimGlider", "TURBULENCE_LEVELS", "dcm_body_to_ned"]
+__all__ = ["JSBSimGlider"]

@@ -34,12 +34,13 @@ from __future__ import annotations
 import ctypes
 import functools
 import math
-import os
 import sys
 from dataclasses import dataclass
 from typing import Any, Sequence
 
 import numpy as np
+
+from ..jitcache import jit_off
 
 # exported symbols of the bindings' library (Itanium C++ ABI mangling)
 _SYM_RUN = "_ZN6JSBSim9FGFDMExec3RunEv"  # bool JSBSim::FGFDMExec::Run()
@@ -70,8 +71,9 @@ def _word(obj: Any, i: int) -> int:
 
 
 def _supported_platform() -> str | None:
-    if os.environ.get("FDM_AWE_JIT", "1") == "0":
-        return "FDM_AWE_JIT=0"
+    why = jit_off()
+    if why:
+        return why
     if sys.platform == "win32" or _WORD != 8:
         return f"platform {sys.platform} ({8 * _WORD}-bit) not supported"
     return None

@@ -26,7 +26,7 @@ from .attitude_law import AttitudeLaw, StabilizerGains, wrap_angle
 from .row import PHI, PSI, THETA, VT
 from .state import SixDofState, Surfaces
 
-__all__ = ["Stabilizer", "StabilizerGains"]
+__all__ = ["Stabilizer"]
 
 #: m/s^2, gravity of the coordinated-turn yaw rate
 _G_TURN = G0

@@ -35,7 +35,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from ..definitions.aircraft import AeroParams, Airframe, Glider
+from ..definitions.aircraft import AeroParams, Glider
 from ..errors import InputError
 
 

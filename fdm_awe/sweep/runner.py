@@ -64,7 +64,7 @@ class Warm:
     def as_result(self, problem: Any) -> Any:
         """A minimal ``CycleResult`` accepted by ``solve_cycle(warm=...)`` for ``problem``."""
         from ..ocp.result import CycleResult
-        from ..ocp.solve import structure_key
+        from ..ocp.build import structure_key
 
         return CycleResult(problem.scenario, problem.config, problem.wind_speed, problem.wind_from_deg, "ok", "warm",
                            0.0, 0.0, 0, k_wrap=self.k_wrap, w=self.w, lam_x=self.lam_x, lam_g=self.lam_g,

@@ -72,7 +72,8 @@ from dataclasses import asdict, dataclass, field
 
 from ..errors import InputError
 from ..groundstation.line import LINES
-from ..ocp.problem import CONFIGS, PLANT_DEFAULTS, PROPELLERS, SCENARIOS, Mesh
+from ..trajectory.schema import CONFIGS, PROPELLERS, SCENARIOS
+from ..ocp.problem import PLANT_DEFAULTS, Mesh
 
 #: IPOPT iteration limit per solve in a sweep. It replaces the optimiser's CPU-time limit, so
 #: whether a point converges never depends on how busy the machine is (reproducible results).

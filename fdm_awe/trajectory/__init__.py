@@ -51,7 +51,7 @@ nominal config) is the fold (and unfold) time the cycle was optimised with; abse
 instantaneous fold every file written before fold transitions was optimised with.
 ``motor_off`` (boolean) says whether the optimiser could stop the motor (column ``motor_on``);
 absent means false, and then ``motor_on`` (if present) must be 1 throughout. ``generator``
-(physical scenario: :data:`fdm_awe.ocp.problem.GENERATORS`) is the generator load of the
+(physical scenario: :data:`fdm_awe.trajectory.schema.GENERATORS`) is the generator load of the
 generation phase; absent means ``passive``, and then ``boost_duty`` (if present) must be 0
 throughout. ``wind_profile`` (:meth:`fdm_awe.wind.WindProfile.as_dict`: ``kind`` uniform | log |
 power, with ``ref_height_m`` and ``z0_m`` or ``exponent``) says how the wind varies with height;
