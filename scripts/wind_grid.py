@@ -11,7 +11,8 @@ the largest tension and current against the ratings (50 N, 1.2 x 50 N in calm an
 24.2 A peak). Prints the markdown table and writes the rows as JSON (atomically).
 
 Usage: python scripts/wind_grid.py [--refs FILE,FILE] [--air calm,light,moderate] [--seeds 3]
-                                   [--cycles 3] [--workers 2] [--json FILE] [--report FILE]
+                                   [--cycles 3] [--workers 2] [--tether straight|lumped:N|rigid]
+                                   [--json FILE] [--report FILE]
 """
 
 from __future__ import annotations
@@ -35,9 +36,9 @@ REFS = tuple(f"tests/data/ref_physical_{config}_{wind}mps_sized.json" for config
              for wind in (8, 10, 12))
 
 
-def flight(ref_path: str, air: str, seed: int, cycles: int) -> dict[str, Any]:
+def flight(ref_path: str, air: str, seed: int, cycles: int, tether: str = "straight") -> dict[str, Any]:
     """One flight of the reference ``ref_path`` in ``air`` (``calm`` or a turbulence form) with
-    turbulence seed ``seed``, ``cycles`` cycles; its row."""
+    turbulence seed ``seed``, ``cycles`` cycles, on the line model ``tether`` (``--tether``); its row."""
     import numpy as np
 
     from fdm_awe.autopilot.tracking import TrackingReference
@@ -47,7 +48,7 @@ def flight(ref_path: str, air: str, seed: int, cycles: int) -> dict[str, Any]:
 
     ref = TrackingReference.from_ocp_file(ref_path)
     turb = None if air == "calm" else Turbulence.parse(f"{air}:{seed}")
-    rep = fly(ref, config=ref.meta.get("config", "nominal"), cycles=cycles, turbulence=turb)
+    rep = fly(ref, config=ref.meta.get("config", "nominal"), cycles=cycles, turbulence=turb, tether=tether)
     done = [c for c in rep.cycles if c.complete]
     tension = rep.result.tension
     return {"reference": Path(ref_path).name, "air": air, "seed": seed if air != "calm" else None,
@@ -88,6 +89,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seeds", type=int, default=3, help="turbulence seeds 1..N per form, 1..100 (default 3)")
     ap.add_argument("--cycles", type=int, default=3, help="cycles per flight, 1..10 (default 3)")
     ap.add_argument("--workers", type=int, default=2, help="Dask worker processes, 1..64 (default 2)")
+    ap.add_argument("--tether", default="straight", help="line model as fly's --tether (default straight; e.g. lumped:30)")
     add_outputs(ap)
     args = ap.parse_args(argv)
     try:
@@ -104,6 +106,9 @@ def main(argv: list[str] | None = None) -> int:
         for opt, v, hi in (("--seeds", args.seeds, 100), ("--cycles", args.cycles, 10), ("--workers", args.workers, 64)):
             if not 1 <= v <= hi:
                 raise InputError(f"{opt} {v}: out of range (allowed 1..{hi})")
+        from fdm_awe.groundstation.linemodels import parse_tether
+
+        parse_tether(args.tether)
         check_outputs(args)
     except InputError as e:
         print(f"wind_grid: error: {e}", file=sys.stderr)
@@ -111,7 +116,7 @@ def main(argv: list[str] | None = None) -> int:
     import dask
     from dask import delayed
 
-    tasks = [delayed(flight)(r, a, s, args.cycles) for r in refs for a in air
+    tasks = [delayed(flight)(r, a, s, args.cycles, args.tether) for r in refs for a in air
              for s in ([1] if a == "calm" else range(1, args.seeds + 1))]
     rows = list(dask.compute(*tasks, scheduler="processes" if args.workers > 1 else "sync",
                              num_workers=args.workers))
@@ -120,7 +125,7 @@ def main(argv: list[str] | None = None) -> int:
     from fdm_awe.fileio import atomic_write_text, write_json
 
     if args.json:
-        write_json(args.json, {"cycles": args.cycles, "seeds": args.seeds, "rows": rows})
+        write_json(args.json, {"cycles": args.cycles, "seeds": args.seeds, "tether": args.tether, "rows": rows})
     if args.report:
         atomic_write_text(args.report, text + "\n")
     return 0

@@ -34,9 +34,24 @@ def test_short_grid_flies_within_the_ratings(tmp_path, capsys):
     assert "| ref_physical_nominal_8mps_sized.json | calm | 1 of 1 |" in capsys.readouterr().out
 
 
+def test_the_grid_flies_the_line_model_asked_for(tmp_path):
+    """``--tether lumped:10``: the flight runs on the lumped line (its own line ledger in the
+    row's flight, a different flight from the straight line's), and the JSON names the model."""
+    rows = {}
+    for tether in ("straight", "lumped:10"):
+        out = tmp_path / f"{tether.replace(':', '_')}.json"
+        assert wind_grid.main(["--refs", REF, "--air", "calm", "--cycles", "1", "--workers", "1", "--tether", tether,
+                               "--json", str(out)]) == 0
+        doc = json.loads(out.read_text())
+        assert doc["tether"] == tether
+        rows[tether] = doc["rows"][0]
+    assert rows["lumped:10"]["status"] == "ok" and rows["lumped:10"]["cycles_complete"] == 1
+    assert rows["lumped:10"]["E_net_J"] != rows["straight"]["E_net_J"]
+
+
 @pytest.mark.parametrize("args, word", [
     (["--seeds", "0"], "--seeds"), (["--air", "calm,stormy"], "--air"), (["--refs", "nothere.json"], "--refs"),
-    (["--workers", "100"], "--workers")])
+    (["--workers", "100"], "--workers"), (["--tether", "lumped:x"], "--tether")])
 def test_bad_input_exits_2_with_one_line(args, word, capsys):
     assert wind_grid.main(args) == 2
     err = capsys.readouterr().err.strip()
