@@ -39,14 +39,29 @@ def check_reference_aircraft(meta: dict[str, Any], aircraft: Any, source: object
     flight goes ahead: flying a reference with a changed glider is a legitimate study, but the
     trajectory is not that glider's optimum. Returns whether the aircraft differ."""
     rec = meta.get("aircraft")
+    had = (rec.get("name") or rec.get("directory")) if isinstance(rec, dict) else None
+    return warn_other_definition(source, rec, had, aircraft, "for the aircraft", "aircraft",
+                                 "the package's glider", "this aircraft's optimum")
+
+
+def warn_other_definition(source: object, rec: Any, had: object, mine: Any, made: str, kind: str, package: str,
+                          optimum: str) -> bool:
+    """The one-line warning (stderr) of a reference ``source`` made with another definition:
+    ``rec`` its metadata record (a dict with ``sha256``, else none recorded) naming ``had``;
+    ``mine`` the definition flying it (``sha256``, ``label()``, ``builtin``); ``made`` how the
+    reference was made (e.g. "for the aircraft"), ``kind`` the definition's word, ``package``
+    the package's own definition, ``optimum`` what the trajectory is not. Whether they differ."""
     if isinstance(rec, dict):
-        if rec.get("sha256") == aircraft.sha256:
+        if rec.get("sha256") == mine.sha256:
             return False
-        had = rec.get("name") or rec.get("directory")
-        print(f"warning: {source} was optimised for the aircraft {had} (sha256 {str(rec.get('sha256'))[:12]}); "
-              f"flying {aircraft.label()} (sha256 {aircraft.sha256[:12]}): the reference is not this aircraft's "
-              f"optimum", file=sys.stderr)
+        print(f"warning: {source} was optimised {made} {had} (sha256 {str(rec.get('sha256'))[:12]}); flying "
+              f"{mine.label()} (sha256 {mine.sha256[:12]}): the reference is not {optimum}", file=sys.stderr)
         return True
+    if mine.builtin:
+        return False
+    print(f"warning: {source} records no {kind} (written before references recorded it: {package}); flying "
+          f"{mine.label()}: the reference is not {optimum}", file=sys.stderr)
+    return True
     if aircraft.builtin:
         return False
     print(f"warning: {source} records no aircraft (written before references recorded it: the package's glider); "

@@ -4,8 +4,9 @@ the check of a reference against the station that flies it."""
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
+
+from ._aircraft import warn_other_definition
 
 #: what ``fly`` does with a reference optimised for another ground station (as for another aircraft)
 OTHER_STATION_POLICY = "warn"
@@ -38,13 +39,8 @@ def check_reference_station(meta: dict[str, Any], station: Any, source: object) 
     flight goes ahead: flying a cycle on another drive is a legitimate study, but the trajectory
     is not that station's optimum. Returns whether the stations differ."""
     rec = meta.get("ground_station")
-    if isinstance(rec, dict):
-        if rec.get("sha256") == station.sha256:
-            return False
-        print(f"warning: {source} was optimised with the ground station {rec.get('file')} (sha256 "
-              f"{str(rec.get('sha256'))[:12]}); flying {station.label()} (sha256 {station.sha256[:12]}): the reference "
-              f"is not this station's optimum", file=sys.stderr)
-        return True
+    return warn_other_definition(source, rec, rec.get("file") if isinstance(rec, dict) else None, station,
+                                 "with the ground station", "ground station", "the package's", "this station's optimum")
     if station.builtin:
         return False
     print(f"warning: {source} records no ground station (written before references recorded it: the package's); "
