@@ -106,7 +106,7 @@ class _NoLine:
     """A ground station without a line: no force, the line slack."""
 
     def step(self, dt: float, pos: Any, vel: Any, cmd: Any) -> Any:
-        from fdm_awe.groundstation.station import GroundStationOutput
+        from fdm_awe.groundstation.station_output import GroundStationOutput
 
         return GroundStationOutput((0.0, 0.0, 0.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, "generator", 0.0, 0.0, None,
                                    slack=True)

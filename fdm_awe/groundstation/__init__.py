@@ -16,12 +16,14 @@ Modules, one job each:
 - :mod:`.substeps` -- the step and its relations, written once (numba compiles it when available)
 - :mod:`.ledger` -- energy ledger
 - :mod:`.station` -- ``GroundStation.step`` co-simulation interface
+- :mod:`.station_output` -- the output of one step, built by the Python step or filled from a compiled row
 - :mod:`.steady` -- steady-state relations for NumPy and CasADi (OCP)
 """
 
 from .definitions import GroundStationParams, load_ground_station
 from .ledger import EnergyLedger
-from .station import GroundStation, GroundStationOutput, WinchCommand
+from .station import GroundStation, WinchCommand
+from .station_output import GroundStationOutput
 from .steady import generator_at_speed, generator_steady, motor_steady
 
 __all__ = [

@@ -35,7 +35,8 @@ import numpy as np
 from ..errors import InputError
 from ..groundstation.converter import GENERATOR, MODES
 from ..groundstation.definitions import GroundStationParams, load_ground_station
-from ..groundstation.station import GroundStationOutput, WinchCommand
+from ..groundstation.station import WinchCommand
+from ..groundstation.station_output import GroundStationOutput
 from ..units import LBF
 
 PLANTS = ("physical", "paper")

@@ -5,11 +5,9 @@ The one place where the flight model meets JSBSim's English units (constants fro
 ``engine/`` folders. Per-step reads and writes go through JSBSim property nodes (bound get/set
 methods) rather than string look-ups.
 
-Ground frame. The winch stands on the ground (terrain elevation 0) at geodetic latitude
-``home_lat_deg``, longitude 0. NED positions map to geodetic coordinates linearly:
-north = (lat - lat0) (M0 + 0), east = lon N0 cos(lat0), down = -h, with the WGS84 meridian and
-prime-vertical radii M0, N0 at the winch. Down follows the local vertical (gravity), so the
-frame departs from a tangent plane by d^2/(2R): 7 mm at 300 m.
+Ground frame: the winch on the ground at geodetic latitude ``home_lat_deg``, longitude 0,
+NED positions mapped to geodetic coordinates linearly (:mod:`.row_si`, which also converts the
+raw rows to SI). A reset starts in flight from an air-path state (:mod:`.initial_condition`).
 
 Tether hook. ``set_tether_force(F_ned)`` writes the NED force (N -> lbf) into the aircraft's
 ``external_reactions/tether`` force (frame LOCAL, magnitude 1); JSBSim applies it at the hook
@@ -25,22 +23,16 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ..constants import G0
 from ..definitions.aircraft import check_aircraft_file
 from ..definitions.catalog import Aircraft, default_aircraft
 from ..definitions.engine import engine_files, motor_constants
 from ..errors import DefinitionError, InputError
 from ..turbulence import Turbulence, TurbulenceSetting
-from ..units import FT, IN, LBF, PSF, SLUG, SLUG_FT2
-from .row import (ALPHA, BETA, CURRENT, FBX, FBZ, FOLD, FOLD_PROPERTY, H_SL, LAT, LON, MASS, P_RATE, PHI,
-                  PROPERTIES, PSI, QBAR, R_RATE, RHO, SHAFT_HP, THETA, THROTTLE, THRUST, V_DOWN, V_NORTH, VT,
-                  WIND_DOWN, WIND_NORTH, WOW, T, hook_kinematics)
+from ..units import FT, IN, LBF, SLUG, SLUG_FT2
+from .initial_condition import apply_initial_condition
+from .row import FOLD, FOLD_PROPERTY, PROPERTIES, hook_kinematics
+from .row_si import convert_rows, ground_frame, row_si_factors
 from .state import SixDofState, Surfaces
-
-_WGS84_A = 6378137.0
-_WGS84_F = 1.0 / 298.257223563
-_WGS84_E2 = _WGS84_F * (2.0 - _WGS84_F)
-_HP_W = 745.69987158227022
 
 
 # Properties read after every step, in the order of the raw row (sixdof.row; the fold state,
@@ -164,29 +156,12 @@ class JSBSimGlider:
         self.fold_time_s = fdm["fcs/wing-fold-time-s"] if self._foldable else 0.0
 
     def _set_ground_frame(self, home_lat_deg: float) -> None:
-        """The NED frame about the winch at ``home_lat_deg`` (WGS84 radii there) and the
-        conversion of a raw row to SI, ``v = raw * scale + offset`` (positions of sixdof.row)."""
-        lat0 = math.radians(home_lat_deg)
-        s2 = math.sin(lat0) ** 2
-        self._lat0 = lat0
-        self._M0 = _WGS84_A * (1 - _WGS84_E2) / (1 - _WGS84_E2 * s2) ** 1.5
-        self._N0cos = _WGS84_A / math.sqrt(1 - _WGS84_E2 * s2) * math.cos(lat0)
+        """The NED frame about the winch at ``home_lat_deg`` (:func:`.row_si.ground_frame`) and the
+        conversion of a raw row to SI, ``v = raw * scale + offset`` (:func:`.row_si.row_si_factors`)."""
+        self._lat0, self._M0, self._N0cos = lat0, m0, n0cos = ground_frame(home_lat_deg)
         #: arguments of row.hook_kinematics after the row: ground frame and hook offset
-        self._hook_frame = (lat0, self._M0, self._N0cos, FT, *self._hook_off)
-        scale = np.ones(len(self._get))
-        offset = np.zeros(len(self._get))
-        scale[LAT], offset[LAT] = self._M0, -self._lat0 * self._M0
-        scale[LON] = self._N0cos
-        scale[H_SL] = -FT
-        scale[V_NORTH:V_DOWN + 1] = FT
-        scale[VT] = FT
-        scale[WIND_NORTH:WIND_DOWN + 1] = FT
-        scale[FBX:FBZ + 1] = LBF
-        scale[MASS] = SLUG
-        scale[QBAR] = PSF
-        scale[RHO] = SLUG / FT**3
-        scale[THRUST] = LBF
-        scale[SHAFT_HP] = _HP_W
+        self._hook_frame = (lat0, m0, n0cos, FT, *self._hook_off)
+        scale, offset = row_si_factors(len(self._get), lat0, m0, n0cos)
         self._scale, self._offset = scale, offset
         self._scale_l, self._offset_l = scale.tolist(), offset.tolist()
 
@@ -357,42 +332,12 @@ class JSBSimGlider:
         return self.state()
 
     def _apply_ic(self, vals: list[float], alpha: float) -> None:
+        """JSBSim's initial condition from ``vals`` (x, y, z m NED, airspeed m/s, gamma, psi, phi
+        rad) at ``alpha`` rad (:func:`.initial_condition.apply_initial_condition`), then the wind
+        and the turbulence as set."""
         x, y, z, V, gam, psi, phi = vals
-        f = self.fdm
-        # body attitude: C_BN = R2(alpha) R1(phi) R2(gamma) R3(psi) (air-path frame, zero sideslip)
-        c_wn = _r1(phi) @ _r2(gam) @ _r3(psi)
-        c_bn = _r2(alpha) @ c_wn
-        theta = -math.asin(max(-1.0, min(1.0, c_bn[0, 2])))
-        phi_b = math.atan2(c_bn[1, 2], c_bn[2, 2])
-        psi_b = math.atan2(c_bn[0, 1], c_bn[0, 0])
-        lat, lon, h_ft = self.ned_to_geodetic((x, y, z))
         w = self.wind_ned
-        v_air = (V * math.cos(gam) * math.cos(psi), V * math.cos(gam) * math.sin(psi), -V * math.sin(gam))
-        f["ic/terrain-elevation-ft"] = 0.0
-        f["ic/lat-geod-rad"] = lat
-        f["ic/long-gc-rad"] = lon
-        f["ic/h-sl-ft"] = h_ft
-        f["ic/phi-rad"] = phi_b
-        f["ic/theta-rad"] = theta
-        f["ic/psi-true-rad"] = psi_b
-        f["ic/p-rad_sec"] = 0.0
-        f["ic/q-rad_sec"] = 0.0
-        f["ic/r-rad_sec"] = 0.0
-        f["ic/vw-mag-fps"] = math.hypot(w[0], w[1]) / FT
-        f["ic/vw-dir-deg"] = math.degrees(math.atan2(w[1], w[0]))  # JSBSim: 0 = blowing north
-        f["ic/vn-fps"] = (v_air[0] + w[0]) / FT
-        f["ic/ve-fps"] = (v_air[1] + w[1]) / FT
-        f["ic/vd-fps"] = (v_air[2] + w[2]) / FT
-        f["atmosphere/turb-type"] = 0  # the Tustin filters give NaN when initialised at dt = 0
-        # with the trim flag set, JSBSim's actuators (servos, fold) start at their commands
-        # instead of rate-limiting from their previous positions
-        f.set_trim_status(True)
-        try:
-            ok = f.run_ic()
-        finally:
-            f.set_trim_status(False)
-        if not ok:
-            raise InputError("reset: JSBSim rejected the initial condition")
+        apply_initial_condition(self.fdm, self.ned_to_geodetic((x, y, z)), V, gam, psi, phi, alpha, w)
         self.set_wind(w)  # run_ic sets the wind from the IC (horizontal only): restore all three
         self.set_turbulence(self.turbulence)  # re-seeded: every reset repeats the same gusts
 
@@ -466,27 +411,9 @@ class JSBSimGlider:
         return st
 
     def convert_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
-        """SI time series from stacked raw rows (n x len(raw)), as :class:`SixDofState` names."""
-        raw = np.atleast_2d(np.asarray(raw, dtype=float))
-        v = raw * self._scale + self._offset
-        phi, th, psi = raw[:, PHI], raw[:, THETA], raw[:, PSI]
-        cr, sr = np.cos(0.5 * phi), np.sin(0.5 * phi)
-        cp, sp = np.cos(0.5 * th), np.sin(0.5 * th)
-        cy, sy = np.cos(0.5 * psi), np.sin(0.5 * psi)
-        quat = np.stack((cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
-                         cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy), axis=1)
-        mass = v[:, MASS]
-        return {
-            "t": raw[:, T], "pos_ned": v[:, LAT:H_SL + 1], "vel_ned": v[:, V_NORTH:V_DOWN + 1],
-            "vel_air_ned": v[:, V_NORTH:V_DOWN + 1] - v[:, WIND_NORTH:WIND_DOWN + 1],
-            "wind_ned": v[:, WIND_NORTH:WIND_DOWN + 1],
-            "quat": quat, "euler": raw[:, PHI:PSI + 1], "omega_body": raw[:, P_RATE:R_RATE + 1], "airspeed": v[:, VT],
-            "alpha": raw[:, ALPHA], "beta": raw[:, BETA], "fold": raw[:, FOLD], "thrust_N": v[:, THRUST],
-            "prop_power_W": raw[:, THROTTLE] * self.motor_volts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
-            "current_A": raw[:, CURRENT], "accel_body": v[:, FBX:FBZ + 1] / mass[:, None],
-            "load_factor": -v[:, FBZ] / mass / G0, "mass": mass, "qbar": v[:, QBAR], "rho": v[:, RHO],
-            "on_ground": raw[:, WOW] > 0.5,
-        }
+        """SI time series from stacked raw rows (n x len(raw)), as :class:`SixDofState` names
+        (:func:`.row_si.convert_rows`)."""
+        return convert_rows(raw, self._scale, self._offset, self.motor_volts)
 
     def inertia(self) -> np.ndarray:
         """Current inertia matrix about the CG in body axes, kg m^2 (Table 2 layout)."""
@@ -503,21 +430,6 @@ def _list_of_calls(getters: list) -> Callable[[], list[float]]:
     ns = {f"g{i}": g for i, g in enumerate(getters)}
     exec("def read():\n    return [" + ", ".join(f"g{i}()" for i in range(len(getters))) + "]\n", ns)  # noqa: S102
     return ns["read"]
-
-
-def _r1(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])
-
-
-def _r2(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0.0, -s], [0.0, 1.0, 0.0], [s, 0.0, c]])
-
-
-def _r3(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 __all__ = ["JSBSimGlider"]
