@@ -44,7 +44,6 @@ MAX_FUNCTION_LINES = 80
 
 #: modules over MAX_MODULE_LINES lines -> their length (lines) when the rule came in; may only shrink
 LONG_MODULES: dict[str, int] = {
-    "api.py": 622,
     "autopilot/autopilot.py": 662,
     "autopilot/guidance.py": 590,
     "definitions/aircraft.py": 505,
@@ -359,7 +358,8 @@ def test_function_length() -> None:
 #: (users import ``from fdm_awe.trajectory import read_reference``) -> what they offer; nowhere
 #: else is a name imported from a module that does not define it
 PUBLIC_FACES: dict[str, str] = {
-    "fdm_awe": "the Python API on the package's top level (fdm_awe.api's names, looked up on first use)",
+    "fdm_awe": "the Python API on the package's top level (the names of fdm_awe.api and fdm_awe.api_results, "
+               "looked up on first use)",
     "fdm_awe.groundstation": "the ground station, its parameters' loader and its steady-state relations",
     "fdm_awe.mavlink": "the link's vocabulary: the autopilot's vehicle interface, parameters and modes, the geo frame",
     "fdm_awe.recording": "the recordings' one-line entry points (looked up on first use)",
