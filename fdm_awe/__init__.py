@@ -5,8 +5,9 @@ the winch. JSBSim's English units are converted only in :mod:`fdm_awe.units` (us
 the JSBSim adapter).
 
 The Python API (:mod:`fdm_awe.api`) is the package's top level: :func:`optimize`, :func:`fly`,
-:func:`sweep` and :func:`load_reference`, with the defaults of :mod:`fdm_awe.defaults`. It is
-imported on first use, so ``import fdm_awe`` stays as fast as the command line's start.
+:func:`sweep` and :func:`load_reference`, with the defaults of :mod:`fdm_awe.defaults`, and
+their results (:mod:`fdm_awe.api_results`). They are imported on first use, so ``import fdm_awe``
+stays as fast as the command line's start.
 ``fdm_awe.sweep`` is also the sub-package of the sweep's modules; calling it runs the API's
 :func:`fdm_awe.api.sweep`.
 """
@@ -40,15 +41,17 @@ def _definition_root() -> Path:
 #: installed package's ``fdm_awe/data/`` or, in a source checkout, the repository root.
 ROOT = _definition_root()
 
-#: names of :mod:`fdm_awe.api` on the package's top level (imported on first use)
-_API = ("FlightResult", "OptimizeResult", "SweepResult", "fly", "load_reference", "optimize")
+#: names of the Python API on the package's top level -> the module that defines them (imported on
+#: first use)
+_API = {"FlightResult": ".api_results", "OptimizeResult": ".api_results", "SweepResult": ".api_results",
+        "fly": ".api", "load_reference": ".api", "optimize": ".api"}
 
 
 def __getattr__(name: str) -> Any:
     # looked up by name on first use: the package's own __init__ imports no unit of it (the
     # layers of docs/architecture.md), and ``import fdm_awe`` stays light
     if name in _API:
-        return getattr(importlib.import_module(".api", __name__), name)
+        return getattr(importlib.import_module(_API[name], __name__), name)
     if name == "sweep":  # the sub-package, callable (its __init__ makes itself a CallableModule)
         return importlib.import_module(".sweep", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -48,7 +48,7 @@ T_MAX_S = 60.0
 TETHER_DRAG_SCALE = 1.0
 #: flyable margins of a reference that is flown: share of C_Lmax kept unused [-], tension margin
 #: below the 50 N rating (the cycle's tension at most rating / (1 + margin)) [-], usable share
-#: of C_Lmax [-] and bank bound [rad] (why these: FLY_TENSION_MARGIN of fdm_awe/commands/fly.py)
+#: of C_Lmax [-] and bank bound [rad] (why these: FLY_TENSION_MARGIN of fdm_awe/commands/_fly_optimise.py)
 FLYABLE_STALL_MARGIN = 0.15
 FLYABLE_TENSION_MARGIN = 0.25
 FLYABLE_CL_MARGIN = 1.0 - FLYABLE_STALL_MARGIN

@@ -71,7 +71,7 @@ def switch_share(controls: np.ndarray, phases: list[str], dt: float) -> tuple[fl
 def run(config: str, variant: str, cycles: int) -> dict:
     """Optimise and fly one variant; the row of the table."""
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.commands.fly import flyable_bounds
+    from fdm_awe.commands._fly_optimise import flyable_bounds
     from fdm_awe.ocp.problem import CycleProblem
     from fdm_awe.ocp.solve import solve_cycle
     from fdm_awe.sim.flight import fly

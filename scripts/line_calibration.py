@@ -50,8 +50,8 @@ def optimise(config: str, wind: float, line_model: str, out_dir: str,
              reel_in_margin: float = REEL_IN_MARGIN) -> tuple[object, str]:
     """The flyable reference of ``config`` at ``wind`` [m/s] with ``line_model``, optimised with
     fly's margins and ``reel_in_margin``, and written into ``out_dir``; returns (result, file)."""
-    from fdm_awe.commands.fly import FLY_STALL_MARGIN, FLY_TENSION_MARGIN, flyable_bounds
-    from fdm_awe.commands.optimize import drive_reel_in_speed
+    from fdm_awe.commands._fly_optimise import FLY_STALL_MARGIN, FLY_TENSION_MARGIN, flyable_bounds
+    from fdm_awe.commands._bound_options import drive_reel_in_speed
     from fdm_awe.ocp.problem import CycleProblem
     from fdm_awe.ocp.solve import solve_cycle
     from fdm_awe.trajectory import write_reference

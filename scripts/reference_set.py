@@ -60,8 +60,8 @@ def _gather(files: list[str], out: Path) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from fdm_awe.commands.fly import flyable_bounds
-    from fdm_awe.commands.optimize import add_wind_profile_args, wind_profile_from_args
+    from fdm_awe.commands._fly_optimise import flyable_bounds
+    from fdm_awe.commands._model_options import add_wind_profile_args, wind_profile_from_args
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     src = p.add_mutually_exclusive_group(required=True)

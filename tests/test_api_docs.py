@@ -23,7 +23,8 @@ def test_api_docs_build_without_warnings(tmp_path):
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     html = (out / "index.html").read_text()
     for name in ("fdm_awe.api.optimize", "fdm_awe.api.fly", "fdm_awe.api.sweep", "fdm_awe.api.load_reference",
-                 "fdm_awe.api.OptimizeResult", "fdm_awe.api.FlightResult", "fdm_awe.api.SweepResult"):
+                 "fdm_awe.api_results.OptimizeResult", "fdm_awe.api_results.FlightResult",
+                 "fdm_awe.api_results.SweepResult"):
         assert f'id="{name}"' in html, name
     # the parameters with their units, from the numpy-style docstrings
     assert "Wind speed [m/s]" in html and "Co-simulation step [s]" in html

@@ -243,7 +243,7 @@ def test_defaults_optimise_the_nominal_glider_and_say_why():
     args = fly.parse_args([])
     assert args.config is None and args.wind is None and args.line_weight is None  # "not given"
     assert args.line is None and args.propeller is None
-    from fdm_awe.commands.fly import DEFAULT_CONFIG, DEFAULT_WIND_MPS
+    from fdm_awe.commands._fly_optimise import DEFAULT_CONFIG, DEFAULT_WIND_MPS
 
     assert (DEFAULT_CONFIG, DEFAULT_WIND_MPS) == ("nominal", 8.0)
     for name in ("fly", "optimize"):
@@ -255,7 +255,7 @@ def test_defaults_optimise_the_nominal_glider_and_say_why():
 def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():
     """optimize/compare/fly build their problem with the scenario's plant unless told otherwise;
     --line paper --propeller momentum --no-line-weight is the earlier physical plant."""
-    from fdm_awe.commands.fly import reference_problem
+    from fdm_awe.commands._fly_optimise import reference_problem
     from fdm_awe.commands.optimize import problem_from_args
     from fdm_awe.ocp.problem import LEGACY_PHYSICAL_PLANT
 
@@ -282,7 +282,7 @@ def test_plant_options_reach_the_problem_and_default_to_the_scenarios_plant():
 def test_smoothness_options_reach_the_problem_and_default_to_off():
     """--bank-rate-max, --alpha-rate-max and --catch-speed-max become the problem's bounds in
     optimize and in the reference fly optimises (next to its flyable margins); unset, none."""
-    from fdm_awe.commands.fly import reference_problem
+    from fdm_awe.commands._fly_optimise import reference_problem
     from fdm_awe.commands.optimize import problem_from_args
 
     sub = build_parser()._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor

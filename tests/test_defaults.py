@@ -73,10 +73,10 @@ def test_one_default_wind_for_every_command_and_the_api():
     subs = _subparsers()
     assert subs["optimize"].parse_args([]).wind == D.WIND_MPS
     assert subs["compare"].parse_args([]).wind == D.WIND_MPS
-    from fdm_awe.commands import fly
+    from fdm_awe.commands import _fly_optimise as fly_ref
 
-    assert fly.DEFAULT_WIND_MPS == D.WIND_MPS and fly.DEFAULT_CONFIG == D.CONFIG == "nominal"
-    assert fly.reference_problem(subs["fly"].parse_args([]).__class__(
+    assert fly_ref.DEFAULT_WIND_MPS == D.WIND_MPS and fly_ref.DEFAULT_CONFIG == D.CONFIG == "nominal"
+    assert fly_ref.reference_problem(subs["fly"].parse_args([]).__class__(
         **{**vars(subs["fly"].parse_args([])), "scenario": D.SCENARIO, "config": D.CONFIG})).wind_speed == D.WIND_MPS
     sig = inspect.signature(api.optimize).parameters
     assert (sig["wind"].default, sig["config"].default, sig["scenario"].default) == (D.WIND_MPS, D.CONFIG, D.SCENARIO)
@@ -96,7 +96,7 @@ def test_api_optimize_keywords_default_to_the_optimize_command():
 
 
 def test_flyable_margins_are_fly_s():
-    from fdm_awe.commands.fly import flyable_bounds
+    from fdm_awe.commands._fly_optimise import flyable_bounds
     from fdm_awe.commands.optimize import problem_from_args
 
     opt = _subparsers()["optimize"]

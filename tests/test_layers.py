@@ -50,6 +50,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("mavlink", "recording", "sweep"),
     ("commands",),
     ("cli",),
+    ("api_results",),
     ("api", "__main__"),
 )
 RANK = {unit: i for i, layer in enumerate(LAYERS) for unit in layer}

@@ -102,15 +102,15 @@ def test_bad_margin_options_are_one_line_errors(capsys, cmd):
 
 
 def test_fly_optimises_its_reference_with_its_margins():
-    from fdm_awe.commands.fly import FLY_REEL_IN_MARGIN, flyable_bounds
-    from fdm_awe.commands.optimize import drive_reel_in_speed
+    from fdm_awe.commands._fly_optimise import FLY_REEL_IN_MARGIN, flyable_bounds
+    from fdm_awe.commands._bound_options import drive_reel_in_speed
 
     b = flyable_bounds()
     assert (b.G_cycle_max, b.cl_margin) == (pytest.approx(40.0), 0.85)
     assert FLY_REEL_IN_MARGIN == 0.0 and b.reel_in_speed_max is None  # off: the folded recovery needs the speed
     assert 11.05 < drive_reel_in_speed() < 11.15  # the 48 V drive's fastest reel-in ('fdm-awe info': 11.10 m/s)
     from fdm_awe.cli import build_parser
-    from fdm_awe.commands.fly import reference_problem
+    from fdm_awe.commands._fly_optimise import reference_problem
 
     sub = build_parser()._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor
     args = sub["fly"].parse_args(["--reel-in-margin", "0.1", "--tension-margin", "0"])
@@ -125,7 +125,8 @@ def test_the_reel_in_margin_is_taken_from_the_drive_the_cycle_is_optimised_for()
     not the definition's: a higher supply reels in faster (the armature's back-EMF limit). The
     definition's 48 V against a 24 V supply (the one of before)."""
     from fdm_awe.cli import build_parser
-    from fdm_awe.commands.optimize import drive_reel_in_speed, problem_from_args
+    from fdm_awe.commands._bound_options import drive_reel_in_speed
+    from fdm_awe.commands.optimize import problem_from_args
 
     assert drive_reel_in_speed() > 1.9 * drive_reel_in_speed(24.0)  # twice the volts, a little more than twice the speed
     sub = build_parser()._subparsers._group_actions[0].choices  # noqa: SLF001 - argparse has no public accessor

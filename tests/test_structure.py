@@ -44,11 +44,8 @@ MAX_FUNCTION_LINES = 80
 
 #: modules over MAX_MODULE_LINES lines -> their length (lines) when the rule came in; may only shrink
 LONG_MODULES: dict[str, int] = {
-    "api.py": 622,
     "autopilot/autopilot.py": 662,
     "autopilot/guidance.py": 590,
-    "commands/fly.py": 903,
-    "commands/optimize.py": 531,
     "sim/flight.py": 606,
 }
 
@@ -62,7 +59,7 @@ LONG_FUNCTIONS: dict[str, tuple[int, str]] = {
     "autopilot/autopilot.py:Autopilot.__init__": (84, "code 84; not split yet"),
     "autopilot/winch.py:cycle_winch_values": (92, "docstring 34, code 56"),
     "commands/fly.py:add_arguments": (94, "code 91: one add_argument call per option of the command"),
-    "commands/sweep.py:add_arguments": (97, "code 96: one add_argument call per option of the command"),
+    "commands/sweep.py:add_arguments": (95, "code 94: one add_argument call per option of the command"),
     "groundstation/lumped.py:line_forces": (91, "docstring 27, code 64: one fused pass over the segments (the "
                                                  "forces and the rest-length energy in registers), 9 % faster "
                                                  "than two loops, bit-identical"),
@@ -358,7 +355,8 @@ def test_function_length() -> None:
 #: (users import ``from fdm_awe.trajectory import read_reference``) -> what they offer; nowhere
 #: else is a name imported from a module that does not define it
 PUBLIC_FACES: dict[str, str] = {
-    "fdm_awe": "the Python API on the package's top level (fdm_awe.api's names, looked up on first use)",
+    "fdm_awe": "the Python API on the package's top level (the names of fdm_awe.api and fdm_awe.api_results, "
+               "looked up on first use)",
     "fdm_awe.groundstation": "the ground station, its parameters' loader and its steady-state relations",
     "fdm_awe.mavlink": "the link's vocabulary: the autopilot's vehicle interface, parameters and modes, the geo frame",
     "fdm_awe.recording": "the recordings' one-line entry points (looked up on first use)",

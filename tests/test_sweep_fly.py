@@ -132,10 +132,10 @@ def test_rebuilt_reference_is_the_optimised_cycle(tmp_path):
 
 
 def test_flyable_points_have_the_bounds_fly_optimises_with():
-    from fdm_awe.commands.fly import flyable_bounds
+    from fdm_awe.commands._fly_optimise import flyable_bounds
     from fdm_awe.sweep import runner
 
-    from fdm_awe.commands.fly import FLY_STALL_MARGIN, FLY_TENSION_MARGIN
+    from fdm_awe.commands._fly_optimise import FLY_STALL_MARGIN, FLY_TENSION_MARGIN
 
     assert runner.flyable_bounds() == flyable_bounds()
     assert (runner.FLYABLE_TENSION_MARGIN, runner.FLYABLE_STALL_MARGIN) == (FLY_TENSION_MARGIN, FLY_STALL_MARGIN)

@@ -48,7 +48,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"factor on the line drag, physical scenario, 0..10 (sensitivity study; default "
                         f"{D.TETHER_DRAG_SCALE:g} = the defined line)")
     from ._station import add_station_arg
-    from .optimize import add_plant_model_args, add_wind_profile_args
+    from ._model_options import add_plant_model_args, add_wind_profile_args
 
     add_station_arg(p, "the ground station of both cycles (its drive and line; physical scenario)")
     add_plant_model_args(p)
@@ -147,7 +147,8 @@ def markdown(scenario: str, wind: float, res: dict[str, dict], zero: dict[str, d
 def run(args: argparse.Namespace) -> int:
     from . import _checks as chk
     from ._station import station_from_args
-    from .optimize import check_plant_args, check_solver_args, parse_mesh, wind_profile_from_args
+    from ._model_options import check_plant_args, wind_profile_from_args
+    from .optimize import check_solver_args, parse_mesh
 
     station = station_from_args(args)  # its file checked first (a bad file names --ground-station)
     check_solver_args(args)

@@ -45,89 +45,31 @@ the steps flown so far are written to every requested output (status ``interrupt
 from __future__ import annotations
 
 import argparse
-import math
 import sys
-import time
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from .. import defaults as D
 from ..errors import EXIT_INTERRUPTED, InputError
 from ..fileio import write_json
 from ._aircraft import add_aircraft_arg, aircraft_from_args
-from ._station import add_station_arg, check_reference_definitions, station_from_args
+from ._station import add_station_arg, station_from_args
 from . import _checks as chk
-from .optimize import (NOMINAL_DEFAULT_WHY, add_margin_args, add_plant_model_args, add_smoothness_args,
-                       add_wind_profile_args, check_plant_args, margin_bounds, smoothness_bounds, wind_profile_from_args)
+from ._bound_options import add_margin_args, add_smoothness_args, margin_bounds, smoothness_bounds
+from ._fly_hooks import boot_beacon, fly_with_hooks, open_mavlink, stay_on_link
+from ._fly_optimise import (DEFAULT_CONFIG, DEFAULT_SCENARIO, DEFAULT_WIND_FROM_DEG, DEFAULT_WIND_MPS,
+                            FLY_REEL_IN_MARGIN, FLY_STALL_MARGIN, FLY_TENSION_MARGIN, optimised_reference,
+                            reference_file_name, reference_problem)
+from ._fly_reference import (FLIGHT_WIND, REFERENCE_FIXED, flight_drag_scale, given_reference, optimised_energies,
+                             print_reference_margins, read_reference, read_references)
+from ._fly_summary import print_summary, written_files
+from ._model_options import add_plant_model_args, add_wind_profile_args, check_plant_args, wind_profile_from_args
+from .optimize import NOMINAL_DEFAULT_WHY
 
 # The modules of the work (the optimiser, JSBSim, numba, the recordings, MAVLink) are imported in
 # the functions that use them: the command line imports every command module at its start.
 
 HELP = "fly the optimised pumping cycle in 6-DOF (JSBSim + ground station + autopilot)"
-
-#: effective defaults of the options that shape the optimised reference (None on the command
-#: line means "not given", so that ``--reference`` can refuse them)
-DEFAULT_WIND_MPS = D.WIND_MPS
-DEFAULT_WIND_FROM_DEG = D.WIND_FROM_DEG
-DEFAULT_CONFIG = D.CONFIG
-DEFAULT_SCENARIO = D.SCENARIO
-
-#: the options a reference fixes (only used when optimising): attribute -> option
-REFERENCE_FIXED = {"wind": "--wind", "wind_from": "--wind-from", "gamma_max": "--gamma-max",
-                   "line": "--line", "line_model": "--line-model", "propeller": "--propeller", "line_weight": "--line-weight",
-                   "generator": "--generator", "wind_profile": "--wind-profile",
-                   "wind_ref_height": "--wind-ref-height", "v_min": "--v-min", "bank_rate_max": "--bank-rate-max",
-                   "alpha_rate_max": "--alpha-rate-max", "catch_speed_max": "--catch-speed-max",
-                   "tension_margin": "--tension-margin", "stall_margin": "--stall-margin",
-                   "reel_in_margin": "--reel-in-margin"}
-
-
-#: the margins of a reference that ``fly`` optimises (``--tension-margin``, ``--stall-margin``):
-#: the stall margin keeps C_L at most 85 % of each wing's C_Lmax (the flyable margin the stored
-#: references were made with). The tension margin keeps the cycle's tension at most the 50 N
-#: rating / 1.25 = 40 N: the flown peaks of the stored sized-line cycles at 8-12 m/s, made with
-#: the whole rating, came to 1.15-1.32 x the optimum's peak in calm air (the catch at the start
-#: of generation) and up to 1.5 x in light turbulence (nominal 12 m/s: 74.7 N on a 50 N optimum),
-#: so 40 N keeps the flown peak at about 1.2 x the rating (60 N) in calm and light air
-FLY_TENSION_MARGIN = D.FLYABLE_TENSION_MARGIN
-FLY_STALL_MARGIN = D.FLYABLE_STALL_MARGIN
-#: the reel-in margin (``--reel-in-margin``): off by default. The flown winch still pays out
-#: when the reference's recovery starts (it follows the glider, not the reference's instant
-#: reversal); a reference that reels in at the drive's limit (5.36 m/s) leaves it no speed to
-#: catch up: the nominal 12 m/s cycle's line ended each recovery 6, 10 and 15 m longer than
-#: planned, and on the lumped line the drift cost 200-450 J of thrust a cycle, which a margin of
-#: 0.1 (4.87 m/s) removes (docs/design.md section 10). But the foldable glider's folded recovery
-#: needs the fast reel-in: at 8 m/s a margin of 0.1 costs it 1400 J a cycle (-4440 J against
-#: -3090 J flown), so it is an option (scripts/line_calibration.py sets 0.1), not a default
-FLY_REEL_IN_MARGIN = 0.0
-
-
-def flyable_bounds(gamma_max: float | None = None, smoothness: dict[str, float] | None = None,
-                   v_min: float | None = None, margins: dict[str, float] | None = None):
-    """The bounds of a reference that ``fly`` optimises to fly it (below), as a
-    :class:`~fdm_awe.ocp.problem.Bounds`."""
-    from ..ocp.problem import Bounds
-
-    # A reference to be flown keeps margins the optimiser's own optimum does not: C_L at most
-    # 85 % of each wing's C_Lmax (``margins``: --stall-margin, default FLY_STALL_MARGIN), the
-    # tension at most the rating / (1 + --tension-margin, default FLY_TENSION_MARGIN) and the bank
-    # 0.2 rad inside the Table-3 limit, leaving the autopilot room to correct. ``gamma_max`` [rad]
-    # (--gamma-max) bounds the flight-path angle below Table 3's 1 rad: the paper nominal cycle at
-    # 3 m/s dives at -1 rad and climbs at +1 rad within its 9.8 s recovery, which the 6-DOF glider
-    # does not follow (it stalls in the climb); with 0.7 rad it is flown within 2 m RMS.
-    # ``smoothness``: the reference's rate and catch bounds given (--bank-rate-max,
-    # --alpha-rate-max, --catch-speed-max; none by default); ``v_min`` [m/s] (--v-min): the
-    # airspeed bound, Table 3's 5 m/s when None; ``margins``: Bounds fields ``tension_margin`` and
-    # ``cl_margin`` (:func:`fdm_awe.commands.optimize.margin_bounds`; None: fly's defaults).
-    if margins is None:
-        margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN}
-        if FLY_REEL_IN_MARGIN > 0.0:
-            from .optimize import drive_reel_in_speed
-
-            margins["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + FLY_REEL_IN_MARGIN)
-    m = dict(margins)
-    return Bounds(phi_max=D.FLYABLE_PHI_MAX, **m, **({} if gamma_max is None else {"gamma_max": gamma_max}),
-                  **({} if v_min is None else {"V_min": v_min}), **(smoothness or {}))
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -289,90 +231,6 @@ def _check(args: argparse.Namespace) -> None:
         wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
 
 
-#: the options that give the flight's wind with ``--references`` (attributes)
-FLIGHT_WIND = ("wind", "wind_from", "wind_profile", "wind_ref_height")
-
-
-def check_reference_options(args: argparse.Namespace, meta: dict, ref_path: str) -> None:
-    """An explicit ``--config``/``--scenario`` must be the reference's (``meta``), unless
-    ``--allow-mismatch``: then a warning line each on stderr."""
-    for attr, option, what in (("config", "--config", "configuration"), ("scenario", "--scenario", "scenario")):
-        want, have = getattr(args, attr), meta.get(attr)
-        if want is None or want == have:
-            continue
-        if not args.allow_mismatch:
-            raise InputError(f"{option} {want}: {ref_path} was optimised for the {what} {have!r}; fly it with its own "
-                             f"{what}, or add --allow-mismatch to fly it anyway")
-        print(f"warning: {ref_path} was optimised for the {what} {have!r}; flying it with {option} {want} "
-              f"(--allow-mismatch)", file=sys.stderr)
-
-
-def reference_problem(args: argparse.Namespace):
-    """The validated :class:`~fdm_awe.ocp.problem.CycleProblem` of the reference to optimise
-    (flyable bounds; the effective defaults for options not given)."""
-    from ..ocp.problem import CycleProblem
-
-    return CycleProblem(scenario=args.scenario, config=args.config,
-                        wind_speed=DEFAULT_WIND_MPS if args.wind is None else args.wind,
-                        wind_from_deg=DEFAULT_WIND_FROM_DEG if args.wind_from is None else args.wind_from,
-                        bounds=flyable_bounds(args.gamma_max, smoothness_bounds(args), args.v_min,
-                                              margin_bounds(args, FLY_TENSION_MARGIN, FLY_STALL_MARGIN,
-                                                            FLY_REEL_IN_MARGIN)),
-                        tether_drag_scale=1.0 if args.tether_drag_scale is None else args.tether_drag_scale,
-                        propeller=args.propeller, line_weight=args.line_weight, line=args.line,
-                        generator=args.generator, line_model=args.line_model or "straight",
-                        wind_profile=wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO),
-                        aircraft=aircraft_from_args(args), ground_station=station_from_args(args)).validate()
-
-
-def optimise_reference(problem):
-    """Optimise the reference of the run; returns the ok CycleResult (InputError if none)."""
-    from ..ocp.solve import solve_cycle
-
-    b = problem.bounds
-    print(f"optimising a {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s (flyable bounds: "
-          f"C_L <= {b.cl_margin:g} C_Lmax, tension <= {b.G_cycle_max:.3g} N (rating {b.G_max:g} N / "
-          f"{1 + b.tension_margin:g}), "
-          f"{'' if b.reel_in_speed_max is None else f'reel-in <= {b.reel_in_speed_max:.3g} m/s, '}|bank| <= {b.phi_max} rad, |gamma| <= {b.gamma_max:g} rad, "
-          f"V >= {b.V_min:g} m/s; "
-          f"line drag x {problem.tether_drag_scale:g}{_smoothness_text(b)}) ...", file=sys.stderr)
-    res = solve_cycle(problem)
-    if not res.ok:
-        raise InputError(f"the optimiser found no {problem.scenario} {problem.config} cycle at {problem.wind_speed:g} m/s: "
-                         f"{res.status} ({getattr(res, 'reason', '')})")
-    return res
-
-
-def _smoothness_text(b) -> str:
-    """The smoothness bounds of ``b`` that are set, for the progress line ('' when none)."""
-    parts = [f"{name} {v:g} {unit}" for name, v, unit in (("bank rate <=", b.bank_rate_max, "rad/s"),
-                                                         ("alpha rate <=", b.alpha_rate_max, "rad/s"),
-                                                         ("catch <=", b.catch_speed_max, "m/s")) if v is not None]
-    return "".join(f"; {p}" for p in parts)
-
-
-def reference_file_name(args: argparse.Namespace) -> str:
-    """File name of an optimised reference written into ``--out``."""
-    wind = DEFAULT_WIND_MPS if args.wind is None else args.wind
-    return f"reference_{args.scenario}_{args.config}_{wind:g}.json"
-
-
-def flight_drag_scale(meta: dict, requested: float | None, ref_path: object) -> float:
-    """The line-drag factor of the flight: the reference's ``tether_drag_scale`` (metadata; 1
-    for files written before it existed) unless ``requested`` overrides it. Prints an info line
-    with the scale, and a warning when an override makes the flight's line differ from the one
-    the reference was optimised with."""
-    ref_scale = float(meta.get("tether_drag_scale", 1.0))
-    scale = ref_scale if requested is None else float(requested)
-    if scale != ref_scale:
-        print(f"warning: {ref_path} was optimised with tether_drag_scale {ref_scale:g}; the flight uses "
-              f"{scale:g} (--tether-drag-scale), so its line drag differs from the reference's", file=sys.stderr)
-    else:
-        print(f"line {meta.get('line', 'paper')}, line drag x {scale:g} ({'the defined line' if scale == 1.0 else 'scaled line'}), "
-              f"as {ref_path} was optimised with", file=sys.stderr)
-    return scale
-
-
 def run(args: argparse.Namespace, given: Any = None, result: dict[str, Any] | None = None) -> int:
     """``fdm-awe fly``: returns the exit code. ``given``: a reference in memory (a
     :class:`~fdm_awe.autopilot.tracking.TrackingReference`, the Python API's) flown as a
@@ -381,11 +239,11 @@ def run(args: argparse.Namespace, given: Any = None, result: dict[str, Any] | No
     _check(args)
     ref = problem = refs = flight_wind = None
     if args.references:
-        refs, ref, flight_wind, args.reference_flown = _read_references(args)
+        refs, ref, flight_wind, args.reference_flown = read_references(args)
     elif given is not None:
-        ref = _given_reference(args, given)
+        ref = given_reference(args, given)
     elif args.reference:
-        ref = _read_reference(args)
+        ref = read_reference(args)
     else:
         args.scenario = args.scenario or DEFAULT_SCENARIO
         args.config = args.config or DEFAULT_CONFIG
@@ -406,12 +264,12 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
     """The work of :func:`run` once every input and output is checked: open the MAVLink link,
     optimise the reference (without ``--reference`` or ``--references``; ``refs`` the set, ``flight_wind`` the wind it meets), fly, print, write the outputs; returns the
     exit code."""
-    link = _open_link(args)  # the MAVLink transport: a ground station that is not there is said now
-    beacon = _boot_beacon(args, link)  # a heartbeat each second until the flight's endpoint takes the link
+    link = open_mavlink(args)  # the MAVLink transport: a ground station that is not there is said now
+    beacon = boot_beacon(args, link)  # a heartbeat each second until the flight's endpoint takes the link
     stay: list[Any] = []  # the endpoint kept on the link after the flight (--mavlink without --exit-after-cycles)
     try:
         if ref is None:
-            ref, ref_path, ref_label = _optimised_reference(args, problem, out_dir)
+            ref, ref_path, ref_label = optimised_reference(args, problem, out_dir)
         elif given_label is not None:  # a reference in memory: no file
             ref_path, ref_label = None, given_label
         else:
@@ -426,7 +284,7 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
         from ..recording.stream import open_live
 
         live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-        report = _fly(args, ref, params, plant, scale, live, link, refs, flight_wind, beacon, stay)
+        report = fly_with_hooks(args, ref, params, plant, scale, live, link, refs, flight_wind, beacon, stay)
         link = None  # the flight's MAVLink endpoint took it and closed it (or keeps it: ``stay``)
     finally:
         if beacon is not None:
@@ -439,45 +297,14 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
     if result is not None:
         result.update(report=report, reference=ref)
     try:
-        _print_summary(report, ref_label, optimised)
+        print_summary(report, ref_label, optimised)
         code = _finish(args, report, ref, ref_path, out_dir, optimised)
         if stay:
-            _stay_on_link(*stay)
+            stay_on_link(*stay)
     finally:
         if stay:
             stay[0].close()
     return code
-
-
-def _boot_beacon(args: argparse.Namespace, link: Any) -> Any:
-    """The heartbeat sent while the rest loads (:class:`~fdm_awe.mavlink.boot.BootBeacon`) on the
-    opened ``--mavlink`` link, None without one."""
-    if link is None:
-        return None
-    from ..mavlink.boot import BootBeacon
-
-    return BootBeacon(link, args.mode, signing_key=getattr(args, "signing_key", None))
-
-
-def _stay_on_link(endpoint: Any, tel: Any, t_end: float) -> None:
-    """After the flight and its outputs: keep the vehicle on the MAVLink link, answering
-    (heartbeats and the streams of the last simulated state, parameters, the mission; the
-    commands that would fly refused with their reason), until a ground station shuts it down
-    (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) or Ctrl-C; the endpoint's clock runs on from the
-    flight's end time ``t_end`` [s] at wall-clock rate."""
-    print("flight over: the vehicle stays on the MAVLink link (the last simulated state) until a ground station "
-          "shuts it down (MAV_CMD_PREFLIGHT_REBOOT_SHUTDOWN 2) or Ctrl-C (--exit-after-cycles: end at once)",
-          file=sys.stderr, flush=True)
-    w0 = time.monotonic()
-    try:
-        while not endpoint.shutdown_requested:
-            endpoint.update(t_end + (time.monotonic() - w0), tel)
-            time.sleep(0.01)
-    except KeyboardInterrupt:
-        print("\nCtrl-C: the vehicle leaves the link", file=sys.stderr)
-        return
-    endpoint.update(t_end + (time.monotonic() - w0), tel)  # the COMMAND_ACK of the shutdown goes out
-    print("shut down by the ground station", file=sys.stderr)
 
 
 def flight_plant(args: argparse.Namespace, ref: Any) -> str:
@@ -494,16 +321,6 @@ def _plant_why(args: argparse.Namespace, plant: str) -> str:
     if args.reference and args.scenario is None:
         return f"the {plant} scenario of {args.reference}"
     return f"--scenario {plant}"
-
-
-def _open_link(args: argparse.Namespace) -> Any:
-    """The ``--mavlink`` transport opened (a tcp client connected once, bounded in time), or
-    None without ``--mavlink``; one-line error naming the option when it cannot be opened."""
-    if not args.mavlink:
-        return None
-    from ..mavlink.transport import open_link
-
-    return open_link(args.mavlink)
 
 
 def _autopilot_params(path: str | None, option: str = "--params", aircraft: Any = None) -> Any:
@@ -543,81 +360,6 @@ def _check_budget(args: argparse.Namespace, params: Any, ref: Any, problem: Any)
                      what="the longest cycle the optimiser may return (T1 + T2 <= t_max)")
 
 
-def _given_reference(args: argparse.Namespace, ref: Any) -> Any:
-    """A reference in memory (``ref``), checked as :func:`_read_reference` checks a file: the
-    options it fixes refused, its configuration and scenario against the options, the
-    turbulence form against its wind; ``args.config`` defaults to the reference's."""
-    given = [opt for attr, opt in REFERENCE_FIXED.items() if getattr(args, attr, None) is not None]
-    if given:
-        raise InputError(f"{', '.join(given)}: the reference given fixes {'this' if len(given) == 1 else 'these'}"
-                         " (only used when fly optimises a reference)")
-    return _checked_reference(args, ref, "the reference given")
-
-
-def _checked_reference(args: argparse.Namespace, ref: Any, source: object) -> Any:
-    """``ref`` (from ``source``) checked against the options: its configuration and scenario,
-    the turbulence form against its wind; ``args.config`` defaults to the reference's."""
-    check_reference_options(args, ref.meta, source)
-    check_reference_definitions(ref.meta, args, source)
-    if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
-        from ..sim.flight import turbulence_setting
-
-        turbulence_setting(ref, args.turbulence)
-    args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")
-                                  else DEFAULT_CONFIG)
-    return ref
-
-
-def _read_reference(args: argparse.Namespace) -> Any:
-    """The ``--reference`` file as a :class:`~fdm_awe.autopilot.tracking.TrackingReference` (checked field by
-    field, one-line errors), its configuration and scenario against the options; ``args.config`` defaults to its."""
-    from ..autopilot.tracking import TrackingReference
-
-    return _checked_reference(args, TrackingReference.from_ocp_file(args.reference), args.reference)
-
-
-def print_reference_margins(meta: dict, source: object) -> None:
-    """One line on stderr: the margins the reference ``source`` (metadata ``meta``) was optimised
-    with and its line model (:func:`fdm_awe.trajectory.files.margins_text`)."""
-    from ..trajectory.files import margins_text
-
-    print(f"{source}: {margins_text(meta)}; line model {meta.get('line_model', 'straight')}", file=sys.stderr)
-
-
-def _read_references(args: argparse.Namespace) -> tuple[Any, Any, dict[str, Any], str]:
-    """The ``--references`` set (:class:`~fdm_awe.autopilot.schedule.ReferenceSet`, checked file by
-    file and as a set; its configuration and scenario against the options), the reference it
-    starts on (``--start-wind``) and the wind the flight meets (``--wind`` ... or the start
-    reference's own) as reference metadata gives a wind, and the start reference's file."""
-    from ..autopilot.schedule import ReferenceSet
-    from ..pointmass.model import wind_vector
-
-    refs = ReferenceSet.from_folder(args.references)
-    first = refs.entries[0]
-    check_reference_options(args, first.reference.meta, first.source)
-    for e in refs.entries:
-        check_reference_definitions(e.reference.meta, args, e.source)
-    args.config = args.config or (first.reference.meta.get("config") if first.reference.meta.get("config") in
-                                  ("foldable", "nominal") else DEFAULT_CONFIG)
-    start_w = args.start_wind if args.start_wind is not None else args.wind
-    entry = refs.entries[0 if start_w is None else refs.nearest(start_w)]
-    ref = entry.reference
-    if args.wind is None and args.wind_profile is None and args.wind_from is None:
-        meta = ref.meta
-        wind = {"wind_ned_mps": list(meta.get("wind_ned_mps", (0.0, 0.0, 0.0))),
-                "wind_profile": meta.get("wind_profile")}
-    else:
-        prof = wind_profile_from_args(args, args.scenario or DEFAULT_SCENARIO)
-        speed = entry.wind_mps if args.wind is None else args.wind
-        from_deg = refs.wind_from_deg if args.wind_from is None else args.wind_from
-        wind = {"wind_ned_mps": list(wind_vector(speed, from_deg)),
-                "wind_profile": prof.as_dict(), "wind_mps": speed}
-    print(f"reference set {args.references}: {len(refs.entries)} references at "
-          f"{', '.join(f'{w:g}' for w in refs.winds)} m/s ({refs.profile.describe()}); the first cycle flies "
-          f"{entry.source}", file=sys.stderr)
-    return refs, ref, wind, entry.source
-
-
 def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: bool) -> Any:
     """Every output path checked before any work: ``--json``, ``--rrd``, ``--out`` and the files
     it will hold (with an optimised reference's file when ``optimising``), none an input; the
@@ -630,146 +372,6 @@ def _check_outputs(args: argparse.Namespace, out_dir: Path | None, optimising: b
         in_dir.append(("--out", out_dir / reference_file_name(args)))
     return chk.outputs(files=[("--json", args.json), ("--rrd", args.rrd)], dirs=[("--out", args.out)],
                        inputs=[args.reference, args.params, args.mavlink_key], dir_files=in_dir)
-
-
-def _optimised_reference(args: argparse.Namespace, problem: Any, out_dir: Path | None) -> tuple[Any, Path | None, str]:
-    """Optimise the reference of ``problem`` and hand it over in memory (the content of the file
-    written with ``--out``, no file otherwise); returns (reference, its file or None, label)."""
-    from ..autopilot.tracking import TrackingReference
-    from ..trajectory import reference_from_result, write_reference
-
-    res = optimise_reference(problem)
-    ref_label = f"the optimised {args.scenario} {args.config} reference"
-    ref = TrackingReference.from_ocp(reference_from_result(res, ref_label))
-    ref_path: Path | None = None
-    if out_dir is not None:
-        ref_path = write_reference(res, out_dir / reference_file_name(args))
-        ref_label = str(ref_path)
-        print(f"reference trajectory: {ref_path}", file=sys.stderr)
-    return ref, ref_path, ref_label
-
-
-class _FlightHooks:
-    """What the command attaches to a flight: the progress bar (unless ``--quiet`` or not a
-    terminal; ``n_total`` steps), and at the flight's set-up the start mode (``--mode``), the
-    MAVLink endpoint with its telemetry and link-loss failsafe (``--mavlink``) and the pacing
-    against the wall clock (``--realtime``) and the live viewer (``--spawn`` / ``--connect``,
-    ``live``); all called after every step (:meth:`on_step`)."""
-
-    def __init__(self, args: argparse.Namespace, n_total: int, live: Any = None, link: Any = None,
-                 beacon: Any = None) -> None:
-        self.args = args
-        self.live = live
-        self.link = link  #: the --mavlink transport, opened before the work (None: opened at set-up)
-        self.beacon = beacon  #: the boot heartbeat on ``link``, stopped before the endpoint's first update
-        self.endpoint: Any = None
-        self.telemetry: Any = None  #: the last step's telemetry, built when read (``--mavlink``)
-        self.bar: Any = None
-        self._hooks: list[Callable[[int, Any, Any], None]] = []
-        if not args.quiet and sys.stderr.isatty():
-            from tqdm import tqdm
-
-            bar = self.bar = tqdm(total=n_total, unit="step", desc="flying", file=sys.stderr, mininterval=0.5)
-            self._hooks.append(lambda k, s, o: bar.update(600) if k % 600 == 0 else None)
-
-    def setup(self, ap: Any, sim: Any) -> None:
-        """The flight's ``setup(autopilot, cosim)``."""
-        args = self.args
-        if args.mode != "AUTO":
-            ap.set_mode(args.mode)
-        if args.mavlink:
-            from ..mavlink.bridge import telemetry_builder
-            from ..mavlink.endpoint import MavlinkEndpoint
-
-            endpoint = self.endpoint = MavlinkEndpoint(args.mavlink, vehicle=ap,
-                                                       signing_key=getattr(args, "signing_key", None),
-                                                       signing_key_file=args.mavlink_key, connection=self.link)
-            self.link = None  # the endpoint owns it now
-            build = telemetry_builder(ap, sim)
-
-            def link(k: int, s: Any, o: Any) -> None:
-                if self.beacon is not None:  # the first step: the endpoint sends from now on
-                    self.beacon.stop()
-                    self.beacon = None
-                build.integrate(s)
-                self.telemetry = lambda: build(s, o)
-                endpoint.update(s.t, self.telemetry)
-                ap.gcs_link(endpoint.link_up, s.t)  # the link-loss failsafe (FS_GCS_ENABL)
-
-            self._hooks.append(link)
-        if args.realtime:
-            from ..sim.pacing import RealtimePacer
-
-            pacer = RealtimePacer(args.realtime)
-            self._hooks.append(lambda k, s, o: pacer.wait(s.t))
-        if self.live is not None:
-            self.live.setup(ap, sim)
-            self._hooks.append(self.live)
-        print(f"flying: {args.cycles} cycle(s), mode {ap.mode}", file=sys.stderr, flush=True)  # set up, the loop starts
-
-    @property
-    def per_step(self) -> bool:
-        """Whether the flight has work for every step (progress bar, MAVLink, pacing, live
-        viewer); without, it passes no ``on_step`` and the autopilot may fly compiled blocks."""
-        a = self.args
-        return bool(self._hooks) or bool(a.mavlink) or bool(a.realtime) or self.live is not None
-
-    def on_step(self, k: int, s: Any, o: Any) -> None:
-        """The flight's ``on_step``: every hook in turn."""
-        for h in self._hooks:
-            h(k, s, o)
-
-    def close(self, keep_endpoint: bool = False) -> None:
-        """Close the progress bar, the MAVLink endpoint unless ``keep_endpoint`` (or the link no
-        endpoint took) and the live viewer's stream."""
-        if self.bar is not None:
-            self.bar.close()
-        if self.beacon is not None:
-            self.beacon.stop()
-        if self.endpoint is not None:
-            if not keep_endpoint:
-                self.endpoint.close()
-        elif self.link is not None:
-            from ..mavlink.transport import close_link
-
-            close_link(self.link)
-            self.link = None
-        if self.live is not None:
-            self.live.close()
-
-
-def _fly(args: argparse.Namespace, ref: Any, params: Any, plant: str, scale: float, live: Any = None,
-         link: Any = None, refs: Any = None, flight_wind: dict[str, Any] | None = None, beacon: Any = None,
-         stay: list[Any] | None = None) -> Any:
-    """Fly ``ref`` as the options say (:func:`fdm_awe.sim.flight.fly` with the command's hooks);
-    the report's wall time is the whole flight's, hooks included. The ground station on the
-    MAVLink link (``link``, opened before the work, its boot heartbeat ``beacon``) is told how the
-    flight ended; the link is closed here, or, without ``--exit-after-cycles``, when the flight
-    ended by itself and a ground station was heard on the link during it, its endpoint, the last
-    telemetry and the end time go into ``stay`` (:func:`_stay_on_link`)."""
-    from ..sim import flight
-
-    hooks = _FlightHooks(args, int(round(args.cycles * ref.period / args.dt)), live, link, beacon)
-    t0 = time.perf_counter()
-    keep = False
-    try:
-        report = flight.fly(ref, config=args.config, cycles=args.cycles, dt=args.dt, turbulence=args.turbulence,
-                            on_step=hooks.on_step if hooks.per_step else None, params=params, setup=hooks.setup,
-                            plant=plant, tether_drag_scale=scale, tether=args.tether, references=refs,
-                            flight_wind=flight_wind, aircraft=aircraft_from_args(args), ground_station=station_from_args(args))
-        if hooks.endpoint is not None:
-            hooks.endpoint.flight_ended(report.status, report.message)  # the crash or landing, told to the ground station
-            if (stay is not None and not getattr(args, "exit_after_cycles", False) and report.status != "interrupted"
-                    and hooks.telemetry is not None and hooks.endpoint.ever_linked):
-                tel = hooks.telemetry()
-                stay[:] = [hooks.endpoint, tel, float(tel.t)]
-                keep = True
-        if live is not None:
-            live.finish(report)  # the last rows, the flown path, the events and the report
-    finally:
-        hooks.close(keep_endpoint=keep)
-    report.wall_s = time.perf_counter() - t0
-    return report
 
 
 def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_dir: Path | None,
@@ -806,98 +408,9 @@ def _finish(args: argparse.Namespace, report, ref, ref_path: Path | None, out_di
         doc["outputs_cut_short"] = True
     if args.json:
         write_json(args.json, doc)
-    listed = _written_files(written, optimised_ref, args.json)
+    listed = written_files(written, optimised_ref, args.json)
     if listed:
         print("wrote: " + ", ".join(listed))
     if cut:
         return EXIT_INTERRUPTED
     return report.exit_code
-
-
-def _fmt(v: float, spec: str) -> str:
-    """``v`` formatted with ``spec``, or ``-`` right-aligned when it is not a finite number."""
-    if v is None or not math.isfinite(v):
-        width = "".join(ch for ch in spec.split(".")[0] if ch.isdigit())
-        return "-".rjust(int(width or 1))
-    return format(v, spec)
-
-
-def _turbulence_line(t: dict) -> str:
-    """One line on the flight's turbulence: the form, the target at the hub height and what the
-    glider met (``FlightReport.turbulence``)."""
-    tg, m = t["target"], t["measured"]
-
-    def f(v: Any, spec: str) -> str:
-        return "-" if v is None or not math.isfinite(v) else format(v, spec)
-
-    hub = f"{f(tg['sigma_u_mps'], '.2f')} m/s at {f(t['hub_height_m'], '.0f')} m"
-    return (f"turbulence {t['text']}: target sigma_u {hub}, intensity {f(tg['intensity'], '.3f')}; met over "
-            f"{f(m['duration_s'], '.0f')} s: sigma_u/v/w {f(m['sigma_u_mps'], '.2f')}/{f(m['sigma_v_mps'], '.2f')}/"
-            f"{f(m['sigma_w_mps'], '.2f')} m/s, intensity {f(m['intensity'], '.3f')}")
-
-
-def realtime_text(rtf: float) -> str:
-    """The measured real-time factor (simulated / wall seconds) as printed: two significant
-    digits below 10 (``0.58x``), whole numbers above (``12x``)."""
-    if not math.isfinite(rtf):
-        return "-"
-    return f"{rtf:.2g}x" if rtf < 10 else f"{rtf:.0f}x"
-
-
-def optimised_energies(ref: Any, refs: Any = None) -> dict[str, float] | None:
-    """The optimised cycle's energies [J] and average power [W] of the reference flown
-    (``metadata.energies`` of the reference file, with ``T1_s``/``T2_s`` [s]); None for a reference
-    set (each cycle may fly another reference) or a reference that names none."""
-    if refs is not None or ref is None:
-        return None
-    e = ref.meta.get("energies")
-    if not isinstance(e, dict) or "E_net_J" not in e:
-        return None
-    out = {k: float(e[k]) for k in ("E_generated_J", "E_thrust_J", "E_reel_in_J", "E_net_J", "P_avg_W") if k in e}
-    for k in ("T1_s", "T2_s"):
-        if k in ref.meta:
-            out[k] = float(ref.meta[k])
-    return out
-
-
-def _print_summary(report, ref_label: str, optimised: dict[str, float] | None = None) -> None:
-    """The flight in a few lines: the run, the status with the measured real-time factor, and
-    one row per cycle (numbered from 0, as the JSON's ``index`` and ``flight.md``) with the
-    optimised reference's net energy beside the flown one."""
-    print(f"{report.scenario} / {report.config} / wind {report.wind_mps:g} m/s  reference {ref_label}  plant {report.plant}"
-          f"  line drag x {report.tether_drag_scale:g}  tether {report.tether}")
-    print(f"status {report.status}: {report.message}; {report.sim_time_s:.1f} s simulated in {report.wall_s:.1f} s "
-          f"({realtime_text(report.realtime_factor)} real time, measured); energy ledger residual "
-          f"{report.ledger_residual_rel:.2e}")
-    if report.turbulence is not None:
-        print(_turbulence_line(report.turbulence))
-    opt = math.nan if optimised is None else optimised["E_net_J"]
-    print(f"{'cycle':>5} {'T1 s':>6} {'T2 s':>6} {'gen J':>8} {'thrust J':>9} {'reel-in J':>9} {'net J':>8} "
-          f"{'opt net J':>9} {'rms m':>7} {'max m':>7}")
-    for c in report.cycles:
-        flag = "" if c.complete else "  (incomplete)"
-        print(f"{c.index:>5} {_fmt(c.T1_s, '6.2f')} {_fmt(c.T2_s, '6.2f')} {_fmt(c.E_generated_J, '8.1f')} "
-              f"{_fmt(c.E_thrust_J, '9.1f')} {_fmt(c.E_reel_in_J, '9.1f')} {_fmt(c.E_net_J, '8.1f')} "
-              f"{_fmt(opt, '9.1f')} {_fmt(c.track_rms_m, '7.2f')} {_fmt(c.track_max_m, '7.2f')}{flag}")
-    if optimised is not None:
-        print(f"optimised: net {optimised['E_net_J']:.1f} J per cycle ({optimised.get('P_avg_W', math.nan):.2f} W), "
-              f"the reference's own (cycles are numbered from 0)")
-    if report.wind_estimates:
-        print("wind at the glider per cycle, estimated (true) m/s: " + ", ".join(
-            f"{w['cycle']}: {w['estimated_at_glider']['speed_mps']:.2f} ({w['true_at_glider']['speed_mps']:.2f})"
-            + (f" on the {w['reference_wind_mps']:g} m/s reference" if "reference_wind_mps" in w else "")
-            for w in report.wind_estimates))
-
-
-def _written_files(written: dict[str, object], ref_written: Path | None, json_path: str | None) -> list[str]:
-    """Every file the run wrote, in order: the optimised reference (``ref_written``, into
-    ``--out``), the outputs of :func:`fdm_awe.recording.flight_outputs` and ``--json``."""
-    files: list[str] = [] if ref_written is None else [str(ref_written)]
-    for v in written.values():
-        if isinstance(v, str):
-            files.append(v)
-        elif isinstance(v, (list, tuple)):
-            files.extend(str(x) for x in v)
-    if json_path:
-        files.append(str(json_path))
-    return files

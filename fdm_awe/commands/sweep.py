@@ -41,6 +41,8 @@ import math
 from typing import Any
 
 from ._aircraft import add_aircraft_arg
+from ._bound_options import add_margin_args, margin_bounds
+from ._model_options import add_plant_model_args, add_wind_profile_args, check_plant_args, wind_profile_from_args
 from ._station import add_station_arg, station_from_args
 
 HELP = "power curves and design sweeps (wind x folded span x ...) of the pumping cycle on Dask"
@@ -80,8 +82,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "sized again from its material, so mass per length, breaking load and EA scale with d^2 "
                         "(a diameter whose breaking load falls below the 50 N rated tension is refused; default: as "
                         "defined, 'fdm-awe info' shows it)")
-    from .optimize import add_margin_args, add_plant_model_args, add_wind_profile_args
-
     add_plant_model_args(p, line_axis=True, generators=())
     add_wind_profile_args(p, prefix="every point: ")
     add_margin_args(p, prefix="every point: ", reel_in=False)
@@ -246,8 +246,6 @@ def build_spec(args: argparse.Namespace):
     mesh = parse_mesh(args.mesh, two=True)
     configs = parse_names(args.config, "--config", CONFIGS)
     designs = design_axes(args)
-
-    from .optimize import check_plant_args, margin_bounds, wind_profile_from_args
 
     check_plant_args(args)
     profile = wind_profile_from_args(args)

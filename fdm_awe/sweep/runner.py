@@ -157,7 +157,7 @@ def point_glider(point: Point) -> Any:
 
 
 #: the margins of a ``flyable`` point where the sweep gives none: ``fdm-awe fly``'s defaults
-#: (``FLY_TENSION_MARGIN``, ``FLY_STALL_MARGIN`` of :mod:`fdm_awe.commands.fly`; a test holds them equal)
+#: (``FLY_TENSION_MARGIN``, ``FLY_STALL_MARGIN`` of :mod:`fdm_awe.commands._fly_optimise`; a test holds them equal)
 FLYABLE_TENSION_MARGIN = D.FLYABLE_TENSION_MARGIN
 FLYABLE_STALL_MARGIN = D.FLYABLE_STALL_MARGIN
 
@@ -166,7 +166,7 @@ def flyable_bounds(tension_margin: float = FLYABLE_TENSION_MARGIN, stall_margin:
     """The :class:`~fdm_awe.ocp.problem.Bounds` of a ``flyable`` point: those ``fdm-awe fly``
     optimises a reference with (|bank| at most 0.8 rad, C_L at most (1 - ``stall_margin``)
     C_Lmax, the tension at most the rating / (1 + ``tension_margin``); at the defaults
-    ``fdm_awe.commands.fly.flyable_bounds()``, a higher layer; a test holds them equal)."""
+    ``fdm_awe.commands._fly_optimise.flyable_bounds()``, a higher layer; a test holds them equal)."""
     from ..ocp.problem import Bounds
 
     return Bounds(cl_margin=1.0 - stall_margin, phi_max=0.8, tension_margin=tension_margin)
