@@ -45,8 +45,6 @@ MAX_FUNCTION_LINES = 80
 #: modules over MAX_MODULE_LINES lines -> their length (lines) when the rule came in; may only shrink
 LONG_MODULES: dict[str, int] = {
     "api.py": 622,
-    "autopilot/autopilot.py": 662,
-    "autopilot/guidance.py": 590,
     "commands/fly.py": 903,
     "commands/optimize.py": 531,
     "definitions/aircraft.py": 505,

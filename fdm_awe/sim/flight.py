@@ -25,11 +25,12 @@ Status (``FlightReport.status``, :data:`~fdm_awe.sim.report.FLIGHT_STATUSES`):
   (:func:`~fdm_awe.sim.flight_outcome.landing_verdict`: sink rate at most
   :data:`~fdm_awe.sim.flight_outcome.LAND_SINK_MAX`, horizontal ground speed at most
   :data:`~fdm_awe.sim.flight_outcome.LAND_SPEED_MAX`, within
-  :data:`~fdm_awe.sim.flight_outcome.LAND_RADIUS_MAX` of the winch); ground contact in RECOVER outside these bounds is a
-  ``ground_contact`` (a crash), its message says which bound it broke;
+  :data:`~fdm_awe.sim.flight_outcome.LAND_RADIUS_MAX` of the winch); ground contact in RECOVER
+  outside these bounds is a ``ground_contact`` (a crash), its message says which bound it broke;
 - ``parked``: the flight reached ``t_end`` (or its time cap, e.g. after a failsafe) in RECOVER
-  holding on a short line (the autopilot's :attr:`~fdm_awe.autopilot.autopilot.Autopilot.parked`:
-  REC_LAND 0 or gusts, circling at REC_HOLD_ALT about the winch);
+  holding on a short line (the autopilot's
+  :attr:`~fdm_awe.autopilot.recover_mode.RecoverMode.parked`: REC_LAND 0 or gusts, circling at
+  REC_HOLD_ALT about the winch);
 - an event of the co-simulation (:data:`fdm_awe.sim.result.STATUSES`: ``ground_contact``,
   ``tether_break``, ``nonfinite``, ``airspeed_limit``, ``load_limit``) or another
   ground-station event by name (e.g. ``tether_fully_reeled_in``).
