@@ -20,7 +20,8 @@ from pymavlink.dialects.v20 import common as mav
 from fdm_awe.autopilot.tracking import TrackingReference
 from fdm_awe.sim.result import COLUMNS
 from fdm_awe.sim.report import FLIGHT_STATUSES
-from fdm_awe.sim.flight import LAND_RADIUS_MAX, LAND_SINK_MAX, LAND_SPEED_MAX, fly, landing_verdict
+from fdm_awe.sim.flight import fly
+from fdm_awe.sim.flight_outcome import LAND_RADIUS_MAX, LAND_SINK_MAX, LAND_SPEED_MAX, landing_verdict
 from fdm_awe.mavlink.vehicle import ARM_DISARM_FORCE
 
 from flight_helpers import DATA

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from fdm_awe.autopilot.guidance import Guidance, GuidanceGains
+from fdm_awe.autopilot.guidance_loop import Guidance, GuidanceGains
 from fdm_awe.autopilot.tracking import TrackingReference
 from fdm_awe.constants import G0, RHO0
 from fdm_awe.definitions.aircraft import load_glider

@@ -13,8 +13,8 @@ import pytest
 
 from fdm_awe.autopilot import guidance as gm
 from fdm_awe.autopilot.guidance import (CALLED, GK_BODY_AXIS, GK_CURVMAX, GK_NEGLIFT, GK_PHI_MAX_VERT, I_X, I_Z,
-                                        Guidance, GuidanceGains, blended_polar, guidance_step, polar_arguments,
-                                        polar_at)
+                                        blended_polar, guidance_step, polar_arguments, polar_at)
+from fdm_awe.autopilot.guidance_loop import Guidance, GuidanceGains
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.pointmass.aero import fold_blend
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from fdm_awe.autopilot.guidance import Guidance, GuidanceGains
+from fdm_awe.autopilot.guidance_loop import Guidance, GuidanceGains
 from fdm_awe.autopilot.tracking import RefPoint, TrackingReference
 from fdm_awe.constants import G0, RHO0
 from fdm_awe.definitions.aircraft import load_glider

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.config import autopilot_params
-from fdm_awe.autopilot.guidance import Guidance, GuidanceGains
+from fdm_awe.autopilot.guidance_loop import Guidance, GuidanceGains
 from fdm_awe.autopilot.tracking import RefPoint, TrackingReference
 from fdm_awe.autopilot.underspeed import FOLD_OPEN, underspeed_update
 from fdm_awe.definitions.aircraft import load_glider, stall_speed

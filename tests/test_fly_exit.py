@@ -74,11 +74,11 @@ def test_a_flight_the_failsafe_lands_did_not_fly_its_cycle_exit_1(tmp_path, caps
 def test_the_start_mode_recover_is_commanded(tmp_path):
     """``--mode RECOVER`` asks for the recovery: its cause is "commanded" (a landing or a
     hold then exits 0); the autopilot keeps the failsafe's cause until another mode is set."""
-    from fdm_awe.autopilot.autopilot import Autopilot
+    from fdm_awe.autopilot.vehicle_commands import VehicleCommands
 
     class _Ap:  # the autopilot's mode bookkeeping without a glider
-        set_mode = Autopilot.set_mode
-        _failsafe = Autopilot._failsafe
+        set_mode = VehicleCommands.set_mode
+        _failsafe = VehicleCommands._failsafe
 
         def __init__(self):
             self.mode, self.reference, self.log = "AUTO", object(), []

@@ -123,14 +123,14 @@ def test_the_vehicles_own_mission_uploaded_back_keeps_the_cycle():
 def test_a_path_near_but_not_on_the_own_path_replaces_the_reference():
     """Within 1 m of each of the reference's points it is its own path (a mission item's
     resolution); 3 m off, another path."""
-    from fdm_awe.autopilot.autopilot import OWN_PATH_TOL_M, Autopilot
+    from fdm_awe.autopilot.vehicle_commands import OWN_PATH_TOL_M, VehicleCommands
 
     ref = TrackingReference.from_ocp_file(str(REF))
     own = [Waypoint(n, e, d) for n, e, d, _, _ in ref.waypoints()]
 
     class _Ap:  # the autopilot's path comparison without a glider
-        own_path = Autopilot.own_path
-        mission = Autopilot.mission
+        own_path = VehicleCommands.own_path
+        mission = VehicleCommands.mission
 
         def __init__(self):
             self.reference = ref

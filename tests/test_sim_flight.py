@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot.tracking import TrackingReference
-from fdm_awe.sim.flight import LAND_SINK_MAX, fly
+from fdm_awe.sim.flight import fly
+from fdm_awe.sim.flight_outcome import LAND_SINK_MAX
 
 
 @pytest.fixture(scope="module")

@@ -198,7 +198,7 @@ def test_a_flight_takes_its_hub_from_the_reference_and_refuses_one_too_high():
     from pathlib import Path
 
     from fdm_awe.autopilot.tracking import TrackingReference
-    from fdm_awe.sim.flight import turbulence_setting
+    from fdm_awe.sim.flight_rig import turbulence_setting
 
     ref = TrackingReference.from_ocp_file(Path(__file__).parent / "data" / "ref_physical_nominal_8mps.json")
     st = turbulence_setting(ref, Turbulence("iec", "A", 1))

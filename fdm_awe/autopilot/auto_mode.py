@@ -29,7 +29,8 @@ from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDA
                         R_AZ, R_LENGTH, R_PHI, R_PX, R_PZ, R_REEL_SPEED, R_TENSION, R_THRUST, R_VX, R_VZ, REF_COLUMNS,
                         REF_WHERE, REJOINED, TRACK_LOST, M_US, M_GP, GROUND, PATH_REJOIN, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
-from .guidance import GuidanceCommand, polar_arguments
+from .guidance import polar_arguments
+from .guidance_loop import GuidanceCommand
 from ..trajectory.schema import GENERATION, PHASE_NAMES, RECOVERY
 from .tracking import RefPoint, TrackingReference
 from .winch import N_LIMITS, limit_vector, winch_command

@@ -21,7 +21,7 @@ Arrays (float64; offsets are the module's ``*_`` constants):
 - ``ref_t``, ``ref_table``: the cycle's sample times [s] and its linear columns
   (:data:`REF_COLUMNS` at the ``R_*`` offsets), ``segs``: per segment the motor plan (1 run, 0
   stop; :meth:`.motor.MotorGate.plan`) and the generator's T2 duty (rows ``SEG_RUN``, ``SEG_D2``);
-- ``gk``: the guidance gains (:meth:`.guidance.GuidanceGains.vector`); ``cu``, ``cf``: the
+- ``gk``: the guidance gains (:meth:`.guidance_loop.GuidanceGains.vector`); ``cu``, ``cf``: the
   unfolded and folded polars (:func:`.guidance.polar_coefficients`); ``gate``: the motor gate
   (:meth:`.motor.MotorGate.vector`); ``par``: the rest (``A_*``);
 - ``mem``: the step's state between calls (``M_*``), updated in place;

@@ -32,8 +32,8 @@ Modes (MAVLink ``custom_mode`` numbers in :data:`fdm_awe.mode_table.MODE_NUMBERS
   with the line reeled in to the distance (RECOVER with ``REC_LAND`` 0, the park). AUTO afterwards
   rejoins the cycle where the glider is.
 
-Pilot sticks (:meth:`Autopilot.set_pilot`, from MAVLink's RC_CHANNELS_OVERRIDE or MANUAL_CONTROL):
-MANUAL flies them as surfaces and throttle; FBWA takes the roll stick as a bank of up to
+Pilot sticks (:meth:`~fdm_awe.autopilot.vehicle_commands.VehicleCommands.set_pilot`, from
+MAVLink's RC_CHANNELS_OVERRIDE or MANUAL_CONTROL): MANUAL flies them as surfaces and throttle; FBWA takes the roll stick as a bank of up to
 ``LIM_BANK``, the pitch stick as an angle of attack from the trim's towards ``LIM_ALPHA_MAX``
 (pulled) or ``LIM_ALPHA_MIN`` (pushed), and the throttle stick as the throttle. Centred sticks and
 a closed throttle are the modes as they were without a pilot.
@@ -42,10 +42,12 @@ Gains and limits come from the definition file ``aircraft/glider_foldable/autopi
 :class:`~fdm_awe.autopilot.params.ParamStore`; changes (e.g. MAVLink ``PARAM_SET``) take effect
 at the next step.
 
-This module is the core: the modes, the vehicle interface, the path parameter and each step's
-commands. Its parts have modules of their own: the thrust loop (:mod:`.thrust`), the motor's
-gate and switch (:mod:`.motor`), the fold (:mod:`.fold`), the winch commands (:mod:`.winch`),
-the rejoin segment (:mod:`.rejoin`) and RECOVER's path and winch (:mod:`.recovery`).
+This module is the core: the autopilot's state, the path parameter and each step's commands.
+Its parts have modules of their own: the ground station's and the pilot's commands (modes,
+arming, cycling, the mission: :mod:`.vehicle_commands`), RECOVER's flying (:mod:`.recover_mode`),
+the loops' gains (:mod:`.loop_gains`), the thrust loop (:mod:`.thrust`), the motor's gate and
+switch (:mod:`.motor`), the fold (:mod:`.fold`), the winch commands (:mod:`.winch`), the rejoin
+segment (:mod:`.rejoin`) and RECOVER's path and winch (:mod:`.recovery`).
 """
 
 from __future__ import annotations
@@ -58,35 +60,28 @@ import numpy as np
 from ..constants import G0, RHO0
 from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
-from ..mode_table import MODE_NUMBERS
 from ..sixdof.adapter import JSBSimGlider
-from ..sixdof.attitude_law import StabilizerGains
 from ..sixdof.row import WOW
 from ..sixdof.state import SixDofState, Surfaces
-from ..trajectory import PHASE_NAMES
 from .attitude import AttitudeLoops
 from .auto_mode import AutoStep
 from .auto_step import M_ERR, M_SREF, M_TLAST
 from .fold import fold_command, reference_fold_time
-from .guidance import P_CLMAX, Guidance, GuidanceCommand, GuidanceGains, norm3
+from .guidance import P_CLMAX, norm3
+from .guidance_loop import Guidance, GuidanceCommand
+from .loop_gains import STAB_PARAMS, guidance_gains, stabilizer_gains
 from .motor import MotorGate, MotorSwitch
 from .params import ParamStore
+from .recover_mode import RecoverMode
 from .recovery import Recovery
 from .thrust import ThrustLoop
 from .tracking import RefPoint, TrackingReference
-from .vehicle import Waypoint
+from .vehicle_commands import VehicleCommands
 
-MODES = ("MANUAL", "FBWA", "AUTO", "RECOVER", "LOITER")
-#: how far [m] an uploaded point may lie from the reference's own to be its own path
-#: (:meth:`Autopilot.own_path`)
-OWN_PATH_TOL_M = 1.0
 CONFIGS = ("foldable", "nominal")
 
-_STAB_PARAMS = {"W_ALPHA": "w_alpha", "Z_ALPHA": "z_alpha", "KI_ALPHA": "ki_alpha", "W_PHI": "w_phi",
-                "Z_PHI": "z_phi", "W_R": "w_r", "K_BETA": "k_beta"}
 
-
-class Autopilot:
+class Autopilot(VehicleCommands, RecoverMode):
     """Controller for :class:`fdm_awe.sim.loop.CoSim` and :class:`VehicleInterface` for MAVLink.
 
     ``config``: ``"foldable"`` folds for recovery, ``"nominal"`` never folds.
@@ -165,8 +160,8 @@ class Autopilot:
         # ref_point and last_guidance are the last AUTO step's, built from its arrays when read
         self._auto_point = self._auto_guidance = False
         af = airframes.unfolded
-        self.guidance = Guidance(self._guidance_gains(), af.mass.mass, af.aero, airframes.folded.aero, rho, g)
-        self.att = AttitudeLoops(glider, StabilizerGains(**{v: params[k] for k, v in _STAB_PARAMS.items()}))
+        self.guidance = Guidance(guidance_gains(params), af.mass.mass, af.aero, airframes.folded.aero, rho, g)
+        self.att = AttitudeLoops(glider, stabilizer_gains(params))
         self._t_now = 0.0
         self.thrust_loop = ThrustLoop(params, af.propulsion.T_max, thruster)  #: throttle for the thrust command
         self.line_EA = line_EA  #: the line's axial stiffness EA [N] (the kinematic winch's length)
@@ -187,19 +182,6 @@ class Autopilot:
             params.on_change(name, self._on_param)
 
     # ------------------------------------------------------------------ parameters
-    def _guidance_gains(self) -> GuidanceGains:
-        p = self.params
-        return GuidanceGains(
-            kp=p["GUID_KP"], kd=p["GUID_KD"], ki=p["GUID_KI"], a_max=p["GUID_AMAX"], int_max=p["GUID_IMAX"],
-            alpha_min=p["LIM_ALPHA_MIN"], alpha_max=p["LIM_ALPHA_MAX"], phi_max=p["LIM_BANK"], thrust_max=p["LIM_THRUST"],
-            energy_trade=p["GUID_ETRADE"], negative_lift=p["GUID_NEGLIFT"] > 0.5, phi_max_vertical=p["LIM_BANK_VERT"],
-            curv_scale_max=p["GUID_CURVMAX"],
-            overspeed_tension=p["GUID_VTENS"], overspeed_margin=p["GUID_VMARGIN"],
-            us_enter=p["US_V_ENTER"], us_exit=p["US_V_EXIT"], us_hold=p["US_HOLD"], us_alpha_margin=p["US_ALPHA_MARG"],
-            us_speed_gain=p["US_KV"], us_slack_acc=p["US_SLACK_A"], us_margin_speed=p["US_AMARG_V"],
-            gp_alt=p["GP_ALT"], gp_acc=p["GP_ACC"], gp_climb=p["GP_CLIMB"],
-        )
-
     def stall_speed(self, fold: float) -> float:
         """The 1 g stall speed [m/s] of the wing at fold state ``fold`` (0 unfolded .. 1 folded),
         as the underspeed protection counts it (:func:`~fdm_awe.definitions.aircraft.stall_speed`
@@ -209,10 +191,10 @@ class Autopilot:
 
     def _on_param(self, name: str, value: float) -> None:
         self.auto.invalidate()
-        if name in _STAB_PARAMS:
-            setattr(self.att.gains, _STAB_PARAMS[name], float(value))
+        if name in STAB_PARAMS:
+            setattr(self.att.gains, STAB_PARAMS[name], float(value))
         else:
-            self.guidance.k = self._guidance_gains()
+            self.guidance.k = guidance_gains(self.params)
 
     def _note(self, text: str) -> None:
         self.log.append((self._t_now, text))
@@ -293,44 +275,7 @@ class Autopilot:
         """The motor runs for a position error beyond :attr:`MotorGate.rescue_error_m`."""
         return self.motor.rescue
 
-    # ------------------------------------------------------------------ VehicleInterface
-    @property
-    def modes(self) -> list[str]:
-        return [m for m in MODES if m in MODE_NUMBERS]
-
-    def set_mode(self, name: str) -> bool:
-        if name not in MODES:
-            return False
-        if name == "AUTO" and self.reference is None:
-            return False
-        if name != self.mode:
-            self._note(f"mode {self.mode} -> {name}")
-            self._trk_since = math.nan  # the lost-path failsafe times from the new mode's steps
-            if name in ("RECOVER", "LOITER"):
-                self.phase = "recovery"
-                self.recovery.stage = None  # a new recovery from wherever the glider is
-                self.recovery.hold_only = name == "LOITER"  # LOITER: the park, never the landing
-                self.recover_cause = self._failsafe_note or "commanded"
-                self._rec_ceiling = self._rec_throttle = 1.0  # the motor may be running: a soft stop
-            else:
-                self.recover_cause = None
-            if name == "AUTO":
-                self._rejoin_pending = True  # rejoin the path from the glider's own state
-        self.mode = name
-        return True
-
-    def set_pilot(self, aileron: float, elevator: float, rudder: float, throttle: float) -> None:
-        """The pilot's sticks (see the module doc): surfaces -1..1 with :class:`Surfaces`' signs
-        (``elevator`` > 0 nose down, ``rudder`` > 0 nose left), ``throttle`` 0..1; values outside
-        are clipped. MANUAL flies them as they are (the fold command kept), FBWA as bank, angle of
-        attack and throttle."""
-        def clip(x: float, lo: float) -> float:
-            x = float(x)
-            return min(max(x, lo), 1.0) if x == x else 0.0
-        a, e, r, thr = clip(aileron, -1.0), clip(elevator, -1.0), clip(rudder, -1.0), clip(throttle, 0.0)
-        self.manual = Surfaces(a, e, r, thr, self.manual.fold_cmd)
-        self.pilot = (a, -e, thr)
-
+    # ------------------------------------------------------------------ FBWA
     def _fbwa(self, s: SixDofState, dt: float) -> Surfaces:
         """FBWA's commands: the pilot's bank, angle of attack and throttle (:attr:`pilot`); wings
         level at the trim angle of attack and no thrust with centred sticks and a closed throttle."""
@@ -349,111 +294,6 @@ class Autopilot:
             self.thrust_loop.propulsion(0.0, s, dt, self.armed)
             thr = 0.0
         return self._hold(s, min(alpha, p["LIM_ALPHA_MAX"]), roll_stick * p["LIM_BANK"], 0.0, dt, thr)
-
-    def arm(self, on: bool, force: bool = False) -> bool:
-        """Arm or disarm the motor. A disarm in flight is refused unless ``force`` (as
-        ArduPilot refuses it: MAV_CMD_COMPONENT_ARM_DISARM with param2 21196 forces it)."""
-        if not on and self.armed and self.airborne and not force:
-            self._note("disarm refused: in flight (force it with 21196)")
-            return False
-        self.armed = bool(on)
-        self._note(("armed" if on else "disarmed") + (" (forced)" if force else ""))
-        return True
-
-    def gcs_link(self, up: bool, t: float) -> None:
-        """The ground-station link's state at time ``t`` [s]. With FS_GCS_ENABL 1, a link that
-        was up once and has been lost for FS_LONG_TIMEOUT switches an armed glider in flight
-        to RECOVER (once per loss; the ground station may take another mode afterwards)."""
-        now_up, ever, t_lost = self._gcs
-        if up:
-            self._gcs = (True, True, -math.inf)
-            return
-        if now_up:
-            self._gcs = (False, ever, t)
-            return
-        p = self.params
-        if (ever and p["FS_GCS_ENABL"] > 0.5 and t - t_lost >= p["FS_LONG_TIMEOUT"] and self.mode != "RECOVER"
-                and self.armed and self.airborne):
-            self._failsafe(f"failsafe: ground-station link lost for {t - t_lost:.1f} s")
-            self._gcs = (False, ever, math.inf)  # acted on this loss
-
-    def start_cycling(self) -> bool:
-        if self.reference is None:
-            return False
-        if not self.cycling:
-            # restart the cycle at the reference point nearest to where the glider is
-            self.s_ref = self._cycle_start() + self._nearest_cycle_time()
-            self.guidance.reset()
-            self._rejoin_pending = True
-            self._note("cycling started")
-        self.cycling = True
-        return True
-
-    def stop_cycling(self) -> bool:
-        if self.cycling:
-            self._note("cycling stopped")
-        self.cycling = False
-        return True
-
-    def mission(self) -> list[Waypoint]:
-        if self.reference is None:
-            return []
-        return [Waypoint(n, e, d, t, PHASE_NAMES[p]) for n, e, d, t, p in self.reference.waypoints()]
-
-    def set_mission(self, wps: list[Waypoint]) -> tuple[bool, str]:
-        """Load the path ``wps`` as the reference (see :meth:`own_path` for the vehicle's own
-        path uploaded back, which keeps the reference); ``(accepted, reason)``."""
-        if len(wps) < 3:
-            return False, f"need at least 3 waypoints, got {len(wps)}"
-        if self.own_path(wps):
-            # the reference's own path uploaded back (a download, MAVProxy's `wp save` and
-            # `wp load`): a mission item carries only a position, not the cycle's phases,
-            # timing, tension, reel speed, fold and motor, so rebuilding the reference from the
-            # items would fly another cycle (no recovery phase); the cycle is kept as it is
-            self._note(f"mission of {len(wps)} waypoints is the reference's own path: its cycle kept")
-            return True, "own path"
-        P = np.array([[w.north, w.east, w.down] for w in wps], float)
-        if not np.all(np.isfinite(P)):
-            return False, "waypoint not finite"
-        if np.any(P[:, 2] > -5.0):
-            return False, "every waypoint must be at least 5 m above the winch"
-        if np.any(np.linalg.norm(P, axis=1) > 400.0):
-            return False, "waypoint beyond 400 m from the winch"
-        times = [w.time_s for w in wps]
-        phases = [w.phase for w in wps]
-        if all(t is not None for t in times) and np.all(np.diff(np.array(times, float)) > 0):
-            tt = np.array(times, float)
-            tt = tt - tt[0]
-        else:
-            tt = None
-        ph = np.array([1 if p == "recovery" else 0 for p in phases]) if any(p == "recovery" for p in phases) else None
-        speed = float(np.mean(self.reference.airspeed)) if self.reference is not None else 15.0
-        self.reference = TrackingReference.from_waypoints(P, tt, ph, speed)
-        self.guidance.reset()
-        self._note(f"mission of {len(wps)} waypoints loaded")
-        if self.cycling:
-            self.s_ref = self._cycle_start() + self._nearest_cycle_time()
-        return True, "accepted"
-
-    def own_path(self, wps: list[Waypoint]) -> bool:
-        """Whether ``wps`` is the loaded reference's own path, as :meth:`mission` gives it:
-        as many points, each within :data:`OWN_PATH_TOL_M` of its own (the resolution of a
-        mission item's position: 1e-7 deg in MISSION_ITEM_INT, float32 degrees in
-        MISSION_ITEM, about 0.4 m of latitude)."""
-        if self.reference is None:
-            return False
-        own = self.mission()
-        if len(own) != len(wps):
-            return False
-        P = np.array([[w.north, w.east, w.down] for w in wps], float)
-        Q = np.array([[w.north, w.east, w.down] for w in own], float)
-        return bool(np.all(np.isfinite(P))) and float(np.max(np.linalg.norm(P - Q, axis=1))) <= OWN_PATH_TOL_M
-
-    def clear_mission(self) -> None:
-        self.reference = None
-        self._note("mission cleared")
-        if self.mode == "AUTO":
-            self.set_mode("RECOVER")
 
     # ------------------------------------------------------------------ helpers
     def _cycle_start(self) -> float:
@@ -581,16 +421,6 @@ class Autopilot:
             self._failsafe(f"failsafe: {self.track_error:.1f} m from the path for {t - self._trk_since:.1f} s "
                            f"(FS_TRK_ERR {p['FS_TRK_ERR']:g} m)")
 
-    def _failsafe(self, text: str) -> None:
-        """A failsafe takes the glider to RECOVER: ``text`` noted and kept as the
-        :attr:`recover_cause`."""
-        self._note(text)
-        self._failsafe_note = text
-        try:
-            self.set_mode("RECOVER")
-        finally:
-            self._failsafe_note = None
-
     def kernel_arrays(self) -> tuple | None:
         """The arrays of a compiled block (:func:`fdm_awe.sim.autopilot_kernel.autopilot_steps`)
         when the next steps are plain AUTO steps (cycling on a reference, no rejoin to begin, the
@@ -608,55 +438,3 @@ class Autopilot:
         self.airborne = not raw[WOW] > 0.5
         self._auto_point = self._auto_guidance = True
         self.path_rate = self.auto.path_rate
-
-    # ------------------------------------------------------------------ RECOVER
-    @property
-    def parked(self) -> bool:
-        """RECOVER holds (REC_LAND 0, or vertical gusts above REC_GUST_MAX): circling within 5 m of
-        REC_HOLD_ALT, within a quarter of REC_RADIUS of the circle (the line is reeled in to the
-        distance plus REC_SLACK)."""
-        rec = self.recovery
-        return self.mode == "RECOVER" and rec.holds and rec.in_hold(self.glider.state())
-
-    def _recover(self, s: SixDofState, gs: Any, dt: float) -> tuple[Surfaces, WinchCommand]:
-        """RECOVER's (and LOITER's) commands: the recovery's path flown by the guidance, or the flare
-        (wings level)."""
-        self.phase = "recovery"
-        rec = self.recovery
-        if rec.stage is None:
-            rec.enter(s)
-        wind = s.vel_ned - s.vel_air_ned
-        r = rec.reference(s, wind, dt)
-        wcmd = rec.winch(s, gs)
-        if r is None:
-            # flare: wings level until the skids touch (:meth:`Recovery.flare`)
-            self.ref_point = None
-            alpha, thrust = rec.flare(s, self.glider.trim_alpha(max(s.airspeed, 5.0)))
-            thr = self._recover_throttle(thrust, thrust <= 0.0, s, dt)
-            return self._hold(s, alpha, 0.0, 0.0, dt, thr), wcmd
-        self.ref_point = r
-        f_t = np.asarray(gs.force_on_glider_ned) if gs is not None else np.zeros(3)
-        # the motor is stopped while the path descends (the glide), it holds the level floor
-        cmd = self.guidance.update(r, s.pos_ned, s.vel_ned, wind, f_t, s.fold, dt,
-                                   thrust_max=0.0 if rec.gliding else None)
-        self.last_guidance = cmd
-        self.track_error = cmd.pos_error
-        thr = self._recover_throttle(cmd.thrust, rec.gliding, s, dt)
-        return self._hold(s, cmd.alpha, cmd.roll, 0.0, dt, thr), wcmd
-
-    def _recover_throttle(self, thrust: float, stopped: bool, s: SixDofState, dt: float) -> float:
-        """RECOVER's throttle for ``thrust`` [N] at glider state ``s``, step ``dt`` [s]: with the
-        motor ``stopped`` (the glide) the throttle's ceiling falls from its last value to 0 over
-        the motor gate's ``soft_stop_s`` (at 0 the ESC brakes the propeller: no thrust, no
-        windmill drag, only the idle power P0), running it rises to 1 over ``soft_start_s``
-        (:class:`MotorGate`: the same soft stop and start as AUTO's motor)."""
-        g = self.motor.gate
-        if stopped:
-            drop = dt / g.soft_stop_s if g.soft_stop_s > 0.0 else 1.0
-            self._rec_ceiling = max(min(self._rec_ceiling, self._rec_throttle) - drop, 0.0)
-        else:
-            rise = dt / g.soft_start_s if g.soft_start_s > 0.0 else 1.0
-            self._rec_ceiling = min(self._rec_ceiling + rise, 1.0)
-        thr = self.thrust_loop.propulsion(thrust, s, dt, self.armed, u_max=self._rec_ceiling)
-        self._rec_throttle = thr
-        return thr

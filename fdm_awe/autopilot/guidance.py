@@ -6,27 +6,25 @@ saturated) is turned into the force the air must provide,
 fed forward), and split along the air velocity (thrust minus drag) and across it (lift).
 The propeller pushes along the body x-axis, alpha above the air velocity: ``T cos(alpha)``
 of it acts along the path and ``T sin(alpha)`` across it with the lift, so the wing lifts the
-rest (:attr:`GuidanceGains.thrust_on_body_axis`). The wing's lift gives the lift
+rest (:attr:`~.guidance_loop.GuidanceGains.thrust_on_body_axis`). The wing's lift gives the lift
 coefficient and so the angle of attack; the direction of the force across the air velocity
 gives the wind-axis bank. The desired body attitude follows from the
 air velocity, alpha and bank (no sideslip), and the inner loops fly it.
 
 The arithmetic is one step as pure functions of floats and float64 arrays
 (:func:`guidance_step`, :func:`polar_at`): numba compiles them into a compiled loop, or they run
-as plain Python (:class:`Guidance` holds the state and calls them), with the same results.
+as plain Python (:class:`~.guidance_loop.Guidance` holds the state and calls them), with the
+same results.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from ..constants import G0, RHO0
 from ..pointmass.aero import POLAR_FIELDS, blend_coefficient
 from ..definitions.aircraft import AeroParams, stall_speed
-from .tracking import RefPoint
 
 #: a 3-vector as three floats (the guidance's arithmetic is written on scalars)
 Vec3 = tuple[float, float, float]
@@ -36,9 +34,9 @@ Polar = tuple[float, float, float, float, float, float]
 #: a list or tuple: the same arithmetic)
 Floats = np.ndarray | list[float] | tuple[float, ...]
 
-#: layout of the gains vector (:meth:`GuidanceGains.vector`): the fields of :class:`GuidanceGains`
-#: in their order; ``GK_CURVMAX`` and ``GK_PHI_MAX_VERT`` NaN for None, ``GK_NEGLIFT`` and
-#: ``GK_BODY_AXIS`` 0.0/1.0
+#: layout of the gains vector (:meth:`~.guidance_loop.GuidanceGains.vector`): the fields of
+#: :class:`~.guidance_loop.GuidanceGains` in their order; ``GK_CURVMAX`` and ``GK_PHI_MAX_VERT``
+#: NaN for None, ``GK_NEGLIFT`` and ``GK_BODY_AXIS`` 0.0/1.0
 (GK_KP, GK_KD, GK_KI, GK_AMAX, GK_IMAX, GK_ALPHA_MIN, GK_ALPHA_MAX, GK_PHI_MAX, GK_THRUST_MAX,
  GK_ETRADE, GK_NEGLIFT, GK_CURVMAX, GK_VTENS, GK_VMARGIN, GK_PHI_MAX_VERT, GK_BODY_AXIS) = range(16)
 #: then the underspeed protection's (:mod:`.underspeed`): entry and exit airspeeds in stall
@@ -55,72 +53,6 @@ US_PULL_UP = 3.0
 #: layout of a polar (:func:`polar_at`) and of the coefficients it blends (:func:`polar_coefficients`,
 #: :data:`fdm_awe.pointmass.aero.POLAR_FIELDS`): CL0, CLalpha, CLmax, CD0, CDalpha1, CDalpha2
 (P_CL0, P_CLA, P_CLMAX, P_CD0, P_CDA1, P_CDA2) = range(6)
-
-
-@dataclass(frozen=True)
-class GuidanceGains:
-    """Outer-loop gains and limits (definition file ``autopilot.xml``)."""
-
-    kp: float  #: position gain [1/s^2]
-    kd: float  #: velocity gain [1/s]
-    ki: float  #: position integral gain [1/s^3]
-    a_max: float  #: correction acceleration limit [m/s^2]
-    int_max: float  #: integral state limit [m s]
-    alpha_min: float  #: [rad]
-    alpha_max: float  #: [rad] (also limited by CLmax)
-    phi_max: float  #: wind-axis bank limit [rad]
-    thrust_max: float  #: [N]
-    energy_trade: float = 1.0  #: share of an unachievable along-path force turned into climb/dive [-]
-    negative_lift: bool = False  #: fly a lift demand pointing below the horizon with negative lift (push-over) instead of banking past the limit
-    curv_scale_max: float | None = None  #: bound of the feed-forward turn's (v/v_ref)^2 scaling [-] (None: no scaling)
-    overspeed_tension: float = 0.0  #: taut line: extra radial force per m/s of airspeed above the reference's plus the margin [N s/m]
-    overspeed_margin: float = 3.0  #: airspeed excess over the reference's tolerated before overspeed_tension acts [m/s]
-    phi_max_vertical: float | None = None  #: wind-axis bank limit in vertical flight [rad] (None = phi_max); blended with sin^2 of the flight-path angle
-    #: the thrust acts along the body x-axis (the 6-DOF propeller and the paper plant's ideal
-    #: thruster), alpha above the air velocity: it is inverted as such (False: along the air
-    #: velocity, the point-mass model's thrust)
-    thrust_on_body_axis: bool = True
-    #: underspeed protection (:mod:`.underspeed`): entered below this times the stall speed of
-    #: the current fold state [-] (0: off)
-    us_enter: float = 0.0
-    us_exit: float = 1.3  #: left above this times the stall speed [-] ...
-    us_hold: float = 2.0  #: ... at the earliest this long after the airspeed was last below the entry speed [s]
-    us_alpha_margin: float = 0.04  #: while protected, alpha is capped this far below the stall [rad]
-    us_speed_gain: float = 1.0  #: while protected, along-path acceleration per m/s below the exit speed [1/s]
-    us_slack_acc: float = 2.0  #: while protected on a slack line, horizontal acceleration away from the winch [m/s^2]
-    #: with the protection on, alpha stays us_alpha_margin below the stall up to this airspeed in
-    #: stall speeds [-] (faster, a pull-out needs the whole lift and an overshoot past the stall is brief)
-    us_margin_speed: float = 2.0
-    #: ground-proximity guard (:mod:`.ground`): pull up where the glider, sinking as it does, would
-    #: cross this height above the ground [m] before a pull-out at ``gp_acc`` (0: off)
-    gp_alt: float = 0.0
-    gp_acc: float = 25.0  #: the pull-out's acceleration across the path, predicted and asked at least [m/s^2]
-    gp_climb: float = 2.0  #: climbing faster than this [m/s] the guard asks for no more upward acceleration
-
-    def vector(self) -> np.ndarray:
-        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_GP_CLIMB`` (the field
-        order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`guidance_step`."""
-        nan = math.nan
-        return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
-                         self.phi_max, self.thrust_max, self.energy_trade, float(self.negative_lift),
-                         nan if self.curv_scale_max is None else self.curv_scale_max, self.overspeed_tension,
-                         self.overspeed_margin, nan if self.phi_max_vertical is None else self.phi_max_vertical,
-                         float(self.thrust_on_body_axis), self.us_enter, self.us_exit, self.us_hold,
-                         self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc, self.us_margin_speed,
-                         self.gp_alt, self.gp_acc, self.gp_climb),
-                        dtype=np.float64)
-
-
-@dataclass(frozen=True)
-class GuidanceCommand:
-    alpha: float  #: angle of attack [rad]
-    mu: float  #: wind-axis bank [rad]
-    thrust: float  #: [N]
-    roll: float  #: desired body roll (Euler phi) [rad]
-    pitch: float  #: desired body pitch (Euler theta) [rad]
-    yaw: float  #: desired body heading (Euler psi) [rad]
-    lift_coefficient: float
-    pos_error: float  #: |p_ref - p| [m]
 
 
 def polar_coefficients(aero: AeroParams) -> np.ndarray:
@@ -170,86 +102,8 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
 
 
-def _xyz(v) -> tuple[float, float, float]:
-    """Three Python floats of a 3-vector (array, list or tuple)."""
-    if type(v) is np.ndarray:
-        v = v.tolist()
-    return v[0], v[1], v[2]
-
-
 def _norm(x: float, y: float, z: float) -> float:
     return math.sqrt(x * x + y * y + z * z)
-
-
-class Guidance:
-    """Stateful outer loop (holds the position-error integral); its arithmetic is
-    :func:`guidance_step`."""
-
-    def __init__(self, gains: GuidanceGains, mass: float, aero_u: AeroParams, aero_f: AeroParams, rho: float = RHO0, g: float = G0) -> None:
-        self.k = gains  #: the gains (may be replaced by new ones between steps)
-        self.m = mass
-        self.aero_u, self.aero_f = aero_u, aero_f
-        self.rho, self.g = rho, g
-        #: position-error integral, NED [m s], layout ``I_X``, ``I_Y``, ``I_Z`` (updated in place)
-        self.integral = np.zeros(3)
-        self._polar: tuple[float, Polar] | None = None  # (fold state, blended_polar) of the last step
-        self._gk: tuple[GuidanceGains, list[float]] | None = None  # (gains, their vector as floats)
-
-    def polar(self, fold: float) -> Polar:
-        """:func:`blended_polar` at fold state ``fold``, kept while the fold state does not move."""
-        c = self._polar
-        if c is None or c[0] != fold:
-            c = self._polar = (fold, blended_polar(self.aero_u, self.aero_f, fold))
-        return c[1]
-
-    def gains_vector(self) -> list[float]:
-        """:meth:`GuidanceGains.vector` of the current gains :attr:`k` as Python floats (the
-        Python step's arithmetic stays on floats), rebuilt when :attr:`k` is replaced."""
-        c = self._gk
-        if c is None or c[0] is not self.k:
-            c = self._gk = (self.k, self.k.vector().tolist())
-        return c[1]
-
-    def reset(self) -> None:
-        self.integral[:] = 0.0
-
-    def update(
-        self,
-        ref: RefPoint,
-        pos: np.ndarray,
-        vel: np.ndarray,
-        wind: np.ndarray,
-        tether_force: np.ndarray,
-        fold: float,
-        dt: float,
-        taut: bool = False,
-        thrust_max: float | None = None,
-        ref_pull: bool = False,
-        underspeed: float = 0.0,
-    ) -> GuidanceCommand:
-        """``taut``: the line is taut, so the radial motion is the winch's: the position loop
-        then acts only on the sphere's tangent plane, and the radial aerodynamic force is the
-        reference's (feeding the measured tension back would close a positive loop through
-        the line: more pull -> more tension -> more pull). ``thrust_max`` [N]: the thrust
-        available this step (None: the gains' ``thrust_max``; 0 with the motor stopped, so an
-        along-path force the glider lacks is traded through the flight path). ``ref_pull``: on a
-        line that is not taut, the line's radial pull in the force balance is the reference's
-        tension, not the measured one (see :func:`guidance_step`). ``underspeed``: the underspeed
-        protection acts (0 no, 1 yes, 2 yes on a slack line, :data:`US_PULL_UP` the ground-proximity
-        guard pulls up; :func:`guidance_step`'s ``us``)."""
-        gk = self.gains_vector()
-        rpx, rpy, rpz = _xyz(ref.pos)
-        rvx, rvy, rvz = _xyz(ref.vel)
-        rax, ray, raz = _xyz(ref.acc)
-        px, py, pz = _xyz(pos)
-        vx, vy, vz = _xyz(vel)
-        wx, wy, wz = _xyz(wind)
-        tx, ty, tz = _xyz(tether_force)
-        t_max = gk[GK_THRUST_MAX] if thrust_max is None else thrust_max
-        return GuidanceCommand(*guidance_step(
-            gk, self.integral, self.polar(fold), self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S,
-            rpx, rpy, rpz, rvx, rvy, rvz, rax, ray, raz, ref.tension, px, py, pz, vx, vy, vz, wx, wy, wz,
-            tx, ty, tz, fold, dt, taut, t_max, ref_pull, underspeed))
 
 
 # ------------------------------------------------------------------ the step as pure functions
@@ -263,9 +117,9 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
                   vx: float, vy: float, vz: float, wx: float, wy: float, wz: float, tx: float, ty: float, tz: float,
                   fold: float, dt: float, taut: bool, t_max: float, ref_pull: bool, us: float) -> tuple[float, ...]:
     """One guidance step: the command ``(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)``
-    [rad, rad, N, rad, rad, rad, -, m] (the fields of :class:`GuidanceCommand`).
+    [rad, rad, N, rad, rad, rad, -, m] (the fields of :class:`~.guidance_loop.GuidanceCommand`).
 
-    ``gk``: the gains (:meth:`GuidanceGains.vector`, layout ``GK_*``); ``integral``: the
+    ``gk``: the gains (:meth:`~.guidance_loop.GuidanceGains.vector`, layout ``GK_*``); ``integral``: the
     position-error integral [m s] (layout ``I_*``), advanced in place; ``polar``: the polar at
     ``fold`` (:func:`polar_at`, layout ``P_*``; a float64 array or a 6-tuple); ``m`` [kg],
     ``rho`` [kg/m^3], ``g`` [m/s^2]; ``s_u``, ``s_f``: unfolded and folded reference areas
@@ -273,7 +127,7 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     [m/s^2] and line tension ``tension`` [N]; the glider's position ``p*`` [m] and velocity
     ``v*`` [m/s], the wind ``w*`` [m/s] and the measured line force ``t*`` [N] on the glider,
     all NED; fold state ``fold`` [-], step ``dt`` [s]; ``taut``: the line is taut (see
-    :meth:`Guidance.update`); ``t_max``: the thrust available this step [N]; ``ref_pull``: on a
+    :meth:`~.guidance_loop.Guidance.update`); ``t_max``: the thrust available this step [N]; ``ref_pull``: on a
     line that is not taut, the radial part of the measured line force is replaced by the
     reference's ``tension`` (the wing flies the reference's radial aerodynamic force, see
     :func:`_air_force`); ``us``: the underspeed protection (:mod:`.underspeed`) acts (0 no, 1

@@ -29,7 +29,8 @@ import numpy as np
 
 from ..groundstation import WinchCommand
 from ..sixdof.state import SixDofState
-from .guidance import Guidance, norm3
+from .guidance import norm3
+from .guidance_loop import Guidance
 from .params import ParamStore
 from ..trajectory.schema import RECOVERY
 from .tracking import RefPoint

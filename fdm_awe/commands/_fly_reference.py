@@ -76,7 +76,7 @@ def _checked_reference(args: argparse.Namespace, ref: Any, source: object) -> An
     check_reference_options(args, ref.meta, source)
     check_reference_definitions(ref.meta, args, source)
     if args.turbulence is not None:  # a form the reference's wind cannot realise: refused before the flight
-        from ..sim.flight import turbulence_setting
+        from ..sim.flight_rig import turbulence_setting
 
         turbulence_setting(ref, args.turbulence)
     args.config = args.config or (ref.meta.get("config") if ref.meta.get("config") in ("foldable", "nominal")

@@ -1,8 +1,8 @@
 """The pilot's sticks over MAVLink: RC_CHANNELS_OVERRIDE and MANUAL_CONTROL, as in ArduPilot SITL.
 
 Both drive the vehicle's ``set_pilot(aileron, elevator, rudder, throttle)`` (the autopilot's
-:meth:`~fdm_awe.autopilot.autopilot.Autopilot.set_pilot`: MANUAL flies the sticks as surfaces
-and throttle, FBWA as bank, angle of attack and throttle).
+:meth:`~fdm_awe.autopilot.vehicle_commands.VehicleCommands.set_pilot`: MANUAL flies the sticks
+as surfaces and throttle, FBWA as bank, angle of attack and throttle).
 
 ``RC_CHANNELS_OVERRIDE`` (MAVProxy's ``rc 1 1600``), ArduPlane's channel order and senses:
 channel 1 roll (high PWM = roll right), 2 pitch (high = pulled back: nose up), 3 throttle

@@ -164,7 +164,7 @@ def flight_series(flight: Any) -> Series:
     return Series(t=t, columns=c, phase=labels, meta=meta, cycle=cycle, mode=None if mode is None else list(mode)[:n])
 
 
-#: the autopilot's note of a mode change (:meth:`fdm_awe.autopilot.autopilot.Autopilot.set_mode`)
+#: the autopilot's note of a mode change (:meth:`fdm_awe.autopilot.vehicle_commands.VehicleCommands.set_mode`)
 _MODE_NOTE = re.compile(r"^mode (\w+) -> (\w+)$")
 
 
