@@ -130,6 +130,16 @@ def path_rate(px: float, py: float, pz: float, rrow: Arr, tau: float, hi: float)
     return 1.0
 
 
+def paced(rrow: Arr, rate: float, phase: int) -> tuple[float, float, float, float, float, float]:
+    """The reference row ``rrow``'s velocity [m/s] and acceleration [m/s^2] at the pace the path
+    parameter moves (``rate`` (-), :func:`path_rate`): in generation (``phase`` 0) a glider the
+    wind slows (rate below 1) is asked for the path's velocity times the rate and its
+    acceleration times the rate squared (the same path flown slower), not pushed to the planned
+    speed by the propeller; elsewhere, and at rate 1, the row's own."""
+    p = rate if rate < 1.0 and phase == 0 else 1.0
+    return p * rrow[R_VX], p * rrow[R_VY], p * rrow[R_VZ], p * p * rrow[R_AX], p * p * rrow[R_AY], p * p * rrow[R_AZ]
+
+
 def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_table: Arr, segs: Arr, gk: Arr, cu: Arr,
                cf: Arr, gate: Arr, par: Arr, mem: Arr, integral: Arr, thr_state: Arr, motor_mem: Arr, rrow: Arr,
                out: Arr) -> int:
@@ -221,7 +231,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     else:
         rate = path_rate(px, py, pz, rrow, par[A_PATH_TAU], 3.0)
     mem[M_SREF] = s_par + rate * dt
-    rvx, rvy, rvz = rrow[R_VX], rrow[R_VY], rrow[R_VZ]
+    rvx, rvy, rvz, ax, ay, az = paced(rrow, rate, phase)
     valid = gso[GS_VALID] != 0.0
     # pulling up, the wing flies against the measured line force: no radial force of the reference's
     taut = valid and gso[GS_SLACK] == 0.0 and phase == 0 and not pull
@@ -246,7 +256,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         t_max = motor_spin_down(t, gate, motor_mem, thr_state[T_THRUST])
     alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(
         gk, integral, polar, par[A_MASS], par[A_RHO], par[A_G], par[A_S_U], par[A_S_F],
-        rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, rrow[R_AX], rrow[R_AY], rrow[R_AZ], rrow[R_TENSION],
+        rrow[R_PX], rrow[R_PY], rrow[R_PZ], rvx, rvy, rvz, ax, ay, az, rrow[R_TENSION],
         px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max, ref_pull, us)
     mem[M_ERR] = err
     if par[A_FS_TRK_ERR] > 0.0 and err > par[A_FS_TRK_ERR]:
@@ -295,7 +305,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 
 #: the plain functions the AUTO step calls, for a compiled caller to register
 #: (``numba.extending.register_jitable``), then the step itself
-CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, motor_update,
+CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, paced, motor_update,
           motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
           take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
           pull_out_height, ground_guard,
