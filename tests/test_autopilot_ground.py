@@ -55,31 +55,32 @@ def test_the_guard_enters_fast_enough_below_the_floor_and_holds_above_the_stall(
     assert not guard(True, 40.0, 0.0, 20.0)  # clear: above the floor, no sink
 
 
-def _iec_a2(params: dict[str, float] | None = None, **kw):
+def _iec_a2(params: dict[str, float] | None = None, seed: int = 2, **kw):
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_8mps_sized.json")
 
     def setup(ap, sim):
         for name, value in (params or {}).items():
             assert ap.params.try_set(name, value)[0]
 
-    return fly(ref, config="foldable", cycles=3, turbulence=Turbulence.parse("iec:A:2"), setup=setup, **kw)
+    return fly(ref, config="foldable", cycles=3, turbulence=Turbulence.parse(f"iec:A:{seed}"), setup=setup, **kw)
 
 
 def test_a_dive_in_a_lull_is_pulled_up_before_the_ground():
-    """Foldable, 8 m/s, IEC class A seed 2, 3 cycles: without the guard (GP_ALT 0, the autopilot
-    before it, bit for bit) a lull at the turn-out into the second cycle's generation (4.9 m/s
-    at the glider over that cycle) leaves the line slack, the underspeed protection dives for
-    speed from 95 m and the glider, 59 m off its path, hits the ground at 21 m/s, 7 s into the
-    cycle. With it the glider pulls up (a note says where: at 31 m, sinking 15 m/s), stays clear
-    of the ground (19 m at the lowest) and flies its three cycles. (The stored 12 m/s cycle
-    of the 48 V supply, class A or B seeds 1-40, and the 10 m/s one, class A seeds 1-40, fly
-    without a dive the guard must stop.)"""
-    rep = _iec_a2()
+    """Foldable, 8 m/s, IEC class A seed 9, 3 cycles: without the guard (GP_ALT 0, the autopilot
+    before it, bit for bit) the glider dives in its third cycle while it protects its airspeed
+    and hits the ground at 14.4 m/s (178.8 s). With it the glider pulls up (a note says where:
+    first at 27.4 m, sinking 9.6 m/s), stays clear of the ground (15 m at the lowest) and flies
+    its three cycles. (Of seeds 1-40 of that cycle in class A, 9 and 31 hit the ground without
+    the guard, both flown with it; the earlier seed 2 no longer dives since the reference is
+    flown at the path parameter's pace in generation. The stored 12 m/s cycle of the 48 V
+    supply, class A or B seeds 1-40, and the 10 m/s one, class A seeds 1-40, flew without a
+    dive the guard must stop.)"""
+    rep = _iec_a2(seed=9)
     notes = [text for _, text in rep.autopilot_log]
     assert rep.status == "ok" and all(c.complete for c in rep.cycles), rep.message
     assert any(text.startswith("ground proximity: pull up") for text in notes)
     assert float(np.min(-rep.result.pos[:, 2])) > 5.0
-    old = _iec_a2({"GP_ALT": 0.0})
+    old = _iec_a2({"GP_ALT": 0.0}, seed=9)
     assert old.status == "ground_contact", old.message
     assert not any(text.startswith("ground proximity") for _, text in old.autopilot_log)
 
