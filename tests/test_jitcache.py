@@ -127,7 +127,7 @@ from fdm_awe.sixdof import JSBSimGlider, Stabilizer
 from fdm_awe.sixdof.native import native_jsbsim
 
 assert jitcache.jit_off() == "FDM_AWE_JIT=0"
-assert substeps.compiled() is None and substeps.compiled_station() is None and not linemodels.compiled_all()
+assert substeps.compiled() is None and substeps.compiled_station() is None and all(k.compiled() is None for k in linemodels.LINE_MODELS)
 assert kernel.compiled_kernel() is None and autopilot_kernel.compiled_autopilot_kernel() is None
 assert lumped.compiled_function("relax_line") is lumped.relax_line
 assert jitcache.compile_cached(abs, None, (), (), "x") is None and jitcache.compile_lazy(abs, (), ()) is abs
@@ -137,6 +137,7 @@ assert native_jsbsim(g.fdm, ["fcs/aileron-cmd-norm"], [])[1] == "FDM_AWE_JIT=0"
 gs = GroundStation(load_ground_station(), tether="lumped:4", wind_ned=(14.0, 0.0, 0.0))
 gs.reset(tether_length=50.0, reel_speed=0.0, mode="motor")
 assert not gs.drivetrain.is_compiled
+assert not gs.drivetrain.may_compile and gs.compiled_step_args(1.0 / 120.0) is None
 sim = CoSim(g, gs, Stabilizer(g, alpha_cmd=0.104, winch=WinchCommand("motor", reel_speed_ref=0.0)))
 res = sim.run(0.5)
 assert res.steps == 60 and sim.loop == "python" and "FDM_AWE_JIT=0" in sim.loop_reason, (res.steps, sim.loop)

@@ -29,7 +29,11 @@ environment keeps Python).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+
+from ..jitcache import jit_off
 
 from .converter import GENERATOR, MOTOR
 from .definitions import GroundStationParams
@@ -37,6 +41,8 @@ from .ledger import FIELDS as LEDGER_FIELDS, EnergyLedger
 from .substeps import EVENTS, STATE, advance, compiled
 
 _NAN = float("nan")
+#: a compiled step not asked for yet
+_PENDING = object()
 
 
 def _state_float(i: int, name: str) -> property:
@@ -104,7 +110,9 @@ class Drivetrain:
                     cp.tension_limit_band]
         self._c = np.array(self._cl, dtype=float)  # and as an array (compiled)
         self.ledger = EnergyLedger(self._s[len(STATE):])
-        self._kernel = compiled()  # substeps.advance compiled (None: Python runs it)
+        # substeps.advance compiled at the first step or question that needs it (None: Python
+        # runs it): a flight whose loop compiles the whole co-simulation step never compiles it
+        self._kernel: Any = _PENDING if jit_off() is None else None
         self.reset(length=100.0, omega=0.0, mode=GENERATOR)
 
     # -- state -------------------------------------------------------------------------
@@ -122,8 +130,22 @@ class Drivetrain:
 
     @property
     def is_compiled(self) -> bool:
-        """Its step runs compiled (numba); False: the same function runs in Python."""
+        """Its step runs compiled (numba); False: the same function runs in Python. Asking
+        compiles the step (or loads it from numba's cache) when that has not happened yet."""
+        return self._advance() is not None
+
+    @property
+    def may_compile(self) -> bool:
+        """Whether compiled code may run for it (numba present, ``FDM_AWE_JIT`` not 0), without
+        compiling anything: a compiled loop that holds the step itself needs no more."""
         return self._kernel is not None
+
+    def _advance(self) -> Any:
+        """The compiled :func:`.substeps.advance` (compiled now if pending), or None."""
+        k = self._kernel
+        if k is _PENDING:
+            k = self._kernel = compiled()
+        return k
 
     def reset(self, length: float, omega: float, mode: str = GENERATOR,
               load_resistance: float | None = None, boost_duty: float | None = None) -> None:
@@ -196,8 +218,9 @@ class Drivetrain:
         fixed = fixed_tension is not None
         args = (n, dt, x, y, z, vx, vy, vz, mode == MOTOR, omega_ref, _NAN if duty_cmd is None else duty_cmd,
                 boost_duty, RL, fixed, fixed_tension if fixed else 0.0)
-        if self._kernel is not None:
-            tmean, pload, psup, ev = self._kernel(self._s, self._c, *args)
+        kern = self._kernel if self._kernel is not _PENDING else self._advance()
+        if kern is not None:
+            tmean, pload, psup, ev = kern(self._s, self._c, *args)
         else:
             tmean, pload, psup, ev = advance(self._s, self._cl, *args)
         return tmean, pload, psup, EVENTS[ev]

@@ -27,7 +27,6 @@ model") lists the steps of a new entry.
 
 from __future__ import annotations
 
-import functools
 import sys
 from dataclasses import dataclass, field
 from types import ModuleType
@@ -190,12 +189,6 @@ def kernel_sources() -> tuple[ModuleType, ...]:
     for k in LINE_MODELS:
         out += [m for m in k.sources() if m not in out]
     return tuple(out)
-
-
-@functools.lru_cache(maxsize=None)
-def compiled_all() -> bool:
-    """Whether every line model's step compiles (numba present, ``FDM_AWE_JIT`` not 0)."""
-    return all(k.compiled() is not None for k in LINE_MODELS)
 
 
 def allowed_forms() -> str:

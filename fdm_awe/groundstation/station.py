@@ -23,6 +23,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import InputError
+from ..jitcache import jit_off
 from .converter import GENERATOR, MODES, MOTOR
 from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
@@ -34,6 +35,8 @@ from .station_output import GroundStationOutput, output_from_row, step_output
 from .substeps import C_WIND
 from .tether import check_tether_drag_scale, line_drag_coefficient
 _NAN = float("nan")
+#: a compiled step not asked for yet
+_PENDING = object()
 
 
 def _finite(name: str, v: float, lo: float | None = None, hi: float | None = None,
@@ -134,7 +137,10 @@ class GroundStation:
         # (STATION_CONSTANTS: the drivetrain's, the wind, the line-share factors of the tether
         # module, the model's code; then the model's own)
         kind = line.kind
-        self._step_kernel = kind.compiled()
+        # the line model's step compiled at the first step that needs it (None: Python runs
+        # it): a flight whose compiled loop holds the step never compiles it alone
+        self._kind = kind
+        self._step_kernel: Any = _PENDING if jit_off() is None else None
         drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
         self._scl = self.drivetrain.constants + list(self.wind) + [
             line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
@@ -282,7 +288,7 @@ class GroundStation:
         if not (0.0 < dt <= 1.0):
             raise InputError(f"dt: {dt!r} out of range (allowed > 0 and <= 1 s)")
         dtr = self.drivetrain
-        if self._step_kernel is None or not dtr.is_compiled:
+        if self._step_kernel is None or not dtr.may_compile:
             return None
         return self._s_all, self._sc, self._substeps(dt)
 
@@ -333,6 +339,8 @@ class GroundStation:
         dtr = self.drivetrain
         mode, motor, omega_ref, duty, d2, RL = self._cmd_terms
         kern = self._step_kernel
+        if kern is _PENDING:
+            kern = self._step_kernel = self._kind.compiled()
         if kern is not None and dtr.is_compiled:  # compiled
             (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = kern(
                 self._s_all, self._sc, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty, d2, RL)

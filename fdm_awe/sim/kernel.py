@@ -39,7 +39,8 @@ import sys
 from typing import Any, Callable
 
 from .events import E_FORCE, E_HOOK, E_NONE, step_event
-from ..groundstation.linemodels import compiled_all, kernel_called, kernel_sources, line_step
+from ..groundstation.linemodels import kernel_called, kernel_sources, line_step
+from ..jitcache import jit_off
 from ..groundstation.substeps import C_LINE
 from ..sixdof.row import hook_kinematics
 
@@ -63,8 +64,9 @@ TAIL_COLUMNS = ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "
 
 
 def _globals() -> tuple:
-    """The native calls (None without numba or with the line models' steps not compiled)."""
-    if not compiled_all():
+    """The native calls (None where compiled code does not run: :func:`fdm_awe.jitcache.jit_off`;
+    numba failing on the kernel later falls back to the Python loop as well)."""
+    if jit_off() is not None:
         return None, None, None
     from ..sixdof.native import native_calls
 
