@@ -3,7 +3,8 @@
 
 For each configuration and wind (default: nominal and foldable at 8, 10 and 12 m/s) the physical
 cycle is optimised as ``fdm-awe fly`` optimises its reference (fly's flyable bounds and margins,
-and the reel-in margin 0.1: ``fdm-awe fly --reel-in-margin 0.1``) with the optimiser's line model ``calibrated`` (the straight line's shares fitted to flights on
+the reel-in margin 0.1 and the rate bounds of bank and angle of attack: ``fdm-awe fly
+--reel-in-margin 0.1 --bank-rate-max 0.3 --alpha-rate-max 0.1``) with the optimiser's line model ``calibrated`` (the straight line's shares fitted to flights on
 the lumped line, with the still line's drag in the wind: ``tether/calibrated`` of the
 ground-station definition) and flown by the autopilot on ``--tether`` (default ``lumped:30``) in
 calm air for ``--cycles`` cycles. Per flight: cycles completed, tracking RMS over the flight,
@@ -19,7 +20,8 @@ Writes the references (``OUT/ref_<config>_<wind>mps_<model>.json``), ``OUT/line_
 and ``.md`` (atomically).
 
 Usage: python scripts/line_calibration.py [--winds 8,10,12] [--configs nominal,foldable]
-[--cycles 3] [--tether lumped:30] [--line-model calibrated] [--out runs/line_calibration]
+[--cycles 3] [--tether lumped:30] [--line-model calibrated] [--bank-rate-max 0.3]
+[--alpha-rate-max 0.1] [--out runs/line_calibration]
 """
 
 from __future__ import annotations
@@ -45,11 +47,22 @@ ENERGY_REL_TOL = 0.10
 #: winch can catch up after the phase switch (docs/design.md section 10)
 REEL_IN_MARGIN = 0.1
 
+#: the references' rate bounds (``fdm-awe fly --bank-rate-max 0.3 --alpha-rate-max 0.1``, the
+#: ``rates`` variant of scripts/activity_tradeoff.py) [rad/s]: without them the calibrated line
+#: model's optimum pushes over to negative lift and back within an interval or two, several
+#: times a generation phase (the tension between the rectifier's 3.8 N and the 40 N bound),
+#: which the 6-DOF glider does not follow even on the straight line (docs/design.md section 10)
+BANK_RATE_MAX = 0.3
+ALPHA_RATE_MAX = 0.1
+
 
 def optimise(config: str, wind: float, line_model: str, out_dir: str,
-             reel_in_margin: float = REEL_IN_MARGIN) -> tuple[object, str]:
+             reel_in_margin: float = REEL_IN_MARGIN, bank_rate_max: float = BANK_RATE_MAX,
+             alpha_rate_max: float = ALPHA_RATE_MAX) -> tuple[object, str]:
     """The flyable reference of ``config`` at ``wind`` [m/s] with ``line_model``, optimised with
-    fly's margins and ``reel_in_margin``, and written into ``out_dir``; returns (result, file)."""
+    fly's margins, ``reel_in_margin`` and the rate bounds ``bank_rate_max`` and
+    ``alpha_rate_max`` [rad/s] (0: unbounded), and written into ``out_dir``; returns (result,
+    file)."""
     from fdm_awe.commands._fly_optimise import FLY_STALL_MARGIN, FLY_TENSION_MARGIN, flyable_bounds
     from fdm_awe.commands._bound_options import drive_reel_in_speed
     from fdm_awe.ocp.problem import CycleProblem
@@ -59,7 +72,9 @@ def optimise(config: str, wind: float, line_model: str, out_dir: str,
     margins = {"tension_margin": FLY_TENSION_MARGIN, "cl_margin": 1.0 - FLY_STALL_MARGIN}
     if reel_in_margin > 0.0:
         margins["reel_in_speed_max"] = drive_reel_in_speed() / (1.0 + reel_in_margin)
-    problem = CycleProblem(scenario="physical", config=config, wind_speed=wind, bounds=flyable_bounds(margins=margins),
+    smoothness = {k: v for k, v in (("bank_rate_max", bank_rate_max), ("alpha_rate_max", alpha_rate_max)) if v > 0.0}
+    problem = CycleProblem(scenario="physical", config=config, wind_speed=wind,
+                           bounds=flyable_bounds(margins=margins, smoothness=smoothness),
                            line_model=line_model).validate()
     res = solve_cycle(problem)
     path = os.path.join(out_dir, f"ref_{config}_{wind:g}mps_{line_model}.json")
@@ -99,7 +114,9 @@ def row_verdict(r: dict) -> dict:
 
 
 def markdown(rows: list[dict], tether: str, cycles: int, line_model: str) -> str:
-    out = [f"References optimised with the {line_model} line model (fly's flyable bounds and margins), flown on "
+    rates = rows[0] if rows else {}
+    out = [f"References optimised with the {line_model} line model (fly's flyable bounds and margins, bank rate <= "
+           f"{rates.get('bank_rate_max', BANK_RATE_MAX):g} rad/s, angle-of-attack rate <= {rates.get('alpha_rate_max', ALPHA_RATE_MAX):g} rad/s; 0: unbounded), flown on "
            f"{tether} in calm air, {cycles} cycles each (net energy: mean over complete cycles).", "",
            "| config | wind m/s | status | cycles | optimum net J | flown net J | flown - optimum J | relative "
            "| tracking RMS m (max) | tension peak N (bound) | meets |",
@@ -127,6 +144,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tether", default="lumped:30", help="line model of the flight (default lumped:30)")
     ap.add_argument("--line-model", default="calibrated", choices=("straight", "calibrated"),
                     help="the optimiser's line model (default calibrated)")
+    ap.add_argument("--bank-rate-max", type=float, default=BANK_RATE_MAX,
+                    help=f"the references' bank rate bound [rad/s], 0.01..10, 0 = unbounded (default {BANK_RATE_MAX:g})")
+    ap.add_argument("--alpha-rate-max", type=float, default=ALPHA_RATE_MAX,
+                    help=f"the references' angle-of-attack rate bound [rad/s], 0.01..10, 0 = unbounded "
+                         f"(default {ALPHA_RATE_MAX:g})")
     ap.add_argument("--out", default=os.path.join("runs", "line_calibration"),
                     help="output folder (references, line_calibration.json / .md; made if missing)")
     a = ap.parse_args(argv)
@@ -138,6 +160,9 @@ def main(argv: list[str] | None = None) -> int:
         ap.error(f"--winds {a.winds!r} invalid (allowed a comma list of numbers 0..25)")
     if not all(0.0 <= v <= 25.0 for v in winds):
         ap.error(f"--winds {a.winds!r} out of range (allowed 0..25 m/s each)")
+    for name, v in (("--bank-rate-max", a.bank_rate_max), ("--alpha-rate-max", a.alpha_rate_max)):
+        if not (v == 0.0 or 0.01 <= v <= 10.0):
+            ap.error(f"{name} {v:g} out of range (allowed 0.01..10 rad/s, or 0 for unbounded)")
     configs = a.configs.split(",")
     for c in configs:
         if c not in ("nominal", "foldable"):
@@ -150,8 +175,10 @@ def main(argv: list[str] | None = None) -> int:
     for config in configs:
         for wind in winds:
             t0 = time.perf_counter()
-            res, path = optimise(config, wind, a.line_model, a.out)
+            res, path = optimise(config, wind, a.line_model, a.out, bank_rate_max=a.bank_rate_max,
+                                 alpha_rate_max=a.alpha_rate_max)
             row: dict = {"config": config, "wind_mps": wind, "line_model": a.line_model, "tether": a.tether,
+                         "bank_rate_max": a.bank_rate_max, "alpha_rate_max": a.alpha_rate_max,
                          "solve_s": time.perf_counter() - t0}
             if not res.ok:
                 row.update({"status": "no optimum", "reason": res.reason})

@@ -1,18 +1,24 @@
 """A reference optimised with the calibrated line model (``--line-model calibrated``, fly's
-flyable bounds and margins), flown on the lumped line it was calibrated against.
+flyable bounds and margins, the rate bounds of bank and angle of attack), flown on the lumped
+line it was calibrated against.
 
 ``tests/data/ref_physical_nominal_10mps_calibrated.json``: the nominal glider's physical cycle
-at 10 m/s (sized line, tension <= 40 N, reel-in <= 4.87 m/s, C_L <= 0.85 C_Lmax), made by
-``python scripts/line_calibration.py --winds 10 --configs nominal``. Flown on ``lumped:30`` in
-calm air its cycles net 104, 128 and 128 J against the optimum's 117 J (3 cycles) with 5.8-5.9 m
-tracking RMS; the reference optimised with the straight line's shares and the same margins
-flies on ``lumped:30`` far from its optimum (scripts/line_calibration.py --line-model straight).
-The issue's acceptance asks for at most 5 m RMS: not yet met (5.8 m), so the bound here is the
-measured one with a margin, and the energy is checked against the optimum's within 10 % of
-the cycle's generated energy (a net near zero allows no relative tolerance on itself).
+at 10 m/s (sized line, 48 V drive, tension <= 40 N, reel-in <= 10.1 m/s, C_L <= 0.85 C_Lmax,
+bank rate <= 0.3 rad/s, angle-of-attack rate <= 0.1 rad/s), made by ``python
+scripts/line_calibration.py --winds 10 --configs nominal``. Without the rate bounds the
+calibrated model's optimum pushed over to negative lift and back (alpha +0.17 to -0.21 rad
+within one or two intervals) four times a generation phase, the tension between the
+rectifier's 3.8 N and the 40 N bound; the glider did not follow (generation tracked at 6.1 m
+RMS on ``lumped:30``, 6.0 m on the straight line). With them the generation phase tracks at
+2.9 m RMS on ``lumped:30`` (one cycle); the recovery's dive does not yet (9.6 m), so the
+cycle's RMS bound here is the measured one with a margin (the issue asks for 5 m), and the
+energy is checked against the optimum's within 10 % of the cycle's generated energy (a net
+near zero allows no relative tolerance on itself).
 """
 
 from __future__ import annotations
+
+import json
 
 import numpy as np
 import pytest
@@ -35,7 +41,26 @@ def test_the_reference_records_its_line_model_and_margins(flown):
     assert ref.meta["line_model"] == "calibrated"
     m = ref.meta["margins"]
     assert m["tension_bound_N"] == pytest.approx(40.0) and m["cl_max_share"] == 0.85
-    assert 4.8 < m["reel_in_speed_max_m_s"] < 4.9
+    assert 10.0 < m["reel_in_speed_max_m_s"] < 10.2  # the 48 V drive's 11.1 m/s over 1 + 0.1
+    b = ref.meta["bounds"]
+    assert b["bank_rate_max"] == pytest.approx(0.3) and b["alpha_rate_max"] == pytest.approx(0.1)
+
+
+def test_the_reference_does_not_push_over_in_generation():
+    cols = json.loads(REF.read_text())["columns"]
+    alpha, phase = (np.asarray(cols[n], dtype=float) for n in ("alpha", "phase"))
+    # no negative lift while the line is pulled (the unbounded optimum: -0.21 rad)
+    assert float(np.min(alpha[phase == 0])) >= 0.0
+    # controls piecewise constant on intervals of at most about 0.5 s: no step larger than the
+    # rate bound allows over one (the unbounded optimum stepped 0.45 rad)
+    assert float(np.max(np.abs(np.diff(alpha)))) <= 0.1 * 0.6
+
+
+def test_the_generation_phase_is_tracked_on_the_lumped_line(flown):
+    _, rep = flown
+    gen = (np.asarray(rep.result.phase) == "generation") & np.isfinite(rep.track_error)
+    rms = float(np.sqrt(np.mean(rep.track_error[gen] ** 2)))
+    assert rms <= 4.0, rms  # measured 2.9 m (the reference without rate bounds: 6.1 m)
 
 
 def test_one_cycle_on_the_lumped_line_reproduces_the_optimum(flown):
@@ -48,5 +73,5 @@ def test_one_cycle_on_the_lumped_line_reproduces_the_optimum(flown):
     assert c.E_reel_in_J == pytest.approx(opt["E_reel_in_J"], rel=0.15)  # the calibrated reel-in tension
     k = np.isfinite(rep.track_error)
     rms = float(np.sqrt(np.nanmean(rep.track_error[k] ** 2)))
-    assert rms <= 6.5, rms  # measured 5.8 m (the issue's 5 m not yet met)
+    assert rms <= 6.5, rms  # measured 5.7 m (the issue's 5 m not yet met: the recovery's dive)
     assert float(np.nanmax(rep.result.tension[k])) <= 1.2 * 50.0  # the 40 N bound's margin holds the peak
