@@ -46,7 +46,7 @@ GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, GK_US_AMARGIN, GK_US_KV, GK_US_SLACK, GK_US
 #: then the ground-proximity guard's (:mod:`.ground`): the floor [m], the pull-up acceleration
 #: [m/s^2], the climb rate [m/s] at which it stops asking for more
 GK_GP_ALT, GK_GP_ACC, GK_GP_CLIMB = range(23, 26)
-#: then the lift [in weights] below which the bank fades to wings level (:func:`_command`; 0: off)
+#: then the lift [in weights] below which the folded wing's bank fades to wings level (:func:`_command`; 0: off)
 GK_MU_LIFT = 26
 #: :func:`guidance_step`'s ``us`` while the ground-proximity guard pulls up
 US_PULL_UP = 3.0
@@ -304,8 +304,9 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
     below the polar's stall; ``full``: all the thrust there is (TECS's full throttle in
     underspeed); ``climb_only``: the energy trade never pushes over (the ground-proximity
     guard's pull-up: no dive for the line's drag or the speed). Below a lift of ``GK_MU_LIFT``
-    times ``weight`` [N] the bank fades to wings level: ``mu`` times ``L^2 / (L^2 + L0^2)``, a
-    lateral force error of at most ``|mu| L0 / 2``, none at zero lift."""
+    times ``weight`` [N] times the fold state the bank fades to wings level: ``mu`` times
+    ``L^2 / (L^2 + L0^2)``, a lateral force error of at most ``|mu| L0 / 2``, none at zero lift
+    (the open wing, fold 0, flies the bank as asked)."""
     V = max(_norm(vax, vay, vaz), 1.0)
     e1x, e1y, e1z = vax / V, vay / V, vaz / V
     F_par = Fx * e1x + Fy * e1y + Fz * e1z
@@ -334,8 +335,9 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
         L = -L
     alpha, thrust = _alpha_and_thrust(gk, L, F_par, q, polar, t_max, min(gk[GK_ALPHA_MAX], alpha_stall), full)
     # near zero lift the bank says little about the force flown and its direction swings (the
-    # folded glider's dive at a fraction of 1 g): it fades to wings level as L^2 / (L^2 + L0^2)
-    L0 = gk[GK_MU_LIFT] * weight
+    # folded glider's dive at a fraction of 1 g), faster than the folded wing's ailerons can
+    # follow: folded, it fades to wings level as L^2 / (L^2 + L0^2), L0 growing with the fold
+    L0 = gk[GK_MU_LIFT] * weight * fold
     if L0 > 0.0:
         mu = mu * (L * L / (L * L + L0 * L0))
     # the bank limit keeps the lift above the horizon in level flight; climbing or diving

@@ -56,8 +56,9 @@ class GuidanceGains:
     gp_alt: float = 0.0
     gp_acc: float = 25.0  #: the pull-out's acceleration across the path, predicted and asked at least [m/s^2]
     gp_climb: float = 2.0  #: climbing faster than this [m/s] the guard asks for no more upward acceleration
-    #: lift [in weights, -] below which the bank command fades to wings level, as L^2 / (L^2 + L0^2)
-    #: (0: off): near zero lift the lift's direction, the bank, swings with little force behind it
+    #: lift [in weights, -] below which the folded wing's bank command fades to wings level, as
+    #: L^2 / (L^2 + L0^2) with L0 this times the weight times the fold state (0: off): near zero
+    #: lift the lift's direction, the bank, swings with little force behind it
     bank_lift: float = 0.0
 
     def vector(self) -> np.ndarray:
