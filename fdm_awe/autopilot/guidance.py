@@ -46,6 +46,8 @@ GK_US_ENTER, GK_US_EXIT, GK_US_HOLD, GK_US_AMARGIN, GK_US_KV, GK_US_SLACK, GK_US
 #: then the ground-proximity guard's (:mod:`.ground`): the floor [m], the pull-up acceleration
 #: [m/s^2], the climb rate [m/s] at which it stops asking for more
 GK_GP_ALT, GK_GP_ACC, GK_GP_CLIMB = range(23, 26)
+#: then the lift [in weights] below which the folded wing's bank fades to wings level (:func:`_command`; 0: off)
+GK_MU_LIFT = 26
 #: :func:`guidance_step`'s ``us`` while the ground-proximity guard pulls up
 US_PULL_UP = 3.0
 #: layout of the position-error integral (NED, m s) that :func:`guidance_step` advances in place
@@ -176,7 +178,7 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
     Fx, Fy, Fz = _air_force(gk, m, g, afx, afy, afz, cx, cy, cz, tx, ty, tz, taut, erx, ery, erz,
                             rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0, ref_pull)
     alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max,
-                                                       margin, us != 0.0, pull)
+                                                       margin, us != 0.0, pull, m * g)
     return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
 
 
@@ -293,7 +295,7 @@ def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: floa
 
 def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: float, vax: float,
              vay: float, vaz: float, fold: float, s_u: float, s_f: float, t_max: float, margin: float,
-             full: bool, climb_only: bool) -> tuple[float, float, float, float, float, float, float]:
+             full: bool, climb_only: bool, weight: float) -> tuple[float, float, float, float, float, float, float]:
     """The command ``(alpha, mu, thrust, roll, pitch, yaw, cl)`` flying force ``F`` [N]: split
     along the air velocity ``va`` [m/s] (thrust minus drag, at most ``t_max`` [N] of thrust) and
     across it (lift), with ``polar`` (:func:`polar_at` at fold state ``fold``) and air density
@@ -301,7 +303,10 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
     ``cl`` on the blended reference area of ``s_u``, ``s_f`` [m^2]. Alpha stays ``margin`` [rad]
     below the polar's stall; ``full``: all the thrust there is (TECS's full throttle in
     underspeed); ``climb_only``: the energy trade never pushes over (the ground-proximity
-    guard's pull-up: no dive for the line's drag or the speed)."""
+    guard's pull-up: no dive for the line's drag or the speed). Below a lift of ``GK_MU_LIFT``
+    times ``weight`` [N] times the fold state the bank fades to wings level: ``mu`` times
+    ``L^2 / (L^2 + L0^2)``, a lateral force error of at most ``|mu| L0 / 2``, none at zero lift
+    (the open wing, fold 0, flies the bank as asked)."""
     V = max(_norm(vax, vay, vaz), 1.0)
     e1x, e1y, e1z = vax / V, vay / V, vaz / V
     F_par = Fx * e1x + Fy * e1y + Fz * e1z
@@ -329,6 +334,12 @@ def _command(gk: Floats, polar: Floats, rho: float, Fx: float, Fy: float, Fz: fl
         mu -= math.copysign(math.pi, mu)
         L = -L
     alpha, thrust = _alpha_and_thrust(gk, L, F_par, q, polar, t_max, min(gk[GK_ALPHA_MAX], alpha_stall), full)
+    # near zero lift the bank says little about the force flown and its direction swings (the
+    # folded glider's dive at a fraction of 1 g), faster than the folded wing's ailerons can
+    # follow: folded, it fades to wings level as L^2 / (L^2 + L0^2), L0 growing with the fold
+    L0 = gk[GK_MU_LIFT] * weight * fold
+    if L0 > 0.0:
+        mu = mu * (L * L / (L * L + L0 * L0))
     # the bank limit keeps the lift above the horizon in level flight; climbing or diving
     # steeply the wind-axis bank no longer says where the lift points relative to gravity
     # (vertical flight: any bank is level), so the limit opens towards phi_max_vertical (NaN: off)

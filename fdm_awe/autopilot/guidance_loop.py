@@ -56,9 +56,13 @@ class GuidanceGains:
     gp_alt: float = 0.0
     gp_acc: float = 25.0  #: the pull-out's acceleration across the path, predicted and asked at least [m/s^2]
     gp_climb: float = 2.0  #: climbing faster than this [m/s] the guard asks for no more upward acceleration
+    #: lift [in weights, -] below which the folded wing's bank command fades to wings level, as
+    #: L^2 / (L^2 + L0^2) with L0 this times the weight times the fold state (0: off): near zero
+    #: lift the lift's direction, the bank, swings with little force behind it
+    bank_lift: float = 0.0
 
     def vector(self) -> np.ndarray:
-        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_GP_CLIMB`` (the field
+        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_MU_LIFT`` (the field
         order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`~.guidance.guidance_step`."""
         nan = math.nan
         return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
@@ -67,7 +71,7 @@ class GuidanceGains:
                          self.overspeed_margin, nan if self.phi_max_vertical is None else self.phi_max_vertical,
                          float(self.thrust_on_body_axis), self.us_enter, self.us_exit, self.us_hold,
                          self.us_alpha_margin, self.us_speed_gain, self.us_slack_acc, self.us_margin_speed,
-                         self.gp_alt, self.gp_acc, self.gp_climb),
+                         self.gp_alt, self.gp_acc, self.gp_climb, self.bank_lift),
                         dtype=np.float64)
 
 

@@ -25,7 +25,7 @@ def guidance_gains(p: ParamStore) -> GuidanceGains:
         kp=p["GUID_KP"], kd=p["GUID_KD"], ki=p["GUID_KI"], a_max=p["GUID_AMAX"], int_max=p["GUID_IMAX"],
         alpha_min=p["LIM_ALPHA_MIN"], alpha_max=p["LIM_ALPHA_MAX"], phi_max=p["LIM_BANK"], thrust_max=p["LIM_THRUST"],
         energy_trade=p["GUID_ETRADE"], negative_lift=p["GUID_NEGLIFT"] > 0.5, phi_max_vertical=p["LIM_BANK_VERT"],
-        curv_scale_max=p["GUID_CURVMAX"],
+        curv_scale_max=p["GUID_CURVMAX"], bank_lift=p["GUID_MU_LIFT"],
         overspeed_tension=p["GUID_VTENS"], overspeed_margin=p["GUID_VMARGIN"],
         us_enter=p["US_V_ENTER"], us_exit=p["US_V_EXIT"], us_hold=p["US_HOLD"], us_alpha_margin=p["US_ALPHA_MARG"],
         us_speed_gain=p["US_KV"], us_slack_acc=p["US_SLACK_A"], us_margin_speed=p["US_AMARG_V"],
