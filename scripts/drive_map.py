@@ -57,7 +57,7 @@ def _sweep(station: Path, out: Path, args: argparse.Namespace, *, wind: str, con
     from fdm_awe.cli import main
 
     argv = ["sweep", "--ground-station", str(station), "--wind", wind, "--config", config,
-            "--workers", str(args.workers), "--no-progress", "--out", str(out)]
+            "--workers", str(args.workers), "--no-progress", "--out", str(out), "--json", str(out / "sweep.json")]
     argv += ["--folded-span", spans] if spans else []
     argv += ["--mesh", args.mesh] if args.mesh else []
     argv += ["--no-cold-check"] if args.no_cold_check else []
@@ -66,8 +66,10 @@ def _sweep(station: Path, out: Path, args: argparse.Namespace, *, wind: str, con
 
 
 def _records(folder: Path) -> list[dict[str, Any]]:
-    pdir = folder / "points"
-    return [json.loads(f.read_text(encoding="utf-8")) for f in sorted(pdir.glob("*.json"))] if pdir.is_dir() else []
+    """The point records of the last sweep into ``folder`` (its ``--json`` file: the points of
+    that command line only, not those of another mesh or grid kept in the same folder)."""
+    f = folder / "sweep.json"
+    return json.loads(f.read_text(encoding="utf-8")).get("points", []) if f.is_file() else []
 
 
 def _same(a: float | None, b: float | None) -> bool:
