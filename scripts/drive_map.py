@@ -15,9 +15,10 @@ point (same files, same point ids).
 
 ``--codesign-wind W`` adds the co-design of the supply voltage at wind ``W`` for the foldable
 glider at ``--codesign-span`` (default: the folded definition's span):
-:func:`fdm_awe.sweep.codesign.supply_search`, the grid's voltages (their points read from the
-grid), then bisection of the edge of the power's plateau, each step a one-point sweep into
-``OUT/codesign/<V>V/``. Its module docstring says why a search over solves and what it
+:func:`fdm_awe.sweep.codesign.supply_search`, the grid's voltages, then bisection of the edge of
+the power's plateau. Each voltage is a one-point sweep into ``OUT/codesign/<V>V/`` (a cold
+solve: the optimiser's global strategy), and at a grid voltage the better of it and the grid's
+point (warm-started along the wind) counts, as the sweep's cold check keeps the better of two. Its module docstring says why a search over solves and what it
 guarantees.
 
 Outputs in ``OUT``: ``drive_map.md`` (the power table with ``dP`` against the nominal glider on
@@ -210,15 +211,17 @@ def codesign(args: argparse.Namespace, volts: tuple, grid: dict[float, list], ou
     solved: dict[float, dict[str, Any]] = {}
 
     def evaluate(v: float) -> float | None:
-        r = _find(grid.get(v, []), "foldable", w, b)
-        if r is None:
-            st = write_supply_variant(v, out / "stations" / variant_name(v), args.ground_station)
-            folder = out / "codesign" / f"{v:g}V"
-            _sweep(st.path, folder, args, wind=f"{w:g}", config="foldable", spans=f"{b:g}")
-            r = _find(_records(folder), "foldable", w, b)
-        if r is not None:
-            solved[v] = {k: r.get(k) for k in FIELDS}
-        return None if r is None or r.get("status") != "ok" else float(r["P_avg_W"])
+        """The better of the grid's point (warm-started along the wind) and a cold solve."""
+        st = write_supply_variant(v, out / "stations" / variant_name(v), args.ground_station)
+        folder = out / "codesign" / f"{v:g}V"
+        _sweep(st.path, folder, args, wind=f"{w:g}", config="foldable", spans=f"{b:g}")
+        found = [r for r in (_find(grid.get(v, []), "foldable", w, b), _find(_records(folder), "foldable", w, b))
+                 if r is not None and r.get("status") == "ok" and r.get("P_avg_W") is not None]
+        if not found:
+            return None
+        r = max(found, key=lambda r: r["P_avg_W"])
+        solved[v] = {k: r.get(k) for k in FIELDS}
+        return float(r["P_avg_W"])
 
     res = supply_search(evaluate, volts, min(volts), max(volts), steps=args.codesign_steps)
     res.update({"wind_mps": w, "b_f_m": b, "points": {f"{v:g}": solved[v] for v in sorted(solved)}})
