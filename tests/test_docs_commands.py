@@ -252,6 +252,15 @@ def plan(d: DocLine) -> Plan:
                 if _value(argv, opt) != val:
                     argv = _set(argv, opt, val)
                     changes.append(f"{opt} {val}")
+        if Path(script).name == "drive_map.py":  # two supplies, one foldable span and wind, coarse, on the grid alone
+            for opt, val in (("--supply-voltage", "24,48"), ("--folded-span", "0.22"), ("--wind", "10"),
+                             ("--mesh", "12,8,3"), ("--codesign-steps", "0"), ("--workers", "1")):
+                if _value(argv, opt) != val:
+                    argv = _set(argv, opt, val)
+                    changes.append(f"{opt} {val}")
+            if "--no-cold-check" not in argv:
+                argv.append("--no-cold-check")
+                changes.append("--no-cold-check")
         if Path(script).name == "reproduce_table3.py" and "--no-zero-wind" not in args:
             argv.append("--no-zero-wind")
             changes.append("--no-zero-wind (the zero-wind check runs in the compare line of the README)")

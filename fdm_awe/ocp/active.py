@@ -148,3 +148,24 @@ def format_active(entries: list[dict[str, Any]], limit: int = 12) -> list[str]:
     if len(entries) > limit:
         lines.append(f"    ... and {len(entries) - limit} more (the JSON lists all)")
     return lines
+
+
+#: the bounds of the winch's drive: the reel-in rows (the motor's voltage at full duty, against
+#: the line's tension) and the reel-in speed's variable bound, both per m/s of reel-in speed
+DRIVE_BOUNDS = ("reel_in", "v_reel")
+
+
+def drive_gain(entries: list[dict[str, Any]]) -> float:
+    """The average power [W] the optimum would gain per m/s of faster reel-in the drive allowed:
+    the sum of ``gain_W_per_unit`` over the binding :data:`DRIVE_BOUNDS` (0 where the drive does
+    not bind)."""
+    return float(sum(e.get("gain_W_per_unit", 0.0) for e in entries if e["constraint"] in DRIVE_BOUNDS))
+
+
+def binding_names(entries: list[dict[str, Any]]) -> str:
+    """The binding bounds in a few words, strongest first, each once: ``constraint side
+    phase`` joined by ``"; "`` (empty where nothing binds)."""
+    seen: dict[tuple[str, str, str], None] = {}
+    for e in entries:
+        seen.setdefault((e["constraint"], e["side"], e["phase"]), None)
+    return "; ".join(" ".join(k) for k in seen)

@@ -42,7 +42,7 @@ RECORD_FIELDS = (
     "S_u_m2", "b_u_m", "chord_m", "S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2",
     "line_d_m", "line_mu_kg_per_m", "line_breaking_load_N",
     "cold_check", "kept", "P_warm_W", "P_cold_W", "family", "cold_family", "wind_profile",
-    "tension_margin", "stall_margin", "line_model", "bounds",
+    "tension_margin", "stall_margin", "line_model", "bounds", "supply_voltage_V", "drive_gain_W_per_mps", "binding",
 )
 
 #: |warm - cold| [W] above which a point's two solutions count as different in the summary
@@ -276,7 +276,9 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
     try:
         glider = point_glider(point)
         rec.update(describe(glider))
-        rec.update(describe_line(point_station(point.line, point.line_diameter, point.ground_station).tether))
+        station = point_station(point.line, point.line_diameter, point.ground_station)
+        rec.update(describe_line(station.tether))
+        rec["supply_voltage_V"] = float(station.converter.supply_voltage)  # the drive (docs/folding_map.md)
         if point.config == "nominal":  # the folded wing plays no part
             for k in ("S_f_m2", "b_f_m", "AR_f", "CLalpha_f", "CD0_f", "drag_area_f_m2"):
                 rec[k] = None
@@ -303,6 +305,11 @@ def run_point(point: Point, upstream: Any = None) -> tuple[dict[str, Any], Warm 
                     "max_violation": _num(res.max_violation), "warm_from": warm_in.point_id if warm_in else None})
         for k in ("P_avg_W", "E_net_J", "E_generated_J", "E_thrust_J", "E_reel_in_J", "T1_s", "T2_s"):
             rec[k] = _num(s.get(k)) if res.ok else None
+        if res.ok:  # what binds the optimum (fdm_awe.ocp.active): the drive's gain per m/s and every bound
+            from ..ocp.active import binding_names, drive_gain
+
+            rec["drive_gain_W_per_mps"] = _num(drive_gain(res.active_bounds))
+            rec["binding"] = binding_names(res.active_bounds) or None
         if res.ok and res.w is not None:
             warm_out: Warm | None = Warm(point.id, np.asarray(res.w, float), np.asarray(res.lam_x, float),
                                          np.asarray(res.lam_g, float), int(res.k_wrap), rec.get("family"))

@@ -44,7 +44,7 @@ REQUIRED_FIELDS: dict[str, tuple[type, ...]] = {
 #: field existed lack it: read as null).
 TEXT_FIELDS = frozenset({"id", "scenario", "config", "mesh", "warm_fallback", "propeller", "line", "status", "reason", "worker",
                          "warm_from", "start", "kept", "family", "cold_family", "wind_profile",
-                         "line_model", "bounds"})
+                         "line_model", "bounds", "binding"})
 #: Record fields holding a boolean (or null).
 BOOL_FIELDS = frozenset({"line_weight", "cold_check"})
 #: Arrays of a warm-start file.
