@@ -20,7 +20,7 @@ import numpy as np
 from ..sixdof.state import SixDofState, Surfaces
 from .auto_step import (A_ARMED, A_CATCH_TIME, A_FOLD_LEAD, A_FOLD_TIME, A_FOLDABLE, A_FS_TRK_ERR, A_G, A_G_ATT,
                         A_GEN_RL_KP, A_IDEAL_WINCH, A_LINE_EA, A_MASS, A_PATH_TAU, A_PERIOD, A_RATIO, A_REC_TENSION,
-                        A_REF_PULL, A_RHO, A_RJ_TIME, A_RJ_TRK_ERR, A_RJ_TRK_MAX, A_RL, A_S_F, A_S_U, A_T1,
+                        A_CYCLE_WIND, A_REF_PULL, A_RESC_GEN, A_RHO, A_RJ_TIME, A_RJ_TRK_ERR, A_RJ_TRK_MAX, A_RL, A_S_F, A_S_U, A_T1,
                         A_THR_KI, A_THR_KP, A_THR_VZERO, A_THRUST_MAX_STATIC, A_THRUSTER, A_UNFOLD_LEAD, A_WINCH_KL, A_WINCH_KT, A_WLIM, GS_FX, GS_FZ,
                         GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT, M_ERR, M_PHASE, M_RJ, M_RJ_DP, M_RJ_DV,
                         M_RJ_T0, M_TLAST, N_GSO, N_MEM, N_OUT, N_PAR, N_REF, O_ALPHA, O_CL, O_CYCLE, O_ERR, O_FOLD,
@@ -113,6 +113,9 @@ class AutoStep:
         par[A_WLIM:A_WLIM + N_LIMITS] = limit_vector(p, ap.reel_in_max)
         par[A_REF_PULL], par[A_CATCH_TIME] = p["GUID_REFPULL"], p["GUID_CATCH_T"]
         par[A_RJ_TRK_ERR], par[A_RJ_TRK_MAX] = p["RJ_TRK_ERR"], p["RJ_TRK_MAX"]
+        par[A_RESC_GEN] = p["RESC_GEN_DEPTH"]
+        w = ref.meta.get("wind_mps")
+        par[A_CYCLE_WIND] = float(w) if isinstance(w, (int, float)) and not isinstance(w, bool) else math.nan
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,
                   np.asarray(g.k.vector(), float), cu, cf, gate.vector(), par, ap.att.law.gains.vector())
         self._cache = (ref, gate, arrays)

@@ -47,7 +47,8 @@ from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import T_LAST, T_THRUST, throttle_step
 from .underspeed import FOLD_OPEN, underspeed_update
-from .winch import N_LIMITS, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
+from .wind_estimate import LULL_SHARE
+from .winch import N_LIMITS, WL_TLO, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
 Arr = np.ndarray
@@ -76,7 +77,13 @@ A_WLIM = 31
 #: (RJ_TRK_MAX)
 A_RJ_TRK_ERR = A_WLIM + N_LIMITS
 A_RJ_TRK_MAX = A_RJ_TRK_ERR + 1
-N_PAR = A_RJ_TRK_MAX + 1
+#: then the depth below its reference point [m] beyond which the motor's rescue
+#: (:func:`.motor.motor_update`) runs in generation (RESC_GEN_DEPTH, 0: any error;
+#: :func:`rescue_allowed`)
+A_RESC_GEN = A_RJ_TRK_MAX + 1
+#: then the wind the cycle was made for [m/s] (its metadata's ``wind_mps``; NaN: unknown)
+A_CYCLE_WIND = A_RESC_GEN + 1
+N_PAR = A_CYCLE_WIND + 1
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
 #: of the last step [m] (NaN before the first), phase of the last step (0 generation, 1
 #: recovery, -1 another mode), the last step's length [s]; the guidance's integral, the thrust
@@ -128,6 +135,42 @@ def path_rate(px: float, py: float, pz: float, rrow: Arr, tau: float, hi: float)
         e_at = ((px - rrow[R_PX]) * rvx + (py - rrow[R_PY]) * rvy + (pz - rrow[R_PZ]) * rvz) / vr
         return min(max(1.0 + e_at / (vr * tau), 0.0), hi)
     return 1.0
+
+
+def rescue_allowed(phase: int, v_air: float, v_ref: float, pull: bool, protect: bool, depth: float,
+                   gen_depth: float, pulling: bool) -> bool:
+    """Whether the motor's rescue (:func:`.motor.motor_update`: the stopped motor started for a
+    large position error) may run: for a glider pulling up from the ground (``pull``) or
+    protecting its airspeed (``protect``); else for one no faster in the air (``v_air`` [m/s])
+    than its reference point (``v_ref`` [m/s]); in generation (``phase`` 0) with ``gen_depth``
+    > 0 [m] (RESC_GEN_DEPTH; 0, the default: for any error, as in the other phases) and
+    ``pulling`` (on its path, no rejoin under way, on a line that pulls, at least WINCH_TLO,
+    in at least :data:`.wind_estimate.LULL_SHARE` of the cycle's wind) only where it is more
+    than ``gen_depth`` below that point (``depth`` [m], + below). A generating glider that
+    lags its path in a lull, or flies above it, hangs on a line the wind still pulls: its
+    propeller pushes against the generator (battery energy into the drum at both machines'
+    losses: 300-820 J a cycle in 6 of the 30 cycles of the nominal 10 m/s cycle in light
+    turbulence, against 51 J in calm air). One that sinks below its path, hangs on a slack
+    line or meets still air gets the motor: without the rescue in generation two flights of
+    the real-wind grid hit the ground, and without the wind's share the nominal 10 m/s cycle
+    in still air."""
+    if pull or protect:
+        return True
+    if v_air > v_ref:
+        return False
+    return phase != 0 or not gen_depth > 0.0 or not pulling or depth > gen_depth
+
+
+def rescue_gate(phase: int, v_air: float, pz: float, wx: float, wy: float, rrow: Arr, gso: Arr, par: Arr,
+                rejoining: bool, pull: bool, protect: bool) -> bool:
+    """:func:`rescue_allowed` for the glider at height ``pz`` [m, NED down] in the horizontal wind
+    ``wx``, ``wy`` [m/s] on the reference row ``rrow``, with the ground station's last output
+    ``gso`` and the step's ``par``: the line pulls where the station has stepped, the line is
+    taut at WINCH_TLO or more, no rejoin is under way (``rejoining``) and the wind is at least
+    :data:`.wind_estimate.LULL_SHARE` of the cycle's (``par[A_CYCLE_WIND]``; NaN: never)."""
+    pulling = (gso[GS_VALID] != 0.0 and gso[GS_SLACK] == 0.0 and gso[GS_TENSION] >= par[A_WLIM + WL_TLO]
+               and not rejoining and math.sqrt(wx * wx + wy * wy) >= LULL_SHARE * par[A_CYCLE_WIND])
+    return rescue_allowed(phase, v_air, rrow[R_AIRSPEED], pull, protect, pz - rrow[R_PZ], par[A_RESC_GEN], pulling)
 
 
 def paced(rrow: Arr, rate: float, phase: int) -> tuple[float, float, float, float, float, float]:
@@ -246,7 +289,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     elif protect:
         us = 2.0 if valid and gso[GS_SLACK] != 0.0 else 1.0
     # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
-    slow = pull or protect or not v_air > rrow[R_AIRSPEED]  # the rescue's glider (motor_update)
+    slow = rescue_gate(phase, v_air, pz, wx, wy, rrow, gso, par, mem[M_RJ] != 0.0, pull, protect)
     motor = motor_update(segs[SEG_RUN], seg, t, mem[M_ERR], gate, motor_mem, slow) != 0.0
     if motor:
         t_max = gk[GK_THRUST_MAX]
@@ -305,8 +348,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
 
 #: the plain functions the AUTO step calls, for a compiled caller to register
 #: (``numba.extending.register_jitable``), then the step itself
-CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, paced, motor_update,
-          motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
+CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, paced, rescue_allowed,
+          rescue_gate, motor_update, motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
           take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
           pull_out_height, ground_guard,
           nearest_on_phase, path_rate) + GUIDANCE_CALLED + (
