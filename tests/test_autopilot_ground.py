@@ -74,13 +74,17 @@ def test_a_dive_in_a_lull_is_pulled_up_before_the_ground():
     the guard, both flown with it; the earlier seed 2 no longer dives since the reference is
     flown at the path parameter's pace in generation. The stored 12 m/s cycle of the 48 V
     supply, class A or B seeds 1-40, and the 10 m/s one, class A seeds 1-40, flew without a
-    dive the guard must stop.)"""
+    dive the guard must stop. With the recovery's reel-in paced at most at flight time,
+    WINCH_PACE_MAX 1, the unguarded glider of seed 9 loses its path and parks instead: the
+    unguarded flight is the earlier autopilot's, WINCH_PACE_MAX and WINCH_SLACK_T 0.)"""
     rep = _iec_a2(seed=9)
     notes = [text for _, text in rep.autopilot_log]
     assert rep.status == "ok" and all(c.complete for c in rep.cycles), rep.message
     assert any(text.startswith("ground proximity: pull up") for text in notes)
     assert float(np.min(-rep.result.pos[:, 2])) > 5.0
-    old = _iec_a2({"GP_ALT": 0.0}, seed=9)
+    # the autopilot before the guard also reels in at the recovery path's pace (WINCH_PACE_MAX 0)
+    # and at the approach up to WINCH_TLO (WINCH_SLACK_T 0)
+    old = _iec_a2({"GP_ALT": 0.0, "WINCH_PACE_MAX": 0.0, "WINCH_SLACK_T": 0.0}, seed=9)
     assert old.status == "ground_contact", old.message
     assert not any(text.startswith("ground proximity") for _, text in old.autopilot_log)
 
