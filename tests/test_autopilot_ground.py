@@ -74,16 +74,19 @@ def test_a_dive_in_a_lull_is_pulled_up_before_the_ground():
     the guard, both flown with it; the earlier seed 2 no longer dives since the reference is
     flown at the path parameter's pace in generation. The stored 12 m/s cycle of the 48 V
     supply, class A or B seeds 1-40, and the 10 m/s one, class A seeds 1-40, flew without a
-    dive the guard must stop.) The seed is flown with the folded wing's bank as the guidance
-    asks it (GUID_MU_LIFT 0, the autopilot before the bank's fade near zero lift): with the
-    fade, no seed of 1-125 of the cycle in class A dives into the ground without the guard
-    (seed 9 flies its three cycles, seed 30 parks, the rest fly)."""
-    rep = _iec_a2({"GUID_MU_LIFT": 0.0}, seed=9)
+    dive the guard must stop.) The seed is flown with the autopilot before the folded wing's
+    bank fade near zero lift (GUID_MU_LIFT 0) and before the recovery's paced reel-in
+    (WINCH_PACE_MAX and WINCH_SLACK_T 0), with the guard and without it: with the fade, no seed
+    of 1-125 of the cycle in class A dives into the ground without the guard (seed 9 flies its
+    three cycles, seed 30 parks, the rest fly); with the paced reel-in alone the unguarded
+    glider of seed 9 loses its path and parks."""
+    earlier = {"GUID_MU_LIFT": 0.0, "WINCH_PACE_MAX": 0.0, "WINCH_SLACK_T": 0.0}
+    rep = _iec_a2(earlier, seed=9)
     notes = [text for _, text in rep.autopilot_log]
     assert rep.status == "ok" and all(c.complete for c in rep.cycles), rep.message
     assert any(text.startswith("ground proximity: pull up") for text in notes)
     assert float(np.min(-rep.result.pos[:, 2])) > 5.0
-    old = _iec_a2({"GP_ALT": 0.0, "GUID_MU_LIFT": 0.0}, seed=9)
+    old = _iec_a2({**earlier, "GP_ALT": 0.0}, seed=9)
     assert old.status == "ground_contact", old.message
     assert not any(text.startswith("ground proximity") for _, text in old.autopilot_log)
 

@@ -46,7 +46,9 @@ def _limits(rnd: random.Random, off: bool = False) -> np.ndarray:
         return np.array([0.0] * (len(LIMIT_PARAMS) - 3) + [*REC_DEFAULTS.values(), math.inf])
     lim = np.array([rnd.choice((0.0, rnd.uniform(1.0, 10.0))), rnd.uniform(0.0, 8.0), rnd.uniform(0.0, 0.5),
                     rnd.uniform(0.0, 2.0), rnd.uniform(0.0, 10.0), rnd.choice((0.0, rnd.uniform(0.2, 3.0))),
-                    rnd.choice((0.0, rnd.uniform(20.0, 120.0))), rnd.uniform(0.0, 1.0), rnd.uniform(0.0, 2.0),
+                    rnd.choice((0.0, rnd.uniform(20.0, 120.0))), rnd.uniform(0.0, 1.0),
+                    rnd.choice((0.0, rnd.uniform(0.0, 5.0))), rnd.choice((0.0, rnd.uniform(0.5, 3.0))),
+                    rnd.uniform(0.0, 2.0),
                     rnd.uniform(0.0, 1.0), rnd.choice((0.5, rnd.uniform(0.0, 3.0))), rnd.uniform(2.0, 8.0)])
     assert lim.size == len(LIMIT_PARAMS) + 1
     return lim

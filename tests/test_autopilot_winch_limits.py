@@ -3,7 +3,8 @@ with the parameters of ``autopilot.xml``): in a lull (tension below WINCH_TLO) t
 in behind the glider and hands back to the generator only above WINCH_TLO + WINCH_THYST; in a
 gust (above WINCH_THI) the generator brakes less, so at that tension the drum pays out faster
 (the ground station's steady generator); in recovery the reel-in never passes the glider's
-approach by more than WINCH_VCATCH once the slack is gone; the drive's largest reel-in speed
+approach by more than WINCH_VCATCH once the slack is gone, and a line pulling more than
+WINCH_SLACK_T sags, it is not reeled in at the approach; the drive's largest reel-in speed
 bounds every reel-in."""
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import pytest
 
 from fdm_awe.autopilot.config import autopilot_params
 from fdm_awe.trajectory.schema import GENERATION, RECOVERY
-from fdm_awe.autopilot.winch import RL_MAX, cycle_winch_values, limit_vector
+from fdm_awe.autopilot.winch import LIMIT_PARAMS, RL_MAX, cycle_winch_values, limit_vector
 from fdm_awe.groundstation import load_ground_station
 from fdm_awe.groundstation.steady import generator_steady, motor_max_reel_in_speed
 
@@ -138,6 +139,44 @@ def test_recovery_never_reels_in_faster_than_the_approach_plus_the_catch_margin(
     # ... and on a taut line that approaches at 1 m/s, no faster than 1 m/s + WINCH_VCATCH
     v = _winch(RECOVERY, 0.0, length=200.0, dist=200.0, dist_rate=-1.0, ref_reel=-V_IN_MAX)[1]
     assert -v == pytest.approx(1.0 + vc)
+
+
+def test_recovery_leaves_a_sagging_line_to_the_reference_speed():
+    """A line that pulls more than WINCH_SLACK_T at the winch sags, it is not slack: the glider
+    diving at 9 m/s towards the winch with 10 m more line out than its distance (a lumped line
+    at 1.5 N in the wind) is reeled in at the reference's 5.3 m/s, not at its approach (which
+    snatched the sagging line taut again and again in the zero-lift dive); at or below
+    WINCH_SLACK_T the line is slack and reeled in at least at the approach, as before; and
+    WINCH_SLACK_T 0 is the earlier law (slack up to WINCH_TLO)."""
+    t_slack = P["WINCH_SLACK_T"]
+    assert 0.0 < t_slack < P["WINCH_TLO"]
+    case = dict(length=210.0, dist=200.0, dist_rate=-9.0, ref_reel=-5.3, ref_length=210.0)
+    sag = 0.5 * (t_slack + P["WINCH_TLO"])
+    assert -_winch(RECOVERY, sag, **case)[1] == pytest.approx(5.3)
+    assert -_winch(RECOVERY, t_slack, **case)[1] >= 9.0 - 1e-12
+    lim = np.array(LIM)
+    lim[LIMIT_PARAMS.index("WINCH_SLACK_T")] = 0.0
+    v = cycle_winch_values(RECOVERY, False, 1.0, -5.3, 210.0, 0.0, 0.0, True, 210.0, sag, R_L,
+                           GS.tether.axial_stiffness, P["GEN_RL_KP"], P["REC_TENSION"], P["WINCH_KL"],
+                           P["WINCH_KT"], 200.0, -9.0, False, lim)[1]
+    assert -v >= 9.0 - 1e-12
+
+
+def test_recovery_does_not_reel_in_faster_for_a_glider_ahead_of_its_path():
+    """In recovery the path runs ahead of flight time (path rate above 1) where the glider is
+    ahead of it, and a line reeled in at that pace pulls the glider further ahead (a positive
+    loop through the winch): the reel-in keeps the reference's speed at WINCH_PACE_MAX (1:
+    flight time) there; a glider behind its path (rate below 1) slows it as before."""
+    case = dict(length=200.0, dist=200.0, dist_rate=-5.0, ref_reel=-5.3, ref_length=200.0, ref_tension=0.0)
+    assert -_winch(RECOVERY, 1.0, rate=2.5, **case)[1] == pytest.approx(5.3)
+    assert -_winch(RECOVERY, 1.0, rate=0.5, **case)[1] == pytest.approx(0.5 * 5.3)
+    # WINCH_PACE_MAX 0: the earlier law, the reel-in at the path's pace
+    lim = np.array(LIM)
+    lim[LIMIT_PARAMS.index("WINCH_PACE_MAX")] = 0.0
+    v = cycle_winch_values(RECOVERY, False, 2.5, -5.3, 200.0, 0.0, 0.0, True, 200.0, 1.0, R_L,
+                           GS.tether.axial_stiffness, P["GEN_RL_KP"], P["REC_TENSION"], P["WINCH_KL"],
+                           P["WINCH_KT"], 200.0, -5.0, False, lim)[1]
+    assert -v == pytest.approx(min(2.5 * 5.3, 5.0 + P["WINCH_VCATCH"]))
 
 
 def test_limits_off_give_the_generator_and_reference_reel_in():

@@ -30,10 +30,11 @@ from .tracking import RefPoint
 #: order of the ``lim`` vector of :func:`cycle_winch_values` (:func:`limit_vector`); then the
 #: drive's largest reel-in speed
 LIMIT_PARAMS = ("WINCH_TLO", "WINCH_THYST", "WINCH_TLO_KT", "WINCH_SLK_KL", "WINCH_SLACK", "WINCH_VCATCH",
-                "WINCH_THI", "WINCH_THI_KRL", "REC_LEN_KL", "REC_TENS_KT", "REC_PAY_MAX")
-(WL_TLO, WL_THYST, WL_TLO_KT, WL_SLK_KL, WL_SLACK, WL_VCATCH, WL_THI, WL_THI_KRL, WL_LEN_KL, WL_TENS_KT, WL_PAY_MAX,
- WL_VIN_MAX) = range(12)
-N_LIMITS = 12
+                "WINCH_THI", "WINCH_THI_KRL", "WINCH_SLACK_T", "WINCH_PACE_MAX", "REC_LEN_KL",
+                "REC_TENS_KT", "REC_PAY_MAX")
+(WL_TLO, WL_THYST, WL_TLO_KT, WL_SLK_KL, WL_SLACK, WL_VCATCH, WL_THI, WL_THI_KRL, WL_SLACK_T, WL_PACE_MAX, WL_LEN_KL,
+ WL_TENS_KT, WL_PAY_MAX, WL_VIN_MAX) = range(14)
+N_LIMITS = 14
 #: the load resistance's range in generation [ohm] (the length trim's and the upper limit's)
 RL_MIN, RL_MAX = 0.2, 20.0
 
@@ -56,7 +57,8 @@ def cycle_winch(r: RefPoint, rate: float, gs: Any, params: ParamStore, winch: st
     upper tension limits, or, on a kinematic winch, the reference's reel speed trimmed on the
     unstretched length (``line_EA`` [N]: the line's axial stiffness) and the tension; in
     recovery the motor reeling in at the reference speed, trimmed on the length, bounded by the
-    glider's approach, easing off above REC_TENSION (:func:`cycle_winch_values`). ``low``: the
+    glider's approach, easing off above REC_TENSION, paced at most at WINCH_PACE_MAX
+    (:func:`cycle_winch_values`). ``low``: the
     lower tension limit held at the last step; ``reel_in_max`` [m/s]: the drive's largest
     reel-in speed. Returns the command and whether the lower limit holds now."""
     p = params
@@ -145,11 +147,12 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     trimmed on the length, but never more than WINCH_VCATCH faster than the glider approaches,
     plus WINCH_SLK_KL per metre of slack line (the slack closes no faster than that: the line is
     caught at WINCH_VCATCH), and at least as fast as the glider approaches where more than
-    WINCH_SLACK of line hangs and the tension is at most WINCH_TLO (slack, not sagging),
-    whatever slack the reference planned (a glider turning out on a slack line runs out
+    WINCH_SLACK of line hangs and the tension is at most WINCH_SLACK_T (0: WINCH_TLO; slack, not
+    sagging), whatever slack the reference planned (a glider turning out on a slack line runs out
     against a standing drum: its inertia against the line's stiffness makes the catch's peak;
-    0 WINCH_VCATCH: the reference's speed alone), trimmed by REC_LEN_KL, REC_TENS_KT above
-    REC_TENSION, paying out at most REC_PAY_MAX; every reel-in within the drive's largest speed.
+    0 WINCH_VCATCH: the reference's speed alone), paced at most at WINCH_PACE_MAX, trimmed by
+    REC_LEN_KL, REC_TENS_KT above REC_TENSION, paying out at most REC_PAY_MAX; every reel-in
+    within the drive's largest speed.
 
     Outputs: ``motor_mode`` 1.0 (motor) or 0.0 (generator), ``reel_speed_ref`` [m/s] (0.0, the
     command's default, where the generator ignores it), ``load_resistance`` [ohm] and
@@ -186,23 +189,22 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
             rl, d2 = upper_limit_load(rl, d2, gs_tension, lim[WL_THI], lim[WL_THI_KRL])
         # the generator's T2 duty as the optimiser chose it (0: the passive rectifier)
         return 0.0, 0.0, rl, d2, False
-    # reel in at the reference speed scaled by the path rate, trimmed towards the reference
-    # length, easing off when the line pulls the glider harder than REC_TENSION
-    v = rate * reel_speed
+    # reel in at the reference speed scaled by the path rate (at most WINCH_PACE_MAX, 0: any: a
+    # glider pulled ahead runs the path ahead, and that pace pulls it further), trimmed towards
+    # the reference length, easing off when the line pulls the glider harder than REC_TENSION
+    v = (min(rate, lim[WL_PACE_MAX]) if lim[WL_PACE_MAX] > 0.0 else rate) * reel_speed
     if gs_valid:
         v += lim[WL_LEN_KL] * (length - gs_length)
         v_catch = lim[WL_VCATCH]
         if v_catch > 0.0 and not ideal and dist == dist:
             # at least the approach where more than WINCH_SLACK hangs on a line pulling at most
-            # WINCH_TLO (not the reference's planned slack; a lumped line sagging in the wind
-            # pulls), never much faster than the approach (the physical station's
-            # law: the paper plant's kinematic winch reels in as the paper's cycle says)
-            kept = lim[WL_SLACK]
-            slack = gs_length - dist
-            if slack > kept and gs_tension <= lim[WL_TLO]:
+            # WINCH_SLACK_T (0: WINCH_TLO; a lumped line sagging in the wind pulls a newton or
+            # two, reeled in at a diving glider's approach it snatches taut again and again),
+            # never much faster than the approach (the paper plant's winch: the paper's cycle)
+            kept, slack = lim[WL_SLACK], gs_length - dist
+            if slack > kept and gs_tension <= (lim[WL_SLACK_T] if lim[WL_SLACK_T] > 0.0 else lim[WL_TLO]):
                 v = min(v, take_up_speed(dist, dist_rate, gs_length, kept, lim[WL_SLK_KL], v_catch))
-            # the slack closes at most at WINCH_SLK_KL per metre plus WINCH_VCATCH: the line is
-            # caught at no more than WINCH_VCATCH
+            # the slack closes at most at WINCH_SLK_KL per metre plus WINCH_VCATCH (the catch's speed)
             v = max(v, dist_rate - v_catch - lim[WL_SLK_KL] * max(slack, 0.0))
         if gs_tension > rec_tension:
             v += lim[WL_TENS_KT] * (gs_tension - rec_tension)
