@@ -64,7 +64,6 @@ LONG_FUNCTIONS: dict[str, tuple[int, str]] = {
     "groundstation/substeps.py:substeps": (139, "docstring 20, code 119: the compiled sub-step loop; not split yet"),
     "sim/autopilot_kernel.py:autopilot_steps": (84, "docstring 5, code 79: the compiled block of steps"),
     "sim/flight.py:fly": (128, "docstring 34, code 83; not split yet"),
-    "sim/loop.py:CoSim._run_compiled": (114, "docstring 5, code 109; not split yet"),
 }
 
 #: private members of third-party objects read on purpose: (module, name) -> why
