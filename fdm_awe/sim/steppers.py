@@ -159,9 +159,10 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
     last_wcmd: Any = None
     mode = ""
     python_next = False
+    t = s.t
 
     def step(k: int, s: SixDofState, gs_out: Any) -> tuple:
-        nonlocal log, last_wcmd, mode, python_next
+        nonlocal log, last_wcmd, mode, python_next, t
         # the next steps: a block with the controller compiled in (the runner's), or the
         # controller called here and a block of the kernel
         res = None
@@ -176,7 +177,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
             last_wcmd = surf = None
         else:
             python_next = False
-            surf, wcmd = update(s.t, s, gs_out)
+            surf, wcmd = update(t, s, gs_out)
             set_controls(surf)
             if wcmd is not last_wcmd:
                 try:
@@ -196,6 +197,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
             hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
             s = make_state(r, hook, force)
             sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
+            t = r[T]
             gs_out = output_from_row(row[nr:ng], mode)
         return done, code, s, gs_out, surf
 
