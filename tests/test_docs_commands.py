@@ -15,6 +15,8 @@ Each line gets a plan (:func:`plan`), shown in its test id and by ``test_plan_ta
              receive MAVLink 2 frames), the optimisers on a coarse mesh (``--mesh``), a sweep
              reduced to one nominal point at 8 m/s on one worker, prose lines and scripts that
              optimise a case a stored reference of ``tests/data`` holds fly that reference,
+             the line calibration on one point (nominal, 10 m/s, one cycle), the grid,
+             line-comparison and drive-map scripts on their smallest grids,
              ``rerun FILE`` (the viewer) as ``rerun rrd verify FILE``;
 ``parse``    checked without running: shell scripts with ``bash -n`` (``run_tests.sh`` runs this
              test, ``run_demo.sh`` and ``setup.sh`` install packages), ``fdm-awe`` lines that
@@ -261,6 +263,11 @@ def plan(d: DocLine) -> Plan:
             if "--no-cold-check" not in argv:
                 argv.append("--no-cold-check")
                 changes.append("--no-cold-check")
+        if Path(script).name == "line_calibration.py":  # one point, one cycle
+            for opt, val in (("--winds", "10"), ("--configs", "nominal"), ("--cycles", "1")):
+                if _value(argv, opt) != val:
+                    argv = _set(argv, opt, val)
+                    changes.append(f"{opt} {val}")
         if Path(script).name == "reproduce_table3.py" and "--no-zero-wind" not in args:
             argv.append("--no-zero-wind")
             changes.append("--no-zero-wind (the zero-wind check runs in the compare line of the README)")
