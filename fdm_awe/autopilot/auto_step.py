@@ -168,8 +168,10 @@ def rescue_gate(phase: int, v_air: float, pz: float, wx: float, wy: float, rrow:
     ``gso`` and the step's ``par``: the line pulls where the station has stepped, the line is
     taut at WINCH_TLO or more, no rejoin is under way (``rejoining``) and the wind is at least
     :data:`.wind_estimate.LULL_SHARE` of the cycle's (``par[A_CYCLE_WIND]``; NaN: never)."""
-    pulling = (gso[GS_VALID] != 0.0 and gso[GS_SLACK] == 0.0 and gso[GS_TENSION] >= par[A_WLIM + WL_TLO]
-               and not rejoining and math.sqrt(wx * wx + wy * wy) >= LULL_SHARE * par[A_CYCLE_WIND])
+    # only generation with RESC_GEN_DEPTH above 0 asks whether the line pulls
+    pulling = (phase == 0 and par[A_RESC_GEN] > 0.0 and gso[GS_VALID] != 0.0 and gso[GS_SLACK] == 0.0
+               and gso[GS_TENSION] >= par[A_WLIM + WL_TLO] and not rejoining
+               and math.sqrt(wx * wx + wy * wy) >= LULL_SHARE * par[A_CYCLE_WIND])
     return rescue_allowed(phase, v_air, rrow[R_AIRSPEED], pull, protect, pz - rrow[R_PZ], par[A_RESC_GEN], pulling)
 
 

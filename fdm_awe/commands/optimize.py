@@ -177,7 +177,7 @@ def problem_from_args(args: argparse.Namespace):
     volts = getattr(args, "supply_voltage", None)
     if volts is not None:
         from ..errors import InputError
-        from ..ocp.problem import SUPPLY_VOLTAGE_RANGE
+        from ..groundstation.variants import SUPPLY_VOLTAGE_RANGE
 
         chk.number(volts, "--supply-voltage", *SUPPLY_VOLTAGE_RANGE, unit="V", what="winch supply")
         if args.scenario != "physical":

@@ -17,6 +17,7 @@ from ..definitions.catalog import Aircraft, resolve_aircraft
 from ..errors import InputError
 from ..groundstation.line import check_line, check_line_model
 from ..groundstation.source import StationFile, resolve_ground_station
+from ..groundstation.variants import SUPPLY_VOLTAGE_RANGE
 from ..groundstation.tether import check_tether_drag_scale
 from ..trajectory.schema import CONFIGS, GENERATORS, PROPELLERS, SCENARIOS
 from ..wind import WindProfile
@@ -37,8 +38,6 @@ PLANT_DEFAULTS: dict[str, dict[str, object]] = {
 }
 #: the line's tension in recovery (:attr:`CycleProblem.recovery_tension`)
 RECOVERY_TENSIONS = ("free", "slack")
-#: allowed winch supply voltages [V] (:attr:`CycleProblem.supply_voltage`)
-SUPPLY_VOLTAGE_RANGE = (6.0, 200.0)
 #: The plant model of the physical numbers published before the defaults above (Table 1's line,
 #: momentum-theory propeller, massless line, slack recovery): ``CycleProblem(**LEGACY_PHYSICAL_PLANT,
 #: ...)`` reproduces them (``--line paper --propeller momentum --no-line-weight --recovery-tension slack``)
