@@ -37,7 +37,7 @@ RULES = {
 #: its own (units are the sub-packages and the top-level modules of fdm_awe; the package's own
 #: ``__init__`` (ROOT, version) sits below everything).
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "units", "defaults", "constants"),
+    ("errors", "units", "defaults", "constants", "slots"),
     ("fileio", "jitcache", "progress", "turbulence", "example_refs", "mode_table"),
     ("definitions",),
     ("pointmass", "sixdof"),

@@ -642,3 +642,113 @@ def test_the_endpoint_is_a_link() -> None:
     finally:
         ep.close()
     assert not isinstance(object(), Link)
+
+
+# -- named slots: the compiled core's layouts are declared (fdm_awe.slots), not hand-kept --------
+
+#: modules that still keep array offsets by hand -> how many hand-kept offset blocks (module-level
+#: ``A, B, C = range(n)`` unpackings, integer constants the module uses as an index); may only shrink
+HAND_OFFSETS: dict[str, int] = {
+    "autopilot/auto_step.py": 6,
+    "autopilot/guidance.py": 6,
+    "autopilot/motor.py": 2,
+    "autopilot/thrust.py": 1,
+    "autopilot/winch.py": 1,
+    "groundstation/lumped_state.py": 3,
+    "groundstation/rigid.py": 1,
+    "groundstation/substeps.py": 1,
+    "sim/autopilot_kernel.py": 2,
+    "sim/block_log.py": 1,
+    "sim/events.py": 2,
+    "sim/glider_ledger.py": 2,
+    "sim/kernel.py": 4,
+    "sixdof/attitude_law.py": 3,
+    "sixdof/row.py": 1,
+}
+
+#: most positional parameters a function of the package takes (the compiled core passes blocks)
+MAX_POSITIONAL = 15
+
+#: functions with more positional parameters -> (count, reason); may only shrink
+LONG_SIGNATURES: dict[str, tuple[int, str]] = {
+    "autopilot/attitude.py:attitude_commands": (19, "compiled relation of floats"),
+    "autopilot/auto_step.py:auto_guide": (18, "the AUTO step's arrays"),
+    "autopilot/guidance.py:guidance_step": (36, "not yet on blocks"),
+    "autopilot/guidance.py:_air_force": (26, "not yet on blocks"),
+    "autopilot/guidance.py:_command": (17, "compiled relation of floats"),
+    "autopilot/guidance.py:_traded_lift": (16, "compiled relation of floats"),
+    "autopilot/winch.py:cycle_winch_values": (20, "compiled relation of floats"),
+    "groundstation/linemodels.py:line_step": (16, "the line models' one step signature"),
+    "groundstation/station_output.py:_set_slots": (19, "one slot per output"),
+    "groundstation/station_output.py:GroundStationOutput.__init__": (17, "one slot per output"),
+    "groundstation/substeps.py:hold_current": (20, "compiled relation of floats"),
+    "groundstation/substeps.py:hold_generator": (22, "compiled relation of floats"),
+    "groundstation/substeps.py:substeps": (57, "not yet on blocks"),
+    "groundstation/substeps.py:advance": (17, "not yet on blocks"),
+    "groundstation/winch.py:drum_step": (17, "compiled relation of floats"),
+    "groundstation/winch.py:end_stop": (17, "compiled relation of floats"),
+    "sim/autopilot_kernel.py:autopilot_steps": (33, "not yet on blocks"),
+    "sim/flight.py:fly": (16, "the flight's options"),
+    "sixdof/attitude_law.py:law_commands": (18, "compiled relation of floats"),
+}
+
+
+def _hand_offsets(path: Path) -> int:
+    tree = _tree(path)
+    count = 0
+    ints: set[str] = set()
+    for node in tree.body:
+        if not isinstance(node, ast.Assign) or len(node.targets) != 1:
+            continue
+        value, target = node.value, node.targets[0]
+        if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "range":
+            count += 1
+        elif (isinstance(target, ast.Name) and target.id.isupper() and isinstance(value, ast.Constant)
+              and type(value.value) is int):
+            ints.add(target.id)
+    used = {s.slice.id for s in ast.walk(tree) if isinstance(s, ast.Subscript) and isinstance(s.slice, ast.Name)}
+    return count + (1 if ints & used else 0)
+
+
+def test_no_hand_kept_offsets() -> None:
+    found = {_rel(p): n for p in _files() if (n := _hand_offsets(p))}
+    new = {m: n for m, n in found.items() if m not in HAND_OFFSETS}
+    grown = {m: (n, HAND_OFFSETS[m]) for m, n in found.items() if m in HAND_OFFSETS and n > HAND_OFFSETS[m]}
+    shrunk = {m: (found.get(m, 0), n) for m, n in HAND_OFFSETS.items() if found.get(m, 0) < n}
+    assert not new, f"hand-kept offsets (declare the layout with fdm_awe.slots): {new}"
+    assert not grown, f"more hand-kept offsets (now, listed): {grown}"
+    assert not shrunk, f"fewer hand-kept offsets now: lower HAND_OFFSETS (now, listed): {shrunk}"
+
+
+def test_the_offset_check_sees_what_it_must(tmp_path) -> None:
+    p = tmp_path / "m.py"
+    p.write_text("A, B = range(2)\nC = 3\n\ndef f(x):\n    return x[C] + x[A]\n")
+    assert _hand_offsets(p) == 2
+    p = tmp_path / "n.py"  # another file: trees are cached by path
+    p.write_text("from fdm_awe import slots\nL = slots.declare('L', ('a', 'b'))\nN = 3\n\n"
+                 "def f(x):\n    return x[L.a] * N\n")
+    assert _hand_offsets(p) == 0
+
+
+def _signatures(path: Path) -> Iterator[tuple[str, int]]:
+    def walk(node: ast.AST, prefix: str) -> Iterator[tuple[str, int]]:
+        for c in ast.iter_child_nodes(node):
+            if isinstance(c, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                yield prefix + c.name, len(c.args.posonlyargs) + len(c.args.args)
+                yield from walk(c, prefix + c.name + ".<locals>.")
+            elif isinstance(c, ast.ClassDef):
+                yield from walk(c, prefix + c.name + ".")
+            else:
+                yield from walk(c, prefix)
+
+    yield from walk(_tree(path), "")
+
+
+def test_signature_length() -> None:
+    counts = {f"{_rel(p)}:{q}": n for p in _files() for q, n in _signatures(p)}
+    new = {f: n for f, n in counts.items() if n > MAX_POSITIONAL and f not in LONG_SIGNATURES}
+    grown = {f: (n, LONG_SIGNATURES[f][0]) for f, n in counts.items() if f in LONG_SIGNATURES and n > LONG_SIGNATURES[f][0]}
+    shrunk = {f: (counts.get(f, 0), v[0]) for f, v in LONG_SIGNATURES.items() if counts.get(f, 0) < v[0]}
+    assert not new, f"functions over {MAX_POSITIONAL} positional parameters (pass a block): {new}"
+    assert not grown, f"listed long signatures grew (now, listed): {grown}"
+    assert not shrunk, f"shorter now: lower or remove in LONG_SIGNATURES (now, listed): {shrunk}"
