@@ -41,7 +41,7 @@ from typing import Any, Callable
 from .events import E_FORCE, E_HOOK, E_NONE, step_event
 from ..groundstation.linemodels import kernel_called, kernel_sources, line_step
 from ..jitcache import jit_off
-from ..groundstation.substeps import C_LINE
+from ..groundstation.substeps import STATION
 from ..sixdof.row import hook_kinematics
 
 # parameter offsets in ``p``
@@ -89,7 +89,7 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
     nsub = int(p[P_NSUB])
     motor = p[P_MOTOR] != 0.0
     (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = line_step(
-        int(c_gs[C_LINE]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
+        int(c_gs[STATION.line]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
     p[P_FX], p[P_FY], p[P_FZ] = fx, fy, fz
     if not math.isfinite(fx + fy + fz):
         return E_FORCE
