@@ -11,6 +11,7 @@ import random
 import numpy as np
 import pytest
 
+from fdm_awe import slots
 from fdm_awe.sim import events as ce
 from fdm_awe.sim.result import STATUSES
 from fdm_awe.sim.loop import CoSim, Limits
@@ -275,8 +276,7 @@ def test_kernel_row_layout_matches_the_logged_columns():
     from fdm_awe.sim.result import COLUMNS
 
     logged = COLUMNS[COLUMNS.index("tension"):COLUMNS.index("fz") + 1]
-    assert tuple(c.replace("p_electrical", "p_elec") for c in ck.GS_COLUMNS[:len(logged)]) == logged
-    assert ck.N_GS == len(ck.GS_COLUMNS) and ck.K_FZ + 1 == len(ck.TAIL_COLUMNS)
+    assert tuple(c.replace("p_electrical", "p_elec") for c in slots.names(ck.GS)[:len(logged)]) == logged
 
 
 def test_event_table_orders_and_names():
@@ -290,9 +290,9 @@ def test_event_table_orders_and_names():
     r[R.VT], r[R.MASS], r[R.WOW] = 100.0, 1.0, 1.0
     v = ce.limit_vector(lim, 0.0, False, 1.0, 1.0, 1.0)
     assert ce.step_event(r, 5.0, True, v) == ce.E_GS
-    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.L_AIRBORNE] == 0.0  # on the ground at the start
+    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.LIM.airborne] == 0.0  # on the ground at the start
     r[R.WOW] = 0.0
-    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.L_AIRBORNE] == 1.0
+    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.LIM.airborne] == 1.0
     r[R.WOW] = 1.0
     assert ce.step_event(r, 5.0, False, v) == ce.E_GROUND
     r[R.ALPHA] = math.nan

@@ -657,9 +657,7 @@ HAND_OFFSETS: dict[str, int] = {
     "autopilot/winch.py": 1,
     "sim/autopilot_kernel.py": 2,
     "sim/block_log.py": 1,
-    "sim/events.py": 2,
-    "sim/glider_ledger.py": 2,
-    "sim/kernel.py": 4,
+    "sim/events.py": 1,
     "sixdof/attitude_law.py": 3,
     "sixdof/row.py": 1,
 }

@@ -312,7 +312,7 @@ class GroundStation:
 
     @staticmethod
     def output_from_row(row: list[float], mode: str) -> GroundStationOutput:
-        """The step's output from a compiled loop's row (``fdm_awe.sim.kernel.GS_COLUMNS``, a
+        """The step's output from a compiled loop's row (``fdm_awe.sim.kernel.GS``, a
         list of floats), filled in when first read (a controller that ignores it pays nothing)."""
         return output_from_row(row, mode)
 

@@ -8,7 +8,7 @@ ground-station event, ground contact after the glider was airborne, the airspeed
 the grace time), the line tension, the load factor. It is a plain function: the compiled
 co-simulation step (:mod:`fdm_awe.sim.kernel`) compiles it with numba and the Python loop
 (:meth:`fdm_awe.sim.loop.CoSim.run`) runs the same source, so both end a run on the same step with
-the same code. Its thresholds come in a vector (``L_*`` positions) built by
+the same code. Its thresholds come in a vector (layout :data:`LIM`) built by
 :func:`limit_vector`, a float64 array in the compiled step and a list in Python.
 
 One event of the table is logged and does not end the run (its status ``ok``):
@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..constants import G0
 from ..sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
 
@@ -67,10 +68,9 @@ EVENTS: tuple[EventKind, ...] = (
 #: event names by code
 EVENT_CODES: tuple[str, ...] = tuple(e.name for e in EVENTS)
 
-# positions in the vector of :func:`step_event`'s thresholds and state (see limit_vector)
-(L_VHI, L_VLO, L_THI, L_NMAX, L_GRACE, L_T0, L_CHECKV, L_GROUND, L_AIRBORNE, L_KV, L_KFZ, L_KM) = range(12)
-N_LIMITS = 12
-
+#: the vector of :func:`step_event`'s thresholds and state (see :func:`limit_vector`)
+LIM = slots.declare("EventLimits", ("vhi", "vlo", "thi", "nmax", "grace", "t0", "checkv", "ground", "airborne", "kv",
+                                    "kfz", "km"))
 
 
 def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float, k_m: float) -> list[float]:
@@ -80,16 +80,16 @@ def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float
     check) and the row's SI factors of airspeed (``k_v``), body z force (``k_fz``) and mass
     (``k_m``)."""
     inf = math.inf
-    v = [0.0] * N_LIMITS
-    v[L_VHI] = inf if limits.airspeed_max is None else limits.airspeed_max
-    v[L_VLO] = -inf if limits.airspeed_min is None else limits.airspeed_min
-    v[L_THI] = inf if limits.max_tension is None else limits.max_tension
-    v[L_NMAX] = math.nan if limits.max_load_factor is None else limits.max_load_factor
-    v[L_GRACE], v[L_T0] = limits.grace_s, t0
-    v[L_CHECKV] = 1.0 if (limits.airspeed_max is not None or limits.airspeed_min is not None) else 0.0
-    v[L_GROUND] = 1.0 if limits.ground_contact else 0.0
-    v[L_AIRBORNE] = 1.0 if airborne else 0.0
-    v[L_KV], v[L_KFZ], v[L_KM] = k_v, k_fz, k_m
+    v = [0.0] * slots.size(LIM)
+    v[LIM.vhi] = inf if limits.airspeed_max is None else limits.airspeed_max
+    v[LIM.vlo] = -inf if limits.airspeed_min is None else limits.airspeed_min
+    v[LIM.thi] = inf if limits.max_tension is None else limits.max_tension
+    v[LIM.nmax] = math.nan if limits.max_load_factor is None else limits.max_load_factor
+    v[LIM.grace], v[LIM.t0] = limits.grace_s, t0
+    v[LIM.checkv] = 1.0 if (limits.airspeed_max is not None or limits.airspeed_min is not None) else 0.0
+    v[LIM.ground] = 1.0 if limits.ground_contact else 0.0
+    v[LIM.airborne] = 1.0 if airborne else 0.0
+    v[LIM.kv], v[LIM.kfz], v[LIM.km] = k_v, k_fz, k_m
     return v
 
 
@@ -103,21 +103,21 @@ def step_event(r, tension, gs_event, lim):
     if gs_event:
         return E_GS
     if r[WOW] > 0.5:  # weight on wheels: a contact touches the ground
-        if lim[L_AIRBORNE] != 0.0 and lim[L_GROUND] != 0.0:
+        if lim[LIM.airborne] != 0.0 and lim[LIM.ground] != 0.0:
             return E_GROUND
     else:
-        lim[L_AIRBORNE] = 1.0
-    if lim[L_CHECKV] != 0.0 and r[T] - lim[L_T0] >= lim[L_GRACE]:
-        v = r[VT] * lim[L_KV]  # SixDofState.airspeed
-        if v > lim[L_VHI]:
+        lim[LIM.airborne] = 1.0
+    if lim[LIM.checkv] != 0.0 and r[T] - lim[LIM.t0] >= lim[LIM.grace]:
+        v = r[VT] * lim[LIM.kv]  # SixDofState.airspeed
+        if v > lim[LIM.vhi]:
             return E_VHI
-        if v < lim[L_VLO]:
+        if v < lim[LIM.vlo]:
             return E_VLO
-    if tension > lim[L_THI]:
+    if tension > lim[LIM.thi]:
         return E_TENSION
-    nmax = lim[L_NMAX]
+    nmax = lim[LIM.nmax]
     if nmax == nmax:  # NaN: no load-factor limit
-        nz = -r[FBZ] * lim[L_KFZ] / (r[MASS] * lim[L_KM]) / G0  # SixDofState.load_factor
+        nz = -r[FBZ] * lim[LIM.kfz] / (r[MASS] * lim[LIM.km]) / G0  # SixDofState.load_factor
         if nz > nmax or nz < -nmax:
             return E_LOAD
     return E_NONE
@@ -170,5 +170,5 @@ def machine_current(t: np.ndarray, current: np.ndarray, rated: float,
     return i_max, above, events
 
 
-__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "N_LIMITS", "event_message", "limit_vector", "machine_current",
+__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "LIM", "event_message", "limit_vector", "machine_current",
            "step_event"]

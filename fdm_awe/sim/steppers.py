@@ -29,6 +29,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .. import slots
 from .events import E_FORCE, E_HOOK, E_JSBSIM, limit_vector, step_event
 from ..errors import InputError
 from ..sixdof.row import FBZ, MASS, T, VT
@@ -141,8 +142,8 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
     g, gs, ctrl, dt = sim.glider, sim.gs, sim.controller, sim.dt
     raw0 = g.raw()
     nr = len(raw0)
-    ng = nr + len(ck.GS_COLUMNS)
-    width = ng + len(ck.TAIL_COLUMNS)
+    ng = nr + slots.size(ck.GS)
+    width = ng + slots.size(ck.TAIL)
     # the log (see cosim_kernel: raw | station | tail), grown by doubling as the run goes: a
     # long t_end that an event or on_step cuts short does not allocate its whole length
     log = np.full((min(n + 1, 1 << 14), width), math.nan)
@@ -154,7 +155,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
     output_from_row, make_state, sync = gs.output_from_row, g.make_state, g.sync_from_native
     # the compiled function without numba's argument-type dispatch (its one signature)
     call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
-    i_motor = ck.P_MOTOR
+    i_motor = ck.PAR.motor
     runner, block_steps = sim.block_runner, sim.block_steps
     last_wcmd: Any = None
     mode = ""
@@ -193,7 +194,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
         if done:
             row = log[k + done].tolist()
             r = row[:nr]
-            hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL_COLUMNS
+            hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL
             hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
             s = make_state(r, hook, force)
             sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
@@ -209,18 +210,19 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
 
 
 def kernel_params(g: Any, dt: float, s: SixDofState, nsub: int) -> np.ndarray:
-    """The compiled step's parameter vector (:mod:`.kernel`'s ``P_*``) of glider ``g`` at its state
+    """The compiled step's parameter vector (layout :data:`.kernel.PAR`) of glider ``g`` at its state
     ``s``: step ``dt`` [s], the station's sub-steps ``nsub``, the glider's native constants, the unit
     factors, the tether hook's position [m] and velocity [m/s] and the force on it [N]."""
     from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
     lat0, m0, n0cos, off = g.native_constants()
-    p = np.zeros(ck.N_PARAMS)
-    p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = dt, nsub, lat0, m0, n0cos
-    p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
-    p[ck.P_FT], p[ck.P_LBF] = FT, LBF
-    (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s.hook
-    p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g.tether_force_ned
+    P = ck.PAR
+    p = slots.new(P)
+    p[P.dt], p[P.nsub], p[P.lat0], p[P.m0], p[P.n0cos] = dt, nsub, lat0, m0, n0cos
+    p[P.ox], p[P.oy], p[P.oz] = off
+    p[P.ft], p[P.lbf] = FT, LBF
+    (p[P.hx], p[P.hy], p[P.hz]), (p[P.hvx], p[P.hvy], p[P.hvz]) = s.hook
+    p[P.fx], p[P.fy], p[P.fz] = g.tether_force_ned
     return p
 
 
@@ -235,7 +237,7 @@ def _compiled_event(event: Callable[..., Event], p: np.ndarray) -> Callable[[int
             return event(code, s, gs_out, error="glider position/velocity must be finite, got "
                          f"pos={tuple(hp)!r} vel={tuple(hv)!r}")
         if code == E_FORCE:
-            return event(code, s, gs_out, force=(float(p[ck.P_FX]), float(p[ck.P_FY]), float(p[ck.P_FZ])))
+            return event(code, s, gs_out, force=(float(p[ck.PAR.fx]), float(p[ck.PAR.fy]), float(p[ck.PAR.fz])))
         return event(code, s, gs_out)
 
     return compiled_event
