@@ -20,7 +20,7 @@ from fdm_awe.jitcache import jit_off
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation.linemodels import LINE_MODELS, TetherModel, allowed_forms, parse_tether
 from fdm_awe import slots
-from fdm_awe.groundstation.substeps import LEDGER, STATION
+from fdm_awe.groundstation.substeps import STATION, STEP
 from fdm_awe.sim.loop import CoSim, Limits
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer
 
@@ -66,7 +66,7 @@ def test_station_takes_the_model_or_its_form_alike(form: str) -> None:
         gs = GroundStation(gsp, wind_ned=(6.0, 0.0, 0.0), tether=tether)
         assert gs.line == model and gs.tether == form
         assert gs._sc[STATION.line] == model.code and slots.size(STATION) == STATION.line + 1
-        assert gs._s_all.shape[0] == slots.size(LEDGER) + model.state_size()
+        assert gs._s_all.shape[0] == slots.size(STEP) + model.state_size()
         d = 120.0
         gs.reset(gs.unstretched_length(d, 20.0), 0.0, "generator")
         rows = []

@@ -39,7 +39,7 @@ from ..jitcache import jit_off
 from .converter import GENERATOR, MOTOR
 from .definitions import GroundStationParams
 from .ledger import EnergyLedger
-from .substeps import EVENTS, LEDGER, STATE, advance, compiled
+from .substeps import EVENTS, LEDGER, STATE, STEP, advance, compiled
 
 _NAN = float("nan")
 #: a compiled step not asked for yet
@@ -72,8 +72,9 @@ class Drivetrain:
     The states (``length`` m, ``omega`` rad/s, ``current`` A, ``u_link`` V, ``integ`` and
     ``duty`` (-), ``broken``, ``at_stop``, ``stretch`` m, ``mode``) and the energy ledger live in
     one float64 array (layout :data:`fdm_awe.groundstation.substeps.STATE` followed by the
-    ledger's terms, :data:`fdm_awe.groundstation.substeps.LEDGER`), so that the compiled ground-station step updates them in place; as
-    attributes they read as Python floats, bools and the mode string."""
+    ledger's terms, :data:`fdm_awe.groundstation.substeps.LEDGER`, and the sub-step loop's work
+    area, :data:`fdm_awe.groundstation.substeps.STEP`), so that the compiled ground-station step
+    updates them in place; as attributes they read as Python floats, bools and the mode string."""
 
     length = _state_float(STATE.length, "unstretched paid-out line length, m")
     omega = _state_float(STATE.omega, "drum speed, rad/s (> 0 reel-out)")
@@ -97,7 +98,7 @@ class Drivetrain:
 
     def __init__(self, params: GroundStationParams, line_state: int = 0) -> None:
         self.params = params
-        n = slots.size(LEDGER)
+        n = slots.size(STEP)
         #: the state array of a station's step: the drivetrain's states and ledger, then
         #: ``line_state`` slots of the line model's block (:mod:`.linemodels`)
         self._all = np.zeros(n + line_state)
@@ -110,7 +111,7 @@ class Drivetrain:
                     ctrl.duty_min, ctrl.duty_max, cp.current_limit, cp.tension_limit,
                     cp.tension_limit_band]
         self._c = np.array(self._cl, dtype=float)  # and as an array (compiled)
-        self.ledger = EnergyLedger(self._s[slots.start(LEDGER):])
+        self.ledger = EnergyLedger(self._s[slots.start(LEDGER):slots.size(LEDGER)])
         # substeps.advance compiled at the first step or question that needs it (None: Python
         # runs it): a flight whose loop compiles the whole co-simulation step never compiles it
         self._kernel: Any = _PENDING if jit_off() is None else None
@@ -119,8 +120,9 @@ class Drivetrain:
     # -- state -------------------------------------------------------------------------
     @property
     def state(self) -> np.ndarray:
-        """The states and the ledger's terms in one float64 array (layout above), then the line
-        model's block (``line_state`` slots): the array the steps update in place, not a copy."""
+        """The states, the ledger's terms and the work area in one float64 array (layout above),
+        then the line model's block (``line_state`` slots): the array the steps update in place,
+        not a copy."""
         return self._all
 
     @property

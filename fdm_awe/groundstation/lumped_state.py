@@ -18,7 +18,7 @@ import numpy as np
 
 from .. import slots
 from .ledger import Balance
-from .substeps import LEDGER, STATION
+from .substeps import STATION, STEP
 
 #: allowed segment counts
 N_MIN, N_MAX = 2, 200
@@ -27,12 +27,12 @@ CFL = 0.8
 #: axial damping ratio of a segment in flight (of its own k-m mode)
 ZETA = 0.05
 
-#: head of the line's block in the ground station's state array, after the drivetrain's ledger:
+#: head of the line's block in the ground station's state array, after the drivetrain's block:
 #: initialised flag, segments, mean glider-end tension of the last step N, largest segment
 #: tension of the last step N, inner steps per drivetrain sub-step, force-on-glider terms of the
 #: last step (drag part, weight part, N NED)
 HEAD = slots.declare("LumpedHead", ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y",
-                                    "drag_z", "weight_z"), start=slots.size(LEDGER))
+                                    "drag_z", "weight_z"), start=slots.size(STEP))
 #: the line's ledger (J; :mod:`.lumped` explains each term)
 INPUTS = ("hook_work", "mass_inflow")
 LOSSES = ("payout_work", "drag", "damping", "break_release")

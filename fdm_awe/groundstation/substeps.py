@@ -26,8 +26,6 @@ import functools
 import math
 from typing import Any, Callable
 
-import numpy as np
-
 from .. import slots
 from ..jitcache import compile_cached
 from . import winch
@@ -55,13 +53,13 @@ CONST = slots.declare("DrivetrainConstants", ("r", "B", "Mc", "Jw", "mu", "EA", 
 #: dispatch); a line model's own constants follow (from ``slots.size(STATION)``)
 STATION = slots.declare("StationConstants", (("wind", 3), "drag_c", "drag_on", "weight_c", "g", "line"),
                         start=slots.size(CONST))
-#: the inputs of one :func:`substeps` call that :func:`advance` works out (SI; ``d0``, ``s0`` the
-#: line's start distance and stretch, ``aS = aH s_cpl cu``, ``i_t`` the current that holds the
-#: tension limit on the drum; the other names as in :func:`advance` and :mod:`.drivetrain`)
+#: after the ledger, a work area: the inputs of one :func:`substeps` call that :func:`advance`
+#: writes there (SI; ``d0``, ``s0`` the line's start distance and stretch, ``aS = aH s_cpl cu``,
+#: ``i_t`` the current that holds the tension limit on the drum; the other names as in
+#: :func:`advance` and :mod:`.drivetrain`); a line model's block follows (from ``slots.size(STEP)``)
 STEP = slots.declare("SubstepInputs", ("h", "px", "py", "pz", "hvx", "hvy", "hvz", "v_src", "duty", "d0", "s0", "k",
                                        "tB", "J", "Jb", "omega_ref", "fixed_tension", "e_glider", "q", "cu", "aL",
-                                       "aH", "aS", "iB", "s_cpl", "RL", "i_t"))
-_N_STEP = slots.size(STEP)
+                                       "aH", "aS", "iB", "s_cpl", "RL", "i_t"), start=slots.size(LEDGER))
 
 
 def pi_step(kp: float, ki: float, d_min: float, d_max: float, err: float, integ: float,
@@ -192,9 +190,9 @@ def machine_mode_code(omega: float, current: float, K: float) -> int:
     return 1 if -(1.0 if omega > 0.0 else -1.0) * K * current < 0.0 else 2
 
 
-def substeps(s, c, w, n, pi, motor, fixed):  # noqa: C901
+def substeps(s, c, n, pi, motor, fixed):  # noqa: C901
     """``n`` backward-Euler sub-steps of line, drum, armature and link (:mod:`.drivetrain`) from the
-    states ``s`` (:data:`STATE`; not written), constants ``c`` (:data:`CONST`) and inputs ``w`` (:data:`STEP`).
+    states ``s`` (:data:`STATE`, inputs :data:`STEP`; not written) and constants ``c`` (:data:`CONST`).
 
     ``pi``: the PI runs, else ``v_src`` is the open-loop source; ``fixed``: a prescribed tension
     replaces the line. The converter holds the current at ``i_lim``: in motor mode through the
@@ -213,12 +211,12 @@ def substeps(s, c, w, n, pi, motor, fixed):  # noqa: C901
     r, B, Mc, K, Va, two_ud = c[CONST.r], c[CONST.B], c[CONST.Mc], c[CONST.K], c[CONST.Va], c[CONST.two_ud]
     lmin, lmax, Tbreak, kp, ki = c[CONST.lmin], c[CONST.lmax], c[CONST.Tbreak], c[CONST.kp], c[CONST.ki]
     d_min, d_max, i_lim, L, R, C = c[CONST.d_min], c[CONST.d_max], c[CONST.i_lim], c[CONST.L], c[CONST.R], c[CONST.C]
-    h, px, py, pz, hvx, hvy, hvz = w[STEP.h], w[STEP.px], w[STEP.py], w[STEP.pz], w[STEP.hvx], w[STEP.hvy], w[STEP.hvz]
-    v_src, duty, d0, s0, k, tB = w[STEP.v_src], w[STEP.duty], w[STEP.d0], w[STEP.s0], w[STEP.k], w[STEP.tB]
-    J, Jb, omega_ref, e_glider = w[STEP.J], w[STEP.Jb], w[STEP.omega_ref], w[STEP.e_glider]
-    q, cu, aL, aH, aS, iB = w[STEP.q], w[STEP.cu], w[STEP.aL], w[STEP.aH], w[STEP.aS], w[STEP.iB]
-    s_cpl, RL, i_t, t_lim, band = w[STEP.s_cpl], w[STEP.RL], w[STEP.i_t], c[CONST.t_lim], c[CONST.t_band]
-    fixed_tension = w[STEP.fixed_tension]
+    h, px, py, pz, hvx, hvy, hvz = s[STEP.h], s[STEP.px], s[STEP.py], s[STEP.pz], s[STEP.hvx], s[STEP.hvy], s[STEP.hvz]
+    v_src, duty, d0, s0, k, tB = s[STEP.v_src], s[STEP.duty], s[STEP.d0], s[STEP.s0], s[STEP.k], s[STEP.tB]
+    J, Jb, omega_ref, e_glider = s[STEP.J], s[STEP.Jb], s[STEP.omega_ref], s[STEP.e_glider]
+    q, cu, aL, aH, aS, iB = s[STEP.q], s[STEP.cu], s[STEP.aL], s[STEP.aH], s[STEP.aS], s[STEP.iB]
+    s_cpl, RL, i_t, t_lim, band = s[STEP.s_cpl], s[STEP.RL], s[STEP.i_t], c[CONST.t_lim], c[CONST.t_band]
+    fixed_tension = s[STEP.fixed_tension]
     hr, hK, hM = h * r, h * K, h * Mc
     event = 0
     e_supply = e_brake = e_stop = e_brk = e_numel = t_sum = 0.0
@@ -336,7 +334,7 @@ def substeps(s, c, w, n, pi, motor, fixed):  # noqa: C901
 def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, fixed_tension):
     """One flight step ``dt`` s of the drivetrain in ``n`` sub-steps (:meth:`.drivetrain.Drivetrain.advance`).
 
-    ``s`` the state array (:data:`STATE`, then the ledger :data:`LEDGER`; updated in place), ``c``
+    ``s`` the state array (:data:`STATE`, the ledger :data:`LEDGER`, :data:`STEP`; updated in place), ``c``
     the constants (:data:`CONST` first), the glider at ``(x, y, z) + (vx, vy, vz) t`` (m, m/s),
     ``motor`` the converter mode, ``omega_ref`` rad/s, ``duty_cmd`` the open-loop T1 duty (NaN:
     PI), ``boost_duty`` the T2 duty, ``RL`` ohm; ``fixed_tension`` (N) at the drum instead of the
@@ -379,16 +377,16 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
             v_src = duty * Va
     else:
         duty = boost_duty
-    w = np.empty(_N_STEP)
-    w[STEP.h], w[STEP.px], w[STEP.py], w[STEP.pz], w[STEP.hvx], w[STEP.hvy], w[STEP.hvz] = (
+    # the inputs of the sub-step loop, in the work area STEP
+    s[STEP.h], s[STEP.px], s[STEP.py], s[STEP.pz], s[STEP.hvx], s[STEP.hvy], s[STEP.hvz] = (
         h, x, y, z, h * vx, h * vy, h * vz)
-    w[STEP.v_src], w[STEP.duty], w[STEP.d0], w[STEP.s0], w[STEP.k], w[STEP.tB] = v_src, duty, d0, s0, k, tB
-    w[STEP.J], w[STEP.Jb], w[STEP.omega_ref], w[STEP.e_glider] = J, J + h * B, omega_ref, e_glider
-    w[STEP.fixed_tension] = fixed_tension if fixed else 0.0
-    w[STEP.q], w[STEP.cu], w[STEP.aL], w[STEP.aH], w[STEP.aS], w[STEP.iB] = q, cu, aL, aH, aH * s_cpl * cu, iB
-    w[STEP.s_cpl], w[STEP.RL], w[STEP.i_t] = s_cpl, RL, (r * c[CONST.t_lim] - Mc) / K  # i_t: holds the tension limit
+    s[STEP.v_src], s[STEP.duty], s[STEP.d0], s[STEP.s0], s[STEP.k], s[STEP.tB] = v_src, duty, d0, s0, k, tB
+    s[STEP.J], s[STEP.Jb], s[STEP.omega_ref], s[STEP.e_glider] = J, J + h * B, omega_ref, e_glider
+    s[STEP.fixed_tension] = fixed_tension if fixed else 0.0
+    s[STEP.q], s[STEP.cu], s[STEP.aL], s[STEP.aH], s[STEP.aS], s[STEP.iB] = q, cu, aL, aH, aH * s_cpl * cu, iB
+    s[STEP.s_cpl], s[STEP.RL], s[STEP.i_t] = s_cpl, RL, (r * c[CONST.t_lim] - Mc) / K  # i_t: holds the tension limit
     (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_brake, e_stop, e_brk, e_numel,
-     S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(s, c, w, n, pi, motor, fixed)
+     S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(s, c, n, pi, motor, fixed)
     stretch = s0 if not broken else 0.0  # (0 with a prescribed tension)
     s[STATE.length], s[STATE.omega], s[STATE.current], s[STATE.u_link], s[STATE.integ], s[STATE.duty] = (
         l0, w0, i0, u0, integ, duty)
