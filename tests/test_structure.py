@@ -658,8 +658,6 @@ HAND_OFFSETS: dict[str, int] = {
     "sim/autopilot_kernel.py": 2,
     "sim/block_log.py": 1,
     "sim/events.py": 1,
-    "sixdof/attitude_law.py": 3,
-    "sixdof/row.py": 1,
 }
 
 #: most positional parameters a function of the package takes (the compiled core passes blocks)

@@ -44,7 +44,7 @@ from ..autopilot.auto_step import (A_G_ATT, GS_FX, GS_FY, GS_FZ, GS_LENGTH, GS_S
 from ..autopilot.attitude import attitude_from_row
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
-from ..sixdof.row import FOLD, si_position
+from ..sixdof.row import ROW, si_position
 
 #: ``ha`` (int64): the flight controls' setters (aileron, elevator, rudder, throttle, fold; 0: the
 #: aircraft has none), the attitude law's getters (:data:`fdm_awe.sixdof.attitude_law.LAW_PROPERTIES`),
@@ -110,7 +110,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
             motor_mem[:] = saved[n_m + 3 + n_t:]
             q[Q_WHY] = WHY_PYTHON
             break
-        fold = row[FOLD]
+        fold = row[ROW.fold]
         if law_stale(fold, law_fold_at[0]):  # the law's derivatives at the new fold state
             for j in range(N_LAW_PROPERTIES):
                 cvals[j] = native_get(f_get, ha[HA_LAW + j])

@@ -28,7 +28,7 @@ import numpy as np
 
 from .. import slots
 from ..constants import G0
-from ..sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
+from ..sixdof.row import FINITE_END, FINITE_FIRST, ROW
 
 
 @dataclass(frozen=True)
@@ -102,13 +102,13 @@ def step_event(r, tension, gs_event, lim):
         return E_STATE
     if gs_event:
         return E_GS
-    if r[WOW] > 0.5:  # weight on wheels: a contact touches the ground
+    if r[ROW.wow] > 0.5:  # weight on wheels: a contact touches the ground
         if lim[LIM.airborne] != 0.0 and lim[LIM.ground] != 0.0:
             return E_GROUND
     else:
         lim[LIM.airborne] = 1.0
-    if lim[LIM.checkv] != 0.0 and r[T] - lim[LIM.t0] >= lim[LIM.grace]:
-        v = r[VT] * lim[LIM.kv]  # SixDofState.airspeed
+    if lim[LIM.checkv] != 0.0 and r[ROW.t] - lim[LIM.t0] >= lim[LIM.grace]:
+        v = r[ROW.vt] * lim[LIM.kv]  # SixDofState.airspeed
         if v > lim[LIM.vhi]:
             return E_VHI
         if v < lim[LIM.vlo]:
@@ -117,7 +117,7 @@ def step_event(r, tension, gs_event, lim):
         return E_TENSION
     nmax = lim[LIM.nmax]
     if nmax == nmax:  # NaN: no load-factor limit
-        nz = -r[FBZ] * lim[LIM.kfz] / (r[MASS] * lim[LIM.km]) / G0  # SixDofState.load_factor
+        nz = -r[ROW.fbz] * lim[LIM.kfz] / (r[ROW.mass] * lim[LIM.km]) / G0  # SixDofState.load_factor
         if nz > nmax or nz < -nmax:
             return E_LOAD
     return E_NONE

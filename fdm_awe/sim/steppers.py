@@ -32,7 +32,7 @@ import numpy as np
 from .. import slots
 from .events import E_FORCE, E_HOOK, E_JSBSIM, limit_vector, step_event
 from ..errors import InputError
-from ..sixdof.row import FBZ, MASS, T, VT
+from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState
 from ..units import FT, LBF
 from .result import STATION_COLUMNS, Event
@@ -86,7 +86,7 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
     raws.extend(raw0)
     gsrec.extend((math.nan,) * _N_GS)  # no ground-station step yet
     # the event checks' thresholds, airborne flag and the state's SI factors (SixDofState)
-    lim_v = limit_vector(sim.limits, s.t, not s.on_ground, s.scale[VT], s.scale[FBZ], s.scale[MASS])
+    lim_v = limit_vector(sim.limits, s.t, not s.on_ground, s.scale[ROW.vt], s.scale[ROW.fbz], s.scale[ROW.mass])
     set_controls, advance = g.set_controls, advance_call(g)
     update, gs_step = ctrl.update, gs.step
     gsrec_add = gsrec.fromlist
@@ -94,7 +94,7 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
     check, ndarray, isfinite = step_event, np.ndarray, math.isfinite
 
     def step(k: int, s: SixDofState, gs_out: Any) -> tuple:
-        surf, wcmd = update(s.raw[T], s, gs_out)
+        surf, wcmd = update(s.raw[ROW.t], s, gs_out)
         set_controls(surf)
         hp, hv = s.hook  # the state's tether attachment point (glider.hook_kinematics())
         try:
@@ -150,7 +150,8 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
     log[0, :nr] = raw0
     s_gs, c_gs, nsub = gsa
     p = kernel_params(g, dt, s, nsub)
-    lim_v = np.array(limit_vector(sim.limits, s.t, not s.on_ground, s.scale[VT], s.scale[FBZ], s.scale[MASS]))
+    lim_v = np.array(limit_vector(sim.limits, s.t, not s.on_ground, s.scale[ROW.vt], s.scale[ROW.fbz],
+                                  s.scale[ROW.mass]))
     update, set_controls, command_terms = ctrl.update, g.set_controls, gs.command_terms
     output_from_row, make_state, sync = gs.output_from_row, g.make_state, g.sync_from_native
     # the compiled function without numba's argument-type dispatch (its one signature)
@@ -198,7 +199,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
             hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
             s = make_state(r, hook, force)
             sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
-            t = r[T]
+            t = r[ROW.t]
             gs_out = output_from_row(row[nr:ng], mode)
         return done, code, s, gs_out, surf
 
