@@ -267,7 +267,9 @@ def test_step_event_compiled_equals_python_and_reaches_every_code():
         assert jit(np.array(r), tension, gs_event, va) == code
         assert np.array_equal(va, np.array(v), equal_nan=True)  # the airborne flag updated alike
         seen.add(code)
-    assert seen == {ce.E_NONE, ce.E_STATE, ce.E_GS, ce.E_GROUND, ce.E_VHI, ce.E_VLO, ce.E_TENSION, ce.E_LOAD}
+    C = ce.CODE
+    assert seen == {C.none, C.nonfinite_state, C.ground_station, C.ground_contact, C.airspeed_high, C.airspeed_low,
+                    C.tension, C.load_factor}
 
 
 def test_kernel_row_layout_matches_the_logged_columns():
@@ -289,13 +291,14 @@ def test_event_table_orders_and_names():
     r = [0.0] * slots.size(R.ROW)
     r[R.ROW.vt], r[R.ROW.mass], r[R.ROW.wow] = 100.0, 1.0, 1.0
     v = ce.limit_vector(lim, 0.0, False, 1.0, 1.0, 1.0)
-    assert ce.step_event(r, 5.0, True, v) == ce.E_GS
-    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.LIM.airborne] == 0.0  # on the ground at the start
+    assert ce.step_event(r, 5.0, True, v) == ce.CODE.ground_station
+    # on the ground at the start
+    assert ce.step_event(r, 5.0, False, v) == ce.CODE.airspeed_high and v[ce.LIM.airborne] == 0.0
     r[R.ROW.wow] = 0.0
-    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.LIM.airborne] == 1.0
+    assert ce.step_event(r, 5.0, False, v) == ce.CODE.airspeed_high and v[ce.LIM.airborne] == 1.0
     r[R.ROW.wow] = 1.0
-    assert ce.step_event(r, 5.0, False, v) == ce.E_GROUND
+    assert ce.step_event(r, 5.0, False, v) == ce.CODE.ground_contact
     r[R.ROW.alpha] = math.nan
-    assert ce.step_event(r, 5.0, True, v) == ce.E_STATE
-    assert ce.event_message(ce.E_TENSION, lim, None, type("Out", (), {"tension": 2.5, "event": None})()) == (
+    assert ce.step_event(r, 5.0, True, v) == ce.CODE.nonfinite_state
+    assert ce.event_message(ce.CODE.tension, lim, None, type("Out", (), {"tension": 2.5, "event": None})()) == (
         "load_limit", "tether tension 2.5 N above 1 N")

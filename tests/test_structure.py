@@ -657,7 +657,6 @@ HAND_OFFSETS: dict[str, int] = {
     "autopilot/winch.py": 1,
     "sim/autopilot_kernel.py": 2,
     "sim/block_log.py": 1,
-    "sim/events.py": 1,
 }
 
 #: most positional parameters a function of the package takes (the compiled core passes blocks)

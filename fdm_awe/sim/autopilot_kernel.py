@@ -34,7 +34,7 @@ import numpy as np
 from .. import slots
 from .block_log import (AL_AIL, AL_CYCLE, AL_ELE, AL_ERR, AL_FOLD, AL_LOAD, AL_MASS, AL_RUD, AL_RX, AL_RY, AL_RZ,
                         AL_SUPPLY, AL_THR, N_ALOG, N_COMMANDS)
-from .events import E_FORCE, E_HOOK, E_NONE
+from .events import CODE
 from .flight_log import track_error
 from .glider_ledger import VALS, ledger_step
 from .kernel import GS, HANDLES, PAR, cosim_step, native_get, native_set
@@ -83,7 +83,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
     cvals = np.empty(N_LAW_PROPERTIES)
     n_m, n_t = mem.shape[0], thr_state.shape[0]
     k = k0
-    code = E_NONE
+    code = CODE.none
     q[Q_WHY] = WHY_DONE
     while k < k0 + n:
         lr = log[k]
@@ -127,7 +127,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
             native_set(f_set, ha[HA_FOLD], fc)
         p[PAR.motor], p[PAR.wref], p[PAR.duty], p[PAR.d2], p[PAR.rl] = 1.0 if motor else 0.0, omega_ref, duty, d2, rl
         code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
-        if code == E_HOOK or code == E_FORCE:
+        if code == CODE.hook_rejected or code == CODE.nonfinite_force:
             break  # the step was not done
         k += 1
         q[Q_GS_VALID] = 1.0
@@ -144,7 +144,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
         al[AL_ERR] = track_error(rx, ry, rz, x, y, z)
         al[AL_LOAD], al[AL_SUPPLY] = s_gs[int(q[Q_LEDGER_LOAD])], s_gs[int(q[Q_LEDGER_SUPPLY])]
         al[AL_MASS] = lvals[VALS.mass]
-        if code != E_NONE:
+        if code != CODE.none:
             break
         if mem[M_SREF] >= q[Q_S_END]:
             q[Q_WHY] = WHY_END

@@ -63,10 +63,10 @@ EVENTS: tuple[EventKind, ...] = (
     EventKind(12, "machine_current", "ok", "armature current {current:.1f} A above the machine's peak rating "
                                            "{peak_current:g} A"),
 )
-(E_NONE, E_HOOK, E_FORCE, E_STATE, E_GS, E_GROUND, E_VHI, E_VLO, E_TENSION, E_LOAD, E_JSBSIM,
- E_INTERRUPT, E_CURRENT) = range(len(EVENTS))
-#: event names by code
-EVENT_CODES: tuple[str, ...] = tuple(e.name for e in EVENTS)
+#: each event's code by its name (``CODE.tension``), its index in :data:`EVENTS`
+CODE = slots.declare("EventCodes", tuple(e.name for e in EVENTS))
+if any(e.code != i for i, e in enumerate(EVENTS)):  # pragma: no cover - a definition error in this module
+    raise RuntimeError("fdm_awe.sim.events: EVENTS must list each event at the index of its code")
 
 #: the vector of :func:`step_event`'s thresholds and state (see :func:`limit_vector`)
 LIM = slots.declare("EventLimits", ("vhi", "vlo", "thi", "nmax", "grace", "t0", "checkv", "ground", "airborne", "kv",
@@ -94,33 +94,33 @@ def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float
 
 
 def step_event(r, tension, gs_event, lim):
-    """Event code (:data:`EVENTS`) of a step just run, :data:`E_NONE` when the run goes on:
+    """Event code (:data:`EVENTS`) of a step just run, ``CODE.none`` when the run goes on:
     ``r`` the step's raw row (:mod:`fdm_awe.sixdof.row`), ``tension`` the line tension N,
     ``gs_event`` true when the ground station reported an event, ``lim`` the vector of
     :func:`limit_vector` (its airborne flag set once the glider is off the ground)."""
     if not math.isfinite(sum(r[FINITE_FIRST:FINITE_END])):
-        return E_STATE
+        return CODE.nonfinite_state
     if gs_event:
-        return E_GS
+        return CODE.ground_station
     if r[ROW.wow] > 0.5:  # weight on wheels: a contact touches the ground
         if lim[LIM.airborne] != 0.0 and lim[LIM.ground] != 0.0:
-            return E_GROUND
+            return CODE.ground_contact
     else:
         lim[LIM.airborne] = 1.0
     if lim[LIM.checkv] != 0.0 and r[ROW.t] - lim[LIM.t0] >= lim[LIM.grace]:
         v = r[ROW.vt] * lim[LIM.kv]  # SixDofState.airspeed
         if v > lim[LIM.vhi]:
-            return E_VHI
+            return CODE.airspeed_high
         if v < lim[LIM.vlo]:
-            return E_VLO
+            return CODE.airspeed_low
     if tension > lim[LIM.thi]:
-        return E_TENSION
+        return CODE.tension
     nmax = lim[LIM.nmax]
     if nmax == nmax:  # NaN: no load-factor limit
         nz = -r[ROW.fbz] * lim[LIM.kfz] / (r[ROW.mass] * lim[LIM.km]) / G0  # SixDofState.load_factor
         if nz > nmax or nz < -nmax:
-            return E_LOAD
-    return E_NONE
+            return CODE.load_factor
+    return CODE.none
 
 
 def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
@@ -138,13 +138,13 @@ def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
     values: dict[str, Any] = {"error": error, "force": force, "gs_event": gev,
                               "airspeed_max": limits.airspeed_max, "airspeed_min": limits.airspeed_min,
                               "max_tension": limits.max_tension, "max_load_factor": limits.max_load_factor}
-    if code == E_GROUND:
+    if code == CODE.ground_contact:
         values.update(x=state.x, y=state.y, airspeed=state.airspeed)
-    elif code in (E_VHI, E_VLO):
+    elif code in (CODE.airspeed_high, CODE.airspeed_low):
         values["airspeed"] = state.airspeed
-    elif code == E_LOAD:
+    elif code == CODE.load_factor:
         values["load_factor"] = state.load_factor
-    elif code == E_TENSION:
+    elif code == CODE.tension:
         values["tension"] = gs_out.tension
     return status, msg.format(**values)
 
@@ -165,10 +165,10 @@ def machine_current(t: np.ndarray, current: np.ndarray, rated: float,
     over = np.flatnonzero(i > peak)
     events: list[tuple[float, str]] = []
     for run in np.split(over, np.flatnonzero(np.diff(over) > 1) + 1) if len(over) else []:
-        msg = EVENTS[E_CURRENT].message.format(current=float(i[run].max()), peak_current=peak)
+        msg = EVENTS[CODE.machine_current].message.format(current=float(i[run].max()), peak_current=peak)
         events.append((float(t[run[0]]), msg))
     return i_max, above, events
 
 
-__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "LIM", "event_message", "limit_vector", "machine_current",
+__all__ = ["CODE", "EVENTS", "EventKind", "LIM", "event_message", "limit_vector", "machine_current",
            "step_event"]

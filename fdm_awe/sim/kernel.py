@@ -27,7 +27,7 @@ Arguments are packed to keep a one-step call cheap:
   that one ``log[k].tolist()`` hands a step over to Python;
 - ``s_gs``, ``c_gs`` the ground station's state and constants (updated in place).
 
-Returns ``(steps done, event code)``; the event code (:data:`fdm_awe.sim.events.EVENT_CODES`) belongs to the last
+Returns ``(steps done, event code)``; the event code (:data:`fdm_awe.sim.events.CODE`) belongs to the last
 step done (or, for a rejected hook or a non-finite force, to the step that was not done).
 """
 
@@ -39,7 +39,7 @@ import sys
 from typing import Any, Callable
 
 from .. import slots
-from .events import E_FORCE, E_HOOK, E_NONE, step_event
+from .events import CODE, step_event
 from ..groundstation.linemodels import kernel_called, kernel_sources, line_step
 from ..jitcache import jit_off
 from ..groundstation.substeps import CONST, STATION
@@ -88,7 +88,7 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
     x, y, z = p[PAR.hx], p[PAR.hy], p[PAR.hz]
     vx, vy, vz = p[PAR.hvx], p[PAR.hvy], p[PAR.hvz]
     if not (math.isfinite(x + y + z) and math.isfinite(vx + vy + vz)):
-        return E_HOOK
+        return CODE.hook_rejected
     dt = p[PAR.dt]
     nsub = int(p[PAR.nsub])
     motor = p[PAR.motor] != 0.0
@@ -97,7 +97,7 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
         p[PAR.d2], p[PAR.rl])
     p[PAR.fx], p[PAR.fy], p[PAR.fz] = fx, fy, fz
     if not math.isfinite(fx + fy + fz):
-        return E_FORCE
+        return CODE.nonfinite_force
     lbf = p[PAR.lbf]
     f_set = h[HANDLES.set]
     native_set(f_set, h[HANDLES.tx], fx / lbf)
@@ -131,13 +131,13 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
 def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
     """``n`` steps of :func:`cosim_step` from row ``k0``: (steps done, event code)."""
     k = k0
-    code = E_NONE
+    code = CODE.none
     while k < k0 + n:
         code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
-        if code == E_HOOK or code == E_FORCE:
+        if code == CODE.hook_rejected or code == CODE.nonfinite_force:
             break
         k += 1
-        if code != E_NONE:
+        if code != CODE.none:
             break
     return k - k0, code
 

@@ -30,7 +30,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .. import slots
-from .events import E_FORCE, E_HOOK, E_JSBSIM, limit_vector, step_event
+from .events import CODE, limit_vector, step_event
 from ..errors import InputError
 from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState
@@ -100,7 +100,7 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
         try:
             gs_out = gs_step(dt, hp, hv, wcmd)
         except InputError as exc:
-            return 0, event(E_HOOK, s, gs_out, error=str(exc)), s, gs_out, surf
+            return 0, event(CODE.hook_rejected, s, gs_out, error=str(exc)), s, gs_out, surf
         try:
             fx, fy, fz = gs_out.force_xyz
         except AttributeError:  # a ground station whose output has no force_xyz
@@ -109,11 +109,11 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
                 f = f.tolist()
             fx, fy, fz = f[0], f[1], f[2]
         if not isfinite(fx + fy + fz):
-            return 0, event(E_FORCE, s, gs_out, force=(fx, fy, fz)), s, gs_out, surf
+            return 0, event(CODE.nonfinite_force, s, gs_out, force=(fx, fy, fz)), s, gs_out, surf
         try:
             s = advance(fx, fy, fz)
         except (RuntimeError, ValueError, ArithmeticError) as exc:  # JSBSim gave up on the state
-            return 0, event(E_JSBSIM, s, gs_out, error=str(exc)), s, gs_out, surf
+            return 0, event(CODE.jsbsim_failed, s, gs_out, error=str(exc)), s, gs_out, surf
         r = s.raw
         raws_add(r)  # array.fromlist: the list fast path (extend iterates item by item)
         tension = gs_out.tension
@@ -185,7 +185,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
                 try:
                     mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
                 except InputError as exc:  # as GroundStation.step in the Python loop
-                    return 0, event(E_HOOK, s, gs_out, error=str(exc)), s, gs_out, surf
+                    return 0, event(CODE.hook_rejected, s, gs_out, error=str(exc)), s, gs_out, surf
                 p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
                 last_wcmd = wcmd
             m = block if n - k > block else n - k
@@ -233,11 +233,11 @@ def _compiled_event(event: Callable[..., Event], p: np.ndarray) -> Callable[[int
     from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
     def compiled_event(code: int, s: SixDofState, gs_out: Any) -> Event:
-        if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
+        if code == CODE.hook_rejected:  # the compiled step checked the hook as GroundStation.step does, with its words
             hp, hv = s.hook
             return event(code, s, gs_out, error="glider position/velocity must be finite, got "
                          f"pos={tuple(hp)!r} vel={tuple(hv)!r}")
-        if code == E_FORCE:
+        if code == CODE.nonfinite_force:
             return event(code, s, gs_out, force=(float(p[ck.PAR.fx]), float(p[ck.PAR.fy]), float(p[ck.PAR.fz])))
         return event(code, s, gs_out)
 
