@@ -39,7 +39,7 @@ from ..jitcache import jit_off
 from .converter import GENERATOR, MOTOR
 from .definitions import GroundStationParams
 from .ledger import EnergyLedger
-from .substeps import EVENTS, LEDGER, STATE, STEP, advance, compiled
+from .substeps import CONST, EVENTS, LEDGER, STATE, STEP, advance, compiled
 
 _NAN = float("nan")
 #: a compiled step not asked for yet
@@ -104,13 +104,18 @@ class Drivetrain:
         self._all = np.zeros(n + line_state)
         self._s = self._all[:n]
         tp, wp, mp, cp, ctrl = params.tether, params.winch, params.machine, params.converter, params.controller
-        #: the constants of :func:`.substeps.advance` (layout ``substeps.CONST``), as floats (Python)
-        self._cl = [wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
-                    tp.axial_stiffness, tp.breaking_load, tp.min_length, tp.max_length, mp.k, mp.resistance,
-                    mp.inductance, 2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance, ctrl.kp, ctrl.ki,
-                    ctrl.duty_min, ctrl.duty_max, cp.current_limit, cp.tension_limit,
-                    cp.tension_limit_band]
-        self._c = np.array(self._cl, dtype=float)  # and as an array (compiled)
+        c = self._c = slots.new(CONST)  # the constants of :func:`.substeps.advance` (compiled)
+        c[CONST.r], c[CONST.B], c[CONST.Mc], c[CONST.Jw] = (wp.radius, wp.viscous_friction, wp.coulomb_friction,
+                                                            wp.inertia)
+        c[CONST.mu], c[CONST.EA], c[CONST.Tbreak] = tp.mass_per_length, tp.axial_stiffness, tp.breaking_load
+        c[CONST.lmin], c[CONST.lmax] = tp.min_length, tp.max_length
+        c[CONST.K], c[CONST.R], c[CONST.L] = mp.k, mp.resistance, mp.inductance
+        c[CONST.two_ud], c[CONST.Va], c[CONST.C] = 2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance
+        c[CONST.kp], c[CONST.ki], c[CONST.d_min], c[CONST.d_max] = ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max
+        c[CONST.i_lim], c[CONST.t_lim], c[CONST.t_band] = (cp.current_limit, cp.tension_limit,
+                                                           cp.tension_limit_band)
+        #: and as Python floats (the Python step)
+        self._cl = c.tolist()
         self.ledger = EnergyLedger(self._s[slots.start(LEDGER):slots.size(LEDGER)])
         # substeps.advance compiled at the first step or question that needs it (None: Python
         # runs it): a flight whose loop compiles the whole co-simulation step never compiles it

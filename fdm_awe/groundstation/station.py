@@ -22,6 +22,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .. import slots
 from ..errors import InputError
 from ..jitcache import jit_off
 from .converter import GENERATOR, MODES, MOTOR
@@ -142,10 +143,13 @@ class GroundStation:
         self._kind = kind
         self._step_kernel: Any = _PENDING if jit_off() is None else None
         drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
-        self._scl = self.drivetrain.constants + list(self.wind) + [
-            line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
-            tp.weight_share * tp.mass_per_length, tp.gravity, float(kind.code)]
-        self._scl += kind.constants(line.param, tp, self.tether_drag_scale)
+        sc = slots.new(STATION)
+        sc[:slots.start(STATION)] = self.drivetrain.constants
+        sc[STATION.wind:STATION.wind + 3] = self.wind
+        sc[STATION.drag_c], sc[STATION.drag_on] = line_drag_coefficient(tp, self.tether_drag_scale), float(drag_on)
+        sc[STATION.weight_c], sc[STATION.g] = tp.weight_share * tp.mass_per_length, tp.gravity
+        sc[STATION.line] = kind.code
+        self._scl = sc.tolist() + kind.constants(line.param, tp, self.tether_drag_scale)
         self._s_all = self.drivetrain.state  # the step's state array: the drivetrain's, then the line's block
         kind.prepare(self._s_all, line.param)
         self._step_py = kind.step
