@@ -111,8 +111,8 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
     cn_da = (1.0 - fold) * n0 + fold * n1
     rate = np.gradient(np.unwrap(roll), dt)
     q = np.gradient(pitch, dt)
-    l_des = c[:, L.C_IXX] * np.gradient(rate, dt)
-    m_des = c[:, L.C_IYY] * np.gradient(q, dt)
+    l_des = c[:, L.COEF.ixx] * np.gradient(rate, dt)
+    m_des = c[:, L.COEF.iyy] * np.gradient(q, dt)
     qbar = np.maximum(0.5 * g.rho * V * V, 1.0)
     surfaces = np.zeros((n, 3))
     for k in range(n):
@@ -121,7 +121,7 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
         # then the rudder's yaw against the aileron's adverse yaw at the deflection flown
         a, e, _ = L.surface_deflections(ck, qbar[k], V[k], alpha[k], 0.0, rate[k], q[k], 0.0, m_des[k], l_des[k],
                                         0.0, True)
-        n_des = -qbar[k] * ck[L.C_S] * ck[L.C_B] * cn_da[k] * a * ck[L.C_LIM_A]
+        n_des = -qbar[k] * ck[L.COEF.s] * ck[L.COEF.b] * cn_da[k] * a * ck[L.COEF.lim_a]
         surfaces[k] = a, e, L.surface_deflections(ck, qbar[k], V[k], alpha[k], 0.0, rate[k], q[k], 0.0, m_des[k],
                                                   l_des[k], n_des, True)[2]
     act = control_activity(*surfaces.T, dt)

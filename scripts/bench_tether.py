@@ -78,7 +78,7 @@ def bench_station(model: str, line: float, steps: int) -> tuple[float, float, fl
         gs.step(DT, pos, vel, hold)
     us = (time.perf_counter() - t0) / steps * 1e6
     cpu_us = (time.process_time() - c0) / steps * 1e6
-    inner = float(gs._s_all[lumped_state.R_INNER]) * gs._substeps(DT) if gs.tether_segments else 0.0
+    inner = float(gs._s_all[lumped_state.HEAD.inner]) * gs._substeps(DT) if gs.tether_segments else 0.0
     return us, cpu_us, inner
 
 

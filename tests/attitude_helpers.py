@@ -8,6 +8,7 @@ import random
 
 import numpy as np
 
+from fdm_awe import slots
 from fdm_awe.sixdof import attitude_law as L
 from fdm_awe.sixdof import row as R
 from fdm_awe.sixdof.state import SixDofState
@@ -16,17 +17,20 @@ from fdm_awe.units import SLUG_FT2
 
 def random_coef(rnd: random.Random, invert: bool) -> list[float]:
     """A coefficient vector of a small glider, the unused entries NaN as the law leaves them."""
-    c = [math.nan] * L.N_COEF
-    c[L.C_CM_DE], c[L.C_CL_DA], c[L.C_CN_DR] = rnd.uniform(-1.5, -0.5), rnd.uniform(0.1, 0.4), rnd.uniform(-0.1, -0.02)
-    c[L.C_CN_BETA] = rnd.uniform(0.02, 0.1)
+    c = [math.nan] * slots.size(L.COEF)
+    c[L.COEF.cm_de], c[L.COEF.cl_da] = rnd.uniform(-1.5, -0.5), rnd.uniform(0.1, 0.4)
+    c[L.COEF.cn_dr] = rnd.uniform(-0.1, -0.02)
+    c[L.COEF.cn_beta] = rnd.uniform(0.02, 0.1)
     if invert:
-        c[L.C_CM0], c[L.C_CM_ALPHA], c[L.C_CM_Q] = rnd.uniform(-0.05, 0.1), rnd.uniform(-2.0, -0.5), rnd.uniform(-20, -5)
-        c[L.C_CL_BETA], c[L.C_CL_P], c[L.C_CL_R] = rnd.uniform(-0.1, 0.0), rnd.uniform(-0.6, -0.3), rnd.uniform(0.0, 0.2)
+        c[L.COEF.cm0], c[L.COEF.cm_alpha] = rnd.uniform(-0.05, 0.1), rnd.uniform(-2.0, -0.5)
+        c[L.COEF.cm_q] = rnd.uniform(-20, -5)
+        c[L.COEF.cl_beta], c[L.COEF.cl_p] = rnd.uniform(-0.1, 0.0), rnd.uniform(-0.6, -0.3)
+        c[L.COEF.cl_r] = rnd.uniform(0.0, 0.2)
     else:
-        c[L.C_DE_TRIM] = rnd.uniform(-0.1, 0.1)
-    c[L.C_IXX], c[L.C_IYY], c[L.C_IZZ] = rnd.uniform(0.02, 0.2), rnd.uniform(0.01, 0.1), rnd.uniform(0.03, 0.3)
-    c[L.C_S], c[L.C_B], c[L.C_C] = rnd.uniform(0.2, 0.5), rnd.uniform(1.2, 2.5), rnd.uniform(0.15, 0.3)
-    c[L.C_LIM_E], c[L.C_LIM_A], c[L.C_LIM_R] = 0.349, 0.349, 0.436
+        c[L.COEF.de_trim] = rnd.uniform(-0.1, 0.1)
+    c[L.COEF.ixx], c[L.COEF.iyy], c[L.COEF.izz] = rnd.uniform(0.02, 0.2), rnd.uniform(0.01, 0.1), rnd.uniform(0.03, 0.3)
+    c[L.COEF.s], c[L.COEF.b], c[L.COEF.c] = rnd.uniform(0.2, 0.5), rnd.uniform(1.2, 2.5), rnd.uniform(0.15, 0.3)
+    c[L.COEF.lim_e], c[L.COEF.lim_a], c[L.COEF.lim_r] = 0.349, 0.349, 0.436
     return c
 
 
@@ -62,8 +66,9 @@ class Glider:
 def state(fold: float, rnd: random.Random) -> SixDofState:
     """A state at fold state ``fold``: random angles and rates, flight values of qbar and
     airspeed, in JSBSim's units with the adapter's scale factors."""
-    raw = [rnd.uniform(-0.3, 0.3) for _ in range(R.N_ROW)]
-    raw[R.QBAR], raw[R.VT], raw[R.FOLD], raw[R.MASS] = rnd.uniform(1, 8), rnd.uniform(20, 100), fold, 0.05
-    scale = [1.0] * R.N_ROW
-    scale[R.QBAR], scale[R.VT], scale[R.MASS] = 47.88, 0.3048, 14.59
-    return SixDofState(raw, scale, [0.0] * R.N_ROW, ((0.0,) * 3, (0.0,) * 3), (0.0, 0.0, 0.0), 12.0)
+    raw = [rnd.uniform(-0.3, 0.3) for _ in range(slots.size(R.ROW))]
+    raw[R.ROW.qbar], raw[R.ROW.vt] = rnd.uniform(1, 8), rnd.uniform(20, 100)
+    raw[R.ROW.fold], raw[R.ROW.mass] = fold, 0.05
+    scale = [1.0] * slots.size(R.ROW)
+    scale[R.ROW.qbar], scale[R.ROW.vt], scale[R.ROW.mass] = 47.88, 0.3048, 14.59
+    return SixDofState(raw, scale, [0.0] * slots.size(R.ROW), ((0.0,) * 3, (0.0,) * 3), (0.0, 0.0, 0.0), 12.0)

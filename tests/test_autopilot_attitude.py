@@ -81,7 +81,7 @@ def test_the_loops_delegate_to_attitude_commands():
     integ = [0.0, 0.0]
     for k in range(20):
         s = state(0.0, rnd)
-        s._r[R.FBZ] = -rnd.uniform(0.5, 3.0)
+        s._r[R.ROW.fbz] = -rnd.uniform(0.5, 3.0)
         fx, fy, fz = s.accel_body.tolist()
         out = loops.update(s, 0.12, 0.5, 1 / 120)
         assert out == attitude_commands(loops.law.coef.tolist(), loops.gains.law_gains(), 9.80665, s.qbar,

@@ -19,8 +19,8 @@ from fdm_awe.errors import InputError
 from fdm_awe.jitcache import jit_off
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation.linemodels import LINE_MODELS, TetherModel, allowed_forms, parse_tether
-from fdm_awe.groundstation.substeps import C_LINE, STATE, STATION_CONSTANTS
-from fdm_awe.groundstation.ledger import FIELDS as LEDGER_FIELDS
+from fdm_awe import slots
+from fdm_awe.groundstation.substeps import STATION, STEP
 from fdm_awe.sim.loop import CoSim, Limits
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer
 
@@ -65,8 +65,8 @@ def test_station_takes_the_model_or_its_form_alike(form: str) -> None:
     for tether in (model, form):
         gs = GroundStation(gsp, wind_ned=(6.0, 0.0, 0.0), tether=tether)
         assert gs.line == model and gs.tether == form
-        assert gs._sc[C_LINE] == model.code and len(STATION_CONSTANTS) == C_LINE + 1
-        assert gs._s_all.shape[0] == len(STATE) + len(LEDGER_FIELDS) + model.state_size()
+        assert gs._sc[STATION.line] == model.code and slots.size(STATION) == STATION.line + 1
+        assert gs._s_all.shape[0] == slots.size(STEP) + model.state_size()
         d = 120.0
         gs.reset(gs.unstretched_length(d, 20.0), 0.0, "generator")
         rows = []

@@ -25,9 +25,9 @@ from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_stati
 from fdm_awe.groundstation import lumped as L
 from fdm_awe.groundstation import lumped_state as LS
 from fdm_awe.groundstation.linemodels import parse_tether
-from fdm_awe.groundstation.substeps import C_DRAG_ON, C_G, C_WIND
+from fdm_awe.groundstation.substeps import CONST, STATE, STATION
 
-G_IDX, DRAG_ON, WIND = C_G, C_DRAG_ON, slice(C_WIND, C_WIND + 3)
+G_IDX, DRAG_ON, WIND = STATION.g, STATION.drag_on, slice(STATION.wind, STATION.wind + 3)
 
 
 def _line(n: int, length: float, *, drag: bool = False, gravity: bool = True, zeta: float = 0.0,
@@ -36,12 +36,12 @@ def _line(n: int, length: float, *, drag: bool = False, gravity: bool = True, ze
     gs = GroundStation(load_ground_station(line="sized"), tether=f"lumped:{n}")
     c = np.array(gs._sc)
     s = gs._s_all.copy()
-    c[LS.C_ZETA] = zeta
+    c[LS.LINE.zeta] = zeta
     c[DRAG_ON] = 1.0 if drag else 0.0
     if not gravity:
         c[G_IDX] = 0.0
     c[WIND] = wind
-    s[0] = length
+    s[STATE.length] = length
     return s, c, gs
 
 
@@ -51,14 +51,14 @@ def _hook_force(s: np.ndarray, c: np.ndarray, n: int) -> np.ndarray:
     nd = LS.nodes(s, n)
     T = LS.tensions(s, n)
     u = (nd[-1] - nd[-2]) / np.linalg.norm(nd[-1] - nd[-2])
-    return -T[-1] * u + np.array([0.0, 0.0, 0.5 * c[4] * s[0] / n * c[G_IDX]])
+    return -T[-1] * u + np.array([0.0, 0.0, 0.5 * c[CONST.mu] * s[STATE.length] / n * c[G_IDX]])
 
 
 def _winch_force(s: np.ndarray, c: np.ndarray, n: int) -> np.ndarray:
     nd = LS.nodes(s, n)
     T = LS.tensions(s, n)
     u = (nd[1] - nd[0]) / np.linalg.norm(nd[1] - nd[0])
-    return T[0] * u + np.array([0.0, 0.0, 0.5 * c[4] * s[0] / n * c[G_IDX]])
+    return T[0] * u + np.array([0.0, 0.0, 0.5 * c[CONST.mu] * s[STATE.length] / n * c[G_IDX]])
 
 
 # ---------------------------------------------------------------- input checks
@@ -105,7 +105,7 @@ def test_static_catenary_matches_the_elastic_closed_form(n: int) -> None:
     s, c, gs = _line(n, L0)
     L.place_line(s, c, n, span, 0.0, -height)
     L.compiled_function("relax_line")(s, c, n, 40.0)
-    EA, w = c[5], c[4] * c[G_IDX]
+    EA, w = c[CONST.EA], c[CONST.mu] * c[G_IDX]
     H, V = _irvine(span, height, L0, EA, w)
     Vb = V - w * L0
 
@@ -137,8 +137,8 @@ def test_cross_flow_shape_is_the_normal_drag_catenary() -> None:
     L.compiled_function("relax_line")(s, c, n, 40.0)
     T = LS.tensions(s, n)
     assert T.min() > 0.99 * T.max()  # normal load only: a uniform tension
-    EA = c[5]
-    q = -c[LS.C_DRAGK] * U * U  # N/m of stretched line, flow normal to the line
+    EA = c[CONST.EA]
+    q = -c[LS.LINE.drag_k] * U * U  # N/m of stretched line, flow normal to the line
     # the exact shape: tan(phi) = (q/T) s from the middle, a catenary of parameter T/q whose
     # arc is the line stretched by T/EA
 
@@ -181,7 +181,7 @@ def _run(s: np.ndarray, c: np.ndarray, n: int, seconds: float, hook: callable, l
         m = L.inner_count(c, dt, min(l0, l1) / n)
         out = steps(s, c, n, m, dt / m, l0 / n, l1 / n, *h0, *h1, 0.0)
         f = np.array(out[:3]) / m
-        s[0] = l1
+        s[STATE.length] = l1
         t += dt
     L.store_energies(s, c, n, 1)
     return f
@@ -227,7 +227,7 @@ def _swept_line(n: int, *, drag: bool, gravity: bool, radius: float = 150.0, ele
     s, c, gs = _line(n, radius / (1.0 + 100.0 / 6760.0), drag=drag, gravity=gravity, zeta=0.05)
     L.place_line(s, c, n, *hook(0.0))
     L.compiled_function("relax_line")(s, c, n, 3.0)
-    l_fixed = float(s[0])
+    l_fixed = float(s[STATE.length])
     f = _run(s, c, n, seconds, hook, lambda t: l_fixed)  # line, half drag and half node weight
     p = np.array(hook(seconds))
     v = np.array([-w * p[1], w * p[0], 0.0])
@@ -240,13 +240,13 @@ def test_glider_end_force_against_the_straight_line_shares() -> None:
     # drag at the glider's speed (straight line, velocity growing linearly along it: 1/4)
     f, p, v, c = _swept_line(n, drag=True, gravity=False, radius=radius, speed=speed)
     u = p / np.linalg.norm(p)
-    full_drag = -c[LS.C_DRAGK] * radius * speed * speed
+    full_drag = -c[LS.LINE.drag_k] * radius * speed * speed
     share_drag = -(f - (f @ u) * u) @ (v / speed) / full_drag
     assert 0.225 < share_drag < 0.275  # within 10 % of the straight line's 1/4
     # weight: what adding it changes in the force normal to the chord, as a share of the
     # weight's normal part (the drag damps the line's swinging in both runs)
     f_w, p, v, c = _swept_line(n, drag=True, gravity=True, radius=radius, speed=speed)
-    W = c[4] * radius * c[G_IDX]
+    W = c[CONST.mu] * radius * c[G_IDX]
     down = np.array([0.0, 0.0, 1.0])
     w_perp = down - (down @ u) * u
     df = f_w - f
@@ -339,7 +339,7 @@ def test_nodes_see_the_wind_profile_at_their_own_height_plus_the_gust() -> None:
     assert float(prof.factor(10.0)) == pytest.approx(1.0) and float(prof.factor(140.0)) > 1.4
     gs.set_line_wind(None, (0.0, 0.0))  # uniform: the station's own wind
     c = np.array(gs._sc)
-    assert L.wind_at(c, -50.0) == (c[C_WIND], c[C_WIND + 1], c[C_WIND + 2])
+    assert L.wind_at(c, -50.0) == (c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2])
     outs = []
     for jit in (True, False):
         st = GroundStation(load_ground_station(line="sized"), wind_ned=(-8.0, 0.0, 0.0), tether="lumped:4")

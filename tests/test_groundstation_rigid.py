@@ -104,7 +104,7 @@ def test_inextensible_the_drum_follows_a_speed_step_at_once() -> None:
 
 
 def test_stiff_limit_tends_to_the_inextensible_line() -> None:
-    c = [0.0] * rigid.C_STIFFNESS + [rigid.STIFFNESS, rigid.REFERENCE_STEP]
+    c = [0.0] * rigid.RIGID.stiffness + [rigid.STIFFNESS, rigid.REFERENCE_STEP]
     assert rigid.stiffness(c, DT) == rigid.STIFFNESS
     assert rigid.stiffness(c, DT / 4) == pytest.approx(16 * rigid.STIFFNESS, rel=1e-12)
     v = 3.0

@@ -11,6 +11,7 @@ import random
 import numpy as np
 import pytest
 
+from fdm_awe import slots
 from fdm_awe.sim import events as ce
 from fdm_awe.sim.result import STATUSES
 from fdm_awe.sim.loop import CoSim, Limits
@@ -218,13 +219,13 @@ def test_a_bad_winch_command_ends_both_loops_alike():
 
 
 def _random_row(rnd: random.Random) -> list[float]:
-    r = [rnd.uniform(-2.0, 2.0) for _ in range(R.N_ROW)]
-    r[R.T] = rnd.uniform(0.0, 20.0)
-    r[R.H_SL] = rnd.uniform(-10.0, 500.0)
-    r[R.VT] = rnd.uniform(0.0, 150.0)
-    r[R.FBZ] = rnd.uniform(-60.0, 10.0)
-    r[R.MASS] = rnd.uniform(0.02, 0.1)
-    r[R.WOW] = rnd.choice((0.0, 1.0))
+    r = [rnd.uniform(-2.0, 2.0) for _ in range(slots.size(R.ROW))]
+    r[R.ROW.t] = rnd.uniform(0.0, 20.0)
+    r[R.ROW.h_sl] = rnd.uniform(-10.0, 500.0)
+    r[R.ROW.vt] = rnd.uniform(0.0, 150.0)
+    r[R.ROW.fbz] = rnd.uniform(-60.0, 10.0)
+    r[R.ROW.mass] = rnd.uniform(0.02, 0.1)
+    r[R.ROW.wow] = rnd.choice((0.0, 1.0))
     return r
 
 
@@ -241,7 +242,7 @@ def test_hook_kinematics_compiled_equals_python():
         py = R.hook_kinematics(r, *frame, *off)
         assert jit(np.array(r), *frame, *off) == py
         if off == (0.0, 0.0, 0.0):
-            assert py[1] == (r[R.V_NORTH] * 0.3048, r[R.V_EAST] * 0.3048, r[R.V_DOWN] * 0.3048)
+            assert py[1] == (r[R.ROW.v_north] * 0.3048, r[R.ROW.v_east] * 0.3048, r[R.ROW.v_down] * 0.3048)
 
 
 def test_step_event_compiled_equals_python_and_reaches_every_code():
@@ -266,7 +267,9 @@ def test_step_event_compiled_equals_python_and_reaches_every_code():
         assert jit(np.array(r), tension, gs_event, va) == code
         assert np.array_equal(va, np.array(v), equal_nan=True)  # the airborne flag updated alike
         seen.add(code)
-    assert seen == {ce.E_NONE, ce.E_STATE, ce.E_GS, ce.E_GROUND, ce.E_VHI, ce.E_VLO, ce.E_TENSION, ce.E_LOAD}
+    C = ce.CODE
+    assert seen == {C.none, C.nonfinite_state, C.ground_station, C.ground_contact, C.airspeed_high, C.airspeed_low,
+                    C.tension, C.load_factor}
 
 
 def test_kernel_row_layout_matches_the_logged_columns():
@@ -275,8 +278,7 @@ def test_kernel_row_layout_matches_the_logged_columns():
     from fdm_awe.sim.result import COLUMNS
 
     logged = COLUMNS[COLUMNS.index("tension"):COLUMNS.index("fz") + 1]
-    assert tuple(c.replace("p_electrical", "p_elec") for c in ck.GS_COLUMNS[:len(logged)]) == logged
-    assert ck.N_GS == len(ck.GS_COLUMNS) and ck.K_FZ + 1 == len(ck.TAIL_COLUMNS)
+    assert tuple(c.replace("p_electrical", "p_elec") for c in slots.names(ck.GS)[:len(logged)]) == logged
 
 
 def test_event_table_orders_and_names():
@@ -286,16 +288,17 @@ def test_event_table_orders_and_names():
     assert [e.code for e in ce.EVENTS] == list(range(len(ce.EVENTS)))
     assert {e.status for e in ce.EVENTS} - {""} <= set(STATUSES)
     lim = Limits(airspeed_max=10.0, max_tension=1.0)
-    r = [0.0] * R.N_ROW
-    r[R.VT], r[R.MASS], r[R.WOW] = 100.0, 1.0, 1.0
+    r = [0.0] * slots.size(R.ROW)
+    r[R.ROW.vt], r[R.ROW.mass], r[R.ROW.wow] = 100.0, 1.0, 1.0
     v = ce.limit_vector(lim, 0.0, False, 1.0, 1.0, 1.0)
-    assert ce.step_event(r, 5.0, True, v) == ce.E_GS
-    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.L_AIRBORNE] == 0.0  # on the ground at the start
-    r[R.WOW] = 0.0
-    assert ce.step_event(r, 5.0, False, v) == ce.E_VHI and v[ce.L_AIRBORNE] == 1.0
-    r[R.WOW] = 1.0
-    assert ce.step_event(r, 5.0, False, v) == ce.E_GROUND
-    r[R.ALPHA] = math.nan
-    assert ce.step_event(r, 5.0, True, v) == ce.E_STATE
-    assert ce.event_message(ce.E_TENSION, lim, None, type("Out", (), {"tension": 2.5, "event": None})()) == (
+    assert ce.step_event(r, 5.0, True, v) == ce.CODE.ground_station
+    # on the ground at the start
+    assert ce.step_event(r, 5.0, False, v) == ce.CODE.airspeed_high and v[ce.LIM.airborne] == 0.0
+    r[R.ROW.wow] = 0.0
+    assert ce.step_event(r, 5.0, False, v) == ce.CODE.airspeed_high and v[ce.LIM.airborne] == 1.0
+    r[R.ROW.wow] = 1.0
+    assert ce.step_event(r, 5.0, False, v) == ce.CODE.ground_contact
+    r[R.ROW.alpha] = math.nan
+    assert ce.step_event(r, 5.0, True, v) == ce.CODE.nonfinite_state
+    assert ce.event_message(ce.CODE.tension, lim, None, type("Out", (), {"tension": 2.5, "event": None})()) == (
         "load_limit", "tether tension 2.5 N above 1 N")

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, fsolve, minimize_scalar
 
-from fdm_awe import ROOT
+from fdm_awe import ROOT, slots
 from fdm_awe.definitions.xmlutil import XmlDoc
 from fdm_awe.sixdof import JSBSimGlider, Stabilizer, Surfaces
 from fdm_awe.units import FT, SLUG
@@ -298,9 +298,9 @@ def test_raw_row_positions_read_their_named_properties_and_give_the_hook():
         for _ in range(30):
             g.advance(-2.0, 0.5, 3.0)
         r = g.raw()
-        assert len(r) == R.N_ROW == len(R.PROPERTIES)
+        assert len(r) == slots.size(R.ROW) == len(R.PROPERTIES)
         for i, prop in R.PROPERTIES.items():
-            if i == R.FOLD:
+            if i == R.ROW.fold:
                 assert r[i] == (g.fdm[R.FOLD_PROPERTY] if g.foldable else 0.0)
             else:
                 assert r[i] == g.fdm[prop], prop

@@ -64,14 +64,14 @@ def test_law_commands_compiled_equals_python_on_every_branch():
         assert out == py and type(out[0]) is float
         assert jit_integ.tolist() == py_integ
         if not bank_integral:
-            assert py_integ[L.I_PHI] == integ[L.I_PHI]
+            assert py_integ[L.INTEG.phi] == integ[L.INTEG.phi]
         for v in py:
             seen.add("+1" if v == 1.0 else "-1" if v == -1.0 else "0" if v == 0.0 else "in")
         if any(v != v for v in x):
             assert all(-1.0 <= v <= 1.0 for v in py)  # NaN became 0 (or a limit)
             seen.add("nan")
-        seen.update(f"ia{v:+}" for v in (py_integ[L.I_ALPHA],) if abs(v) == 0.2)
-        seen.update(f"ip{v:+}" for v in (py_integ[L.I_PHI],) if abs(v) == 0.5 and bank_integral)
+        seen.update(f"ia{v:+}" for v in (py_integ[L.INTEG.alpha],) if abs(v) == 0.2)
+        seen.update(f"ip{v:+}" for v in (py_integ[L.INTEG.phi],) if abs(v) == 0.5 and bank_integral)
     assert seen >= {"+1", "-1", "0", "in", "nan", "ia+0.2", "ia-0.2", "ip+0.5", "ip-0.5"}, seen
 
 
@@ -96,8 +96,8 @@ def test_the_law_class_delegates_and_refreshes_with_the_foldstate(invert, bank_i
         refreshed = gl.reads > reads
         reads = gl.reads
         assert refreshed == (k in (0, 2, 3, 5))
-        assert c[L.C_CM_DE] == -1.1 * (1.0 + 0.3 * law.fold_at[0])
-        assert math.isnan(c[L.C_CM0]) != invert and math.isnan(c[L.C_DE_TRIM]) == invert
+        assert c[L.COEF.cm_de] == -1.1 * (1.0 + 0.3 * law.fold_at[0])
+        assert math.isnan(c[L.COEF.cm0]) != invert and math.isnan(c[L.COEF.de_trim]) == invert
     law.invalidate()
     law.commands(s, 0.1, 0.2, 0.0, 0.0, 0.0, 0.0)
     assert gl.reads > reads

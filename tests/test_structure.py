@@ -61,7 +61,8 @@ LONG_FUNCTIONS: dict[str, tuple[int, str]] = {
                                                  "than two loops, bit-identical"),
     "groundstation/lumped.py:inner_steps": (86, "docstring 30, code 56: a step's closing half kick fused with the "
                                                 "next one's opening kick and drift (same rounding)"),
-    "groundstation/substeps.py:substeps": (139, "docstring 20, code 119: the compiled sub-step loop; not split yet"),
+    "groundstation/substeps.py:substeps": (139, "docstring 15, code 124: the compiled sub-step loop (its "
+                                                 "inputs read from the blocks into locals); not split yet"),
     "sim/autopilot_kernel.py:autopilot_steps": (84, "docstring 5, code 79: the compiled block of steps"),
     "sim/flight.py:fly": (128, "docstring 34, code 83; not split yet"),
 }
@@ -654,16 +655,8 @@ HAND_OFFSETS: dict[str, int] = {
     "autopilot/motor.py": 2,
     "autopilot/thrust.py": 1,
     "autopilot/winch.py": 1,
-    "groundstation/lumped_state.py": 3,
-    "groundstation/rigid.py": 1,
-    "groundstation/substeps.py": 1,
     "sim/autopilot_kernel.py": 2,
     "sim/block_log.py": 1,
-    "sim/events.py": 2,
-    "sim/glider_ledger.py": 2,
-    "sim/kernel.py": 4,
-    "sixdof/attitude_law.py": 3,
-    "sixdof/row.py": 1,
 }
 
 #: most positional parameters a function of the package takes (the compiled core passes blocks)
@@ -683,8 +676,8 @@ LONG_SIGNATURES: dict[str, tuple[int, str]] = {
     "groundstation/station_output.py:GroundStationOutput.__init__": (17, "one slot per output"),
     "groundstation/substeps.py:hold_current": (20, "compiled relation of floats"),
     "groundstation/substeps.py:hold_generator": (22, "compiled relation of floats"),
-    "groundstation/substeps.py:substeps": (57, "not yet on blocks"),
-    "groundstation/substeps.py:advance": (17, "not yet on blocks"),
+    "groundstation/substeps.py:advance": (16, "the drivetrain's step: the line model's step arguments and "
+                                              "the prescribed tension"),
     "groundstation/winch.py:drum_step": (17, "compiled relation of floats"),
     "groundstation/winch.py:end_stop": (17, "compiled relation of floats"),
     "sim/autopilot_kernel.py:autopilot_steps": (33, "not yet on blocks"),

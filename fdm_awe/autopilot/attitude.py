@@ -26,7 +26,7 @@ from typing import Any
 from ..constants import G0
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.attitude_law import AttitudeLaw, StabilizerGains, law_commands, surface_deflections, wrap_angle
-from ..sixdof.row import ALPHA, BETA, FBX, FBY, FBZ, MASS, P_RATE, PHI, Q_RATE, QBAR, R_RATE, THETA, VT
+from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState
 
 
@@ -69,10 +69,11 @@ def attitude_from_row(row: Any, scale: Any, alpha_cmd: float, roll_cmd: float, d
     specific force from the body forces over the mass), for angle of attack ``alpha_cmd`` and bank
     ``roll_cmd`` [rad] after ``dt`` [s]; ``c``, ``gains``, ``integ`` the law's vectors (``integ``
     updated), ``g`` [m/s^2] the loops' gravity."""
-    m = row[MASS] * scale[MASS]
-    return attitude_commands(c, gains, g, row[QBAR] * scale[QBAR], row[VT] * scale[VT], row[PHI], row[THETA],
-                             row[ALPHA], row[BETA], row[P_RATE], row[Q_RATE], row[R_RATE], row[FBX] * scale[FBX] / m,
-                             row[FBY] * scale[FBY] / m, row[FBZ] * scale[FBZ] / m, alpha_cmd, roll_cmd, dt, integ)
+    m = row[ROW.mass] * scale[ROW.mass]
+    return attitude_commands(c, gains, g, row[ROW.qbar] * scale[ROW.qbar], row[ROW.vt] * scale[ROW.vt], row[ROW.phi],
+                             row[ROW.theta], row[ROW.alpha], row[ROW.beta], row[ROW.p_rate], row[ROW.q_rate],
+                             row[ROW.r_rate], row[ROW.fbx] * scale[ROW.fbx] / m, row[ROW.fby] * scale[ROW.fby] / m,
+                             row[ROW.fbz] * scale[ROW.fbz] / m, alpha_cmd, roll_cmd, dt, integ)
 
 
 #: the pure functions :func:`attitude_commands` and :func:`attitude_from_row` call (a compiled

@@ -37,7 +37,7 @@ import numpy as np
 
 from ..definitions.aircraft import stall_speed
 from ..pointmass.fold import fold_fraction
-from ..sixdof.row import FOLD, THRUST, VT, WIND_DOWN, WIND_EAST, WIND_NORTH, si_position, si_velocity
+from ..sixdof.row import ROW, si_position, si_velocity
 from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
 from .fold import fold_command
 from .ground import ground_guard, pull_out_height
@@ -202,12 +202,12 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     # the glider's state, SI (SixDofState's relations: raw * scale + offset)
     px, py, pz = si_position(row, scale, offset)
     vx, vy, vz = si_velocity(row, scale)
-    kw = scale[WIND_NORTH]
+    kw = scale[ROW.wind_north]
     # wind = vel - vel_air = vel - (vel - total wind), as the autopilot forms it
-    wx = vx - (vx - row[WIND_NORTH] * kw)
-    wy = vy - (vy - row[WIND_EAST] * kw)
-    wz = vz - (vz - row[WIND_DOWN] * kw)
-    fold = row[FOLD]
+    wx = vx - (vx - row[ROW.wind_north] * kw)
+    wy = vy - (vy - row[ROW.wind_east] * kw)
+    wz = vz - (vz - row[ROW.wind_down] * kw)
+    fold = row[ROW.fold]
     polar = polar_at(cu, cf, par[A_RATIO], par[A_S_U], fold)
     # the reference point at the path parameter, and the parameter one step later
     s_par = mem[M_SREF]
@@ -335,8 +335,8 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         # after a start the propeller spins up from rest under a rising throttle ceiling
         armed = par[A_ARMED] != 0.0
         ceiling = motor_ceiling(t, gate, motor_mem)
-        thr = throttle_step(thrust, row[THRUST] * scale[THRUST], row[VT] * scale[VT], dt, armed, ceiling,
-                            par[A_THR_KP], par[A_THR_KI],
+        thr = throttle_step(thrust, row[ROW.thrust] * scale[ROW.thrust], row[ROW.vt] * scale[ROW.vt], dt, armed,
+                            ceiling, par[A_THR_KP], par[A_THR_KI],
                             par[A_THR_VZERO], par[A_THRUST_MAX_STATIC], thr_state)
         thr_state[T_LAST], thr_state[T_THRUST] = thr, thrust
     out[O_CYCLE], out[O_TC], out[O_PHASE], out[O_SEG] = k, tc, phase, seg

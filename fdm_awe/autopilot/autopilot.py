@@ -61,7 +61,7 @@ from ..constants import G0, RHO0
 from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
 from ..sixdof.adapter import JSBSimGlider
-from ..sixdof.row import WOW
+from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
 from .auto_mode import AutoStep
@@ -435,6 +435,6 @@ class Autopilot(VehicleCommands, RecoverMode):
         """After a compiled block of AUTO steps ending in the raw row ``raw``: the step's time,
         the ground contact, the last step's reference point and command (built when read)."""
         self._t_now = self.auto.t_last
-        self.airborne = not raw[WOW] > 0.5
+        self.airborne = not raw[ROW.wow] > 0.5
         self._auto_point = self._auto_guidance = True
         self.path_rate = self.auto.path_rate

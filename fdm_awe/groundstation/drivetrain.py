@@ -33,12 +33,13 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..jitcache import jit_off
 
 from .converter import GENERATOR, MOTOR
 from .definitions import GroundStationParams
-from .ledger import FIELDS as LEDGER_FIELDS, EnergyLedger
-from .substeps import EVENTS, STATE, advance, compiled
+from .ledger import EnergyLedger
+from .substeps import CONST, EVENTS, LEDGER, STATE, STEP, advance, compiled
 
 _NAN = float("nan")
 #: a compiled step not asked for yet
@@ -71,45 +72,51 @@ class Drivetrain:
     The states (``length`` m, ``omega`` rad/s, ``current`` A, ``u_link`` V, ``integ`` and
     ``duty`` (-), ``broken``, ``at_stop``, ``stretch`` m, ``mode``) and the energy ledger live in
     one float64 array (layout :data:`fdm_awe.groundstation.substeps.STATE` followed by the
-    ledger's terms), so that the compiled ground-station step updates them in place; as
-    attributes they read as Python floats, bools and the mode string."""
+    ledger's terms, :data:`fdm_awe.groundstation.substeps.LEDGER`, and the sub-step loop's work
+    area, :data:`fdm_awe.groundstation.substeps.STEP`), so that the compiled ground-station step
+    updates them in place; as attributes they read as Python floats, bools and the mode string."""
 
-    length = _state_float(0, "unstretched paid-out line length, m")
-    omega = _state_float(1, "drum speed, rad/s (> 0 reel-out)")
-    current = _state_float(2, "armature current, A")
-    u_link = _state_float(3, "DC-link voltage, V")
-    integ = _state_float(4, "PI integrator (duty)")
-    duty = _state_float(5, "duty in effect (T1 in motor mode, below 0 under the current limit's braking; T2 in "
+    length = _state_float(STATE.length, "unstretched paid-out line length, m")
+    omega = _state_float(STATE.omega, "drum speed, rad/s (> 0 reel-out)")
+    current = _state_float(STATE.current, "armature current, A")
+    u_link = _state_float(STATE.u_link, "DC-link voltage, V")
+    integ = _state_float(STATE.integ, "PI integrator (duty)")
+    duty = _state_float(STATE.duty, "duty in effect (T1 in motor mode, below 0 under the current limit's braking; T2 in "
                            "generator mode)")
-    broken = _state_bool(6, "the line is broken")
-    at_stop = _state_bool(7, "the drum is at an end stop")
-    stretch = _state_float(8, "d - l at the end of the last sub-step, m")
+    broken = _state_bool(STATE.broken, "the line is broken")
+    at_stop = _state_bool(STATE.at_stop, "the drum is at an end stop")
+    stretch = _state_float(STATE.stretch, "d - l at the end of the last sub-step, m")
 
     @property
     def mode(self) -> str:
         """Converter mode in effect ("generator" / "motor")."""
-        return MOTOR if self._s.item(9) != 0.0 else GENERATOR
+        return MOTOR if self._s.item(STATE.motor) != 0.0 else GENERATOR
 
     @mode.setter
     def mode(self, v: str) -> None:
-        self._s[9] = 1.0 if v == MOTOR else 0.0
+        self._s[STATE.motor] = 1.0 if v == MOTOR else 0.0
 
     def __init__(self, params: GroundStationParams, line_state: int = 0) -> None:
         self.params = params
-        n = len(STATE) + len(LEDGER_FIELDS)
+        n = slots.size(STEP)
         #: the state array of a station's step: the drivetrain's states and ledger, then
         #: ``line_state`` slots of the line model's block (:mod:`.linemodels`)
         self._all = np.zeros(n + line_state)
         self._s = self._all[:n]
         tp, wp, mp, cp, ctrl = params.tether, params.winch, params.machine, params.converter, params.controller
-        #: the constants of :func:`.substeps.advance` (``DRIVETRAIN_CONSTANTS``), as floats (Python)
-        self._cl = [wp.radius, wp.viscous_friction, wp.coulomb_friction, wp.inertia, tp.mass_per_length,
-                    tp.axial_stiffness, tp.breaking_load, tp.min_length, tp.max_length, mp.k, mp.resistance,
-                    mp.inductance, 2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance, ctrl.kp, ctrl.ki,
-                    ctrl.duty_min, ctrl.duty_max, cp.current_limit, cp.tension_limit,
-                    cp.tension_limit_band]
-        self._c = np.array(self._cl, dtype=float)  # and as an array (compiled)
-        self.ledger = EnergyLedger(self._s[len(STATE):])
+        c = self._c = slots.new(CONST)  # the constants of :func:`.substeps.advance` (compiled)
+        c[CONST.r], c[CONST.B], c[CONST.Mc], c[CONST.Jw] = (wp.radius, wp.viscous_friction, wp.coulomb_friction,
+                                                            wp.inertia)
+        c[CONST.mu], c[CONST.EA], c[CONST.Tbreak] = tp.mass_per_length, tp.axial_stiffness, tp.breaking_load
+        c[CONST.lmin], c[CONST.lmax] = tp.min_length, tp.max_length
+        c[CONST.K], c[CONST.R], c[CONST.L] = mp.k, mp.resistance, mp.inductance
+        c[CONST.two_ud], c[CONST.Va], c[CONST.C] = 2.0 * cp.device_drop, cp.supply_voltage, cp.link_capacitance
+        c[CONST.kp], c[CONST.ki], c[CONST.d_min], c[CONST.d_max] = ctrl.kp, ctrl.ki, ctrl.duty_min, ctrl.duty_max
+        c[CONST.i_lim], c[CONST.t_lim], c[CONST.t_band] = (cp.current_limit, cp.tension_limit,
+                                                           cp.tension_limit_band)
+        #: and as Python floats (the Python step)
+        self._cl = c.tolist()
+        self.ledger = EnergyLedger(self._s[slots.start(LEDGER):slots.size(LEDGER)])
         # substeps.advance compiled at the first step or question that needs it (None: Python
         # runs it): a flight whose loop compiles the whole co-simulation step never compiles it
         self._kernel: Any = _PENDING if jit_off() is None else None
@@ -118,13 +125,14 @@ class Drivetrain:
     # -- state -------------------------------------------------------------------------
     @property
     def state(self) -> np.ndarray:
-        """The states and the ledger's terms in one float64 array (layout above), then the line
-        model's block (``line_state`` slots): the array the steps update in place, not a copy."""
+        """The states, the ledger's terms and the work area in one float64 array (layout above),
+        then the line model's block (``line_state`` slots): the array the steps update in place,
+        not a copy."""
         return self._all
 
     @property
     def constants(self) -> list[float]:
-        """The constants of :func:`.substeps.advance` (``DRIVETRAIN_CONSTANTS``) as Python
+        """The constants of :func:`.substeps.advance` (layout ``substeps.CONST``) as Python
         floats (a copy)."""
         return list(self._cl)
 
@@ -215,9 +223,8 @@ class Drivetrain:
         Returns ``(mean tension N, mean load power W, mean supply power W, event)``
         (:func:`.substeps.advance`, compiled when numba is available).
         """
-        fixed = fixed_tension is not None
         args = (n, dt, x, y, z, vx, vy, vz, mode == MOTOR, omega_ref, _NAN if duty_cmd is None else duty_cmd,
-                boost_duty, RL, fixed, fixed_tension if fixed else 0.0)
+                boost_duty, RL, _NAN if fixed_tension is None else fixed_tension)
         kern = self._kernel if self._kernel is not _PENDING else self._advance()
         if kern is not None:
             tmean, pload, psup, ev = kern(self._s, self._c, *args)

@@ -3,12 +3,12 @@
 An entry (:class:`LineKind`) holds everything the rest of the package needs of a line model:
 
 - its ``name`` and ``code`` (the number the compiled co-simulation step dispatches on: the
-  station's constants array carries it at :data:`.substeps.C_LINE`, :func:`line_step`);
+  station's constants array carries it in the slot ``line`` of :data:`.substeps.STATION`, :func:`line_step`);
 - its forms of ``--tether`` (``forms``, in words; ``example``, one that parses), a line of
   ``doc`` for the help, and ``parse``, the spec's tail after the name to the model's one integer
   parameter (the lumped line's segment count; 0 where the model takes none; None: not a form);
 - the length of its block in the ground station's state array after the drivetrain's
-  (``state_size``) and its constants after :data:`.substeps.STATION_CONSTANTS` (``constants``);
+  (``state_size``) and its constants after :data:`.substeps.STATION` (``constants``);
 - its step, the plain Python function (``step``, the arguments and returns of
   :func:`.substeps.station_step`), the same function compiled (``compiled``), and what the
   kernels compile into themselves (``called``: the functions, ``sources``: the files numba's
@@ -34,6 +34,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .. import slots
 from ..errors import InputError
 from . import lumped, lumped_state, rigid, substeps, winch
 from .lumped import lumped_station_step
@@ -134,11 +135,11 @@ def _lumped_constants(n: int, tp: Any, drag_scale: float) -> list[float]:
 
 
 def _lumped_prepare(s: np.ndarray, n: int) -> None:
-    s[lumped_state.R_NSEG] = n
+    s[lumped_state.HEAD.nseg] = n
 
 
 def _lumped_reset(s: np.ndarray) -> None:
-    s[lumped_state.R_READY] = 0.0  # the line takes its static shape to the hook on the first step
+    s[lumped_state.HEAD.ready] = 0.0  # the line takes its static shape to the hook on the first step
 
 
 def _straight_called() -> tuple:
@@ -154,7 +155,7 @@ LINE_MODELS: tuple[LineKind, ...] = (
              "N elastic segments with mass, weight and drag; the recording shows its nodes and tensions",
              lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
              + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped.SOURCES,
-             parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - lumped_state.OFF,
+             parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - slots.start(lumped_state.HEAD),
              constants=_lumped_constants, ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
              tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset, kinematic_winch=False),
     LineKind("rigid", 2, "rigid", "rigid",

@@ -62,26 +62,21 @@ from .. import wind
 from ..jitcache import compile_lazy
 from ..wind import shear_factor
 from . import lumped_state, substeps, winch
-from .lumped_state import (C_CFL, C_DRAGK, C_GD, C_GE, C_GN, C_NSEG, C_SCODE, C_SFLOOR, C_SHREF, C_SPARAM, C_WRE, C_WRN,
-                           C_ZETA, L_BREAK, L_DAMP, L_DRAG, L_HAND, L_HOOK, L_MASS, L_PAYOUT, L_S0E, L_S0K, L_S0P, L_SE,
-                           L_SK, L_SP, LED, NODES, R_DX, R_DY, R_DZ, R_INNER, R_READY, R_TG, R_TMAX, R_WZ)
+from .lumped_state import HEAD, LINE, LINE_LEDGER, NODES
 from .linestep import compile_line_step
-from .substeps import DRAG_W, WEIGHT_W, advance, cross_flow_drag, machine_mode_code
-
-# station constants used here (positions in STATION_CONSTANTS)
-_C_MU, _C_EA, _C_TBREAK, _C_G, _C_DRAGON, _C_WN, _C_WE, _C_WD = 4, 5, 6, substeps.C_G, substeps.C_DRAG_ON, *substeps.C_WINDS
+from .substeps import CONST, LEDGER, STATE, STATION, advance, cross_flow_drag, machine_mode_code
 
 
 def wind_at(c, z: float) -> tuple[float, float, float]:
     """Wind at the height ``-z`` m (NED ``z``), m/s NED, the one place the line reads the wind:
-    the station's uniform wind ``c[C_WIND:C_WIND + 3]``, or with a wind profile the wind at the reference
+    the station's uniform wind (``wind`` of :data:`.substeps.STATION`), or with a wind profile the wind at the reference
     height scaled to this height (:func:`fdm_awe.wind.shear_factor`); plus the gust of the
     moment (the turbulence the glider meets, taken as uniform along the line)."""
-    code = c[C_SCODE]
+    code = c[LINE.shear_code]
     if code == 0.0:  # uniform: the gust is already in the station's wind (GroundStation.set_line_wind)
-        return c[_C_WN], c[_C_WE], c[_C_WD]
-    f = shear_factor(code, c[C_SPARAM], c[C_SHREF], c[C_SFLOOR], -z)
-    return c[C_WRN] * f + c[C_GN], c[C_WRE] * f + c[C_GE], c[C_GD]
+        return c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2]
+    f = shear_factor(code, c[LINE.shear_param], c[LINE.shear_href], c[LINE.shear_floor], -z)
+    return c[LINE.wref_n] * f + c[LINE.gust_n], c[LINE.wref_e] * f + c[LINE.gust_e], c[LINE.gust_d]
 
 
 def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float, uz: float, rvx: float, rvy: float,
@@ -124,12 +119,12 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
     V = P + 3 * (n + 1)
     F = V + 3 * (n + 1)
     TT = F + 3 * (n + 1)
-    EA, g = c[_C_EA], c[_C_G]
+    EA, g = c[CONST.EA], c[STATION.g]
     k = EA / ls
-    cd = 2.0 * c[C_ZETA] * math.sqrt(k * m)
-    dk = c[C_DRAGK] * c[_C_DRAGON]
-    sheared = c[C_SCODE] != 0.0  # a wind profile: each segment's wind at its own height
-    wux, wuy, wuz = c[_C_WN], c[_C_WE], c[_C_WD]
+    cd = 2.0 * c[LINE.zeta] * math.sqrt(k * m)
+    dk = c[LINE.drag_k] * c[STATION.drag_on]
+    sheared = c[LINE.shear_code] != 0.0  # a wind profile: each segment's wind at its own height
+    wux, wuy, wuz = c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2]
     moved = ls_old != ls
     k_old = EA / ls_old if moved else k
     mg = m * g
@@ -225,7 +220,7 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
     V = P + 3 * (n + 1)
     F = V + 3 * (n + 1)
     TT = F + 3 * (n + 1)
-    mu, g = c[_C_MU], c[_C_G]
+    mu, g = c[CONST.mu], c[STATION.g]
     vhx, vhy, vhz = (hx1 - hx0) / (msteps * h), (hy1 - hy0) / (msteps * h), (hz1 - hz0) / (msteps * h)
     sfx = sfy = sfz = sdx = sdy = sdz = swz = stg = tmax = 0.0
     kdamp = 1.0 - relax * h if relax * h < 1.0 else 0.0
@@ -272,12 +267,12 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
         fgx1, fgy1, fgz1 = s[fh], s[fh + 1], s[fh + 2]
         kb = 0.5 * h / mb
         # ledger: the glider works against the line's force on the hook (trapezoid)
-        s[L_HOOK] -= 0.5 * ((fgx + fgx1) * dhx + (fgy + fgy1) * dhy + (fgz + fgz1) * dhz)
-        s[L_MASS] += e_mass
+        s[LINE_LEDGER.hook_work] -= 0.5 * ((fgx + fgx1) * dhx + (fgy + fgy1) * dhy + (fgz + fgz1) * dhz)
+        s[LINE_LEDGER.mass_inflow] += e_mass
         if lsb != lsa:  # the mean of both: second order like the leapfrog's work
-            s[L_PAYOUT] += 0.5 * (pay0 + e_old - e_el)
-        s[L_DRAG] -= h * p_drag
-        s[L_DAMP] += h * p_damp
+            s[LINE_LEDGER.payout_work] += 0.5 * (pay0 + e_old - e_el)
+        s[LINE_LEDGER.drag] -= h * p_drag
+        s[LINE_LEDGER.damping] += h * p_damp
         # the force on the glider: the line's, the half drag and the half node mass's weight
         sfx += fgx1 + hdx
         sfy += fgy1 + hdy
@@ -300,27 +295,27 @@ def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0
 def inner_count(c, h: float, ls: float) -> int:
     """Leapfrog steps per ``h`` s for rest length ``ls`` m: ``h / (cfl 2 / omega_max)`` rounded
     up, ``omega_max = 2 sqrt(EA / mu) / ls`` (with the damper: times ``sqrt(1 + zeta^2) + zeta``)."""
-    z = c[C_ZETA]
-    w = 2.0 * math.sqrt(c[_C_EA] / c[_C_MU]) / ls * (math.sqrt(1.0 + z * z) + z)
-    return max(1, int(math.ceil(h * w / (2.0 * c[C_CFL]) - 1e-9)))
+    z = c[LINE.zeta]
+    w = 2.0 * math.sqrt(c[CONST.EA] / c[CONST.mu]) / ls * (math.sqrt(1.0 + z * z) + z)
+    return max(1, int(math.ceil(h * w / (2.0 * c[LINE.cfl]) - 1e-9)))
 
 
 def store_energies(s, c, n: int, which: int) -> None:
     """Write the line's kinetic, elastic and potential energy into the ledger's ``stored_``
     (``which`` 1) or both ``stored0_`` and ``stored_`` (``which`` 0) slots (after
     :func:`line_forces`, whose tensions give the elastic energy)."""
-    ls = s[0] / n
-    m = c[_C_MU] * ls
-    ek, ep = line_energies(s, n, m, c[_C_G])
+    ls = s[STATE.length] / n
+    m = c[CONST.mu] * ls
+    ek, ep = line_energies(s, n, m, c[STATION.g])
     TT = NODES + 9 * (n + 1)
-    k = c[_C_EA] / ls
+    k = c[CONST.EA] / ls
     ee = 0.0
     for i in range(n):
         T = s[TT + i]
         ee += 0.5 * T * T / k
-    s[L_SK], s[L_SE], s[L_SP] = ek, ee, ep
+    s[LINE_LEDGER.stored_kinetic], s[LINE_LEDGER.stored_elastic], s[LINE_LEDGER.stored_potential] = ek, ee, ep
     if which == 0:
-        s[L_S0K], s[L_S0E], s[L_S0P] = ek, ee, ep
+        s[LINE_LEDGER.stored0_kinetic], s[LINE_LEDGER.stored0_elastic], s[LINE_LEDGER.stored0_potential] = ek, ee, ep
 
 
 def place_line(s, c, n: int, x: float, y: float, z: float) -> None:
@@ -332,34 +327,34 @@ def place_line(s, c, n: int, x: float, y: float, z: float) -> None:
         f = i / n
         s[P + 3 * i], s[P + 3 * i + 1], s[P + 3 * i + 2] = f * x, f * y, f * z
         s[V + 3 * i] = s[V + 3 * i + 1] = s[V + 3 * i + 2] = 0.0
-    ls = s[0] / n
-    line_forces(s, c, n, ls, c[_C_MU] * ls, 0.0, 0.0, 0.0, ls)
+    ls = s[STATE.length] / n
+    line_forces(s, c, n, ls, c[CONST.mu] * ls, 0.0, 0.0, 0.0, ls)
 
 
 def relax_line(s, c, n: int, seconds: float) -> None:
     """Let the line settle for ``seconds`` s with its ends held and its velocities damped at the
     rate of its slowest transverse mode (a static shape; the ledger is not kept)."""
-    ls = s[0] / n
-    h = 0.5 * 2.0 * c[C_CFL] / (2.0 * math.sqrt(c[_C_EA] / c[_C_MU]) / ls)
+    ls = s[STATE.length] / n
+    h = 0.5 * 2.0 * c[LINE.cfl] / (2.0 * math.sqrt(c[CONST.EA] / c[CONST.mu]) / ls)
     P = NODES + 3 * n
     x, y, z = s[P], s[P + 1], s[P + 2]
     T = 0.0
     TT = NODES + 9 * (n + 1)
     for i in range(n):
         T = max(T, s[TT + i])
-    rate = math.pi * math.sqrt(max(T, 1e-3 * c[_C_EA]) / c[_C_MU]) / s[0]
+    rate = math.pi * math.sqrt(max(T, 1e-3 * c[CONST.EA]) / c[CONST.mu]) / s[STATE.length]
     msteps = max(1, int(seconds / h))
     inner_steps(s, c, n, msteps, h, ls, ls, x, y, z, x, y, z, 2.0 * rate)
     V = NODES + 3 * (n + 1)
     for i in range(3 * (n + 1)):
         s[V + i] = 0.0
-    line_forces(s, c, n, ls, c[_C_MU] * ls, 0.0, 0.0, 0.0, ls)
+    line_forces(s, c, n, ls, c[CONST.mu] * ls, 0.0, 0.0, 0.0, ls)
 
 
 def generalised_tension(s, c, n: int) -> float:
     """The line's force on the drum through its rest lengths, ``(1/N) sum (T_i + T_i^2 / (2 EA))``, N."""
     TT = NODES + 9 * (n + 1)
-    EA = c[_C_EA]
+    EA = c[CONST.EA]
     t = 0.0
     for i in range(n):
         T = s[TT + i]
@@ -372,10 +367,10 @@ def settle_line(s, c, n: int, x: float, y: float, z: float) -> None:
     :func:`relax_line`); its ledger starts there (the settling is not part of the flight's)."""
     place_line(s, c, n, x, y, z)
     relax_line(s, c, n, 3.0)
-    for i in range(LED, L_S0K):
+    for i in range(LINE_LEDGER.hook_work, LINE_LEDGER.stored0_kinetic):
         s[i] = 0.0
     store_energies(s, c, n, 0)
-    s[R_READY] = 1.0
+    s[HEAD.ready] = 1.0
 
 
 def move_hook(s, c, n: int, x: float, y: float, z: float, vx: float, vy: float, vz: float) -> None:
@@ -387,19 +382,19 @@ def move_hook(s, c, n: int, x: float, y: float, z: float, vx: float, vy: float, 
     F = NODES + 6 * (n + 1) + 3 * n
     fx0, fy0, fz0 = s[F], s[F + 1], s[F + 2]
     s[ph], s[ph + 1], s[ph + 2] = x, y, z
-    ls = s[0] / n
-    line_forces(s, c, n, ls, c[_C_MU] * ls, vx, vy, vz, ls)
-    s[L_HOOK] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
+    ls = s[STATE.length] / n
+    line_forces(s, c, n, ls, c[CONST.mu] * ls, vx, vy, vz, ls)
+    s[LINE_LEDGER.hook_work] -= 0.5 * ((fx0 + s[F]) * dhx + (fy0 + s[F + 1]) * dhy + (fz0 + s[F + 2]) * dhz)
 
 
 def break_line(s, c, n: int, vx: float, vy: float, vz: float) -> None:
     """The line breaks: its strain energy is booked as released, its tensions drop to 0 (the
     glider's hook moves with ``(vx, vy, vz)`` m/s)."""
-    s[6] = 1.0
-    ls = s[0] / n
-    line_forces(s, c, n, ls, c[_C_MU] * ls, vx, vy, vz, ls)
+    s[STATE.broken] = 1.0
+    ls = s[STATE.length] / n
+    line_forces(s, c, n, ls, c[CONST.mu] * ls, vx, vy, vz, ls)
     store_energies(s, c, n, 1)
-    s[L_BREAK] += s[L_SE]
+    s[LINE_LEDGER.break_release] += s[LINE_LEDGER.stored_elastic]
     TT = NODES + 9 * (n + 1)
     for i in range(n):
         s[TT + i] = 0.0
@@ -408,9 +403,9 @@ def break_line(s, c, n: int, vx: float, vy: float, vz: float) -> None:
 def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
     """:func:`.substeps.station_step` with the lumped line (same arguments and returns; ``s``
     and ``c`` hold the line's block after the drivetrain's, see the module docstring)."""
-    N = int(c[C_NSEG])
-    broken = s[6] != 0.0
-    if s[R_READY] == 0.0:  # first step: the line's static shape to the hook
+    N = int(c[LINE.nseg])
+    broken = s[STATE.broken] != 0.0
+    if s[HEAD.ready] == 0.0:  # first step: the line's static shape to the hook
         settle_line(s, c, N, x, y, z)
     elif not broken:
         move_hook(s, c, N, x, y, z, vx, vy, vz)
@@ -422,12 +417,11 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
     nin = 0
     sdx = sdy = sdz = swz = 0.0
     for j in range(n):
-        l0 = s[0]
+        l0 = s[STATE.length]
         tg = 0.0 if broken else generalised_tension(s, c, N)
-        tm, pl, ps, e = advance(s, c, 1, h, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL,
-                                True, tg)
-        l1 = s[0]
-        s[L_HAND] += tg * (l1 - l0)
+        tm, pl, ps, e = advance(s, c, 1, h, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, tg)
+        l1 = s[STATE.length]
+        s[LINE_LEDGER.drum_handover] += tg * (l1 - l0)
         tsum += tm
         pl_sum += pl
         ps_sum += ps
@@ -450,7 +444,7 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
         swz += wz_ / m
         if tm_ > tmax:
             tmax = tm_
-        if tm_ > c[_C_TBREAK]:  # the line breaks: its strain energy is lost, the glider is free
+        if tm_ > c[CONST.Tbreak]:  # the line breaks: its strain energy is lost, the glider is free
             broken = True
             ev = 3
             break_line(s, c, N, vx, vy, vz)
@@ -458,19 +452,19 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
         fx = fy = fz = 0.0
     else:
         fx, fy, fz = sfx / n, sfy / n, sfz / n
-    s[R_TG] = stg / n
-    s[R_TMAX] = tmax
-    s[R_INNER] = nin / n
-    s[R_DX], s[R_DY], s[R_DZ], s[R_WZ] = sdx / n, sdy / n, sdz / n, swz / n
+    s[HEAD.tension_glider] = stg / n
+    s[HEAD.tension_max] = tmax
+    s[HEAD.inner] = nin / n
+    s[HEAD.drag_x], s[HEAD.drag_y], s[HEAD.drag_z], s[HEAD.weight_z] = sdx / n, sdy / n, sdz / n, swz / n
     store_energies(s, c, N, 1)
     # the straight line's share terms: the work on the glider of the half drag and half weight it takes
-    s[DRAG_W] += (s[R_DX] * vx + s[R_DY] * vy + s[R_DZ] * vz) * dt
-    s[WEIGHT_W] += s[R_WZ] * vz * dt
+    s[LEDGER.line_drag_work_on_glider] += (s[HEAD.drag_x] * vx + s[HEAD.drag_y] * vy + s[HEAD.drag_z] * vz) * dt
+    s[LEDGER.line_weight_work_on_glider] += s[HEAD.weight_z] * vz * dt
     d = math.sqrt(x * x + y * y + z * z)
-    w, i = float(s[1]), float(s[2])
+    w, i = float(s[STATE.omega]), float(s[STATE.current])
     tmean = tsum / n
-    return (fx, fy, fz, tmean, float(s[0]), w, i, float(s[5]), float(s[3]), (pl_sum - ps_sum) / n, ev,
-            machine_mode_code(w, i, c[9]), d, s[R_TG] <= 0.0, broken)
+    return (fx, fy, fz, tmean, float(s[STATE.length]), w, i, float(s[STATE.duty]), float(s[STATE.u_link]),
+            (pl_sum - ps_sum) / n, ev, machine_mode_code(w, i, c[CONST.K]), d, s[HEAD.tension_glider] <= 0.0, broken)
 
 
 CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,

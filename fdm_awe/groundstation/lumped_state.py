@@ -1,11 +1,11 @@
 """Where the lumped-mass line lives in the ground station's arrays, and how it is read.
 
 The line (:mod:`.lumped`, ``tether="lumped:N"``) keeps its state and its energy ledger in the
-ground station's state array after the drivetrain's (from :data:`OFF`): a head (:data:`HEAD`,
-indices ``R_*``), the ledger (:data:`FIELDS`, indices ``L_*``, from :data:`LED`), then from
-:data:`NODES` the node positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3 m, m/s, N NED and
-the segment tensions N. Its constants follow :data:`.substeps.STATION_CONSTANTS` in the
-constants array (:data:`CONSTANTS`, indices ``C_*``; :func:`line_constants`).
+ground station's state array after the drivetrain's: a head (:data:`HEAD`), the ledger
+(:data:`FIELDS`, layout :data:`LINE_LEDGER`), then from :data:`NODES` the node positions
+(N+1)x3, velocities (N+1)x3, forces (N+1)x3 m, m/s, N NED and the segment tensions N. Its
+constants follow :data:`.substeps.STATION` in the constants array (:data:`LINE`;
+:func:`line_constants`).
 
 Here too: the state array's length (:func:`state_size`) and views of the state (:func:`nodes`, :func:`velocities`,
 :func:`tensions`, :class:`LineLedger`). The indices are compiled into the line's step as
@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .ledger import FIELDS as _DT_LEDGER, Balance
-from .substeps import STATE as _DT_STATE, STATION_CONSTANTS
+from .. import slots
+from .ledger import Balance
+from .substeps import STATION, STEP
 
 #: allowed segment counts
 N_MIN, N_MAX = 2, 200
@@ -26,32 +27,30 @@ CFL = 0.8
 #: axial damping ratio of a segment in flight (of its own k-m mode)
 ZETA = 0.05
 
-#: offset of the line's block in the ground station's state array
-OFF = len(_DT_STATE) + len(_DT_LEDGER)
-#: head of the line's block: initialised flag, segments, mean glider-end tension of the last
-#: step N, largest segment tension of the last step N, inner steps per drivetrain sub-step,
-#: force-on-glider terms of the last step (drag part, weight part, N NED)
-HEAD = ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y", "drag_z", "weight_z")
+#: head of the line's block in the ground station's state array, after the drivetrain's block:
+#: initialised flag, segments, mean glider-end tension of the last step N, largest segment
+#: tension of the last step N, inner steps per drivetrain sub-step, force-on-glider terms of the
+#: last step (drag part, weight part, N NED)
+HEAD = slots.declare("LumpedHead", ("ready", "nseg", "tension_glider", "tension_max", "inner", "drag_x", "drag_y",
+                                    "drag_z", "weight_z"), start=slots.size(STEP))
 #: the line's ledger (J; :mod:`.lumped` explains each term)
 INPUTS = ("hook_work", "mass_inflow")
 LOSSES = ("payout_work", "drag", "damping", "break_release")
 STORES = ("kinetic", "elastic", "potential")
 INTERFACE = ("drum_handover",)
 FIELDS = INPUTS + LOSSES + INTERFACE + tuple("stored0_" + s for s in STORES) + tuple("stored_" + s for s in STORES)
-(R_READY, R_NSEG, R_TG, R_TMAX, R_INNER, R_DX, R_DY, R_DZ, R_WZ) = range(OFF, OFF + len(HEAD))
-LED = OFF + len(HEAD)
-(L_HOOK, L_MASS, L_PAYOUT, L_DRAG, L_DAMP, L_BREAK, L_HAND, L_S0K, L_S0E, L_S0P, L_SK, L_SE, L_SP) = range(
-    LED, LED + len(FIELDS))
+#: its place after the head
+LINE_LEDGER = slots.declare("LumpedLedger", FIELDS, start=slots.size(HEAD))
 #: first node coordinate: positions (N+1)x3, velocities (N+1)x3, forces (N+1)x3, tensions N
-NODES = LED + len(FIELDS)
-#: constants after STATION_CONSTANTS
-CONSTANTS = ("nseg", "drag_k", "zeta", "cfl",
-             # the wind field along the line (:func:`.lumped.wind_at`): profile numbers of
-             # fdm_awe.wind.shear_factor (code 0: the station's uniform wind), the wind at the
-             # profile's reference height, and the gust of the moment (turbulence, NED)
-             "shear_code", "shear_param", "shear_href", "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d")
-(C_NSEG, C_DRAGK, C_ZETA, C_CFL, C_SCODE, C_SPARAM, C_SHREF, C_SFLOOR, C_WRN, C_WRE, C_GN, C_GE, C_GD) = range(
-    len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
+NODES = slots.size(LINE_LEDGER)
+#: the line's constants after the station's (:data:`.substeps.STATION`): segments, drag factor,
+#: damping ratio, inner-step fraction of the stability limit; the wind field along the line
+#: (:func:`.lumped.wind_at`): profile numbers of fdm_awe.wind.shear_factor (code 0: the station's
+#: uniform wind), the wind at the profile's reference height, and the gust of the moment
+#: (turbulence, NED)
+LINE = slots.declare("LumpedConstants", ("nseg", "drag_k", "zeta", "cfl", "shear_code", "shear_param", "shear_href",
+                                         "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d"),
+                     start=slots.size(STATION))
 
 
 def state_size(n: int) -> int:
@@ -61,7 +60,7 @@ def state_size(n: int) -> int:
 
 def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
                    cfl: float = CFL) -> list[float]:
-    """The constants after STATION_CONSTANTS (:data:`CONSTANTS`): segments, ``-0.5 rho C_D_perp
+    """The constants after the station's (:data:`LINE`): segments, ``-0.5 rho C_D_perp
     d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
     return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
 
@@ -93,14 +92,16 @@ class LineLedger(Balance):
 
     def __getattr__(self, name: str) -> float:
         if name in FIELDS:
-            return float(self._s[LED + FIELDS.index(name)])
+            return float(self._s[getattr(LINE_LEDGER, name)])
         raise AttributeError(name)
 
     def clear(self) -> None:
-        for i, f in enumerate(FIELDS):
+        for f in FIELDS:
             if not f.startswith("stored"):
-                self._s[LED + i] = 0.0
-        self._s[L_S0K], self._s[L_S0E], self._s[L_S0P] = self._s[L_SK], self._s[L_SE], self._s[L_SP]
+                self._s[getattr(LINE_LEDGER, f)] = 0.0
+        led = LINE_LEDGER
+        self._s[led.stored0_kinetic], self._s[led.stored0_elastic], self._s[led.stored0_potential] = (
+            self._s[led.stored_kinetic], self._s[led.stored_elastic], self._s[led.stored_potential])
 
     def as_dict(self) -> dict[str, float]:
         """The balance's terms (:meth:`Balance.as_dict`) and ``coupling``, the drum's one-sub-step

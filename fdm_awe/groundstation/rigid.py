@@ -36,30 +36,29 @@ from __future__ import annotations
 import functools
 from typing import Any, Callable
 
+from .. import slots
 from . import substeps, winch
 from .linestep import compile_line_step
-from .substeps import SE, STRAIN, STATION_CONSTANTS, station_step
+from .substeps import CONST, LEDGER, STATE, STATION, station_step
 
 #: the rigid line's axial stiffness at steps of :data:`REFERENCE_STEP`, N/m, the same at every
 #: length (see the module docstring)
 STIFFNESS = 1000.0
 #: the flight step of :data:`STIFFNESS`, s (the co-simulation's default)
 REFERENCE_STEP = 1.0 / 120.0
-#: its constants after STATION_CONSTANTS
-CONSTANTS = ("stiffness", "reference_step")
-(C_STIFFNESS, C_STEP) = range(len(STATION_CONSTANTS), len(STATION_CONSTANTS) + len(CONSTANTS))
-_C_EA = STATION_CONSTANTS.index("EA")
+#: its constants after the station's (:data:`.substeps.STATION`)
+RIGID = slots.declare("RigidConstants", ("stiffness", "reference_step"), start=slots.size(STATION))
 
 
 def constants(param: int, tp: Any, drag_scale: float) -> list[float]:
-    """The constants after STATION_CONSTANTS (:data:`CONSTANTS`)."""
+    """The constants after the station's (:data:`RIGID`)."""
     return [STIFFNESS, REFERENCE_STEP]
 
 
 def stiffness(c, dt: float) -> float:
     """The rigid line's stiffness (N/m) at flight steps of ``dt`` s (constants ``c``)."""
-    q = c[C_STEP] / dt
-    return c[C_STIFFNESS] * q * q
+    q = c[RIGID.reference_step] / dt
+    return c[RIGID.stiffness] * q * q
 
 
 def unstretched(tp: Any, param: int, distance: float, tension: float) -> float:
@@ -70,15 +69,15 @@ def unstretched(tp: Any, param: int, distance: float, tension: float) -> float:
 
 def rigid_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
     """:func:`.substeps.station_step` on the rigid line (same arguments and returns; ``c`` holds
-    :data:`CONSTANTS` after the station's, its EA slot is set here)."""
+    :data:`RIGID` after the station's, its EA slot is set here)."""
     k = stiffness(c, dt)
-    length = s[0]
-    if s[6] == 0.0:  # not broken: the stiffness back to k at the new start length (booked)
-        k_was = c[_C_EA] / length
-        sp = s[8] if s[8] > 0.0 else 0.0
-        s[STRAIN] += 0.5 * (k - k_was) * sp * sp
-        s[SE] = 0.5 * k * sp * sp
-    c[_C_EA] = k * length
+    length = s[STATE.length]
+    if s[STATE.broken] == 0.0:  # not broken: the stiffness back to k at the new start length (booked)
+        k_was = c[CONST.EA] / length
+        sp = s[STATE.stretch] if s[STATE.stretch] > 0.0 else 0.0
+        s[LEDGER.strain_payout] += 0.5 * (k - k_was) * sp * sp
+        s[LEDGER.stored_elastic] = 0.5 * k * sp * sp
+    c[CONST.EA] = k * length
     return station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
 
 

@@ -22,6 +22,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from .. import slots
 from ..errors import InputError
 from ..jitcache import jit_off
 from .converter import GENERATOR, MODES, MOTOR
@@ -29,10 +30,10 @@ from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
 from .linemodels import TetherModel, parse_tether
-from .lumped_state import C_SCODE
+from .lumped_state import LINE
 from .machine import machine_mode
 from .station_output import GroundStationOutput, output_from_row, step_output
-from .substeps import C_WIND
+from .substeps import STATION
 from .tether import check_tether_drag_scale, line_drag_coefficient
 _NAN = float("nan")
 #: a compiled step not asked for yet
@@ -134,7 +135,7 @@ class GroundStation:
         self._RL = self.params.converter.load_resistance
         self._d2 = self.params.converter.boost_duty
         # the line model's step (compiled when numba is available) and its constants
-        # (STATION_CONSTANTS: the drivetrain's, the wind, the line-share factors of the tether
+        # (substeps.CONST, then substeps.STATION: the wind, the line-share factors of the tether
         # module, the model's code; then the model's own)
         kind = line.kind
         # the line model's step compiled at the first step that needs it (None: Python runs
@@ -142,10 +143,13 @@ class GroundStation:
         self._kind = kind
         self._step_kernel: Any = _PENDING if jit_off() is None else None
         drag_on = tp.drag_share > 0.0 and self.tether_drag_scale > 0.0
-        self._scl = self.drivetrain.constants + list(self.wind) + [
-            line_drag_coefficient(tp, self.tether_drag_scale), 1.0 if drag_on else 0.0,
-            tp.weight_share * tp.mass_per_length, tp.gravity, float(kind.code)]
-        self._scl += kind.constants(line.param, tp, self.tether_drag_scale)
+        sc = slots.new(STATION)
+        sc[:slots.start(STATION)] = self.drivetrain.constants
+        sc[STATION.wind:STATION.wind + 3] = self.wind
+        sc[STATION.drag_c], sc[STATION.drag_on] = line_drag_coefficient(tp, self.tether_drag_scale), float(drag_on)
+        sc[STATION.weight_c], sc[STATION.g] = tp.weight_share * tp.mass_per_length, tp.gravity
+        sc[STATION.line] = kind.code
+        self._scl = sc.tolist() + kind.constants(line.param, tp, self.tether_drag_scale)
         self._s_all = self.drivetrain.state  # the step's state array: the drivetrain's, then the line's block
         kind.prepare(self._s_all, line.param)
         self._step_py = kind.step
@@ -170,13 +174,13 @@ class GroundStation:
                 *(_finite(f"gust[{k}]", v) for k, v in enumerate(gust))]
         if len(vals) != 9:
             raise InputError("set_line_wind: wind_ref needs 2 components (N, E), gust 3 (N, E, D)")
-        i = C_SCODE
+        i = LINE.shear_code
         self._scl[i:i + 9] = vals
         self._sc[i:i + 9] = vals
         if code == 0.0:  # uniform: the station's wind plus the gust, read as it is at every node
             w = [self.wind[k] + vals[6 + k] for k in range(3)]
-            self._scl[C_WIND:C_WIND + 3] = w
-            self._sc[C_WIND:C_WIND + 3] = w
+            self._scl[STATION.wind:STATION.wind + 3] = w
+            self._sc[STATION.wind:STATION.wind + 3] = w
 
     @property
     def line_ledger(self) -> Any:
@@ -199,8 +203,8 @@ class GroundStation:
             raise InputError("wind_ned: need 3 components (N, E, D)")
         self.wind = (w[0], w[1], w[2])
         if hasattr(self, "_sc"):
-            self._scl[C_WIND:C_WIND + 3] = self.wind
-            self._sc[C_WIND:C_WIND + 3] = self.wind
+            self._scl[STATION.wind:STATION.wind + 3] = self.wind
+            self._sc[STATION.wind:STATION.wind + 3] = self.wind
 
     @property
     def ledger(self) -> EnergyLedger:
@@ -312,7 +316,7 @@ class GroundStation:
 
     @staticmethod
     def output_from_row(row: list[float], mode: str) -> GroundStationOutput:
-        """The step's output from a compiled loop's row (``fdm_awe.sim.kernel.GS_COLUMNS``, a
+        """The step's output from a compiled loop's row (``fdm_awe.sim.kernel.GS``, a
         list of floats), filled in when first read (a controller that ignores it pays nothing)."""
         return output_from_row(row, mode)
 

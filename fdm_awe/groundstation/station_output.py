@@ -169,7 +169,7 @@ class _RowOutput(GroundStationOutput):
 
 
 def output_from_row(row: list[float], mode: str) -> GroundStationOutput:
-    """The step's output from a compiled loop's row (``fdm_awe.sim.kernel.GS_COLUMNS``, a
+    """The step's output from a compiled loop's row (``fdm_awe.sim.kernel.GS``, a
     list of floats), filled in when first read (a controller that ignores it pays nothing)."""
     o = _new(_RowOutput)
     o._force = row  # the row waits in the force slot until the first read

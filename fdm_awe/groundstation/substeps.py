@@ -26,8 +26,10 @@ import functools
 import math
 from typing import Any, Callable
 
+from .. import slots
 from ..jitcache import compile_cached
 from . import winch
+from .ledger import FIELDS as LEDGER_FIELDS
 from .winch import DRUM_RELATIONS, drum_step, end_stop
 
 #: Event codes (0: none).
@@ -35,26 +37,29 @@ EVENTS = (None, "tether_fully_reeled_in", "tether_fully_paid_out", "tether_break
 #: Machine-mode codes of :func:`machine_mode_code`.
 MACHINE_MODES = ("idle", "generator", "motor")
 
-#: The drivetrain's states at the head of its state array (``broken``, ``at_stop`` 0/1,
-#: ``motor`` 1 in motor mode); the energy ledger's terms follow (``ledger.FIELDS`` order).
-STATE = ("length", "omega", "current", "u_link", "integ", "duty", "broken", "at_stop", "stretch", "motor")
-_NS = len(STATE)
-# ledger terms, offsets in the state array (ledger.FIELDS order; DRAG_W, WEIGHT_W: also the lumped line's)
-(_GLIDER_WORK, _SUPPLY, _WOUND, STRAIN, _LOAD, _COPPER, _SEMI, _BRAKE, _COULOMB, _VISCOUS, _END_STOP, _BREAK,
- _NUMERICAL, _DRUM, _AIRGAP, DRAG_W, WEIGHT_W, _S0K, _S0I, _S0C, _S0E, _SK, _SI, _SC, SE) = range(_NS, _NS + 25)
+#: The drivetrain's states at the head of its state array (``broken``, ``at_stop``, ``motor`` 0/1)
+STATE = slots.declare("DrivetrainState", ("length", "omega", "current", "u_link", "integ", "duty", "broken",
+                                          "at_stop", "stretch", "motor"))
+#: the energy ledger's terms after them (:data:`.ledger.FIELDS`; ``line_drag_work_on_glider`` and
+#: ``line_weight_work_on_glider`` also the lumped line's)
+LEDGER = slots.declare("DrivetrainLedger", LEDGER_FIELDS, start=slots.size(STATE))
 
-#: Names of the constants array ``c`` of :func:`station_step` (from the definitions and the
-#: ground station's line-share factors; fixed for a station). :func:`advance` reads the first
-#: ``len(DRIVETRAIN_CONSTANTS)``.
-STATION_CONSTANTS = ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R", "L", "two_ud", "Va",
-                     "C", "kp", "ki", "d_min", "d_max", "i_lim", "t_lim", "t_band", "wind_n", "wind_e", "wind_d",
-                     "drag_c", "drag_on", "weight_c", "g", "line")
-DRIVETRAIN_CONSTANTS = STATION_CONSTANTS[:22]
-#: positions in ``c`` of the station's wind (N; E, D follow), its line-share factors and the
-#: code of its line model (:attr:`.linemodels.LineKind.code`, the compiled loop's dispatch)
-C_WIND, C_DRAG, C_DRAG_ON, C_WEIGHT, C_G, C_LINE = (STATION_CONSTANTS.index(k)
-                                                   for k in ("wind_n", "drag_c", "drag_on", "weight_c", "g", "line"))
-C_WINDS = (C_WIND, C_WIND + 1, C_WIND + 2)  #: the wind's N, E, D
+#: The constants array ``c`` of :func:`advance` (from the definitions; fixed for a station)
+CONST = slots.declare("DrivetrainConstants", ("r", "B", "Mc", "Jw", "mu", "EA", "Tbreak", "lmin", "lmax", "K", "R",
+                                              "L", "two_ud", "Va", "C", "kp", "ki", "d_min", "d_max", "i_lim",
+                                              "t_lim", "t_band"))
+#: and after them those of :func:`station_step`: the station's wind (N, E, D; m/s), its line-share
+#: factors and the code of its line model (:attr:`.linemodels.LineKind.code`, the compiled loop's
+#: dispatch); a line model's own constants follow (from ``slots.size(STATION)``)
+STATION = slots.declare("StationConstants", (("wind", 3), "drag_c", "drag_on", "weight_c", "g", "line"),
+                        start=slots.size(CONST))
+#: after the ledger, a work area: the inputs of one :func:`substeps` call that :func:`advance`
+#: writes there (SI; ``d0``, ``s0`` the line's start distance and stretch, ``aS = aH s_cpl cu``,
+#: ``i_t`` the current that holds the tension limit on the drum; the other names as in
+#: :func:`advance` and :mod:`.drivetrain`); a line model's block follows (from ``slots.size(STEP)``)
+STEP = slots.declare("SubstepInputs", ("h", "px", "py", "pz", "hvx", "hvy", "hvz", "v_src", "duty", "d0", "s0", "k",
+                                       "tB", "J", "Jb", "omega_ref", "fixed_tension", "e_glider", "q", "cu", "aL",
+                                       "aH", "aS", "iB", "s_cpl", "RL", "i_t"), start=slots.size(LEDGER))
 
 
 def pi_step(kp: float, ki: float, d_min: float, d_max: float, err: float, integ: float,
@@ -185,43 +190,43 @@ def machine_mode_code(omega: float, current: float, K: float) -> int:
     return 1 if -(1.0 if omega > 0.0 else -1.0) * K * current < 0.0 else 2
 
 
-def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,  # noqa: C901
-             l0, w0, i0, u0, integ, duty, v_src, d0, s0, k, tB, J, Jb, omega_ref, fixed_tension, e_glider,
-             r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aS, iB, kp, ki, d_min, d_max, i_lim,
-             L, R, C, s_cpl, RL, t_lim, i_t, band):
-    """``n`` backward-Euler sub-steps of ``h`` s of line, drum, armature and link (see
-    :mod:`.drivetrain` for the model and the names).
+def substeps(s, c, n, pi, motor, fixed):  # noqa: C901
+    """``n`` backward-Euler sub-steps of line, drum, armature and link (:mod:`.drivetrain`) from the
+    states ``s`` (:data:`STATE`, inputs :data:`STEP`; not written) and constants ``c`` (:data:`CONST`).
 
-    The glider moves from ``(px, py, pz)`` by ``(hvx, hvy, hvz)`` per sub-step (m); ``pi`` the
-    PI runs, else ``v_src`` (V) is the open-loop source; ``fixed`` a prescribed tension
-    ``fixed_tension`` (N) replaces the line. The converter holds the current at ``i_lim`` (A):
-    in motor mode through the source (:func:`hold_current`; the PI's integrator then stops where
-    it would push on); in generator mode through the link (:func:`hold_generator`: ``L`` H,
-    ``R`` ohm, ``C`` F, the link coupling ``s_cpl``), there also below it above the line's
-    tension limit ``t_lim`` (N; the last sub-step's tension measured), at
-    :func:`force_limited_current` (``i_t`` A, ``band`` N). ``RL`` ohm the commanded load.
-    ``e_glider`` the glider work booked before the loop (J). Returns the end states ``(l, omega,
-    i, u_L, integ, duty, broken, at_stop, s, k)`` (``duty`` the one in effect), the event code
-    (index into :data:`EVENTS`), and the step's energy sums ``(e_glider, e_supply, e_brake,
-    e_stop, e_brk, e_numel, S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2,
-    t_sum)``.
+    ``pi``: the PI runs, else ``v_src`` is the open-loop source; ``fixed``: a prescribed tension
+    replaces the line. The converter holds the current at ``i_lim``: in motor mode through the
+    source (:func:`hold_current`; the PI's integrator stops where it would push on), in generator
+    mode through the link (:func:`hold_generator`), there also below it above the tension limit
+    (the last sub-step's tension measured, :func:`force_limited_current`). Returns the end states
+    ``(l, omega, i, u_L, integ, duty, broken, at_stop, s, k)``, the event code (:data:`EVENTS`)
+    and the energy sums ``(e_glider, e_supply, e_brake, e_stop, e_brk, e_numel, S_load, S_i2, S_i,
+    S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)``.
 
-    Over 80 lines on purpose: one loop whose sums live in local variables (registers, compiled);
-    its pieces are the functions above (split under 80 lines, the compiled step took 2 % longer).
+    Over 80 lines on purpose: one loop, its sums in local variables (registers, compiled); split
+    under 80 lines, the compiled step took 2 % longer.
     """
+    l0, w0, i0, u0 = float(s[STATE.length]), float(s[STATE.omega]), float(s[STATE.current]), float(s[STATE.u_link])
+    integ, broken, at_stop = float(s[STATE.integ]), s[STATE.broken] != 0.0, s[STATE.at_stop] != 0.0
+    r, B, Mc, K, Va, two_ud = c[CONST.r], c[CONST.B], c[CONST.Mc], c[CONST.K], c[CONST.Va], c[CONST.two_ud]
+    lmin, lmax, Tbreak, kp, ki = c[CONST.lmin], c[CONST.lmax], c[CONST.Tbreak], c[CONST.kp], c[CONST.ki]
+    d_min, d_max, i_lim, L, R, C = c[CONST.d_min], c[CONST.d_max], c[CONST.i_lim], c[CONST.L], c[CONST.R], c[CONST.C]
+    h, px, py, pz, hvx, hvy, hvz = s[STEP.h], s[STEP.px], s[STEP.py], s[STEP.pz], s[STEP.hvx], s[STEP.hvy], s[STEP.hvz]
+    v_src, duty, d0, s0, k, tB = s[STEP.v_src], s[STEP.duty], s[STEP.d0], s[STEP.s0], s[STEP.k], s[STEP.tB]
+    J, Jb, omega_ref, e_glider = s[STEP.J], s[STEP.Jb], s[STEP.omega_ref], s[STEP.e_glider]
+    q, cu, aL, aH, aS, iB = s[STEP.q], s[STEP.cu], s[STEP.aL], s[STEP.aH], s[STEP.aS], s[STEP.iB]
+    s_cpl, RL, i_t, t_lim, band = s[STEP.s_cpl], s[STEP.RL], s[STEP.i_t], c[CONST.t_lim], c[CONST.t_band]
+    fixed_tension = s[STEP.fixed_tension]
     hr, hK, hM = h * r, h * K, h * Mc
     event = 0
-    e_supply = e_brake = e_stop = e_brk = e_numel = 0.0
+    e_supply = e_brake = e_stop = e_brk = e_numel = t_sum = 0.0
     S_load = S_i2 = S_i = S_fw = S_w2 = S_Tw = S_iw = S_dw2 = S_di2 = S_du2 = 0.0
-    t_sum = 0.0
     line = not (fixed or broken)
     # the tension the converter measured last (the line's stretch at the start, or the prescribed one)
     t_meas = 0.0 if broken else (fixed_tension if fixed else (k * s0 if s0 > 0.0 else 0.0))
-    u_h = i_load = 0.0
+    u_h = i_load = d1 = integ0 = va = 0.0
     t_on = i_on = True
-    d1 = 0.0
     held = False  # the current limit held the last sub-step's current
-    integ0 = va = 0.0
     for _ in range(n):
         if pi:  # PI sample on the measured drum speed
             integ0 = integ
@@ -326,31 +331,29 @@ def substeps(n, h, px, py, pz, hvx, hvy, hvz, pi, motor, fixed, broken, at_stop,
             S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum)
 
 
-def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, fixed, fixed_tension):
+def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, fixed_tension):
     """One flight step ``dt`` s of the drivetrain in ``n`` sub-steps (:meth:`.drivetrain.Drivetrain.advance`).
 
-    ``s`` the state array (:data:`STATE`, then the ledger; updated in place), ``c`` the
-    constants (:data:`DRIVETRAIN_CONSTANTS` first), the glider at ``(x, y, z) + (vx, vy, vz) t``
-    (m, m/s), ``motor`` the converter mode, ``omega_ref`` rad/s, ``duty_cmd`` the open-loop T1
-    duty (NaN: PI), ``boost_duty`` the T2 duty, ``RL`` ohm; ``fixed``: ``fixed_tension`` (N) at
-    the drum instead of the line. Returns ``(mean tension N, mean load power W, mean supply
-    power W, event code)``. The line stiffness EA/l and the paid-out line inertia mu l r_w^2
-    are taken at the start of the step; the ledger books their change at its end.
+    ``s`` the state array (:data:`STATE`, the ledger :data:`LEDGER`, :data:`STEP`; updated in place), ``c``
+    the constants (:data:`CONST` first), the glider at ``(x, y, z) + (vx, vy, vz) t`` (m, m/s),
+    ``motor`` the converter mode, ``omega_ref`` rad/s, ``duty_cmd`` the open-loop T1 duty (NaN:
+    PI), ``boost_duty`` the T2 duty, ``RL`` ohm; ``fixed_tension`` (N) at the drum instead of the
+    line (NaN: the line). Returns ``(mean tension N, mean load power W, mean supply power W,
+    event code)``. The line stiffness EA/l and the paid-out line inertia mu l r_w^2 are taken at
+    the start of the step; the ledger books their change at its end.
     """
-    r, B, Mc, Jw, mu, EA, Tbreak, lmin, lmax = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
-    K, R, L, two_ud, Va, C, kp, ki, d_min, d_max = c[9], c[10], c[11], c[12], c[13], c[14], c[15], c[16], c[17], c[18]
-    i_lim, t_lim, band = c[19], c[20], c[21]
-    i_t = (r * t_lim - Mc) / K  # the current that holds the tension limit on the drum
-    h = dt / n
-    if motor != (s[9] != 0.0):  # mode switch: the PI integrator restarts at 0
+    r, B, Mc, Jw, mu, EA = c[CONST.r], c[CONST.B], c[CONST.Mc], c[CONST.Jw], c[CONST.mu], c[CONST.EA]
+    K, R, L, two_ud, Va, C = c[CONST.K], c[CONST.R], c[CONST.L], c[CONST.two_ud], c[CONST.Va], c[CONST.C]
+    fixed, h = fixed_tension == fixed_tension, dt / n
+    if motor != (s[STATE.motor] != 0.0):  # mode switch: the PI integrator restarts at 0
         if motor:
-            s[4] = 0.0
-        s[9] = 1.0 if motor else 0.0
+            s[STATE.integ] = 0.0
+        s[STATE.motor] = 1.0 if motor else 0.0
     s_cpl = 0.0 if motor else 1.0 - boost_duty  # converter: link coupling (motor: v_src = duty V_a)
     cu, q = link_coefficients(C, RL, h, s_cpl)  # u1 = cu u0 + q i1
     aL, aH, iB = armature_coefficients(L, R, K, h, s_cpl, q)
-    l_start, stretch0 = float(s[0]), float(s[8])
-    integ, duty, broken, at_stop = float(s[4]), float(s[5]), float(s[6]) != 0.0, float(s[7]) != 0.0
+    l_start, stretch0 = float(s[STATE.length]), float(s[STATE.stretch])
+    duty, broken = float(s[STATE.duty]), s[STATE.broken] != 0.0
     J = Jw + mu * l_start * r * r  # drum + paid-out line
     e_glider = 0.0
     k = 0.0 if broken else EA / l_start
@@ -374,35 +377,39 @@ def advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_
             v_src = duty * Va
     else:
         duty = boost_duty
+    # the inputs of the sub-step loop, in the work area STEP
+    s[STEP.h], s[STEP.px], s[STEP.py], s[STEP.pz], s[STEP.hvx], s[STEP.hvy], s[STEP.hvz] = (
+        h, x, y, z, h * vx, h * vy, h * vz)
+    s[STEP.v_src], s[STEP.duty], s[STEP.d0], s[STEP.s0], s[STEP.k], s[STEP.tB] = v_src, duty, d0, s0, k, tB
+    s[STEP.J], s[STEP.Jb], s[STEP.omega_ref], s[STEP.e_glider] = J, J + h * B, omega_ref, e_glider
+    s[STEP.fixed_tension] = fixed_tension if fixed else 0.0
+    s[STEP.q], s[STEP.cu], s[STEP.aL], s[STEP.aH], s[STEP.aS], s[STEP.iB] = q, cu, aL, aH, aH * s_cpl * cu, iB
+    s[STEP.s_cpl], s[STEP.RL], s[STEP.i_t] = s_cpl, RL, (r * c[CONST.t_lim] - Mc) / K  # i_t: holds the tension limit
     (l0, w0, i0, u0, integ, duty, broken, at_stop, s0, k, ev, e_glider, e_supply, e_brake, e_stop, e_brk, e_numel,
-     S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(
-        n, h, x, y, z, h * vx, h * vy, h * vz, pi, motor, fixed, broken, at_stop, l_start, float(s[1]),
-        float(s[2]), float(s[3]), integ, duty, v_src, d0, s0, k, tB, J, J + h * B, omega_ref, fixed_tension,
-        e_glider, r, B, Mc, K, Va, two_ud, lmin, lmax, Tbreak, q, cu, aL, aH, aH * s_cpl * cu, iB, kp, ki, d_min,
-        d_max, i_lim, L, R, C, s_cpl, RL, t_lim, i_t, band)
+     S_load, S_i2, S_i, S_fw, S_w2, S_Tw, S_iw, S_dw2, S_di2, S_du2, t_sum) = substeps(s, c, n, pi, motor, fixed)
     stretch = s0 if not broken else 0.0  # (0 with a prescribed tension)
-    s[0], s[1], s[2], s[3], s[4], s[5] = l0, w0, i0, u0, integ, duty
-    s[6], s[7], s[8] = 1.0 if broken else 0.0, 1.0 if at_stop else 0.0, stretch
-    # the ledger (ledger.FIELDS)
-    s[_GLIDER_WORK] += e_glider
-    s[_SUPPLY] += h * e_supply
+    s[STATE.length], s[STATE.omega], s[STATE.current], s[STATE.u_link], s[STATE.integ], s[STATE.duty] = (
+        l0, w0, i0, u0, integ, duty)
+    s[STATE.broken], s[STATE.at_stop], s[STATE.stretch] = 1.0 if broken else 0.0, 1.0 if at_stop else 0.0, stretch
+    s[LEDGER.glider_work] += e_glider
+    s[LEDGER.supply] += h * e_supply
     J_end = Jw + mu * l0 * r * r
-    s[_WOUND] += 0.5 * (J_end - J) * w0 * w0
+    s[LEDGER.wound_line_kinetic] += 0.5 * (J_end - J) * w0 * w0
     sp = stretch if stretch > 0.0 else 0.0
     k_end = 0.0 if broken else EA / l0
-    s[STRAIN] += 0.5 * (k_end - k) * sp * sp
-    s[_LOAD] += h * S_load
-    s[_COPPER] += h * R * S_i2
-    s[_SEMI] += h * two_ud * S_i
-    s[_BRAKE] += h * e_brake
-    s[_COULOMB] += h * S_fw
-    s[_VISCOUS] += h * B * S_w2
-    s[_END_STOP] += e_stop
-    s[_BREAK] += e_brk
-    s[_NUMERICAL] += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
-    s[_DRUM] += h * r * S_Tw
-    s[_AIRGAP] += h * K * S_iw
-    s[_SK], s[_SI], s[_SC], s[SE] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0, 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
+    s[LEDGER.strain_payout] += 0.5 * (k_end - k) * sp * sp
+    s[LEDGER.load] += h * S_load
+    s[LEDGER.copper] += h * R * S_i2
+    s[LEDGER.semiconductor] += h * two_ud * S_i
+    s[LEDGER.brake] += h * e_brake
+    s[LEDGER.coulomb] += h * S_fw
+    s[LEDGER.viscous] += h * B * S_w2
+    s[LEDGER.end_stop], s[LEDGER.break_release] = s[LEDGER.end_stop] + e_stop, s[LEDGER.break_release] + e_brk
+    s[LEDGER.numerical] += 0.5 * (J * S_dw2 + L * S_di2 + C * S_du2) + e_numel
+    s[LEDGER.drum_work] += h * r * S_Tw
+    s[LEDGER.airgap] += h * K * S_iw
+    s[LEDGER.stored_kinetic], s[LEDGER.stored_inductor] = 0.5 * J_end * w0 * w0, 0.5 * L * i0 * i0
+    s[LEDGER.stored_capacitor], s[LEDGER.stored_elastic] = 0.5 * C * u0 * u0, 0.5 * k_end * sp * sp
     return t_sum / n, S_load / n, e_supply / n, ev
 
 
@@ -411,35 +418,36 @@ def station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, b
     force on the glider (mean tension along the line at the start position, plus the drag and
     weight shares, their work booked in the ledger) and the machine mode.
 
-    Arguments as :func:`advance` (``c``: all :data:`STATION_CONSTANTS`). Returns ``(fx, fy, fz
+    Arguments as :func:`advance` (``c``: :data:`CONST` and :data:`STATION`). Returns ``(fx, fy, fz
     N, mean tension N, length m, omega rad/s, current A, duty, u_link V, p_electrical W, event
     code, machine mode code, distance m, slack, broken)``.
     """
-    l_start = float(s[0])
+    l_start = float(s[STATE.length])
     tmean, pload, psup, ev = advance(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty,
-                                     RL, False, 0.0)
-    broken = float(s[6]) != 0.0
+                                     RL, math.nan)
+    broken = float(s[STATE.broken]) != 0.0
     d = math.sqrt(x * x + y * y + z * z)
     if broken and ev != 3:  # no line, no force
         fx = fy = fz = 0.0
     else:
-        if d <= 0.0 or c[C_DRAG_ON] == 0.0:
+        if d <= 0.0 or c[STATION.drag_on] == 0.0:
             fx = fy = fz = 0.0
         else:
-            fx, fy, fz = cross_flow_drag(x / d, y / d, z / d, vx - c[C_WIND], vy - c[C_WIND + 1], vz - c[C_WIND + 2],
-                                         c[C_DRAG] * l_start)
-        s[DRAG_W] += (fx * vx + fy * vy + fz * vz) * dt
-        fw = weight_share(c[C_WEIGHT], l_start, c[C_G])
-        s[WEIGHT_W] += fw * vz * dt
+            wind = STATION.wind
+            fx, fy, fz = cross_flow_drag(x / d, y / d, z / d, vx - c[wind], vy - c[wind + 1], vz - c[wind + 2],
+                                         c[STATION.drag_c] * l_start)
+        s[LEDGER.line_drag_work_on_glider] += (fx * vx + fy * vy + fz * vz) * dt
+        fw = weight_share(c[STATION.weight_c], l_start, c[STATION.g])
+        s[LEDGER.line_weight_work_on_glider] += fw * vz * dt
         fz += fw
         if d > 0.0 and tmean > 0.0:
             ct = -tmean / d
             fx += ct * x
             fy += ct * y
             fz += ct * z
-    w, i = float(s[1]), float(s[2])
-    return (fx, fy, fz, tmean, float(s[0]), w, i, float(s[5]), float(s[3]), pload - psup, ev,
-            machine_mode_code(w, i, c[9]), d, float(s[8]) <= 0.0, broken)
+    w, i = float(s[STATE.omega]), float(s[STATE.current])
+    return (fx, fy, fz, tmean, float(s[STATE.length]), w, i, float(s[STATE.duty]), float(s[STATE.u_link]),
+            pload - psup, ev, machine_mode_code(w, i, c[CONST.K]), d, float(s[STATE.stretch]) <= 0.0, broken)
 
 
 #: the functions called by :func:`advance` and :func:`station_step` (compiled with them)
@@ -463,7 +471,7 @@ def _njit(f: Callable, sig: str) -> Callable | None:
 def compiled() -> Callable | None:
     """:func:`advance` compiled by numba for one explicit signature (when the ground station is
     built, not inside its first step), or None (numba missing, or ``FDM_AWE_JIT=0``)."""
-    return _njit(advance, "aaifffffffbffffbf")
+    return _njit(advance, "aaifffffffbfffff")
 
 
 @functools.lru_cache(maxsize=None)
@@ -474,7 +482,6 @@ def compiled_station() -> Callable | None:
     return _njit(station_step, "aaifffffffbffff")
 
 
-__all__ = ["C_DRAG", "C_DRAG_ON", "C_G", "C_LINE", "C_WEIGHT", "C_WIND", "C_WINDS", "DRIVETRAIN_CONSTANTS", "EVENTS", "MACHINE_MODES", "STATE",
-           "STATION_CONSTANTS", "advance", "compiled", "compiled_station", "force_limited_current",
-           "hold_current", "hold_generator",
-           "machine_mode_code", "pi_step", "station_step", "substeps"]
+__all__ = ["CONST", "EVENTS", "LEDGER", "MACHINE_MODES", "STATE", "STATION", "STEP", "advance", "compiled",
+           "compiled_station", "force_limited_current", "hold_current", "hold_generator", "machine_mode_code",
+           "pi_step", "station_step", "substeps"]

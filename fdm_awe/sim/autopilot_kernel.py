@@ -31,20 +31,20 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .. import slots
 from .block_log import (AL_AIL, AL_CYCLE, AL_ELE, AL_ERR, AL_FOLD, AL_LOAD, AL_MASS, AL_RUD, AL_RX, AL_RY, AL_RZ,
                         AL_SUPPLY, AL_THR, N_ALOG, N_COMMANDS)
-from .events import E_FORCE, E_HOOK, E_NONE
+from .events import CODE
 from .flight_log import track_error
-from .glider_ledger import L_MASS, N_LEDGER, ledger_step
-from .kernel import G_FX, G_FY, G_FZ, G_LENGTH, G_SLACK, G_TENSION, P_D2, P_DT, P_DUTY, P_MOTOR, P_RL, P_WREF
-from .kernel import H_GET, H_GETTERS, H_SET, cosim_step, native_get, native_set
+from .glider_ledger import VALS, ledger_step
+from .kernel import GS, HANDLES, PAR, cosim_step, native_get, native_set
 from ..autopilot.auto_step import (A_G_ATT, GS_FX, GS_FY, GS_FZ, GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT,
                                    M_SREF, N_GSO, O_ALPHA, O_CYCLE, O_FOLD, O_ROLL, O_RX, O_RY, O_RZ, O_THROTTLE, O_W_D2,
                                    O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, auto_guide)
 from ..autopilot.attitude import attitude_from_row
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
-from ..sixdof.row import FOLD, si_position
+from ..sixdof.row import ROW, si_position
 
 #: ``ha`` (int64): the flight controls' setters (aileron, elevator, rudder, throttle, fold; 0: the
 #: aircraft has none), the attitude law's getters (:data:`fdm_awe.sixdof.attitude_law.LAW_PROPERTIES`),
@@ -52,7 +52,8 @@ from ..sixdof.row import FOLD, si_position
 HA_AIL, HA_ELE, HA_RUD, HA_THR, HA_FOLD = range(5)
 HA_LAW = 5
 HA_LEDGER = HA_LAW + N_LAW_PROPERTIES
-HA_IDEAL = HA_LEDGER + N_LEDGER
+_N_VALS = slots.size(VALS)  # the glider ledger's values per step
+HA_IDEAL = HA_LEDGER + _N_VALS
 N_HA = HA_IDEAL + 1
 #: ``q`` (float64): the flight's constants and the block's outcome
 (Q_NRAW, Q_R_DRUM, Q_D2_DEFAULT, Q_RL_DEFAULT, Q_S_END, Q_LEDGER_LOAD, Q_LEDGER_SUPPLY, Q_SLUG_FT2, Q_FT, Q_LBF,
@@ -74,22 +75,22 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
     ``work`` and ``v_prev``, the bookkeeping rows ``alog``): (steps done, event code);
     ``q[Q_WHY]`` says why the block ended."""
     nraw = int(q[Q_NRAW])
-    g0 = h.shape[0] - H_GETTERS  # first ground-station column of a log row
-    f_get, f_set = h[H_GET], h[H_SET]
+    g0 = h.shape[0] - HANDLES.getters  # first ground-station column of a log row
+    f_get, f_set = h[HANDLES.get], h[HANDLES.set]
     gso = np.empty(N_GSO)
     saved = np.empty(mem.shape[0] + 3 + thr_state.shape[0] + motor_mem.shape[0])
-    lvals = np.empty(N_LEDGER)
+    lvals = np.empty(_N_VALS)
     cvals = np.empty(N_LAW_PROPERTIES)
     n_m, n_t = mem.shape[0], thr_state.shape[0]
     k = k0
-    code = E_NONE
+    code = CODE.none
     q[Q_WHY] = WHY_DONE
     while k < k0 + n:
         lr = log[k]
         row = lr[:nraw]
         gso[GS_VALID] = q[Q_GS_VALID]
-        gso[GS_TENSION], gso[GS_LENGTH], gso[GS_SLACK] = lr[g0 + G_TENSION], lr[g0 + G_LENGTH], lr[g0 + G_SLACK]
-        gso[GS_FX], gso[GS_FY], gso[GS_FZ] = lr[g0 + G_FX], lr[g0 + G_FY], lr[g0 + G_FZ]
+        gso[GS_TENSION], gso[GS_LENGTH], gso[GS_SLACK] = lr[g0 + GS.tension], lr[g0 + GS.length], lr[g0 + GS.slack]
+        gso[GS_FX], gso[GS_FY], gso[GS_FZ] = lr[g0 + GS.fx], lr[g0 + GS.fy], lr[g0 + GS.fz]
         # the step's state, to be restored when the Python autopilot must fly it
         saved[:n_m] = mem
         saved[n_m:n_m + 3] = integral
@@ -109,7 +110,7 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
             motor_mem[:] = saved[n_m + 3 + n_t:]
             q[Q_WHY] = WHY_PYTHON
             break
-        fold = row[FOLD]
+        fold = row[ROW.fold]
         if law_stale(fold, law_fold_at[0]):  # the law's derivatives at the new fold state
             for j in range(N_LAW_PROPERTIES):
                 cvals[j] = native_get(f_get, ha[HA_LAW + j])
@@ -124,17 +125,17 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
         native_set(f_set, ha[HA_THR], thr)
         if ha[HA_FOLD] != 0:
             native_set(f_set, ha[HA_FOLD], fc)
-        p[P_MOTOR], p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL] = 1.0 if motor else 0.0, omega_ref, duty, d2, rl
+        p[PAR.motor], p[PAR.wref], p[PAR.duty], p[PAR.d2], p[PAR.rl] = 1.0 if motor else 0.0, omega_ref, duty, d2, rl
         code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
-        if code == E_HOOK or code == E_FORCE:
+        if code == CODE.hook_rejected or code == CODE.nonfinite_force:
             break  # the step was not done
         k += 1
         q[Q_GS_VALID] = 1.0
         nr = log[k]
-        for j in range(N_LEDGER):
+        for j in range(_N_VALS):
             lvals[j] = native_get(f_get, ha[HA_LEDGER + j])
         ideal = native_get(f_get, ha[HA_IDEAL]) if ha[HA_IDEAL] != 0 else 0.0
-        ledger_step(lvals, ideal, work, v_prev, p[P_DT], q[Q_FT], q[Q_LBF])
+        ledger_step(lvals, ideal, work, v_prev, p[PAR.dt], q[Q_FT], q[Q_LBF])
         al = alog[k]
         al[AL_AIL], al[AL_ELE], al[AL_RUD], al[AL_THR], al[AL_FOLD] = a, e, r, thr, fc
         rx, ry, rz = out[O_RX], out[O_RY], out[O_RZ]
@@ -142,8 +143,8 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
         al[AL_RX], al[AL_RY], al[AL_RZ], al[AL_CYCLE] = rx, ry, rz, out[O_CYCLE]
         al[AL_ERR] = track_error(rx, ry, rz, x, y, z)
         al[AL_LOAD], al[AL_SUPPLY] = s_gs[int(q[Q_LEDGER_LOAD])], s_gs[int(q[Q_LEDGER_SUPPLY])]
-        al[AL_MASS] = lvals[L_MASS]
-        if code != E_NONE:
+        al[AL_MASS] = lvals[VALS.mass]
+        if code != CODE.none:
             break
         if mem[M_SREF] >= q[Q_S_END]:
             q[Q_WHY] = WHY_END

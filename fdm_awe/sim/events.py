@@ -8,7 +8,7 @@ ground-station event, ground contact after the glider was airborne, the airspeed
 the grace time), the line tension, the load factor. It is a plain function: the compiled
 co-simulation step (:mod:`fdm_awe.sim.kernel`) compiles it with numba and the Python loop
 (:meth:`fdm_awe.sim.loop.CoSim.run`) runs the same source, so both end a run on the same step with
-the same code. Its thresholds come in a vector (``L_*`` positions) built by
+the same code. Its thresholds come in a vector (layout :data:`LIM`) built by
 :func:`limit_vector`, a float64 array in the compiled step and a list in Python.
 
 One event of the table is logged and does not end the run (its status ``ok``):
@@ -26,8 +26,9 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..constants import G0
-from ..sixdof.row import FBZ, FINITE_END, FINITE_FIRST, MASS, T, VT, WOW
+from ..sixdof.row import FINITE_END, FINITE_FIRST, ROW
 
 
 @dataclass(frozen=True)
@@ -62,15 +63,14 @@ EVENTS: tuple[EventKind, ...] = (
     EventKind(12, "machine_current", "ok", "armature current {current:.1f} A above the machine's peak rating "
                                            "{peak_current:g} A"),
 )
-(E_NONE, E_HOOK, E_FORCE, E_STATE, E_GS, E_GROUND, E_VHI, E_VLO, E_TENSION, E_LOAD, E_JSBSIM,
- E_INTERRUPT, E_CURRENT) = range(len(EVENTS))
-#: event names by code
-EVENT_CODES: tuple[str, ...] = tuple(e.name for e in EVENTS)
+#: each event's code by its name (``CODE.tension``), its index in :data:`EVENTS`
+CODE = slots.declare("EventCodes", tuple(e.name for e in EVENTS))
+if any(e.code != i for i, e in enumerate(EVENTS)):  # pragma: no cover - a definition error in this module
+    raise RuntimeError("fdm_awe.sim.events: EVENTS must list each event at the index of its code")
 
-# positions in the vector of :func:`step_event`'s thresholds and state (see limit_vector)
-(L_VHI, L_VLO, L_THI, L_NMAX, L_GRACE, L_T0, L_CHECKV, L_GROUND, L_AIRBORNE, L_KV, L_KFZ, L_KM) = range(12)
-N_LIMITS = 12
-
+#: the vector of :func:`step_event`'s thresholds and state (see :func:`limit_vector`)
+LIM = slots.declare("EventLimits", ("vhi", "vlo", "thi", "nmax", "grace", "t0", "checkv", "ground", "airborne", "kv",
+                                    "kfz", "km"))
 
 
 def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float, k_m: float) -> list[float]:
@@ -80,47 +80,47 @@ def limit_vector(limits: Any, t0: float, airborne: bool, k_v: float, k_fz: float
     check) and the row's SI factors of airspeed (``k_v``), body z force (``k_fz``) and mass
     (``k_m``)."""
     inf = math.inf
-    v = [0.0] * N_LIMITS
-    v[L_VHI] = inf if limits.airspeed_max is None else limits.airspeed_max
-    v[L_VLO] = -inf if limits.airspeed_min is None else limits.airspeed_min
-    v[L_THI] = inf if limits.max_tension is None else limits.max_tension
-    v[L_NMAX] = math.nan if limits.max_load_factor is None else limits.max_load_factor
-    v[L_GRACE], v[L_T0] = limits.grace_s, t0
-    v[L_CHECKV] = 1.0 if (limits.airspeed_max is not None or limits.airspeed_min is not None) else 0.0
-    v[L_GROUND] = 1.0 if limits.ground_contact else 0.0
-    v[L_AIRBORNE] = 1.0 if airborne else 0.0
-    v[L_KV], v[L_KFZ], v[L_KM] = k_v, k_fz, k_m
+    v = [0.0] * slots.size(LIM)
+    v[LIM.vhi] = inf if limits.airspeed_max is None else limits.airspeed_max
+    v[LIM.vlo] = -inf if limits.airspeed_min is None else limits.airspeed_min
+    v[LIM.thi] = inf if limits.max_tension is None else limits.max_tension
+    v[LIM.nmax] = math.nan if limits.max_load_factor is None else limits.max_load_factor
+    v[LIM.grace], v[LIM.t0] = limits.grace_s, t0
+    v[LIM.checkv] = 1.0 if (limits.airspeed_max is not None or limits.airspeed_min is not None) else 0.0
+    v[LIM.ground] = 1.0 if limits.ground_contact else 0.0
+    v[LIM.airborne] = 1.0 if airborne else 0.0
+    v[LIM.kv], v[LIM.kfz], v[LIM.km] = k_v, k_fz, k_m
     return v
 
 
 def step_event(r, tension, gs_event, lim):
-    """Event code (:data:`EVENTS`) of a step just run, :data:`E_NONE` when the run goes on:
+    """Event code (:data:`EVENTS`) of a step just run, ``CODE.none`` when the run goes on:
     ``r`` the step's raw row (:mod:`fdm_awe.sixdof.row`), ``tension`` the line tension N,
     ``gs_event`` true when the ground station reported an event, ``lim`` the vector of
     :func:`limit_vector` (its airborne flag set once the glider is off the ground)."""
     if not math.isfinite(sum(r[FINITE_FIRST:FINITE_END])):
-        return E_STATE
+        return CODE.nonfinite_state
     if gs_event:
-        return E_GS
-    if r[WOW] > 0.5:  # weight on wheels: a contact touches the ground
-        if lim[L_AIRBORNE] != 0.0 and lim[L_GROUND] != 0.0:
-            return E_GROUND
+        return CODE.ground_station
+    if r[ROW.wow] > 0.5:  # weight on wheels: a contact touches the ground
+        if lim[LIM.airborne] != 0.0 and lim[LIM.ground] != 0.0:
+            return CODE.ground_contact
     else:
-        lim[L_AIRBORNE] = 1.0
-    if lim[L_CHECKV] != 0.0 and r[T] - lim[L_T0] >= lim[L_GRACE]:
-        v = r[VT] * lim[L_KV]  # SixDofState.airspeed
-        if v > lim[L_VHI]:
-            return E_VHI
-        if v < lim[L_VLO]:
-            return E_VLO
-    if tension > lim[L_THI]:
-        return E_TENSION
-    nmax = lim[L_NMAX]
+        lim[LIM.airborne] = 1.0
+    if lim[LIM.checkv] != 0.0 and r[ROW.t] - lim[LIM.t0] >= lim[LIM.grace]:
+        v = r[ROW.vt] * lim[LIM.kv]  # SixDofState.airspeed
+        if v > lim[LIM.vhi]:
+            return CODE.airspeed_high
+        if v < lim[LIM.vlo]:
+            return CODE.airspeed_low
+    if tension > lim[LIM.thi]:
+        return CODE.tension
+    nmax = lim[LIM.nmax]
     if nmax == nmax:  # NaN: no load-factor limit
-        nz = -r[FBZ] * lim[L_KFZ] / (r[MASS] * lim[L_KM]) / G0  # SixDofState.load_factor
+        nz = -r[ROW.fbz] * lim[LIM.kfz] / (r[ROW.mass] * lim[LIM.km]) / G0  # SixDofState.load_factor
         if nz > nmax or nz < -nmax:
-            return E_LOAD
-    return E_NONE
+            return CODE.load_factor
+    return CODE.none
 
 
 def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
@@ -138,13 +138,13 @@ def event_message(code: int, limits: Any, state: Any = None, gs_out: Any = None,
     values: dict[str, Any] = {"error": error, "force": force, "gs_event": gev,
                               "airspeed_max": limits.airspeed_max, "airspeed_min": limits.airspeed_min,
                               "max_tension": limits.max_tension, "max_load_factor": limits.max_load_factor}
-    if code == E_GROUND:
+    if code == CODE.ground_contact:
         values.update(x=state.x, y=state.y, airspeed=state.airspeed)
-    elif code in (E_VHI, E_VLO):
+    elif code in (CODE.airspeed_high, CODE.airspeed_low):
         values["airspeed"] = state.airspeed
-    elif code == E_LOAD:
+    elif code == CODE.load_factor:
         values["load_factor"] = state.load_factor
-    elif code == E_TENSION:
+    elif code == CODE.tension:
         values["tension"] = gs_out.tension
     return status, msg.format(**values)
 
@@ -165,10 +165,10 @@ def machine_current(t: np.ndarray, current: np.ndarray, rated: float,
     over = np.flatnonzero(i > peak)
     events: list[tuple[float, str]] = []
     for run in np.split(over, np.flatnonzero(np.diff(over) > 1) + 1) if len(over) else []:
-        msg = EVENTS[E_CURRENT].message.format(current=float(i[run].max()), peak_current=peak)
+        msg = EVENTS[CODE.machine_current].message.format(current=float(i[run].max()), peak_current=peak)
         events.append((float(t[run[0]]), msg))
     return i_max, above, events
 
 
-__all__ = ["EVENTS", "EVENT_CODES", "EventKind", "N_LIMITS", "event_message", "limit_vector", "machine_current",
+__all__ = ["CODE", "EVENTS", "EventKind", "LIM", "event_message", "limit_vector", "machine_current",
            "step_event"]

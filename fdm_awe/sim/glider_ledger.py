@@ -13,19 +13,20 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..units import FT, LBF, SLUG
 
 #: the forces booked, in the order of the work array (then the paper plant's ideal thrust)
 FORCES = ("aero", "prop", "external", "gear", "weight")
-(W_AERO, W_PROP, W_EXTERNAL, W_GEAR, W_WEIGHT, W_IDEAL) = range(6)
-N_WORK = 6
+#: the work array, J: each force's, then the paper plant's ideal thrust's
+WORK = slots.declare("GliderWork", FORCES + ("ideal_thrust",))
 #: the properties one step reads: each force's body components (lbf), the body velocity (ft/s),
 #: the mass (slug); the ideal thrust (lbf) is read only for the paper plant (else 0)
 LEDGER_PROPERTIES = tuple(f"forces/fb{a}-{k}-lbs" for k in FORCES for a in "xyz") + (
     "velocities/u-fps", "velocities/v-fps", "velocities/w-fps", "inertia/mass-slugs")
 IDEAL_THRUST_PROPERTY = "external_reactions/ideal-thrust/magnitude"
-(L_U, L_V, L_W, L_MASS) = range(15, 19)
-N_LEDGER = 19
+#: their values as one step reads them (each force's three body components from ``fb_<force>``)
+VALS = slots.declare("LedgerValues", tuple(("fb_" + k, 3) for k in FORCES) + ("u", "v", "w", "mass"))
 
 
 def ledger_step(vals: Any, ideal_thrust: float, work: np.ndarray, v_prev: np.ndarray, dt: float, ft: float,
@@ -35,11 +36,12 @@ def ledger_step(vals: Any, ideal_thrust: float, work: np.ndarray, v_prev: np.nda
     units), ``ideal_thrust`` the paper plant's ideal thrust [lbf] (0 without), ``v_prev`` the
     body velocity [m/s] at the step's start (replaced by the end's), ``ft`` m per ft, ``lbf``
     N per lbf."""
-    u, v, w = vals[L_U] * ft, vals[L_V] * ft, vals[L_W] * ft
+    u, v, w = vals[VALS.u] * ft, vals[VALS.v] * ft, vals[VALS.w] * ft
     m0, m1, m2 = (u + v_prev[0]) * 0.5, (v + v_prev[1]) * 0.5, (w + v_prev[2]) * 0.5
-    for j in range(5):
-        work[j] += (vals[3 * j] * m0 + vals[3 * j + 1] * m1 + vals[3 * j + 2] * m2) * lbf * dt
-    work[W_IDEAL] += ideal_thrust * m0 * lbf * dt
+    for j in range(5):  # the forces: fb_aero .. fb_weight, three slots each, in WORK's order
+        a = VALS.fb_aero + 3 * j
+        work[WORK.aero + j] += (vals[a] * m0 + vals[a + 1] * m1 + vals[a + 2] * m2) * lbf * dt
+    work[WORK.ideal_thrust] += ideal_thrust * m0 * lbf * dt
     v_prev[0], v_prev[1], v_prev[2] = u, v, w
 
 
@@ -62,10 +64,10 @@ class GliderLedger:
         self._ti = pm.get_node(IDEAL_THRUST_PROPERTY, False).get_double_value if ideal_thrust else None
         self.ideal_thrust = bool(ideal_thrust)  #: the paper plant's ideal thrust is booked apart
         #: works [J] (:data:`FORCES`, then the ideal thrust), updated by every step
-        self.work_array = np.zeros(N_WORK)
+        self.work_array = slots.new(WORK)
         vals = self._read()
-        self.v_prev = np.array((vals[L_U] * FT, vals[L_V] * FT, vals[L_W] * FT))  #: body velocity [m/s]
-        self._mass = vals[L_MASS]
+        self.v_prev = np.array((vals[VALS.u] * FT, vals[VALS.v] * FT, vals[VALS.w] * FT))  #: body velocity [m/s]
+        self._mass = vals[VALS.mass]
         self.ke0 = kinetic_energy(self.v_prev, self._mass, SLUG)
 
     def _read(self) -> list[float]:
@@ -74,7 +76,7 @@ class GliderLedger:
     def step(self, dt: float) -> None:
         """Add each force's work over the step of ``dt`` [s] just flown (:func:`ledger_step`)."""
         vals = self._read()
-        self._mass = vals[L_MASS]
+        self._mass = vals[VALS.mass]
         ledger_step(vals, 0.0 if self._ti is None else self._ti(), self.work_array, self.v_prev, dt, FT, LBF)
 
     def set_mass(self, mass_slug: float) -> None:
@@ -91,7 +93,7 @@ class GliderLedger:
     def work(self) -> dict[str, float]:
         """The works [J] by force name (and ``ideal_thrust``)."""
         w = self.work_array.tolist()
-        return dict(zip(FORCES + ("ideal_thrust",), w))
+        return dict(zip(slots.names(WORK), w))
 
     def terms(self) -> dict[str, float]:
         """J: kinetic change, potential change (= -weight work), works of the other forces."""

@@ -13,21 +13,21 @@ both give identical results (tested).
 
 Arguments are packed to keep a one-step call cheap:
 
-- ``h`` int64 (``H_*`` offsets): Run, getDoubleValue, setDoubleValue, FGFDMExec*, the three
-  tether-force nodes (x, y, z), then the nodes read per step (0: constant 0.0), in the order
-  of the raw row (:mod:`fdm_awe.sixdof.row`);
-- ``p`` float64 parameters (``P_*`` offsets): step, sub-steps, frame and hook constants, the
+- ``h`` int64 (layout :data:`HANDLES`): Run, getDoubleValue, setDoubleValue, FGFDMExec*, the
+  three tether-force nodes (x, y, z), then the nodes read per step (0: constant 0.0), in the
+  order of the raw row (:mod:`fdm_awe.sixdof.row`);
+- ``p`` float64 parameters (layout :data:`PAR`): step, sub-steps, frame and hook constants, the
   winch command's terms, the current hook kinematics (updated) and the last line force
   (updated);
 - ``lim`` float64 thresholds of the event checks and the airborne flag (updated), as
   :func:`fdm_awe.sim.events.limit_vector` builds them;
 - ``log`` one row per step (row ``k0``: the current state), each row the JSBSim values (one
-  per read node), then the ground-station outputs (:data:`GS_COLUMNS`), then the hook
-  kinematics after the step and the line force applied during it (:data:`TAIL_COLUMNS`), so
+  per read node), then the ground-station outputs (:data:`GS`), then the hook
+  kinematics after the step and the line force applied during it (:data:`TAIL`), so
   that one ``log[k].tolist()`` hands a step over to Python;
 - ``s_gs``, ``c_gs`` the ground station's state and constants (updated in place).
 
-Returns ``(steps done, event code)``; the event code (:data:`fdm_awe.sim.events.EVENT_CODES`) belongs to the last
+Returns ``(steps done, event code)``; the event code (:data:`fdm_awe.sim.events.CODE`) belongs to the last
 step done (or, for a rejected hook or a non-finite force, to the step that was not done).
 """
 
@@ -38,29 +38,33 @@ import math
 import sys
 from typing import Any, Callable
 
-from .events import E_FORCE, E_HOOK, E_NONE, step_event
+from .. import slots
+from .events import CODE, step_event
 from ..groundstation.linemodels import kernel_called, kernel_sources, line_step
 from ..jitcache import jit_off
-from ..groundstation.substeps import C_LINE
+from ..groundstation.substeps import CONST, STATION
 from ..sixdof.row import hook_kinematics
 
-# parameter offsets in ``p``
-(P_DT, P_NSUB, P_LAT0, P_M0, P_N0COS, P_OX, P_OY, P_OZ, P_FT, P_LBF, P_MOTOR, P_WREF, P_DUTY, P_D2, P_RL,
- P_HX, P_HY, P_HZ, P_HVX, P_HVY, P_HVZ, P_FX, P_FY, P_FZ) = range(24)
-N_PARAMS = 24
-# offsets in ``h``: the calls, the object, the tether-force nodes, then the read nodes
-(H_RUN, H_GET, H_SET, H_FDM, H_TX, H_TY, H_TZ, H_GETTERS) = range(8)
+#: the parameters ``p``: step s, sub-steps, the frame's and the hook's constants (home latitude
+#: rad, meridian radius m, N0 cos(lat0) m, the hook's offset from the CG m body axes, m per ft, N
+#: per lbf), the winch command's terms (motor flag, speed reference rad/s, T1 duty, T2 duty, load
+#: ohm), the current hook position m and velocity m/s NED (updated) and the last line force N
+#: (updated)
+PAR = slots.declare("CosimParams", ("dt", "nsub", "lat0", "m0", "n0cos", "ox", "oy", "oz", "ft", "lbf", "motor",
+                                    "wref", "duty", "d2", "rl", "hx", "hy", "hz", "hvx", "hvy", "hvz", "fx", "fy",
+                                    "fz"))
+#: the int64 handles ``h``: the calls, the object, the tether-force nodes, then from ``getters``
+#: the read nodes
+HANDLES = slots.declare("CosimHandles", ("run", "get", "set", "fdm", "tx", "ty", "tz", "getters"))
 #: ground-station output columns per row, after the raw values (the first ten are CoSim's
 #: logged columns)
-GS_COLUMNS = ("tension", "length", "reel_speed", "omega", "current", "duty", "p_electrical", "fx", "fy", "fz",
-              "u_link", "event", "machine_mode", "p_mechanical", "distance", "slack", "broken")
-(G_TENSION, G_LENGTH, G_REEL_SPEED, G_OMEGA, G_CURRENT, G_DUTY, G_P_EL, G_FX, G_FY, G_FZ, G_U_LINK, G_EVENT,
- G_MACHINE_MODE, G_P_MECH, G_DISTANCE, G_SLACK, G_BROKEN) = range(17)
-N_GS = 17
+GS = slots.declare("StationColumns", ("tension", "length", "reel_speed", "omega", "current", "duty", "p_electrical",
+                                      "fx", "fy", "fz", "u_link", "event", "machine_mode", "p_mechanical", "distance",
+                                      "slack", "broken"))
 #: the row's last columns, after the ground-station ones: hook position and velocity after the
 #: step, line force during it
-TAIL_COLUMNS = ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "fx", "fy", "fz")
-(K_HX, K_HY, K_HZ, K_HVX, K_HVY, K_HVZ, K_FX, K_FY, K_FZ) = range(len(TAIL_COLUMNS))
+TAIL = slots.declare("TailColumns", ("hook_x", "hook_y", "hook_z", "hook_vx", "hook_vy", "hook_vz", "fx", "fy", "fz"))
+_N_GS = slots.size(GS)
 
 
 def _globals() -> tuple:
@@ -81,57 +85,59 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
     """One step from row ``k`` to row ``k + 1`` of ``log`` (the arguments as :func:`cosim_steps`
     takes them): the event code of the step, or of the step that was not done (a rejected hook,
     a non-finite force: ``log[k + 1]`` is then not written)."""
-    x, y, z = p[P_HX], p[P_HY], p[P_HZ]
-    vx, vy, vz = p[P_HVX], p[P_HVY], p[P_HVZ]
+    x, y, z = p[PAR.hx], p[PAR.hy], p[PAR.hz]
+    vx, vy, vz = p[PAR.hvx], p[PAR.hvy], p[PAR.hvz]
     if not (math.isfinite(x + y + z) and math.isfinite(vx + vy + vz)):
-        return E_HOOK
-    dt = p[P_DT]
-    nsub = int(p[P_NSUB])
-    motor = p[P_MOTOR] != 0.0
+        return CODE.hook_rejected
+    dt = p[PAR.dt]
+    nsub = int(p[PAR.nsub])
+    motor = p[PAR.motor] != 0.0
     (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = line_step(
-        int(c_gs[C_LINE]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[P_WREF], p[P_DUTY], p[P_D2], p[P_RL])
-    p[P_FX], p[P_FY], p[P_FZ] = fx, fy, fz
+        int(c_gs[STATION.line]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[PAR.wref], p[PAR.duty],
+        p[PAR.d2], p[PAR.rl])
+    p[PAR.fx], p[PAR.fy], p[PAR.fz] = fx, fy, fz
     if not math.isfinite(fx + fy + fz):
-        return E_FORCE
-    lbf = p[P_LBF]
-    f_set = h[H_SET]
-    native_set(f_set, h[H_TX], fx / lbf)
-    native_set(f_set, h[H_TY], fy / lbf)
-    native_set(f_set, h[H_TZ], fz / lbf)
-    native_run(h[H_RUN], h[H_FDM])
+        return CODE.nonfinite_force
+    lbf = p[PAR.lbf]
+    f_set = h[HANDLES.set]
+    native_set(f_set, h[HANDLES.tx], fx / lbf)
+    native_set(f_set, h[HANDLES.ty], fy / lbf)
+    native_set(f_set, h[HANDLES.tz], fz / lbf)
+    native_run(h[HANDLES.run], h[HANDLES.fdm])
     r = log[k + 1]
-    f_get = h[H_GET]
-    nget = h.shape[0] - H_GETTERS
+    f_get = h[HANDLES.get]
+    nget = h.shape[0] - HANDLES.getters
     for j in range(nget):
-        a = h[H_GETTERS + j]
+        a = h[HANDLES.getters + j]
         r[j] = native_get(f_get, a) if a != 0 else 0.0
     g = nget  # first ground-station column
-    e = nget + N_GS  # first tail column
-    rr = c_gs[0] * w
-    r[g + G_TENSION], r[g + G_LENGTH], r[g + G_REEL_SPEED], r[g + G_OMEGA] = tmean, length, rr, w
-    r[g + G_CURRENT], r[g + G_DUTY], r[g + G_P_EL] = i, duty, p_el
-    r[g + G_FX], r[g + G_FY], r[g + G_FZ], r[g + G_U_LINK], r[g + G_EVENT], r[g + G_MACHINE_MODE] = (
+    e = nget + _N_GS  # first tail column
+    rr = c_gs[CONST.r] * w
+    r[g + GS.tension], r[g + GS.length], r[g + GS.reel_speed], r[g + GS.omega] = tmean, length, rr, w
+    r[g + GS.current], r[g + GS.duty], r[g + GS.p_electrical] = i, duty, p_el
+    r[g + GS.fx], r[g + GS.fy], r[g + GS.fz], r[g + GS.u_link], r[g + GS.event], r[g + GS.machine_mode] = (
         fx, fy, fz, u_link, ev, mm)
-    r[g + G_P_MECH], r[g + G_DISTANCE] = tmean * c_gs[0] * w, d
-    r[g + G_SLACK], r[g + G_BROKEN] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
-    (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, p[P_LAT0], p[P_M0], p[P_N0COS], p[P_FT], p[P_OX], p[P_OY],
-                                                    p[P_OZ])
-    p[P_HX], p[P_HY], p[P_HZ], p[P_HVX], p[P_HVY], p[P_HVZ] = hx, hy, hz, hvx, hvy, hvz
-    r[e + K_HX], r[e + K_HY], r[e + K_HZ], r[e + K_HVX], r[e + K_HVY], r[e + K_HVZ] = hx, hy, hz, hvx, hvy, hvz
-    r[e + K_FX], r[e + K_FY], r[e + K_FZ] = fx, fy, fz
+    r[g + GS.p_mechanical], r[g + GS.distance] = tmean * c_gs[CONST.r] * w, d
+    r[g + GS.slack], r[g + GS.broken] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
+    (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, p[PAR.lat0], p[PAR.m0], p[PAR.n0cos], p[PAR.ft], p[PAR.ox],
+                                                    p[PAR.oy], p[PAR.oz])
+    p[PAR.hx], p[PAR.hy], p[PAR.hz], p[PAR.hvx], p[PAR.hvy], p[PAR.hvz] = hx, hy, hz, hvx, hvy, hvz
+    r[e + TAIL.hook_x], r[e + TAIL.hook_y], r[e + TAIL.hook_z] = hx, hy, hz
+    r[e + TAIL.hook_vx], r[e + TAIL.hook_vy], r[e + TAIL.hook_vz] = hvx, hvy, hvz
+    r[e + TAIL.fx], r[e + TAIL.fy], r[e + TAIL.fz] = fx, fy, fz
     return step_event(r, tmean, ev != 0, lim)  # the events, as CoSim.run checks them
 
 
 def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
     """``n`` steps of :func:`cosim_step` from row ``k0``: (steps done, event code)."""
     k = k0
-    code = E_NONE
+    code = CODE.none
     while k < k0 + n:
         code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
-        if code == E_HOOK or code == E_FORCE:
+        if code == CODE.hook_rejected or code == CODE.nonfinite_force:
             break
         k += 1
-        if code != E_NONE:
+        if code != CODE.none:
             break
     return k - k0, code
 
@@ -157,6 +163,4 @@ def compiled_kernel() -> Callable | None:
                           + kernel_sources(), "fdm_awe.sim.kernel")
 
 
-__all__ = ["GS_COLUMNS", "N_PARAMS", "TAIL_COLUMNS", "compiled_kernel"]
-if len(GS_COLUMNS) != N_GS or len(TAIL_COLUMNS) != K_FZ + 1:  # pragma: no cover - a definition error here
-    raise RuntimeError("fdm_awe.sim.kernel: column names and offsets disagree")
+__all__ = ["GS", "HANDLES", "PAR", "TAIL", "compiled_kernel"]

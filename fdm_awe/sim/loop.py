@@ -41,7 +41,7 @@ from typing import Any, Callable, Protocol, Sequence
 
 import numpy as np
 
-from .events import E_INTERRUPT, event_message
+from .events import CODE, event_message
 from ..errors import InputError
 from ..jitcache import jit_off
 from ..sixdof.adapter import JSBSimGlider
@@ -240,7 +240,7 @@ class CoSim:
                     event = code if type(code) is Event else to_event(code, s, gs_out)
                     break
         except KeyboardInterrupt:
-            event = self._event(E_INTERRUPT, s, gs_out)
+            event = self._event(CODE.interrupted, s, gs_out)
         wall = time.perf_counter() - wall0
         self.last_gs_output = gs_out
         raws, gsrec = stepper.rows(k)

@@ -29,9 +29,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .events import E_FORCE, E_HOOK, E_JSBSIM, limit_vector, step_event
+from .. import slots
+from .events import CODE, limit_vector, step_event
 from ..errors import InputError
-from ..sixdof.row import FBZ, MASS, T, VT
+from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState
 from ..units import FT, LBF
 from .result import STATION_COLUMNS, Event
@@ -85,7 +86,7 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
     raws.extend(raw0)
     gsrec.extend((math.nan,) * _N_GS)  # no ground-station step yet
     # the event checks' thresholds, airborne flag and the state's SI factors (SixDofState)
-    lim_v = limit_vector(sim.limits, s.t, not s.on_ground, s.scale[VT], s.scale[FBZ], s.scale[MASS])
+    lim_v = limit_vector(sim.limits, s.t, not s.on_ground, s.scale[ROW.vt], s.scale[ROW.fbz], s.scale[ROW.mass])
     set_controls, advance = g.set_controls, advance_call(g)
     update, gs_step = ctrl.update, gs.step
     gsrec_add = gsrec.fromlist
@@ -93,13 +94,13 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
     check, ndarray, isfinite = step_event, np.ndarray, math.isfinite
 
     def step(k: int, s: SixDofState, gs_out: Any) -> tuple:
-        surf, wcmd = update(s.raw[T], s, gs_out)
+        surf, wcmd = update(s.raw[ROW.t], s, gs_out)
         set_controls(surf)
         hp, hv = s.hook  # the state's tether attachment point (glider.hook_kinematics())
         try:
             gs_out = gs_step(dt, hp, hv, wcmd)
         except InputError as exc:
-            return 0, event(E_HOOK, s, gs_out, error=str(exc)), s, gs_out, surf
+            return 0, event(CODE.hook_rejected, s, gs_out, error=str(exc)), s, gs_out, surf
         try:
             fx, fy, fz = gs_out.force_xyz
         except AttributeError:  # a ground station whose output has no force_xyz
@@ -108,11 +109,11 @@ def python_stepper(sim: Any, s: SixDofState, event: Callable[..., Event]) -> Ste
                 f = f.tolist()
             fx, fy, fz = f[0], f[1], f[2]
         if not isfinite(fx + fy + fz):
-            return 0, event(E_FORCE, s, gs_out, force=(fx, fy, fz)), s, gs_out, surf
+            return 0, event(CODE.nonfinite_force, s, gs_out, force=(fx, fy, fz)), s, gs_out, surf
         try:
             s = advance(fx, fy, fz)
         except (RuntimeError, ValueError, ArithmeticError) as exc:  # JSBSim gave up on the state
-            return 0, event(E_JSBSIM, s, gs_out, error=str(exc)), s, gs_out, surf
+            return 0, event(CODE.jsbsim_failed, s, gs_out, error=str(exc)), s, gs_out, surf
         r = s.raw
         raws_add(r)  # array.fromlist: the list fast path (extend iterates item by item)
         tension = gs_out.tension
@@ -141,20 +142,21 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
     g, gs, ctrl, dt = sim.glider, sim.gs, sim.controller, sim.dt
     raw0 = g.raw()
     nr = len(raw0)
-    ng = nr + len(ck.GS_COLUMNS)
-    width = ng + len(ck.TAIL_COLUMNS)
+    ng = nr + slots.size(ck.GS)
+    width = ng + slots.size(ck.TAIL)
     # the log (see cosim_kernel: raw | station | tail), grown by doubling as the run goes: a
     # long t_end that an event or on_step cuts short does not allocate its whole length
     log = np.full((min(n + 1, 1 << 14), width), math.nan)
     log[0, :nr] = raw0
     s_gs, c_gs, nsub = gsa
     p = kernel_params(g, dt, s, nsub)
-    lim_v = np.array(limit_vector(sim.limits, s.t, not s.on_ground, s.scale[VT], s.scale[FBZ], s.scale[MASS]))
+    lim_v = np.array(limit_vector(sim.limits, s.t, not s.on_ground, s.scale[ROW.vt], s.scale[ROW.fbz],
+                                  s.scale[ROW.mass]))
     update, set_controls, command_terms = ctrl.update, g.set_controls, gs.command_terms
     output_from_row, make_state, sync = gs.output_from_row, g.make_state, g.sync_from_native
     # the compiled function without numba's argument-type dispatch (its one signature)
     call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
-    i_motor = ck.P_MOTOR
+    i_motor = ck.PAR.motor
     runner, block_steps = sim.block_runner, sim.block_steps
     last_wcmd: Any = None
     mode = ""
@@ -183,7 +185,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
                 try:
                     mode, motor, omega_ref, duty, d2, rl = command_terms(wcmd)
                 except InputError as exc:  # as GroundStation.step in the Python loop
-                    return 0, event(E_HOOK, s, gs_out, error=str(exc)), s, gs_out, surf
+                    return 0, event(CODE.hook_rejected, s, gs_out, error=str(exc)), s, gs_out, surf
                 p[i_motor:i_motor + 5] = (1.0 if motor else 0.0, omega_ref, duty, d2, rl)
                 last_wcmd = wcmd
             m = block if n - k > block else n - k
@@ -193,11 +195,11 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
         if done:
             row = log[k + done].tolist()
             r = row[:nr]
-            hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL_COLUMNS
+            hx, hy, hz, hvx, hvy, hvz, fx, fy, fz = row[ng:]  # ck.TAIL
             hook, force = ((hx, hy, hz), (hvx, hvy, hvz)), (fx, fy, fz)
             s = make_state(r, hook, force)
             sync(r, hook, force, s)  # the glider's raw(), state(), hook_kinematics() follow
-            t = r[T]
+            t = r[ROW.t]
             gs_out = output_from_row(row[nr:ng], mode)
         return done, code, s, gs_out, surf
 
@@ -209,18 +211,19 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
 
 
 def kernel_params(g: Any, dt: float, s: SixDofState, nsub: int) -> np.ndarray:
-    """The compiled step's parameter vector (:mod:`.kernel`'s ``P_*``) of glider ``g`` at its state
+    """The compiled step's parameter vector (layout :data:`.kernel.PAR`) of glider ``g`` at its state
     ``s``: step ``dt`` [s], the station's sub-steps ``nsub``, the glider's native constants, the unit
     factors, the tether hook's position [m] and velocity [m/s] and the force on it [N]."""
     from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
     lat0, m0, n0cos, off = g.native_constants()
-    p = np.zeros(ck.N_PARAMS)
-    p[ck.P_DT], p[ck.P_NSUB], p[ck.P_LAT0], p[ck.P_M0], p[ck.P_N0COS] = dt, nsub, lat0, m0, n0cos
-    p[ck.P_OX], p[ck.P_OY], p[ck.P_OZ] = off
-    p[ck.P_FT], p[ck.P_LBF] = FT, LBF
-    (p[ck.P_HX], p[ck.P_HY], p[ck.P_HZ]), (p[ck.P_HVX], p[ck.P_HVY], p[ck.P_HVZ]) = s.hook
-    p[ck.P_FX], p[ck.P_FY], p[ck.P_FZ] = g.tether_force_ned
+    P = ck.PAR
+    p = slots.new(P)
+    p[P.dt], p[P.nsub], p[P.lat0], p[P.m0], p[P.n0cos] = dt, nsub, lat0, m0, n0cos
+    p[P.ox], p[P.oy], p[P.oz] = off
+    p[P.ft], p[P.lbf] = FT, LBF
+    (p[P.hx], p[P.hy], p[P.hz]), (p[P.hvx], p[P.hvy], p[P.hvz]) = s.hook
+    p[P.fx], p[P.fy], p[P.fz] = g.tether_force_ned
     return p
 
 
@@ -230,12 +233,12 @@ def _compiled_event(event: Callable[..., Event], p: np.ndarray) -> Callable[[int
     from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
     def compiled_event(code: int, s: SixDofState, gs_out: Any) -> Event:
-        if code == E_HOOK:  # the compiled step checked the hook as GroundStation.step does, with its words
+        if code == CODE.hook_rejected:  # the compiled step checked the hook as GroundStation.step does, with its words
             hp, hv = s.hook
             return event(code, s, gs_out, error="glider position/velocity must be finite, got "
                          f"pos={tuple(hp)!r} vel={tuple(hv)!r}")
-        if code == E_FORCE:
-            return event(code, s, gs_out, force=(float(p[ck.P_FX]), float(p[ck.P_FY]), float(p[ck.P_FZ])))
+        if code == CODE.nonfinite_force:
+            return event(code, s, gs_out, force=(float(p[ck.PAR.fx]), float(p[ck.PAR.fy]), float(p[ck.PAR.fz])))
         return event(code, s, gs_out)
 
     return compiled_event

@@ -30,14 +30,14 @@ from ..errors import DefinitionError, InputError
 from ..turbulence import Turbulence, TurbulenceSetting
 from ..units import FT, IN, LBF, SLUG, SLUG_FT2
 from .initial_condition import apply_initial_condition
-from .row import FOLD, FOLD_PROPERTY, PROPERTIES, hook_kinematics
+from .row import FOLD_PROPERTY, PROPERTIES, ROW, hook_kinematics
 from .row_si import convert_rows, ground_frame, row_si_factors
 from .state import SixDofState, Surfaces
 
 
 # Properties read after every step, in the order of the raw row (sixdof.row; the fold state,
-# position FOLD, is read from FOLD_PROPERTY on the foldable aircraft, else a constant 0.0)
-_READ = tuple(PROPERTIES[i] for i in range(FOLD))
+# position ROW.fold, is read from FOLD_PROPERTY on the foldable aircraft, else a constant 0.0)
+_READ = tuple(PROPERTIES[i] for i in range(ROW.fold))
 
 
 class JSBSimGlider:

@@ -29,8 +29,8 @@ The arithmetic is one pure function, :func:`law_commands` (its moment demands tu
 deflections by :func:`surface_deflections`; floats and float64 vectors: numba
 compiles it for the co-simulation kernel, Python runs the same source; so is the angle wrap
 of the callers' bank and heading errors, :func:`wrap_angle`); :class:`AttitudeLaw`
-holds its coefficient vector (layout ``C_*``), reads the state and keeps the integrators
-(layout ``I_*``); :meth:`StabilizerGains.vector` gives the gain vector (layout ``G_*``).
+holds its coefficient vector (layout :data:`COEF`), reads the state and keeps the integrators
+(layout :data:`INTEG`); :meth:`StabilizerGains.vector` gives the gain vector (layout :data:`GAINS`).
 """
 
 from __future__ import annotations
@@ -41,25 +41,24 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..units import SLUG_FT2
 from .adapter import JSBSimGlider
-from .row import ALPHA, BETA, FOLD, P_RATE, Q_RATE, QBAR, R_RATE, VT
+from .row import ROW
 from .state import SixDofState
 
 #: layout of the coefficient vector ``c`` of :func:`law_commands`: control derivatives (1/rad),
 #: weathercock stiffness Cn_beta (1/rad), the free moments' derivatives (Cm0; Cm_alpha, Cl_beta
 #: 1/rad; Cm_q, Cl_p, Cl_r per normalised rate), the elevator's trim (rad), the inertia about the
 #: body axes (kg m^2), wing area (m^2), span and chord (m), the surfaces' full deflections (rad).
-#: Without the inversion Cm0 .. Cl_r are unused (NaN); with it the trim is (NaN).
-(C_CM_DE, C_CL_DA, C_CN_DR, C_CN_BETA, C_CM0, C_CM_ALPHA, C_CM_Q, C_CL_BETA, C_CL_P, C_CL_R, C_DE_TRIM,
- C_IXX, C_IYY, C_IZZ, C_S, C_B, C_C, C_LIM_E, C_LIM_A, C_LIM_R) = range(20)
-N_COEF = 20
+#: Without the inversion cm0 .. cl_r are unused (NaN); with it the trim is (NaN).
+COEF = slots.declare("LawCoefficients", ("cm_de", "cl_da", "cn_dr", "cn_beta", "cm0", "cm_alpha", "cm_q", "cl_beta",
+                                         "cl_p", "cl_r", "de_trim", "ixx", "iyy", "izz", "s", "b", "c", "lim_e",
+                                         "lim_a", "lim_r"))
 #: layout of the gain vector (:meth:`StabilizerGains.vector`)
-(G_W_ALPHA, G_Z_ALPHA, G_KI_ALPHA, G_W_PHI, G_Z_PHI, G_KI_PHI, G_W_R, G_K_BETA) = range(8)
-N_GAINS = 8
+GAINS = slots.declare("LawGains", ("w_alpha", "z_alpha", "ki_alpha", "w_phi", "z_phi", "ki_phi", "w_r", "k_beta"))
 #: layout of the integrator array (rad s): the alpha error's, the bank error's
-(I_ALPHA, I_PHI) = range(2)
-N_INTEG = 2
+INTEG = slots.declare("LawIntegrators", ("alpha", "phi"))
 #: the JSBSim properties a refresh reads (:func:`law_refresh`): the derivatives of the control law
 #: (blended with the fold state on the foldable aircraft), then the inertia's diagonal (slug ft^2)
 LAW_PROPERTIES = tuple("aero/coef/" + n for n in ("Cm_de", "Cl_da", "Cn_dr", "Cn_beta", "Cm0", "Cm_alpha", "Cm_q",
@@ -67,8 +66,8 @@ LAW_PROPERTIES = tuple("aero/coef/" + n for n in ("Cm_de", "Cl_da", "Cn_dr", "Cn
     "inertia/ixx-slugs_ft2", "inertia/iyy-slugs_ft2", "inertia/izz-slugs_ft2")
 N_LAW_PROPERTIES = len(LAW_PROPERTIES)
 #: where each value of :data:`LAW_PROPERTIES` goes in the coefficient vector
-_LAW_SLOTS = (C_CM_DE, C_CL_DA, C_CN_DR, C_CN_BETA, C_CM0, C_CM_ALPHA, C_CM_Q, C_CL_BETA, C_CL_P, C_CL_R, C_IXX, C_IYY,
-              C_IZZ)
+_LAW_SLOTS = (COEF.cm_de, COEF.cl_da, COEF.cn_dr, COEF.cn_beta, COEF.cm0, COEF.cm_alpha, COEF.cm_q, COEF.cl_beta,
+              COEF.cl_p, COEF.cl_r, COEF.ixx, COEF.iyy, COEF.izz)
 
 
 def law_stale(fold: float, fold_at: float) -> bool:
@@ -78,7 +77,7 @@ def law_stale(fold: float, fold_at: float) -> bool:
 
 
 def law_refresh(vals: Any, c: np.ndarray, slug_ft2: float, invert: bool) -> None:
-    """The coefficient vector ``c`` (``C_*`` layout) from the values ``vals`` of
+    """The coefficient vector ``c`` (layout :data:`COEF`) from the values ``vals`` of
     :data:`LAW_PROPERTIES` (JSBSim units; the inertia times ``slug_ft2``, kg m^2 per slug ft^2);
     the free moments' derivatives only with ``invert`` (else they stay as they are)."""
     for j in range(10):
@@ -104,13 +103,13 @@ class StabilizerGains:
     phi_max: float = 0.6  #: rad, bank command limit
 
     def law_gains(self) -> tuple[float, ...]:
-        """The attitude law's gains in the order of the ``G_*`` layout (the fields as they are:
+        """The attitude law's gains in the order of the layout :data:`GAINS` (the fields as they are:
         what the Python execution of :func:`law_commands` takes)."""
         return (self.w_alpha, self.z_alpha, self.ki_alpha, self.w_phi, self.z_phi, self.ki_phi, self.w_r,
                 self.k_beta)
 
     def vector(self) -> np.ndarray:
-        """The attitude law's gains as a float64 vector (``G_*`` layout) for compiled callers."""
+        """The attitude law's gains as a float64 vector (layout :data:`GAINS`) for compiled callers."""
         return np.array(self.law_gains(), dtype=np.float64)
 
 
@@ -124,34 +123,35 @@ def law_commands(c: Any, gains: Any, qbar: float, vt: float, alpha: float, beta:
                  integ: Any, invert: bool, bank_integral: bool) -> tuple[float, float, float]:
     """Surface commands ``(aileron, elevator, rudder)`` normalised to [-1, 1] (NaN gives 0).
 
-    ``c``: coefficient vector (``C_*`` layout), ``gains``: gain vector (``G_*``), both float64
+    ``c``: coefficient vector (layout :data:`COEF`), ``gains``: gain vector (:data:`GAINS`), both float64
     vectors (or, run by Python, any sequences of floats); ``qbar`` Pa and ``vt`` m/s the dynamic
     pressure and airspeed (each limited to >= 1 here); ``alpha``, ``beta`` rad; ``p, q, r`` body
     rates rad/s; ``alpha_cmd`` rad; ``e_phi`` the bank error rad; ``p_ref, q_ref, r_ref`` rad/s
     the rates the damping acts relative to; ``dt`` s since the last call (0: no integration);
-    ``integ`` the integrators (``I_*`` layout, rad s), updated in place (the bank's only with
+    ``integ`` the integrators (layout :data:`INTEG`, rad s), updated in place (the bank's only with
     ``bank_integral``); ``invert``: subtract the free moments (else add the elevator's trim)."""
     # max/min and clipping spelled out: the same operations run by Python and compiled by numba
     if 1.0 > qbar:
         qbar = 1.0
-    S, b = c[C_S], c[C_B]
+    S, b = c[COEF.s], c[COEF.b]
     # pitch
     e_a = alpha_cmd - alpha
-    ia = integ[I_ALPHA] + e_a * dt
+    ia = integ[INTEG.alpha] + e_a * dt
     ia = (ia if ia > -0.2 else -0.2) if ia < 0.2 else 0.2
-    integ[I_ALPHA] = ia
-    w = gains[G_W_ALPHA]
-    m_des = c[C_IYY] * (w * w * (e_a + gains[G_KI_ALPHA] * ia) - 2 * gains[G_Z_ALPHA] * w * (q - q_ref))
+    integ[INTEG.alpha] = ia
+    w = gains[GAINS.w_alpha]
+    m_des = c[COEF.iyy] * (w * w * (e_a + gains[GAINS.ki_alpha] * ia) - 2 * gains[GAINS.z_alpha] * w * (q - q_ref))
     # roll
     if bank_integral:
-        ip = integ[I_PHI] + e_phi * dt
+        ip = integ[INTEG.phi] + e_phi * dt
         ip = (ip if ip > -0.5 else -0.5) if ip < 0.5 else 0.5
-        integ[I_PHI] = ip
-        e_phi = e_phi + gains[G_KI_PHI] * ip
-    w = gains[G_W_PHI]
-    l_des = c[C_IXX] * (w * w * e_phi - 2 * gains[G_Z_PHI] * w * (p - p_ref))
+        integ[INTEG.phi] = ip
+        e_phi = e_phi + gains[GAINS.ki_phi] * ip
+    w = gains[GAINS.w_phi]
+    l_des = c[COEF.ixx] * (w * w * e_phi - 2 * gains[GAINS.z_phi] * w * (p - p_ref))
     # yaw
-    n_des = -c[C_IZZ] * 2 * gains[G_W_R] * (r - r_ref) + gains[G_K_BETA] * qbar * S * b * c[C_CN_BETA] * beta
+    n_des = (-c[COEF.izz] * 2 * gains[GAINS.w_r] * (r - r_ref)
+             + gains[GAINS.k_beta] * qbar * S * b * c[COEF.cn_beta] * beta)
     return surface_deflections(c, qbar, vt, alpha, beta, p, q, r, m_des, l_des, n_des, invert)
 
 
@@ -162,22 +162,22 @@ def surface_deflections(c: Any, qbar: float, vt: float, alpha: float, beta: floa
     coefficient vector ``c`` at dynamic pressure ``qbar`` [Pa, >= 1] and airspeed ``vt`` [m/s],
     ``alpha``, ``beta`` [rad], body rates ``p, q, r`` [rad/s]; ``invert``: the free moments are
     subtracted (else the elevator's trim is added) -- the second half of :func:`law_commands`."""
-    S, b, cc = c[C_S], c[C_B], c[C_C]
+    S, b, cc = c[COEF.s], c[COEF.b], c[COEF.c]
     # moment demands -> deflections, rad
     qSb = qbar * S * b
     if invert:
         v = vt
         if 1.0 > v:
             v = 1.0
-        cm_free = c[C_CM0] + c[C_CM_ALPHA] * alpha + c[C_CM_Q] * q * cc / (2 * v)
-        de = (m_des / (qbar * S * cc) - cm_free) / c[C_CM_DE]
-        cl_free = c[C_CL_BETA] * beta + (c[C_CL_P] * p + c[C_CL_R] * r) * b / (2 * v)
-        da = (l_des / qSb - cl_free) / c[C_CL_DA]
+        cm_free = c[COEF.cm0] + c[COEF.cm_alpha] * alpha + c[COEF.cm_q] * q * cc / (2 * v)
+        de = (m_des / (qbar * S * cc) - cm_free) / c[COEF.cm_de]
+        cl_free = c[COEF.cl_beta] * beta + (c[COEF.cl_p] * p + c[COEF.cl_r] * r) * b / (2 * v)
+        da = (l_des / qSb - cl_free) / c[COEF.cl_da]
     else:
-        de = c[C_DE_TRIM] + m_des / (qbar * S * cc * c[C_CM_DE])
-        da = l_des / (qSb * c[C_CL_DA])
-    dr = n_des / (qSb * c[C_CN_DR])
-    a, e, rr = da / c[C_LIM_A], de / c[C_LIM_E], dr / c[C_LIM_R]
+        de = c[COEF.de_trim] + m_des / (qbar * S * cc * c[COEF.cm_de])
+        da = l_des / (qSb * c[COEF.cl_da])
+    dr = n_des / (qSb * c[COEF.cn_dr])
+    a, e, rr = da / c[COEF.lim_a], de / c[COEF.lim_e], dr / c[COEF.lim_r]
     return (-1.0 if a < -1.0 else 1.0 if a > 1.0 else (a if a == a else 0.0),
             -1.0 if e < -1.0 else 1.0 if e > 1.0 else (e if e == e else 0.0),
             -1.0 if rr < -1.0 else 1.0 if rr > 1.0 else (rr if rr == rr else 0.0))
@@ -185,8 +185,8 @@ def surface_deflections(c: Any, qbar: float, vt: float, alpha: float, beta: floa
 
 class AttitudeLaw:
     """``commands(s, alpha_cmd, e_phi, p_ref, q_ref, r_ref, dt) -> (aileron, elevator, rudder)``,
-    normalised to [-1, 1]; holds the integrators ``integ`` (``I_*`` layout, float64) and
-    the coefficient vector ``coef`` (``C_*`` layout, float64, refreshed with the fold state)."""
+    normalised to [-1, 1]; holds the integrators ``integ`` (layout :data:`INTEG`, float64) and
+    the coefficient vector ``coef`` (layout :data:`COEF`, float64, refreshed with the fold state)."""
 
     def __init__(self, glider: JSBSimGlider, gains: StabilizerGains, *, invert_free_moments: bool,
                  bank_integral: bool) -> None:
@@ -194,17 +194,18 @@ class AttitudeLaw:
         self.gains = gains
         self.invert_free_moments = invert_free_moments
         self.bank_integral = bank_integral
-        self.coef = np.full(N_COEF, np.nan)  #: the coefficient vector (C_* layout)
+        self.coef = slots.new(COEF, np.nan)  #: the coefficient vector (layout COEF)
         lim = glider.surface_limits_rad
-        self.coef[C_S], self.coef[C_B], self.coef[C_C] = glider.reference_geometry()
-        self.coef[C_LIM_E], self.coef[C_LIM_A], self.coef[C_LIM_R] = lim["elevator"], lim["aileron"], lim["rudder"]
+        self.coef[COEF.s], self.coef[COEF.b], self.coef[COEF.c] = glider.reference_geometry()
+        self.coef[COEF.lim_e], self.coef[COEF.lim_a], self.coef[COEF.lim_r] = (lim["elevator"], lim["aileron"],
+                                                                              lim["rudder"])
         #: the fold state of the last reading of the derivatives (-1: none yet)
         self.fold_at = np.array([-1.0])
-        self.integ = np.zeros(N_INTEG)  #: the integrators (I_* layout), rad s
+        self.integ = slots.new(INTEG)  #: the integrators (layout INTEG), rad s
 
     def reset(self) -> None:
         """Zero the integrators (alpha, bank)."""
-        self.integ[I_ALPHA] = self.integ[I_PHI] = 0.0
+        self.integ[INTEG.alpha] = self.integ[INTEG.phi] = 0.0
 
     def invalidate(self) -> None:
         """Re-read derivatives, inertia and trim at the next command (e.g. a new alpha command
@@ -219,10 +220,10 @@ class AttitudeLaw:
         c = self.coef
         law_refresh([float(g.coefficient(n)) for n in LAW_PROPERTIES], c, SLUG_FT2, self.invert_free_moments)
         if not self.invert_free_moments:
-            c[C_DE_TRIM] = g.trim_elevator(alpha_cmd) * c[C_LIM_E]
+            c[COEF.de_trim] = g.trim_elevator(alpha_cmd) * c[COEF.lim_e]
 
     def coefficients(self, fold: float, alpha_cmd: float) -> np.ndarray:
-        """The coefficient vector (``C_*`` layout) at fold state ``fold``, re-read when the fold
+        """The coefficient vector (layout :data:`COEF`) at fold state ``fold``, re-read when the fold
         state moved by 1e-3 or more since the last reading (:attr:`fold_at`; or after
         :meth:`invalidate`; the trim at ``alpha_cmd``, rad)."""
         if law_stale(fold, self.fold_at[0]):
@@ -237,6 +238,7 @@ class AttitudeLaw:
         # the co-simulation's hot path: the state's values straight from its raw row (the same
         # numbers as SixDofState's properties without a call each)
         rw, kk = s.raw, s.scale
-        return law_commands(self.coefficients(rw[FOLD], alpha_cmd), self.gains.law_gains(), rw[QBAR] * kk[QBAR],
-                            rw[VT] * kk[VT], rw[ALPHA], rw[BETA], rw[P_RATE], rw[Q_RATE], rw[R_RATE], alpha_cmd,
-                            e_phi, p_ref, q_ref, r_ref, dt, self.integ, self.invert_free_moments, self.bank_integral)
+        return law_commands(self.coefficients(rw[ROW.fold], alpha_cmd), self.gains.law_gains(),
+                            rw[ROW.qbar] * kk[ROW.qbar], rw[ROW.vt] * kk[ROW.vt], rw[ROW.alpha], rw[ROW.beta],
+                            rw[ROW.p_rate], rw[ROW.q_rate], rw[ROW.r_rate], alpha_cmd, e_phi, p_ref, q_ref, r_ref, dt,
+                            self.integ, self.invert_free_moments, self.bank_integral)

@@ -19,8 +19,7 @@ import numpy as np
 
 from ..constants import G0
 from ..units import FT, LBF, PSF, SLUG
-from .row import (ALPHA, BETA, CURRENT, FBX, FBZ, FOLD, H_SL, LAT, LON, MASS, P_RATE, PHI, PSI, QBAR, R_RATE, RHO,
-                  SHAFT_HP, THETA, THROTTLE, THRUST, V_DOWN, V_NORTH, VT, WIND_DOWN, WIND_NORTH, WOW, T)
+from .row import ROW
 
 _WGS84_A = 6378137.0
 _WGS84_F = 1.0 / 298.257223563
@@ -43,18 +42,18 @@ def row_si_factors(n: int, lat0: float, m0: float, n0cos: float) -> tuple[np.nda
     (:func:`ground_frame`: lat0 rad, M0 m, N0 cos(lat0) m): SI value = raw * scale + offset."""
     scale = np.ones(n)
     offset = np.zeros(n)
-    scale[LAT], offset[LAT] = m0, -lat0 * m0
-    scale[LON] = n0cos
-    scale[H_SL] = -FT
-    scale[V_NORTH:V_DOWN + 1] = FT
-    scale[VT] = FT
-    scale[WIND_NORTH:WIND_DOWN + 1] = FT
-    scale[FBX:FBZ + 1] = LBF
-    scale[MASS] = SLUG
-    scale[QBAR] = PSF
-    scale[RHO] = SLUG / FT**3
-    scale[THRUST] = LBF
-    scale[SHAFT_HP] = _HP_W
+    scale[ROW.lat], offset[ROW.lat] = m0, -lat0 * m0
+    scale[ROW.lon] = n0cos
+    scale[ROW.h_sl] = -FT
+    scale[ROW.v_north:ROW.v_down + 1] = FT
+    scale[ROW.vt] = FT
+    scale[ROW.wind_north:ROW.wind_down + 1] = FT
+    scale[ROW.fbx:ROW.fbz + 1] = LBF
+    scale[ROW.mass] = SLUG
+    scale[ROW.qbar] = PSF
+    scale[ROW.rho] = SLUG / FT**3
+    scale[ROW.thrust] = LBF
+    scale[ROW.shaft_hp] = _HP_W
     return scale, offset
 
 
@@ -64,21 +63,22 @@ def convert_rows(raw: np.ndarray, scale: np.ndarray, offset: np.ndarray, motor_v
     motor's voltage at full throttle (the propeller's electric power)."""
     raw = np.atleast_2d(np.asarray(raw, dtype=float))
     v = raw * scale + offset
-    phi, th, psi = raw[:, PHI], raw[:, THETA], raw[:, PSI]
+    phi, th, psi = raw[:, ROW.phi], raw[:, ROW.theta], raw[:, ROW.psi]
     cr, sr = np.cos(0.5 * phi), np.sin(0.5 * phi)
     cp, sp = np.cos(0.5 * th), np.sin(0.5 * th)
     cy, sy = np.cos(0.5 * psi), np.sin(0.5 * psi)
     quat = np.stack((cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
                      cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy), axis=1)
-    mass = v[:, MASS]
+    mass = v[:, ROW.mass]
     return {
-        "t": raw[:, T], "pos_ned": v[:, LAT:H_SL + 1], "vel_ned": v[:, V_NORTH:V_DOWN + 1],
-        "vel_air_ned": v[:, V_NORTH:V_DOWN + 1] - v[:, WIND_NORTH:WIND_DOWN + 1],
-        "wind_ned": v[:, WIND_NORTH:WIND_DOWN + 1],
-        "quat": quat, "euler": raw[:, PHI:PSI + 1], "omega_body": raw[:, P_RATE:R_RATE + 1], "airspeed": v[:, VT],
-        "alpha": raw[:, ALPHA], "beta": raw[:, BETA], "fold": raw[:, FOLD], "thrust_N": v[:, THRUST],
-        "prop_power_W": raw[:, THROTTLE] * motor_volts * raw[:, CURRENT], "shaft_power_W": v[:, SHAFT_HP],
-        "current_A": raw[:, CURRENT], "accel_body": v[:, FBX:FBZ + 1] / mass[:, None],
-        "load_factor": -v[:, FBZ] / mass / G0, "mass": mass, "qbar": v[:, QBAR], "rho": v[:, RHO],
-        "on_ground": raw[:, WOW] > 0.5,
+        "t": raw[:, ROW.t], "pos_ned": v[:, ROW.lat:ROW.h_sl + 1], "vel_ned": v[:, ROW.v_north:ROW.v_down + 1],
+        "vel_air_ned": v[:, ROW.v_north:ROW.v_down + 1] - v[:, ROW.wind_north:ROW.wind_down + 1],
+        "wind_ned": v[:, ROW.wind_north:ROW.wind_down + 1],
+        "quat": quat, "euler": raw[:, ROW.phi:ROW.psi + 1], "omega_body": raw[:, ROW.p_rate:ROW.r_rate + 1],
+        "airspeed": v[:, ROW.vt],
+        "alpha": raw[:, ROW.alpha], "beta": raw[:, ROW.beta], "fold": raw[:, ROW.fold], "thrust_N": v[:, ROW.thrust],
+        "prop_power_W": raw[:, ROW.throttle] * motor_volts * raw[:, ROW.current], "shaft_power_W": v[:, ROW.shaft_hp],
+        "current_A": raw[:, ROW.current], "accel_body": v[:, ROW.fbx:ROW.fbz + 1] / mass[:, None],
+        "load_factor": -v[:, ROW.fbz] / mass / G0, "mass": mass, "qbar": v[:, ROW.qbar], "rho": v[:, ROW.rho],
+        "on_ground": raw[:, ROW.wow] > 0.5,
     }

@@ -23,7 +23,7 @@ from typing import Any
 from ..constants import G0
 from .adapter import JSBSimGlider
 from .attitude_law import AttitudeLaw, StabilizerGains, wrap_angle
-from .row import PHI, PSI, THETA, VT
+from .row import ROW
 from .state import SixDofState, Surfaces
 
 __all__ = ["Stabilizer"]
@@ -71,19 +71,19 @@ class Stabilizer:
                 dt = 0.0
         self._t_last = t
         rw = s.raw
-        phi, theta = rw[PHI], rw[THETA]
+        phi, theta = rw[ROW.phi], rw[ROW.theta]
         # bank command, from the heading error when a heading is held
         phi_c = self.phi_cmd
         psi_cmd = self.psi_cmd
         if psi_cmd is not None:
             gn = self.law.gains
-            e_psi = wrap_angle(psi_cmd - rw[PSI])
+            e_psi = wrap_angle(psi_cmd - rw[ROW.psi])
             pm = gn.phi_max
             phi_c = gn.k_psi * e_psi
             phi_c = phi_c if phi_c < pm else pm
             phi_c = phi_c if phi_c > -pm else -pm
         # yaw damping about the coordinated-turn rate
-        v = rw[VT] * s.scale[VT]
+        v = rw[ROW.vt] * s.scale[ROW.vt]
         if 1.0 > v:
             v = 1.0
         r_c = _G_TURN * sin(phi) * cos(theta) / v

@@ -9,9 +9,7 @@ import numpy as np
 
 from ..constants import G0
 from ..errors import InputError
-from .row import (ALPHA, BETA, CURRENT, FBX, FBY, FBZ, FINITE_END, FINITE_FIRST, FOLD, MASS, P_RATE, PHI,
-                  PSI, Q_RATE, QBAR, R_RATE, RHO, SHAFT_HP, T, THETA, THROTTLE, THRUST, VT,
-                  WIND_DOWN, WIND_EAST, WIND_NORTH, WOW, si_position, si_velocity)
+from .row import FINITE_END, FINITE_FIRST, ROW, si_position, si_velocity
 
 
 @dataclass(frozen=True, slots=True)
@@ -124,7 +122,7 @@ class SixDofState:
     # scalars -------------------------------------------------------------------------------
     @property
     def t(self) -> float:
-        return self._r[T]
+        return self._r[ROW.t]
 
     @property
     def x(self) -> float:
@@ -145,79 +143,79 @@ class SixDofState:
 
     @property
     def phi(self) -> float:
-        return self._r[PHI]
+        return self._r[ROW.phi]
 
     @property
     def theta(self) -> float:
-        return self._r[THETA]
+        return self._r[ROW.theta]
 
     @property
     def psi(self) -> float:
-        return self._r[PSI]
+        return self._r[ROW.psi]
 
     @property
     def p(self) -> float:
-        return self._r[P_RATE]
+        return self._r[ROW.p_rate]
 
     @property
     def q(self) -> float:
-        return self._r[Q_RATE]
+        return self._r[ROW.q_rate]
 
     @property
     def r(self) -> float:
-        return self._r[R_RATE]
+        return self._r[ROW.r_rate]
 
     @property
     def airspeed(self) -> float:
-        return self._r[VT] * self._k[VT]
+        return self._r[ROW.vt] * self._k[ROW.vt]
 
     @property
     def alpha(self) -> float:
-        return self._r[ALPHA]
+        return self._r[ROW.alpha]
 
     @property
     def beta(self) -> float:
-        return self._r[BETA]
+        return self._r[ROW.beta]
 
     @property
     def mass(self) -> float:
-        return self._r[MASS] * self._k[MASS]
+        return self._r[ROW.mass] * self._k[ROW.mass]
 
     @property
     def qbar(self) -> float:
-        return self._r[QBAR] * self._k[QBAR]
+        return self._r[ROW.qbar] * self._k[ROW.qbar]
 
     @property
     def rho(self) -> float:
-        return self._r[RHO] * self._k[RHO]
+        return self._r[ROW.rho] * self._k[ROW.rho]
 
     @property
     def thrust_N(self) -> float:
-        return self._r[THRUST] * self._k[THRUST]
+        return self._r[ROW.thrust] * self._k[ROW.thrust]
 
     @property
     def shaft_power_W(self) -> float:
-        return self._r[SHAFT_HP] * self._k[SHAFT_HP]
+        return self._r[ROW.shaft_hp] * self._k[ROW.shaft_hp]
 
     @property
     def current_A(self) -> float:
-        return self._r[CURRENT]
+        return self._r[ROW.current]
 
     @property
     def prop_power_W(self) -> float:
-        return self._r[THROTTLE] * self._volts * self._r[CURRENT]
+        return self._r[ROW.throttle] * self._volts * self._r[ROW.current]
 
     @property
     def on_ground(self) -> bool:
-        return self._r[WOW] > 0.5
+        return self._r[ROW.wow] > 0.5
 
     @property
     def fold(self) -> float:
-        return self._r[FOLD]
+        return self._r[ROW.fold]
 
     @property
     def load_factor(self) -> float:
-        return -self._r[FBZ] * self._k[FBZ] / (self._r[MASS] * self._k[MASS]) / G0
+        return -self._r[ROW.fbz] * self._k[ROW.fbz] / (self._r[ROW.mass] * self._k[ROW.mass]) / G0
 
     # vectors -------------------------------------------------------------------------------
     @property
@@ -231,9 +229,9 @@ class SixDofState:
     @property
     def wind_ned(self) -> np.ndarray:
         """Total wind at the glider (steady + turbulence), m/s."""
-        k = self._k[WIND_NORTH]
+        k = self._k[ROW.wind_north]
         r = self._r
-        return np.array((r[WIND_NORTH] * k, r[WIND_EAST] * k, r[WIND_DOWN] * k))
+        return np.array((r[ROW.wind_north] * k, r[ROW.wind_east] * k, r[ROW.wind_down] * k))
 
     @property
     def vel_air_ned(self) -> np.ndarray:
@@ -241,22 +239,22 @@ class SixDofState:
 
     @property
     def euler(self) -> np.ndarray:
-        return np.array(self._r[PHI:PSI + 1])
+        return np.array(self._r[ROW.phi:ROW.psi + 1])
 
     @property
     def quat(self) -> np.ndarray:
         r = self._r
-        return np.array(euler_to_quat(r[PHI], r[THETA], r[PSI]))
+        return np.array(euler_to_quat(r[ROW.phi], r[ROW.theta], r[ROW.psi]))
 
     @property
     def omega_body(self) -> np.ndarray:
-        return np.array(self._r[P_RATE:R_RATE + 1])
+        return np.array(self._r[ROW.p_rate:ROW.r_rate + 1])
 
     @property
     def accel_body(self) -> np.ndarray:
         r, k = self._r, self._k
-        m = r[MASS] * k[MASS]
-        return np.array((r[FBX] * k[FBX] / m, r[FBY] * k[FBY] / m, r[FBZ] * k[FBZ] / m))
+        m = r[ROW.mass] * k[ROW.mass]
+        return np.array((r[ROW.fbx] * k[ROW.fbx] / m, r[ROW.fby] * k[ROW.fby] / m, r[ROW.fbz] * k[ROW.fbz] / m))
 
     @property
     def hook_pos_ned(self) -> np.ndarray:
