@@ -78,3 +78,15 @@ def test_a_named_read_compiles_to_the_same_code_as_a_number() -> None:
         return [re.sub(r"\$?[._A-Za-z][\w.$]*by_(name|number)\w*", "SYM", ln) for ln in code]
 
     assert instructions(named) == instructions(numbered)
+
+
+def test_a_reader_reads_several_slots_at_once() -> None:
+    arr = np.arange(5.0)
+    read = slots.reader(LAYOUT, "b", "a")
+    assert read(arr) == (4.0, 0.0) and read(arr.tolist()) == (4.0, 0.0)
+    with pytest.raises(ValueError, match="no field 'c'"):
+        slots.reader(LAYOUT, "a", "c")
+    with pytest.raises(ValueError, match="'wind' has 3 slots"):
+        slots.reader(LAYOUT, "a", "wind")
+    with pytest.raises(ValueError, match="at least two"):
+        slots.reader(LAYOUT, "a")

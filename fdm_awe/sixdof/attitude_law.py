@@ -59,6 +59,9 @@ COEF = slots.declare("LawCoefficients", ("cm_de", "cl_da", "cn_dr", "cn_beta", "
 GAINS = slots.declare("LawGains", ("w_alpha", "z_alpha", "ki_alpha", "w_phi", "z_phi", "ki_phi", "w_r", "k_beta"))
 #: layout of the integrator array (rad s): the alpha error's, the bank error's
 INTEG = slots.declare("LawIntegrators", ("alpha", "phi"))
+#: the raw row's values :meth:`AttitudeLaw.commands` reads, and their SI factors (Python path)
+_LAW_ROW = slots.reader(ROW, "fold", "qbar", "vt", "alpha", "beta", "p_rate", "q_rate", "r_rate")
+_LAW_SCALE = slots.reader(ROW, "qbar", "vt")
 #: the JSBSim properties a refresh reads (:func:`law_refresh`): the derivatives of the control law
 #: (blended with the fold state on the foldable aircraft), then the inertia's diagonal (slug ft^2)
 LAW_PROPERTIES = tuple("aero/coef/" + n for n in ("Cm_de", "Cl_da", "Cn_dr", "Cn_beta", "Cm0", "Cm_alpha", "Cm_q",
@@ -237,8 +240,8 @@ class AttitudeLaw:
         time since the last call (0: no integration). NaN deflections give 0."""
         # the co-simulation's hot path: the state's values straight from its raw row (the same
         # numbers as SixDofState's properties without a call each)
-        rw, kk = s.raw, s.scale
-        return law_commands(self.coefficients(rw[ROW.fold], alpha_cmd), self.gains.law_gains(),
-                            rw[ROW.qbar] * kk[ROW.qbar], rw[ROW.vt] * kk[ROW.vt], rw[ROW.alpha], rw[ROW.beta],
-                            rw[ROW.p_rate], rw[ROW.q_rate], rw[ROW.r_rate], alpha_cmd, e_phi, p_ref, q_ref, r_ref, dt,
+        fold, qbar, vt, alpha, beta, p, q, r = _LAW_ROW(s.raw)
+        kq, kv = _LAW_SCALE(s.scale)
+        return law_commands(self.coefficients(fold, alpha_cmd), self.gains.law_gains(), qbar * kq, vt * kv, alpha,
+                            beta, p, q, r, alpha_cmd, e_phi, p_ref, q_ref, r_ref, dt,
                             self.integ, self.invert_free_moments, self.bank_integral)

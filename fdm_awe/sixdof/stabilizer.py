@@ -20,6 +20,7 @@ from __future__ import annotations
 from math import cos, sin
 from typing import Any
 
+from .. import slots
 from ..constants import G0
 from .adapter import JSBSimGlider
 from .attitude_law import AttitudeLaw, StabilizerGains, wrap_angle
@@ -30,6 +31,8 @@ __all__ = ["Stabilizer"]
 
 #: m/s^2, gravity of the coordinated-turn yaw rate
 _G_TURN = G0
+#: the raw row's values :meth:`Stabilizer.update` reads
+_STAB_ROW = slots.reader(ROW, "phi", "theta", "psi", "vt")
 
 
 class Stabilizer:
@@ -71,19 +74,19 @@ class Stabilizer:
                 dt = 0.0
         self._t_last = t
         rw = s.raw
-        phi, theta = rw[ROW.phi], rw[ROW.theta]
+        phi, theta, psi, vt = _STAB_ROW(rw)
         # bank command, from the heading error when a heading is held
         phi_c = self.phi_cmd
         psi_cmd = self.psi_cmd
         if psi_cmd is not None:
             gn = self.law.gains
-            e_psi = wrap_angle(psi_cmd - rw[ROW.psi])
+            e_psi = wrap_angle(psi_cmd - psi)
             pm = gn.phi_max
             phi_c = gn.k_psi * e_psi
             phi_c = phi_c if phi_c < pm else pm
             phi_c = phi_c if phi_c > -pm else -pm
         # yaw damping about the coordinated-turn rate
-        v = rw[ROW.vt] * s.scale[ROW.vt]
+        v = vt * s.scale[ROW.vt]
         if 1.0 > v:
             v = 1.0
         r_c = _G_TURN * sin(phi) * cos(theta) / v
