@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot import guidance as gm
-from fdm_awe.autopilot.guidance import (CALLED, GK_BODY_AXIS, GK_CURVMAX, GK_NEGLIFT, GK_PHI_MAX_VERT, I_X, I_Z,
-                                        blended_polar, guidance_step, polar_arguments, polar_at)
+from fdm_awe import slots
+from fdm_awe.autopilot.guidance import CALLED, GK, INTEGRAL, blended_polar, guidance_step, polar_arguments, polar_at
 from fdm_awe.autopilot.guidance_loop import Guidance, GuidanceGains
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.pointmass.aero import fold_blend
@@ -96,18 +96,18 @@ def _lines_run(fn, calls):
 
 
 def test_gains_vector_layout():
-    """``GK_*`` name the fields in their order; None is NaN, the flags 0.0/1.0."""
+    """``GK`` names the fields in their order; None is NaN, the flags 0.0/1.0."""
     names = [f.name for f in fields(GuidanceGains)]
     k = replace(GAINS, energy_trade=0.7, negative_lift=True, curv_scale_max=2.25, phi_max_vertical=2.2)
     v = k.vector()
-    assert v.dtype == np.float64 and v.shape == (len(names),)
+    assert v.dtype == np.float64 and v.shape == (len(names),) == (slots.size(GK),)
     for i, name in enumerate(names):
         assert v[i] == float(getattr(k, name)), name
-    assert [getattr(gm, c) for c in ("GK_KP", "GK_THRUST_MAX", "GK_ETRADE", "GK_PHI_MAX_VERT")] == \
+    assert [GK.kp, GK.thrust_max, GK.etrade, GK.phi_max_vert] == \
            [names.index(n) for n in ("kp", "thrust_max", "energy_trade", "phi_max_vertical")]
     v = GAINS.vector()
-    assert math.isnan(v[GK_CURVMAX]) and math.isnan(v[GK_PHI_MAX_VERT])
-    assert v[GK_NEGLIFT] == 0.0 and v[GK_BODY_AXIS] == 1.0
+    assert math.isnan(v[GK.curvmax]) and math.isnan(v[GK.phi_max_vert])
+    assert v[GK.neglift] == 0.0 and v[GK.body_axis] == 1.0
 
 
 def test_polar_at_compiled_is_python_and_the_fold_blend():
@@ -210,6 +210,6 @@ def test_guidance_update_is_the_step_and_follows_new_gains():
                              *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max, False, 0.0)
         c = gd.update(ref, pos, vel, wind, tf, 0.3, 0.01, taut=True)
         assert (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error) == want
-        assert gd.integral is integral and integral.tolist() == mine.tolist() and integral[I_X] != 0.0
+        assert gd.integral is integral and integral.tolist() == mine.tolist() and integral[INTEGRAL.x] != 0.0
     gd.reset()
-    assert gd.integral is integral and integral[I_X] == integral[I_Z] == 0.0
+    assert gd.integral is integral and integral[INTEGRAL.x] == integral[INTEGRAL.z] == 0.0
