@@ -22,7 +22,7 @@ from ..sixdof.state import SixDofState, Surfaces
 from .auto_step import (GROUND, GSO, MEM, OUT, PAR, PATH_REJOIN, PHASE_CHANGED, REF, REF_COLUMNS, REF_WHERE, REJOINED,
                         TRACK_LOST, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
-from .guidance import polar_arguments
+from .guidance import GIN, polar_arguments
 from .guidance_loop import GuidanceCommand
 from ..trajectory.schema import GENERATION, PHASE_NAMES, RECOVERY
 from .tracking import RefPoint, TrackingReference
@@ -43,6 +43,7 @@ class AutoStep:
         self.out = np.zeros(slots.size(OUT))  #: the last step's results (:data:`~.auto_step.OUT`)
         self.rrow = np.zeros(slots.size(REF))  #: the last step's reference row (:data:`~.auto_step.REF`)
         self._gso = np.zeros(slots.size(GSO))
+        self._gin = slots.new(GIN)  # the guidance's input of the last step
         #: the last step's position error exceeded FS_TRK_ERR (:data:`~.auto_step.TRACK_LOST`)
         self.track_lost = False
         #: the position error of the step before the last one [m] (NaN before it; the path rejoin's note)
@@ -128,8 +129,8 @@ class AutoStep:
         mem, out = self.mem, self.out
         mem[MEM.phase] = PHASE_CODES.get(ap.phase, -1.0)
         self.last_error = float(mem[MEM.err])
-        flags = auto_guide(s.raw, s.scale, s.offset, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem,
-                           ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem, self.rrow, out)
+        flags = auto_guide(s.raw, s.scale, s.offset, gso, (ref_t, table, segs), (gk, cu, cf, gate, par),
+                           (mem, ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem), (self._gin, self.rrow, out))
         notes = []
         self.track_lost = bool(flags & TRACK_LOST)
         if flags & PATH_REJOIN:
@@ -170,8 +171,9 @@ class AutoStep:
         par[PAR.armed] = 1.0 if ap.armed else 0.0
         self.mem[MEM.phase] = PHASE_CODES[ap.phase]
         law = ap.att.law
-        return (ref_t, table, segs, gk, cu, cf, gate, par, self.mem, ap.guidance.integral, ap.thrust_loop.state,
-                ap.motor.mem, self.rrow, self.out, law.coef, law_g, law.fold_at, law.integ)
+        return ((ref_t, table, segs), (gk, cu, cf, gate, par),
+                (self.mem, ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem), (self._gin, self.rrow, self.out),
+                (law.coef, law_g, law.fold_at, law.integ))
 
     def command(self) -> GuidanceCommand:
         """The guidance's command of the last step."""

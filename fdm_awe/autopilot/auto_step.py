@@ -25,7 +25,12 @@ Arrays (float64; their layouts, declared with :func:`fdm_awe.slots.declare`, are
   unfolded and folded polars (:func:`.guidance.polar_coefficients`); ``gate``: the motor gate
   (:meth:`.motor.MotorGate.vector`); ``par``: the rest (:data:`PAR`);
 - ``mem``: the step's state between calls (:data:`MEM`), updated in place;
+- ``gin``: the guidance's input of the step (:data:`.guidance.GIN`);
 - ``out``: the step's results (:data:`OUT`).
+
+:func:`auto_guide` takes them in four groups (tuples; numba passes them as one argument each):
+the cycle ``(ref_t, ref_table, segs)``, the constants ``(gk, cu, cf, gate, par)``, the state
+``(mem, integral, thr_state, motor_mem)`` and the results ``(gin, rrow, out)``.
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ from ..sixdof.row import FOLD, THRUST, VT, WIND_DOWN, WIND_EAST, WIND_NORTH, si_
 from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
 from .fold import fold_command
 from .ground import ground_guard, pull_out_height
-from .guidance import CALLED as GUIDANCE_CALLED, GK, POLAR, US_PULL_UP, guidance_step, polar_at
+from .guidance import CALLED as GUIDANCE_CALLED, GIN, GK, POLAR, US_PULL_UP, guidance_step, polar_at
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import THR, throttle_step
@@ -169,15 +174,39 @@ def rescue_gate(phase: int, v_air: float, pz: float, wx: float, wy: float, rrow:
                           pulling)
 
 
-def paced(rrow: Arr, rate: float, phase: int) -> tuple[float, float, float, float, float, float]:
-    """The reference row ``rrow``'s velocity [m/s] and acceleration [m/s^2] at the pace the path
+def paced(rrow: Arr, rate: float, phase: int, gin: Arr) -> None:
+    """The reference row ``rrow`` into the guidance's input ``gin`` (:data:`.guidance.GIN`): its
+    position [m] and tension [N], its velocity [m/s] and acceleration [m/s^2] at the pace the path
     parameter moves (``rate`` (-), :func:`path_rate`): in generation (``phase`` 0) a glider the
     wind slows (rate below 1) is asked for the path's velocity times the rate and its
     acceleration times the rate squared (the same path flown slower), not pushed to the planned
     speed by the propeller; elsewhere, and at rate 1, the row's own."""
     p = rate if rate < 1.0 and phase == 0 else 1.0
-    v, a = REF.vel, REF.acc
-    return p * rrow[v], p * rrow[v + 1], p * rrow[v + 2], p * p * rrow[a], p * p * rrow[a + 1], p * p * rrow[a + 2]
+    r, v, a = REF.pos, REF.vel, REF.acc
+    gin[GIN.ref_pos], gin[GIN.ref_pos + 1], gin[GIN.ref_pos + 2] = rrow[r], rrow[r + 1], rrow[r + 2]
+    gin[GIN.ref_vel], gin[GIN.ref_vel + 1], gin[GIN.ref_vel + 2] = p * rrow[v], p * rrow[v + 1], p * rrow[v + 2]
+    gin[GIN.ref_acc], gin[GIN.ref_acc + 1] = p * p * rrow[a], p * p * rrow[a + 1]
+    gin[GIN.ref_acc + 2], gin[GIN.tension] = p * p * rrow[a + 2], rrow[REF.tension]
+
+
+def glider_input(row: Any, scale: Any, offset: Any, par: Arr, gin: Arr) -> tuple[float, ...]:
+    """The glider at its raw row ``row`` (SI factors ``scale``, ``offset``; SixDofState's
+    relations: raw * scale + offset) into the guidance's input ``gin`` (:data:`.guidance.GIN`):
+    its mass, the air density, gravity and its reference areas (from ``par``), its position [m],
+    velocity [m/s] and the wind [m/s], NED; returns those nine."""
+    gin[GIN.m], gin[GIN.rho], gin[GIN.g] = par[PAR.mass], par[PAR.rho], par[PAR.g]
+    gin[GIN.s_u], gin[GIN.s_f] = par[PAR.s_u], par[PAR.s_f]
+    px, py, pz = si_position(row, scale, offset)
+    vx, vy, vz = si_velocity(row, scale)
+    kw = scale[WIND_NORTH]
+    # wind = vel - vel_air = vel - (vel - total wind), as the autopilot forms it
+    wx = vx - (vx - row[WIND_NORTH] * kw)
+    wy = vy - (vy - row[WIND_EAST] * kw)
+    wz = vz - (vz - row[WIND_DOWN] * kw)
+    gin[GIN.pos], gin[GIN.pos + 1], gin[GIN.pos + 2] = px, py, pz
+    gin[GIN.vel], gin[GIN.vel + 1], gin[GIN.vel + 2] = vx, vy, vz
+    gin[GIN.wind], gin[GIN.wind + 1], gin[GIN.wind + 2] = wx, wy, wz
+    return px, py, pz, vx, vy, vz, wx, wy, wz
 
 
 def rejoin_begin(mem: Arr, rrow: Arr, t: float, px: float, py: float, pz: float, vx: float, vy: float,
@@ -190,28 +219,27 @@ def rejoin_begin(mem: Arr, rrow: Arr, t: float, px: float, py: float, pz: float,
     mem[dv], mem[dv + 1], mem[dv + 2] = vx - rrow[v], vy - rrow[v + 1], vz - rrow[v + 2]
 
 
-def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_table: Arr, segs: Arr, gk: Arr, cu: Arr,
-               cf: Arr, gate: Arr, par: Arr, mem: Arr, integral: Arr, thr_state: Arr, motor_mem: Arr, rrow: Arr,
-               out: Arr) -> int:
-    """One AUTO step up to the attitude loops, at the glider's raw row ``row`` (time ``row[T]``):
-    writes ``out`` and advances ``mem``, the guidance's position-error ``integral``
-    (:mod:`.guidance`), the thrust loop's ``thr_state`` (:mod:`.thrust`) and the motor switch's
-    ``motor_mem`` (:mod:`.motor`); ``rrow`` receives the reference's row (:data:`REF`).
-    Returns the step's flags (:data:`PHASE_CHANGED`, :data:`REJOINED`, :data:`TRACK_LOST`,
-    :data:`UNDERSPEED`, :data:`PATH_REJOIN`, :data:`GROUND`; 0: none)."""
+def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts: tuple, state: tuple,
+               results: tuple) -> int:
+    """One AUTO step up to the attitude loops, at the glider's raw row ``row`` (time ``row[T]``),
+    on the cycle ``(ref_t, ref_table, segs)`` with the constants ``(gk, cu, cf, gate, par)``:
+    advances the ``state`` ``(mem, integral, thr_state, motor_mem)``: ``mem``, the guidance's
+    position-error ``integral`` (:mod:`.guidance`), the thrust loop's ``thr_state``
+    (:mod:`.thrust`) and the motor switch's ``motor_mem`` (:mod:`.motor`); writes the
+    ``results`` ``(gin, rrow, out)``: the guidance's input (:data:`.guidance.GIN`), the
+    reference's row (:data:`REF`) and ``out``. Returns the step's flags (:data:`PHASE_CHANGED`,
+    :data:`REJOINED`, :data:`TRACK_LOST`, :data:`UNDERSPEED`, :data:`PATH_REJOIN`,
+    :data:`GROUND`; 0: none)."""
+    ref_t, ref_table, segs = cycle
+    gk, cu, cf, gate, par = consts
+    mem, integral, thr_state, motor_mem = state
+    gin, rrow, out = results
     t = row[0]
     t_last = mem[MEM.tlast]
     dt = 0.0 if t_last != t_last else max(0.0, t - t_last)
     mem[MEM.tlast] = t
     mem[MEM.dt] = dt
-    # the glider's state, SI (SixDofState's relations: raw * scale + offset)
-    px, py, pz = si_position(row, scale, offset)
-    vx, vy, vz = si_velocity(row, scale)
-    kw = scale[WIND_NORTH]
-    # wind = vel - vel_air = vel - (vel - total wind), as the autopilot forms it
-    wx = vx - (vx - row[WIND_NORTH] * kw)
-    wy = vy - (vy - row[WIND_EAST] * kw)
-    wz = vz - (vz - row[WIND_DOWN] * kw)
+    px, py, pz, vx, vy, vz, wx, wy, wz = glider_input(row, scale, offset, par, gin)
     fold = row[FOLD]
     polar = polar_at(cu, cf, par[PAR.ratio], par[PAR.s_u], fold)
     # the reference point at the path parameter, and the parameter one step later
@@ -279,15 +307,16 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
     else:
         rate = path_rate(px, py, pz, rrow, par[PAR.path_tau], 3.0)
     mem[MEM.sref] = s_par + rate * dt
-    rvx, rvy, rvz, ax, ay, az = paced(rrow, rate, phase)
+    paced(rrow, rate, phase, gin)
     valid = gso[GSO.valid] != 0.0
     # pulling up, the wing flies against the measured line force: no radial force of the reference's
     taut = valid and gso[GSO.slack] == 0.0 and phase == 0 and not pull
     ref_pull = reference_pull(par[PAR.ref_pull] != 0.0, phase, tc, par[PAR.catch_time]) and not pull
+    f, ln = GSO.force, GIN.line
     if valid:
-        tx, ty, tz = gso[GSO.force], gso[GSO.force + 1], gso[GSO.force + 2]
+        gin[ln], gin[ln + 1], gin[ln + 2] = gso[f], gso[f + 1], gso[f + 2]
     else:
-        tx, ty, tz = 0.0, 0.0, 0.0
+        gin[ln], gin[ln + 1], gin[ln + 2] = 0.0, 0.0, 0.0
     us = 0.0  # the protection: 0 off, 1 on, 2 on with the line slack; the guard's pull-up before it
     if pull:
         us = US_PULL_UP
@@ -302,10 +331,9 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, ref_t: Arr, ref_tabl
         t_max = 0.0
     else:  # a soft stop: the thrust the guidance may count on falls with the throttle
         t_max = motor_spin_down(t, gate, motor_mem, thr_state[THR.thrust])
-    alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(
-        gk, integral, polar, par[PAR.mass], par[PAR.rho], par[PAR.g], par[PAR.s_u], par[PAR.s_f],
-        rrow[REF.pos], rrow[REF.pos + 1], rrow[REF.pos + 2], rvx, rvy, rvz, ax, ay, az, rrow[REF.tension],
-        px, py, pz, vx, vy, vz, wx, wy, wz, tx, ty, tz, fold, dt, taut, t_max, ref_pull, us)
+    gin[GIN.fold], gin[GIN.dt], gin[GIN.t_max], gin[GIN.us] = fold, dt, t_max, us
+    gin[GIN.taut], gin[GIN.ref_pull] = 1.0 if taut else 0.0, 1.0 if ref_pull else 0.0
+    alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(gk, integral, polar, gin)
     mem[MEM.err] = err
     if par[PAR.fs_trk_err] > 0.0 and err > par[PAR.fs_trk_err]:
         flags |= TRACK_LOST
@@ -358,5 +386,5 @@ CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejo
           rescue_gate, motor_update, motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
           take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
           pull_out_height, ground_guard,
-          nearest_on_phase, path_rate, rejoin_begin) + GUIDANCE_CALLED + (
+          nearest_on_phase, path_rate, rejoin_begin, glider_input) + GUIDANCE_CALLED + (
               polar_at, guidance_step, reference_pull, auto_guide)

@@ -54,6 +54,15 @@ INTEGRAL = slots.declare("GuidanceIntegral", ("x", "y", "z"))
 #: layout of a polar (:func:`polar_at`) and of the coefficients it blends (:func:`polar_coefficients`,
 #: :data:`fdm_awe.pointmass.aero.POLAR_FIELDS`): CL0, CLalpha, CLmax, CD0, CDalpha1, CDalpha2
 POLAR = slots.declare("Polar", ("cl0", "cla", "clmax", "cd0", "cda1", "cda2"))
+#: layout of the step's input (:func:`guidance_step`): mass [kg], air density [kg/m^3], gravity
+#: [m/s^2], unfolded and folded reference areas [m^2]; the reference's position [m], velocity
+#: [m/s], acceleration [m/s^2] and line tension [N]; the glider's position [m] and velocity
+#: [m/s], the wind [m/s] and the measured line force on the glider [N], all NED; fold state [-],
+#: step [s]; the line taut (1.0/0.0), the thrust available [N], the reference's pull (1.0/0.0),
+#: the underspeed protection (``us``)
+GIN = slots.declare("GuidanceInput", ("m", "rho", "g", "s_u", "s_f", ("ref_pos", 3), ("ref_vel", 3), ("ref_acc", 3),
+                                      "tension", ("pos", 3), ("vel", 3), ("wind", 3), ("line", 3), "fold", "dt", "taut",
+                                      "t_max", "ref_pull", "us"))
 
 
 def polar_coefficients(aero: AeroParams) -> np.ndarray:
@@ -112,34 +121,39 @@ def _norm(x: float, y: float, z: float) -> float:
 # runs the same code. Written on scalars, every operation as in the vector formulas of the
 # comments, in the same order (tests/test_autopilot_guidance.py checks them against the numpy
 # form, tests/test_autopilot_guidance_core.py compiled against Python).
-def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho: float, g: float,
-                  s_u: float, s_f: float, rpx: float, rpy: float, rpz: float, rvx: float, rvy: float, rvz: float,
-                  rax: float, ray: float, raz: float, tension: float, px: float, py: float, pz: float,
-                  vx: float, vy: float, vz: float, wx: float, wy: float, wz: float, tx: float, ty: float, tz: float,
-                  fold: float, dt: float, taut: bool, t_max: float, ref_pull: bool, us: float) -> tuple[float, ...]:
+def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, gin: Floats) -> tuple[float, ...]:
     """One guidance step: the command ``(alpha, mu, thrust, roll, pitch, yaw, cl, pos_error)``
     [rad, rad, N, rad, rad, rad, -, m] (the fields of :class:`~.guidance_loop.GuidanceCommand`).
 
     ``gk``: the gains (:meth:`~.guidance_loop.GuidanceGains.vector`, layout :data:`GK`); ``integral``: the
     position-error integral [m s] (layout :data:`INTEGRAL`), advanced in place; ``polar``: the polar at
-    ``fold`` (:func:`polar_at`, layout :data:`POLAR`; a float64 array or a 6-tuple); ``m`` [kg],
-    ``rho`` [kg/m^3], ``g`` [m/s^2]; ``s_u``, ``s_f``: unfolded and folded reference areas
-    [m^2]; the reference's position ``rp*`` [m], velocity ``rv*`` [m/s], acceleration ``ra*``
-    [m/s^2] and line tension ``tension`` [N]; the glider's position ``p*`` [m] and velocity
-    ``v*`` [m/s], the wind ``w*`` [m/s] and the measured line force ``t*`` [N] on the glider,
-    all NED; fold state ``fold`` [-], step ``dt`` [s]; ``taut``: the line is taut (see
-    :meth:`~.guidance_loop.Guidance.update`); ``t_max``: the thrust available this step [N]; ``ref_pull``: on a
-    line that is not taut, the radial part of the measured line force is replaced by the
-    reference's ``tension`` (the wing flies the reference's radial aerodynamic force, see
-    :func:`_air_force`); ``us``: the underspeed protection (:mod:`.underspeed`) acts (0 no, 1
-    yes, 2 yes on a slack line): the path's acceleration demand becomes a speed recovery
-    (:func:`_underspeed_demand`, the integral held) and alpha is capped the gains' margin below
-    the stall, the thrust is all there is (``t_max``); ``us`` :data:`US_PULL_UP`: the
-    ground-proximity guard (:mod:`.ground`) pulls up instead (:func:`_pull_up_demand`, the
-    integral held, the alpha margin and the thrust as in underspeed). With ``us`` 0 the step is the
-    protection-free one, bit for bit (but for the alpha margin where the gains turn the
-    protection on, ``GK.us_enter`` > 0: below ``GK.us_amargv`` stall speeds alpha stays
-    ``GK.us_amargin`` below the stall)."""
+    ``fold`` (:func:`polar_at`, layout :data:`POLAR`; a float64 array or a 6-tuple); ``gin``: the
+    step's input (layout :data:`GIN`; a float64 array, or run by Python any sequence of floats):
+    the mass, air density, gravity and reference areas; the reference's position, velocity,
+    acceleration and line tension; the glider's position and velocity, the wind and the
+    measured line force on the glider; fold state ``fold``, step ``dt``; ``taut``: the line is
+    taut (see :meth:`~.guidance_loop.Guidance.update`); ``t_max``: the thrust available this
+    step [N]; ``ref_pull``: on a line that is not taut, the radial part of the measured line
+    force is replaced by the reference's ``tension`` (the wing flies the reference's radial
+    aerodynamic force, see :func:`_air_force`); ``us``: the underspeed protection
+    (:mod:`.underspeed`) acts (0 no, 1 yes, 2 yes on a slack line): the path's acceleration
+    demand becomes a speed recovery (:func:`_underspeed_demand`, the integral held) and alpha is
+    capped the gains' margin below the stall, the thrust is all there is (``t_max``); ``us``
+    :data:`US_PULL_UP`: the ground-proximity guard (:mod:`.ground`) pulls up instead
+    (:func:`_pull_up_demand`, the integral held, the alpha margin and the thrust as in
+    underspeed). With ``us`` 0 the step is the protection-free one, bit for bit (but for the
+    alpha margin where the gains turn the protection on, ``GK.us_enter`` > 0: below
+    ``GK.us_amargv`` stall speeds alpha stays ``GK.us_amargin`` below the stall)."""
+    m, rho, g, s_u, s_f = gin[GIN.m], gin[GIN.rho], gin[GIN.g], gin[GIN.s_u], gin[GIN.s_f]
+    rpx, rpy, rpz = gin[GIN.ref_pos], gin[GIN.ref_pos + 1], gin[GIN.ref_pos + 2]
+    rvx, rvy, rvz = gin[GIN.ref_vel], gin[GIN.ref_vel + 1], gin[GIN.ref_vel + 2]
+    rax, ray, raz = gin[GIN.ref_acc], gin[GIN.ref_acc + 1], gin[GIN.ref_acc + 2]
+    px, py, pz = gin[GIN.pos], gin[GIN.pos + 1], gin[GIN.pos + 2]
+    vx, vy, vz = gin[GIN.vel], gin[GIN.vel + 1], gin[GIN.vel + 2]
+    wx, wy, wz = gin[GIN.wind], gin[GIN.wind + 1], gin[GIN.wind + 2]
+    tx, ty, tz = gin[GIN.line], gin[GIN.line + 1], gin[GIN.line + 2]
+    fold, dt, t_max, us = gin[GIN.fold], gin[GIN.dt], gin[GIN.t_max], gin[GIN.us]
+    taut = gin[GIN.taut] != 0.0
     # e_p = p_ref - p, e_v = v_ref - v
     epx, epy, epz = rpx - px, rpy - py, rpz - pz
     evx, evy, evz = rvx - vx, rvy - vy, rvz - vz
@@ -174,8 +188,7 @@ def guidance_step(gk: Floats, integral: np.ndarray, polar: Floats, m: float, rho
         afx, afy, afz = _underspeed_demand(gk, afx + cx, afy + cy, afz + cz, vax, vay, vaz, v0, v_stall, us == 2.0,
                                            px, py)
         cx, cy, cz = 0.0, 0.0, 0.0
-    Fx, Fy, Fz = _air_force(gk, m, g, afx, afy, afz, cx, cy, cz, tx, ty, tz, taut, erx, ery, erz,
-                            rpx, rpy, rpz, rax, ray, raz, tension, v_ref, v0, ref_pull)
+    Fx, Fy, Fz = _air_force(gk, gin, afx + cx, afy + cy, afz + cz, tx, ty, tz, erx, ery, erz, v_ref, v0)
     alpha, mu, thrust, roll, pitch, yaw, cl = _command(gk, polar, rho, Fx, Fy, Fz, vax, vay, vaz, fold, s_u, s_f, t_max,
                                                        margin, us != 0.0, pull, m * g)
     return alpha, mu, thrust, roll, pitch, yaw, cl, _norm(epx, epy, epz)
@@ -247,16 +260,14 @@ def _correction(gk: Floats, integral: np.ndarray, epx: float, epy: float, epz: f
     return cx, cy, cz
 
 
-def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: float, cx: float, cy: float,
-               cz: float, tx: float, ty: float, tz: float, taut: bool, erx: float, ery: float, erz: float,
-               rpx: float, rpy: float, rpz: float, rax: float, ray: float, raz: float, tension: float,
-               v_ref: float, v0: float, ref_pull: bool) -> Vec3:
+def _air_force(gk: Floats, gin: Floats, ax: float, ay: float, az: float, tx: float, ty: float, tz: float,
+               erx: float, ery: float, erz: float, v_ref: float, v0: float) -> Vec3:
     """The force [N] the air (and the propeller) must provide, ``F = m (a_cmd - g) - F_tether``
-    with ``a_cmd = a_ff + corr`` [m/s^2] and the measured line force ``t*`` [N] (mass ``m``
-    [kg], gravity ``g`` [m/s^2]); on a taut line (``taut``, ``e_r``: the glider's radial unit
-    vector) its radial part is the reference's (from its position ``rp*`` [m], acceleration
-    ``ra*`` [m/s^2] and ``tension`` [N], plus the overspeed term; airspeeds ``v_ref``, ``v0``
-    [m/s] of reference and glider).
+    with ``a_cmd = a_ff + corr`` [m/s^2] (``a``) and the line force ``t*`` [N] (the measured one,
+    or none where the guard pulls up), the mass ``m`` and gravity ``g`` of the step's input
+    ``gin`` (:data:`GIN`); on a taut line (``taut``, ``e_r``: the glider's radial unit vector)
+    its radial part is the reference's (from its position, acceleration and ``tension`` in
+    ``gin``, plus the overspeed term; airspeeds ``v_ref``, ``v0`` [m/s] of reference and glider).
 
     On a line that is not taut with ``ref_pull``, the radial part of the measured line force is
     replaced by the reference's ``tension`` along the reference's radial direction: the wing
@@ -268,11 +279,13 @@ def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: floa
     across the phase switch, then rises smoothly where the measured one jumps from nothing to
     the generator's within a fraction of a second, and the wing's force no longer steps at
     the catch."""
-    Fx = m * ((afx + cx) - 0.0) - tx
-    Fy = m * ((afy + cy) - 0.0) - ty
-    Fz = m * ((afz + cz) - g) - tz
-    if not taut:
-        if ref_pull:
+    m, g, tension = gin[GIN.m], gin[GIN.g], gin[GIN.tension]
+    rpx, rpy, rpz = gin[GIN.ref_pos], gin[GIN.ref_pos + 1], gin[GIN.ref_pos + 2]
+    Fx = m * (ax - 0.0) - tx
+    Fy = m * (ay - 0.0) - ty
+    Fz = m * (az - g) - tz
+    if gin[GIN.taut] == 0.0:
+        if gin[GIN.ref_pull] != 0.0:
             # F + (tension + t . e_r) e_r: the measured radial pull out, the reference's in
             dn = max(_norm(rpx, rpy, rpz), 1e-6)
             ex, ey, ez = rpx / dn, rpy / dn, rpz / dn
@@ -280,6 +293,7 @@ def _air_force(gk: Floats, m: float, g: float, afx: float, afy: float, afz: floa
             return Fx + c * ex, Fy + c * ey, Fz + c * ez
         return Fx, Fy, Fz
     dn = max(_norm(rpx, rpy, rpz), 1e-6)
+    rax, ray, raz = gin[GIN.ref_acc], gin[GIN.ref_acc + 1], gin[GIN.ref_acc + 2]
     F_r_ref = (m * (rax - 0.0) * (rpx / dn) + m * (ray - 0.0) * (rpy / dn)
                + m * (raz - g) * (rpz / dn)) + tension
     if gk[GK.vtens] > 0.0 and v_ref > 1.0:

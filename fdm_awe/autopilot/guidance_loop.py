@@ -151,15 +151,9 @@ class Guidance:
         protection acts (0 no, 1 yes, 2 yes on a slack line, :data:`~.guidance.US_PULL_UP` the ground-proximity
         guard pulls up; :func:`~.guidance.guidance_step`'s ``us``)."""
         gk = self.gains_vector()
-        rpx, rpy, rpz = _xyz(ref.pos)
-        rvx, rvy, rvz = _xyz(ref.vel)
-        rax, ray, raz = _xyz(ref.acc)
-        px, py, pz = _xyz(pos)
-        vx, vy, vz = _xyz(vel)
-        wx, wy, wz = _xyz(wind)
-        tx, ty, tz = _xyz(tether_force)
         t_max = gk[GK.thrust_max] if thrust_max is None else thrust_max
-        return GuidanceCommand(*guidance_step(
-            gk, self.integral, self.polar(fold), self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S,
-            rpx, rpy, rpz, rvx, rvy, rvz, rax, ray, raz, ref.tension, px, py, pz, vx, vy, vz, wx, wy, wz,
-            tx, ty, tz, fold, dt, taut, t_max, ref_pull, underspeed))
+        # the step's input (layout GIN) as Python floats: the Python step's arithmetic stays on floats
+        gin = [self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S, *_xyz(ref.pos), *_xyz(ref.vel), *_xyz(ref.acc),
+               ref.tension, *_xyz(pos), *_xyz(vel), *_xyz(wind), *_xyz(tether_force), fold, dt, taut, t_max, ref_pull,
+               underspeed]
+        return GuidanceCommand(*guidance_step(gk, self.integral, self.polar(fold), gin))

@@ -62,24 +62,39 @@ GSO_SIZE = slots.size(GSO)
 WHY_DONE, WHY_PYTHON, WHY_END = 0, 1, 2
 
 
-# over 80 lines: one flight step written out in the order of the Python loop (module doc), with
-# the block's exits between its parts
-def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref_t, table, segs, gk, cu, cf, gate, par,
-                    mem, integral, thr_state, motor_mem, rrow, out, law_c, law_g, law_fold_at, law_integ, work, v_prev,
-                    alog):
-    """Up to ``n`` steps from row ``k0`` (the arguments of :func:`fdm_awe.sim.kernel.cosim_steps`,
-    then the handles ``ha``, the constants ``q``, the raw row's SI ``scale`` and ``offset``, the
-    arrays of :meth:`fdm_awe.autopilot.autopilot.Autopilot.kernel_arrays` and the glider's ledger
-    ``work`` and ``v_prev``, the bookkeeping rows ``alog``): (steps done, event code);
-    ``q[Q.why]`` says why the block ended."""
+def keep_state(state: tuple, saved: np.ndarray, back: bool) -> None:
+    """The AUTO step's ``state`` (its arrays, :func:`fdm_awe.autopilot.auto_step.auto_guide`) into
+    ``saved`` one after the other, or (``back``) from ``saved`` back into them."""
+    at = 0
+    for a in state:
+        k = a.shape[0]
+        if back:
+            a[:] = saved[at:at + k]
+        else:
+            saved[at:at + k] = a
+        at += k
+
+
+# one flight step written out in the order of the Python loop (module doc), with the block's
+# exits between its parts
+def autopilot_steps(cosim, k0, n, ha, q, scale, offset, cycle, consts, state, results, law, ledger, alog):
+    """Up to ``n`` steps from row ``k0`` (``cosim``: the arrays of
+    :func:`fdm_awe.sim.kernel.cosim_steps` before its ``k0``; the handles ``ha``, the constants
+    ``q``, the raw row's SI ``scale`` and ``offset``; the AUTO step's ``cycle``, ``consts``,
+    ``state``, ``results`` and the attitude law's arrays ``law`` of
+    :meth:`fdm_awe.autopilot.autopilot.Autopilot.kernel_arrays`; the glider's ledger ``(work,
+    v_prev)``, the bookkeeping rows ``alog``): (steps done, event code); ``q[Q.why]`` says why."""
+    h, p, lim, log, s_gs, c_gs = cosim
+    law_c, law_g, law_fold_at, law_integ = law
+    work, v_prev = ledger
+    mem, par, out = state[0], consts[4], results[2]
     nraw = int(q[Q.nraw])
     g0 = h.shape[0] - H_GETTERS  # first ground-station column of a log row
     f_get, f_set = h[H_GET], h[H_SET]
     gso = np.empty(GSO_SIZE)
-    saved = np.empty(mem.shape[0] + 3 + thr_state.shape[0] + motor_mem.shape[0])
+    saved = np.empty(mem.shape[0] + state[1].shape[0] + state[2].shape[0] + state[3].shape[0])
     lvals = np.empty(N_LEDGER)
     cvals = np.empty(N_LAW_PROPERTIES)
-    n_m, n_t = mem.shape[0], thr_state.shape[0]
     k = k0
     code = E_NONE
     q[Q.why] = WHY_DONE
@@ -90,22 +105,15 @@ def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref
         gso[GSO.tension], gso[GSO.length], gso[GSO.slack] = lr[g0 + G_TENSION], lr[g0 + G_LENGTH], lr[g0 + G_SLACK]
         gso[GSO.force], gso[GSO.force + 1], gso[GSO.force + 2] = lr[g0 + G_FX], lr[g0 + G_FY], lr[g0 + G_FZ]
         # the step's state, to be restored when the Python autopilot must fly it
-        saved[:n_m] = mem
-        saved[n_m:n_m + 3] = integral
-        saved[n_m + 3:n_m + 3 + n_t] = thr_state
-        saved[n_m + 3 + n_t:] = motor_mem
-        flags = auto_guide(row, scale, offset, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem, integral,
-                           thr_state, motor_mem, rrow, out)
+        keep_state(state, saved, False)
+        flags = auto_guide(row, scale, offset, gso, cycle, consts, state, results)
         ok, motor, omega_ref, duty, d2, rl = command_values(out[OUT.w_motor], out[OUT.w_reel_speed], out[OUT.w_rl],
                                                             out[OUT.w_d2], math.nan, q[Q.r_drum], q[Q.d2_default],
                                                             q[Q.rl_default])
         if flags != 0 or not ok:
             # a phase change or a rejoin's end (the autopilot notes them), a command the ground
             # station refuses (the Python path raises its error): the Python autopilot flies it
-            mem[:] = saved[:n_m]
-            integral[:] = saved[n_m:n_m + 3]
-            thr_state[:] = saved[n_m + 3:n_m + 3 + n_t]
-            motor_mem[:] = saved[n_m + 3 + n_t:]
+            keep_state(state, saved, True)
             q[Q.why] = WHY_PYTHON
             break
         fold = row[FOLD]
@@ -169,14 +177,15 @@ def compiled_autopilot_kernel() -> Callable | None:
     from . import block_log, events, flight_log, glider_ledger, kernel
 
     def signature(nb: Any) -> Any:
-        f8, i8 = nb.float64, nb.int64
+        f8, i8, t = nb.float64, nb.int64, nb.types
         a1, a2, i1 = f8[::1], f8[:, ::1], i8[::1]
-        return nb.types.UniTuple(i8, 2)(i1, a1, a1, a2, a1, a1, i8, i8, i1, a1, a1, a1, a1, a2, a2, a1, a1, a1, a1, a1,
-                                        a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
+        cosim = t.Tuple((i1, a1, a1, a2, a1, a1))
+        return t.UniTuple(i8, 2)(cosim, i8, i8, i1, a1, a1, a1, t.Tuple((a1, a2, a2)), t.UniTuple(a1, 5),
+                                 t.UniTuple(a1, 4), t.UniTuple(a1, 3), t.UniTuple(a1, 4), t.UniTuple(a1, 2), a2)
 
     helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
         attitude_from_row, row.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
-        law_stale, command_values, track_error)
+        law_stale, command_values, track_error, keep_state)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
     modules = (block_log, events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin,
                thrust, underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
@@ -256,8 +265,8 @@ class AutopilotBlocks:
             self.alog = np.concatenate((self.alog, np.full((len(log) - len(self.alog), slots.size(ALOG)), math.nan)))
         self.q[Q.gs_valid] = 1.0
         self._log = log
-        done, code = self._call(h, p, lim, log, s_gs, c_gs, k, m, self.ha, self.q, self.scale, self.offset, *arrays,
-                                self.ledger.work_array, self.ledger.v_prev, self.alog)
+        done, code = self._call((h, p, lim, log, s_gs, c_gs), k, m, self.ha, self.q, self.scale, self.offset, *arrays,
+                                (self.ledger.work_array, self.ledger.v_prev), self.alog)
         if done:
             self.steps += done
             self.ap.after_block(log[k + done, :int(self.q[Q.nraw])])
