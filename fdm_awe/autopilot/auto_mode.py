@@ -22,8 +22,9 @@ from ..sixdof.state import SixDofState, Surfaces
 from .auto_step import (GROUND, GSO, MEM, OUT, PAR, PATH_REJOIN, PHASE_CHANGED, REF, REF_COLUMNS, REF_WHERE, REJOINED,
                         TRACK_LOST, UNDERSPEED, auto_guide)
 from .fold import reference_fold_time
-from .guidance import GIN, polar_arguments
+from .guidance import GIN, GK, POLAR, polar_arguments
 from .guidance_loop import GuidanceCommand
+from .motor import GATE
 from ..trajectory.schema import GENERATION, PHASE_NAMES, RECOVERY
 from .tracking import RefPoint, TrackingReference
 from .winch import WL, limit_vector, winch_command
@@ -112,6 +113,9 @@ class AutoStep:
         par[PAR.cycle_wind] = float(w) if isinstance(w, (int, float)) and not isinstance(w, bool) else math.nan
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,
                   np.asarray(g.k.vector(), float), cu, cf, gate.vector(), par, ap.att.law.gains.vector())
+        # the compiled step reads them by offset, unchecked: their sizes are their layouts'
+        for layout, a, what in ((GK, arrays[3], "gk"), (POLAR, cu, "cu"), (POLAR, cf, "cf"), (GATE, arrays[6], "gate")):
+            slots.check(layout, a, f"the AUTO step's {what}")
         self._cache = (ref, gate, arrays)
         return arrays
 

@@ -99,7 +99,8 @@ def blended_polar(aero_u: AeroParams, aero_f: AeroParams, fold: float) -> Polar:
     ``S*coefficient`` values on its reference area (:func:`polar_at`; the blend of the 6-DOF
     model, :func:`fdm_awe.pointmass.aero.fold_blend`), as Python floats."""
     p = polar_at(*polar_arguments(aero_u, aero_f), fold)
-    return float(p[0]), float(p[1]), float(p[2]), float(p[3]), float(p[4]), float(p[5])
+    cl0, cla, clmax, cd0, cda1, cda2 = (float(p[i]) for i in POLAR)
+    return cl0, cla, clmax, cd0, cda1, cda2
 
 
 def norm3(a: np.ndarray) -> float:
