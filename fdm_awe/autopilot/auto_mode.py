@@ -44,7 +44,9 @@ class AutoStep:
         self.out = np.zeros(slots.size(OUT))  #: the last step's results (:data:`~.auto_step.OUT`)
         self.rrow = np.zeros(slots.size(REF))  #: the last step's reference row (:data:`~.auto_step.REF`)
         self._gso = np.zeros(slots.size(GSO))
-        self._gin = slots.new(GIN)  # the guidance's input of the last step
+        # the guidance's input of the last step: a list for the Python step (faster items than an
+        # array's, the same floats), an array for the compiled block
+        self._gin, self._gin_block = [0.0] * slots.size(GIN), slots.new(GIN)
         #: the last step's position error exceeded FS_TRK_ERR (:data:`~.auto_step.TRACK_LOST`)
         self.track_lost = False
         #: the position error of the step before the last one [m] (NaN before it; the path rejoin's note)
@@ -176,7 +178,7 @@ class AutoStep:
         self.mem[MEM.phase] = PHASE_CODES[ap.phase]
         law = ap.att.law
         return ((ref_t, table, segs), (gk, cu, cf, gate, par),
-                (self.mem, ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem), (self._gin, self.rrow, self.out),
+                (self.mem, ap.guidance.integral, ap.thrust_loop.state, ap.motor.mem), (self._gin_block, self.rrow, self.out),
                 (law.coef, law_g, law.fold_at, law.integ))
 
     def command(self) -> GuidanceCommand:
