@@ -43,7 +43,7 @@ class AutoStep:
         self.mem[MEM.phase] = -1.0
         self.out = np.zeros(slots.size(OUT))  #: the last step's results (:data:`~.auto_step.OUT`)
         self.rrow = np.zeros(slots.size(REF))  #: the last step's reference row (:data:`~.auto_step.REF`)
-        self._gso = np.zeros(slots.size(GSO))
+        self._gso = [0.0] * slots.size(GSO)  # the station's last output (a list: the Python step's)
         # the guidance's input of the last step: a list for the Python step (faster items than an
         # array's, the same floats), an array for the compiled block
         self._gin, self._gin_block = [0.0] * slots.size(GIN), slots.new(GIN)
@@ -51,7 +51,7 @@ class AutoStep:
         self.track_lost = False
         #: the position error of the step before the last one [m] (NaN before it; the path rejoin's note)
         self.last_error = math.nan
-        self._cache: tuple | None = None  # (reference, gate, arrays)
+        self._cache: tuple | None = None  # (reference, gate, arrays, the Python step's lists)
 
     def invalidate(self) -> None:
         """Build the constant arrays again at the next step (a parameter changed)."""
@@ -118,13 +118,16 @@ class AutoStep:
         # the compiled step reads them by offset, unchecked: their sizes are their layouts'
         for layout, a, what in ((GK, arrays[3], "gk"), (POLAR, cu, "cu"), (POLAR, cf, "cf"), (GATE, arrays[6], "gate")):
             slots.check(layout, a, f"the AUTO step's {what}")
-        self._cache = (ref, gate, arrays)
+        # the Python step reads the gains and the polars as lists of floats (faster items, the
+        # same floats; as :meth:`.guidance_loop.Guidance.update` reads its gains)
+        self._cache = (ref, gate, arrays, (arrays[3].tolist(), cu.tolist(), cf.tolist()))
         return arrays
 
     def step(self, ap: Any, s: SixDofState, gs: Any) -> tuple[Surfaces, Any, list[str]]:
         """One AUTO step of ``ap`` at glider state ``s`` with the ground station's last output
         ``gs`` (None before its first step): (surfaces, winch command, the notes of the step)."""
-        ref_t, table, segs, gk, cu, cf, gate, par, _ = self.arrays(ap)
+        ref_t, table, segs, _, _, _, gate, par, _ = self.arrays(ap)
+        gk, cu, cf = self._cache[3]
         par[PAR.armed] = 1.0 if ap.armed else 0.0
         gso = self._gso
         if gs is not None:
