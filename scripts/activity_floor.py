@@ -77,7 +77,7 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
     above 0.5 Hz and their total, full deflections."""
     from fdm_awe.autopilot.auto_step import reference_pull
     from fdm_awe.autopilot.fold import fold_command, reference_fold_time
-    from fdm_awe.autopilot.guidance import GK_THRUST_MAX, guidance_step
+    from fdm_awe.autopilot.guidance import GK, guidance_step
     from fdm_awe.autopilot.shaping import flyable_reference
     from fdm_awe.sim.activity import control_activity
     from fdm_awe.sixdof import attitude_law as L
@@ -103,8 +103,9 @@ def floor(reference: Any, config: str, cycles: int) -> dict[str, Any]:
         pull = reference_pull(True, r.phase, tc, p["GUID_CATCH_T"])
         taut = r.phase == 0 and not pull  # generation's line, taut once caught
         tf = -r.tension * e_r if taut else np.zeros(3)
-        cmd = guidance_step(gk, np.zeros(3), g.polar(f), g.m, g.rho, g.g, g.aero_u.S, g.aero_f.S, *pos, *vel, *acc,
-                            r.tension, *pos, *vel, *wind, *tf, f, 0.0, taut, gk[GK_THRUST_MAX], pull, 0.0)
+        cmd = guidance_step(gk, np.zeros(3), g.polar(f), [g.m, g.rho, g.g, g.aero_u.S, g.aero_f.S, *pos, *vel, *acc,
+                                                          r.tension, *pos, *vel, *wind, *tf, f, 0.0, taut,
+                                                          gk[GK.thrust_max], pull, 0.0])
         alpha[k], roll[k], pitch[k] = cmd[0], cmd[3], cmd[4]
         V[k], fold[k] = float(np.linalg.norm(vel - wind)), f
     c = (1.0 - fold)[:, None] * c0[None, :] + fold[:, None] * c1[None, :]

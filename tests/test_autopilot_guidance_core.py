@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from fdm_awe.autopilot import guidance as gm
-from fdm_awe.autopilot.guidance import (CALLED, GK_BODY_AXIS, GK_CURVMAX, GK_NEGLIFT, GK_PHI_MAX_VERT, I_X, I_Z,
-                                        blended_polar, guidance_step, polar_arguments, polar_at)
+from fdm_awe import slots
+from fdm_awe.autopilot.guidance import (CALLED, GIN, GK, INTEGRAL, blended_polar, guidance_step, polar_arguments,
+                                       polar_at)
 from fdm_awe.autopilot.guidance_loop import Guidance, GuidanceGains
 from fdm_awe.definitions.aircraft import load_glider
 from fdm_awe.pointmass.aero import fold_blend
@@ -44,7 +45,7 @@ def _gains(variant) -> GuidanceGains:
 
 
 def _cases(rng, n):
-    """``n`` random pairs (integral, argument row of :func:`guidance_step` from ``m`` on), plus
+    """``n`` random pairs (integral, the step's input row of :func:`guidance_step`, layout ``GIN``), plus
     edge cases (integral zero): no force across the air velocity, no airspeed."""
     g = load_glider()
     m, s_u, s_f = g.unfolded.mass.mass, g.unfolded.aero.S, g.folded.aero.S
@@ -96,18 +97,18 @@ def _lines_run(fn, calls):
 
 
 def test_gains_vector_layout():
-    """``GK_*`` name the fields in their order; None is NaN, the flags 0.0/1.0."""
+    """``GK`` names the fields in their order; None is NaN, the flags 0.0/1.0."""
     names = [f.name for f in fields(GuidanceGains)]
     k = replace(GAINS, energy_trade=0.7, negative_lift=True, curv_scale_max=2.25, phi_max_vertical=2.2)
     v = k.vector()
-    assert v.dtype == np.float64 and v.shape == (len(names),)
+    assert v.dtype == np.float64 and v.shape == (len(names),) == (slots.size(GK),)
     for i, name in enumerate(names):
         assert v[i] == float(getattr(k, name)), name
-    assert [getattr(gm, c) for c in ("GK_KP", "GK_THRUST_MAX", "GK_ETRADE", "GK_PHI_MAX_VERT")] == \
+    assert [GK.kp, GK.thrust_max, GK.etrade, GK.phi_max_vert] == \
            [names.index(n) for n in ("kp", "thrust_max", "energy_trade", "phi_max_vertical")]
     v = GAINS.vector()
-    assert math.isnan(v[GK_CURVMAX]) and math.isnan(v[GK_PHI_MAX_VERT])
-    assert v[GK_NEGLIFT] == 0.0 and v[GK_BODY_AXIS] == 1.0
+    assert math.isnan(v[GK.curvmax]) and math.isnan(v[GK.phi_max_vert])
+    assert v[GK.neglift] == 0.0 and v[GK.body_axis] == 1.0
 
 
 def test_polar_at_compiled_is_python_and_the_fold_blend():
@@ -136,15 +137,16 @@ def test_guidance_step_compiled_is_python_bit_for_bit():
     for variant in VARIANTS:
         gk = _gains(variant).vector()
         for integral, args in _cases(rng, 30):
-            polar = polar_at(*pargs, args[27])  # at the row's fold state
+            assert len(args) == slots.size(GIN)
+            polar = polar_at(*pargs, args[GIN.fold])  # at the row's fold state
             i_py, i_nb = integral.copy(), integral.copy()
-            got_py = guidance_step(gk.tolist(), i_py, polar, *args)  # as Guidance.update calls it
-            got_nb = step(gk, i_nb, np.array(polar), *args)
+            got_py = guidance_step(gk.tolist(), i_py, polar, list(args))  # as Guidance.update calls it
+            got_nb = step(gk, i_nb, np.array(polar), np.array(args, float))
             assert got_nb == got_py, (variant, args, got_nb, got_py)
             assert i_nb.tolist() == i_py.tolist()
-            assert guidance_step(gk, integral.copy(), np.array(polar), *args) == got_py  # arrays in Python too
+            assert guidance_step(gk, integral.copy(), np.array(polar), np.array(args, float)) == got_py  # arrays too
             clipped += int(np.any(np.abs(i_py) == 2.0))
-            calls.append((gk.tolist(), integral.copy(), polar, *args))
+            calls.append((gk.tolist(), integral.copy(), polar, list(args)))
     assert clipped > 20  # the integral limit acted
     seen, want = _lines_run(guidance_step, calls)
     missed = sorted((c.co_name, ln) for c, ln in want - seen)
@@ -205,11 +207,12 @@ def test_guidance_update_is_the_step_and_follows_new_gains():
     for k in (GAINS, replace(GAINS, kp=0.9, negative_lift=True, phi_max_vertical=2.0)):
         gd.k = k
         mine = integral.copy()
-        want = guidance_step(k.vector().tolist(), mine, gd.polar(0.3), gd.m, gd.rho, gd.g, gd.aero_u.S, gd.aero_f.S,
-                             *ref.pos.tolist(), *ref.vel.tolist(), *ref.acc.tolist(), ref.tension, *pos.tolist(),
-                             *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max, False, 0.0)
+        want = guidance_step(k.vector().tolist(), mine, gd.polar(0.3), [
+            gd.m, gd.rho, gd.g, gd.aero_u.S, gd.aero_f.S, *ref.pos.tolist(), *ref.vel.tolist(), *ref.acc.tolist(),
+            ref.tension, *pos.tolist(), *vel.tolist(), *wind.tolist(), *tf.tolist(), 0.3, 0.01, True, k.thrust_max,
+            False, 0.0])
         c = gd.update(ref, pos, vel, wind, tf, 0.3, 0.01, taut=True)
         assert (c.alpha, c.mu, c.thrust, c.roll, c.pitch, c.yaw, c.lift_coefficient, c.pos_error) == want
-        assert gd.integral is integral and integral.tolist() == mine.tolist() and integral[I_X] != 0.0
+        assert gd.integral is integral and integral.tolist() == mine.tolist() and integral[INTEGRAL.x] != 0.0
     gd.reset()
-    assert gd.integral is integral and integral[I_X] == integral[I_Z] == 0.0
+    assert gd.integral is integral and integral[INTEGRAL.x] == integral[INTEGRAL.z] == 0.0

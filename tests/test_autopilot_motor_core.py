@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from jit_helpers import compiled, same_bits
 
-from fdm_awe.autopilot.motor import (G_MIN_DWELL_S, G_RESCUE_ERROR_M, G_SOFT_START_S, M_RESCUE, M_RUNNING, M_SWITCH_T,
-                                     M_SWITCHES, N_GATE, N_MEMORY, MotorGate, MotorSwitch, motor_ceiling, motor_memory, motor_spin_down,
-                                     motor_update)
+from fdm_awe import slots
+from fdm_awe.autopilot.motor import (GATE, MOTOR_MEM, MotorGate, MotorSwitch, motor_ceiling, motor_memory,
+                                     motor_spin_down, motor_update)
 from fdm_awe.autopilot.tracking import TrackingReference
 
 DATA = Path(__file__).parent / "data"
@@ -50,11 +50,12 @@ def test_motor_update_and_ceiling_compiled_equal_python_over_sequences():
     switches = rescues = dwell_held = 0
     for case in range(12):
         gate = GATES[case % 3].vector()
-        assert gate.shape == (N_GATE,)
+        assert gate.shape == (slots.size(GATE),)
         plan = _plan(rnd, 200)
         mem_py, mem_jit = motor_memory(), motor_memory()
-        assert mem_py.shape == (N_MEMORY,) and mem_py[M_RUNNING] == 1.0 and mem_py[M_SWITCH_T] == -math.inf
-        t, seg, err = rnd.uniform(-5.0, 50.0), rnd.randrange(200), _errors(rnd, gate[G_RESCUE_ERROR_M])
+        assert mem_py.shape == (slots.size(MOTOR_MEM),)
+        assert mem_py[MOTOR_MEM.running] == 1.0 and mem_py[MOTOR_MEM.switch_t] == -math.inf
+        t, seg, err = rnd.uniform(-5.0, 50.0), rnd.randrange(200), _errors(rnd, gate[GATE.rescue_error_m])
         for _ in range(600):
             e = next(err)
             slow = rnd.random() < 0.8
@@ -62,14 +63,14 @@ def test_motor_update_and_ceiling_compiled_equal_python_over_sequences():
             py = motor_update(plan, seg, t, e, gate, mem_py, slow)
             assert same_bits(j_update(plan, seg, t, e, gate, mem_jit, slow), py), (case, t)
             assert np.array_equal(mem_py, mem_jit), (case, t, mem_py, mem_jit)
-            tc = t + rnd.choice((0.0, 0.1 * gate[G_SOFT_START_S], rnd.uniform(0.0, 2.0)))
+            tc = t + rnd.choice((0.0, 0.1 * gate[GATE.soft_start_s], rnd.uniform(0.0, 2.0)))
             assert same_bits(j_ceiling(tc, gate, mem_jit), motor_ceiling(tc, gate, mem_py)), (case, tc)
             u = rnd.uniform(0.0, 1.0)
             assert same_bits(j_spin(tc, gate, mem_jit, u), motor_spin_down(tc, gate, mem_py, u)), (case, tc)
-            switches += mem_py[M_SWITCHES] != before[M_SWITCHES]
-            rescues += mem_py[M_RESCUE] != before[M_RESCUE]
-            want = plan[seg] != 0.0 or mem_py[M_RESCUE] != 0.0
-            dwell_held += want != (mem_py[M_RUNNING] != 0.0)
+            switches += mem_py[MOTOR_MEM.switches] != before[MOTOR_MEM.switches]
+            rescues += mem_py[MOTOR_MEM.rescue] != before[MOTOR_MEM.rescue]
+            want = plan[seg] != 0.0 or mem_py[MOTOR_MEM.rescue] != 0.0
+            dwell_held += want != (mem_py[MOTOR_MEM.running] != 0.0)
             t += rnd.choice((1.0 / 120.0, 1.0 / 120.0, 1.0 / 120.0, rnd.uniform(0.0, 1.0)))
             seg = (seg + (rnd.random() < 0.2)) % len(plan)
     assert switches > 50 and rescues > 10 and dwell_held > 10
@@ -132,18 +133,18 @@ def test_the_rescue_runs_the_motor_only_for_a_slow_glider():
     plan = np.zeros(4)
     fast, slow = motor_memory(), motor_memory()
     for mem in (fast, slow):
-        mem[M_RUNNING] = 0.0
-    assert motor_update(plan, 0, 1.0, 12.0, gate, fast, False) == 0.0 and fast[M_RESCUE] == 0.0
-    assert motor_update(plan, 0, 1.0, 12.0, gate, slow, True) == 1.0 and slow[M_RESCUE] == 1.0
+        mem[MOTOR_MEM.running] = 0.0
+    assert motor_update(plan, 0, 1.0, 12.0, gate, fast, False) == 0.0 and fast[MOTOR_MEM.rescue] == 0.0
+    assert motor_update(plan, 0, 1.0, 12.0, gate, slow, True) == 1.0 and slow[MOTOR_MEM.rescue] == 1.0
     assert motor_update(plan, 0, 2.0, 8.0, gate, slow, False) == 1.0  # still above half: runs on
-    assert motor_update(plan, 0, 3.0, 4.0, gate, slow, True) == 0.0 and slow[M_RESCUE] == 0.0
+    assert motor_update(plan, 0, 3.0, 4.0, gate, slow, True) == 0.0 and slow[MOTOR_MEM.rescue] == 0.0
 
 
 def test_gate_vector_layout():
     gate = MotorGate(off_below=0.3, min_off_s=2.0, min_on_s=1.5, min_dwell_s=0.25, soft_start_s=0.75, rescue_error_m=7.0,
                      soft_stop_s=0.6)
     assert gate.vector().tolist() == [0.3, 2.0, 1.5, 0.25, 0.75, 7.0, 0.6]
-    assert gate.vector()[G_MIN_DWELL_S] == 0.25 and gate.vector()[G_SOFT_START_S] == 0.75
+    assert gate.vector()[GATE.min_dwell_s] == 0.25 and gate.vector()[GATE.soft_start_s] == 0.75
 
 
 def test_spin_down_falls_linearly_from_the_last_throttle():
@@ -152,7 +153,7 @@ def test_spin_down_falls_linearly_from_the_last_throttle():
     mem = motor_memory()
     gate = MotorGate(soft_stop_s=0.8).vector()
     assert motor_spin_down(5.0, gate, mem, 0.6) == 0.0  # no switch yet
-    mem[M_RUNNING], mem[M_SWITCH_T], mem[M_SWITCHES] = 0.0, 10.0, 1.0
+    mem[MOTOR_MEM.running], mem[MOTOR_MEM.switch_t], mem[MOTOR_MEM.switches] = 0.0, 10.0, 1.0
     assert motor_spin_down(10.0, gate, mem, 0.6) == 0.6
     assert motor_spin_down(10.4, gate, mem, 0.6) == pytest.approx(0.3, abs=1e-12)
     assert motor_spin_down(10.8, gate, mem, 0.6) == 0.0 and motor_spin_down(12.0, gate, mem, 0.6) == 0.0

@@ -10,7 +10,7 @@ import random
 import numpy as np
 import pytest
 
-from fdm_awe.autopilot.thrust import T_INTEGRAL, ThrustLoop, throttle_step
+from fdm_awe.autopilot.thrust import THR, ThrustLoop, throttle_step
 
 
 def _inputs(rnd: random.Random, k: int) -> tuple:
@@ -45,9 +45,9 @@ def test_throttle_step_compiled_equals_python_on_every_branch():
         clipped = min(max(i0 + ki * (x[0] - x[1]) * dt, -1.0), 1.0)
         if u in (0.0, u_max) and ki * dt != 0.0:
             seen.add("undo")
-            assert py_integ[T_INTEGRAL] != clipped
+            assert py_integ[THR.integral] != clipped
         else:
-            assert py_integ[T_INTEGRAL] == clipped
+            assert py_integ[THR.integral] == clipped
         if abs(clipped) == 1.0:
             seen.add("limit")
     assert seen == {"disarmed", "u=0", "u=max<1", "u=1", "in", "undo", "limit"}, seen
@@ -58,7 +58,7 @@ def test_the_loop_delegates_and_reads_its_gains_at_each_call():
     between calls), THR_VZERO at construction and the static thrust; disarmed resets it."""
     params = {"THR_KP": 0.01, "THR_KI": 0.2, "THR_VZERO": 32.0}
     loop = ThrustLoop(params, 30.0)
-    integ = [0.0, 0.0, 0.0]  # the integral (the thrust loop's only state throttle_step touches), T_LAST, T_THRUST
+    integ = [0.0, 0.0, 0.0]  # the integral (the thrust loop's only state throttle_step touches), THR.last, THR.thrust
     rnd = random.Random(1)
     for k in range(60):
         params["THR_KP"], params["THR_KI"] = rnd.uniform(0.0, 0.05), rnd.uniform(0.0, 0.5)

@@ -17,8 +17,8 @@ from jit_helpers import compiled, same_bits
 
 from fdm_awe.trajectory.schema import GENERATION, RECOVERY
 from fdm_awe.autopilot.tracking import RefPoint
-from fdm_awe.autopilot.winch import (LIMIT_PARAMS, WL_PAY_MAX, WL_THI, WL_VCATCH, cycle_winch, cycle_winch_values,
-                                     lower_limit_holds, take_up_speed, upper_limit_load)
+from fdm_awe.autopilot.winch import (LIMIT_PARAMS, WL, cycle_winch, cycle_winch_values, lower_limit_holds,
+                                     take_up_speed, upper_limit_load)
 from fdm_awe.groundstation import WinchCommand
 
 
@@ -70,10 +70,10 @@ def _branch(args, out) -> str:
         if out[4]:
             return f"low/{args[16] == args[16]}"
         trimmed = kp > 0 and on
-        upper = on and lim[WL_THI] > 0 and args[9] > lim[WL_THI]
+        upper = on and lim[WL.thi] > 0 and args[9] > lim[WL.thi]
         return f"generator/{trimmed}" + (f"/{out[2] in (0.2, 20.0)}" if trimmed else "") + ("/upper" if upper else "")
-    approach = on and lim[WL_VCATCH] > 0 and args[16] == args[16]
-    return f"motor/{on}" + (f"/{args[9] > rec}/{out[1] == lim[WL_PAY_MAX]}/{approach}" if on else "")
+    approach = on and lim[WL.vcatch] > 0 and args[16] == args[16]
+    return f"motor/{on}" + (f"/{args[9] > rec}/{out[1] == lim[WL.pay_max]}/{approach}" if on else "")
 
 
 def test_cycle_winch_values_compiled_equals_python_on_every_branch():

@@ -65,9 +65,9 @@ from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState, Surfaces
 from .attitude import AttitudeLoops
 from .auto_mode import AutoStep
-from .auto_step import M_ERR, M_SREF, M_TLAST
+from .auto_step import MEM
 from .fold import fold_command, reference_fold_time
-from .guidance import P_CLMAX, norm3
+from .guidance import POLAR, norm3
 from .guidance_loop import Guidance, GuidanceCommand
 from .loop_gains import STAB_PARAMS, guidance_gains, stabilizer_gains
 from .motor import MotorGate, MotorSwitch
@@ -187,7 +187,7 @@ class Autopilot(VehicleCommands, RecoverMode):
         as the underspeed protection counts it (:func:`~fdm_awe.definitions.aircraft.stall_speed`
         of the guidance's blended polar)."""
         g = self.guidance
-        return stall_speed(g.m, g.rho, g.g, g.polar(fold)[P_CLMAX])
+        return stall_speed(g.m, g.rho, g.g, g.polar(fold)[POLAR.clmax])
 
     def _on_param(self, name: str, value: float) -> None:
         self.auto.invalidate()
@@ -205,20 +205,20 @@ class Autopilot(VehicleCommands, RecoverMode):
         advances with flight time, faster when the glider is ahead of its reference point and
         slower when behind, so the loops act on the distance to the path rather than on a
         schedule (path following; the cycle's period is the glider's own)."""
-        return float(self.auto.mem[M_SREF])
+        return float(self.auto.mem[MEM.sref])
 
     @s_ref.setter
     def s_ref(self, value: float) -> None:
-        self.auto.mem[M_SREF] = value
+        self.auto.mem[MEM.sref] = value
 
     @property
     def track_error(self) -> float:
         """Position error of the last guided step [m] (NaN before the first)."""
-        return float(self.auto.mem[M_ERR])
+        return float(self.auto.mem[MEM.err])
 
     @track_error.setter
     def track_error(self, value: float) -> None:
-        self.auto.mem[M_ERR] = value
+        self.auto.mem[MEM.err] = value
 
     @property
     def ref_point(self) -> RefPoint | None:
@@ -332,13 +332,13 @@ class Autopilot(VehicleCommands, RecoverMode):
     # ------------------------------------------------------------------ controller
     def update(self, t: float, s: SixDofState, gs: Any) -> tuple[Surfaces, WinchCommand]:
         mem = self.auto.mem
-        tl = mem[M_TLAST]
+        tl = mem[MEM.tlast]
         dt = 0.0 if tl != tl else max(0.0, t - float(tl))
         self._t_now = t
         self.airborne = not s.on_ground
         if self.mode == "AUTO" and self.cycling and self.reference is not None:
             return self._auto(t, s, gs)  # the AUTO step keeps its own time (auto_guide)
-        mem[M_TLAST] = t
+        mem[MEM.tlast] = t
         if self.mode == "MANUAL":
             self.phase = "ground" if s.on_ground else self.phase
             if self.thruster is not None:

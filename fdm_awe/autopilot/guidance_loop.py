@@ -13,7 +13,7 @@ import numpy as np
 
 from ..constants import G0, RHO0
 from ..definitions.aircraft import AeroParams
-from .guidance import GK_THRUST_MAX, Polar, blended_polar, guidance_step
+from .guidance import GK, Polar, blended_polar, guidance_step
 from .tracking import RefPoint
 
 
@@ -62,7 +62,7 @@ class GuidanceGains:
     bank_lift: float = 0.0
 
     def vector(self) -> np.ndarray:
-        """The gains as a float64 array in the layout ``GK_KP`` .. ``GK_MU_LIFT`` (the field
+        """The gains as a float64 array in the layout :data:`~.guidance.GK` (the field
         order; None as NaN, the flags as 0.0/1.0), the ``gk`` of :func:`~.guidance.guidance_step`."""
         nan = math.nan
         return np.array((self.kp, self.kd, self.ki, self.a_max, self.int_max, self.alpha_min, self.alpha_max,
@@ -103,7 +103,7 @@ class Guidance:
         self.m = mass
         self.aero_u, self.aero_f = aero_u, aero_f
         self.rho, self.g = rho, g
-        #: position-error integral, NED [m s], layout ``I_X``, ``I_Y``, ``I_Z`` (updated in place)
+        #: position-error integral, NED [m s], layout :data:`~.guidance.INTEGRAL` (updated in place)
         self.integral = np.zeros(3)
         self._polar: tuple[float, Polar] | None = None  # (fold state, blended_polar) of the last step
         self._gk: tuple[GuidanceGains, list[float]] | None = None  # (gains, their vector as floats)
@@ -151,15 +151,9 @@ class Guidance:
         protection acts (0 no, 1 yes, 2 yes on a slack line, :data:`~.guidance.US_PULL_UP` the ground-proximity
         guard pulls up; :func:`~.guidance.guidance_step`'s ``us``)."""
         gk = self.gains_vector()
-        rpx, rpy, rpz = _xyz(ref.pos)
-        rvx, rvy, rvz = _xyz(ref.vel)
-        rax, ray, raz = _xyz(ref.acc)
-        px, py, pz = _xyz(pos)
-        vx, vy, vz = _xyz(vel)
-        wx, wy, wz = _xyz(wind)
-        tx, ty, tz = _xyz(tether_force)
-        t_max = gk[GK_THRUST_MAX] if thrust_max is None else thrust_max
-        return GuidanceCommand(*guidance_step(
-            gk, self.integral, self.polar(fold), self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S,
-            rpx, rpy, rpz, rvx, rvy, rvz, rax, ray, raz, ref.tension, px, py, pz, vx, vy, vz, wx, wy, wz,
-            tx, ty, tz, fold, dt, taut, t_max, ref_pull, underspeed))
+        t_max = gk[GK.thrust_max] if thrust_max is None else thrust_max
+        # the step's input (layout GIN) as Python floats: the Python step's arithmetic stays on floats
+        gin = [self.m, self.rho, self.g, self.aero_u.S, self.aero_f.S, *_xyz(ref.pos), *_xyz(ref.vel), *_xyz(ref.acc),
+               ref.tension, *_xyz(pos), *_xyz(vel), *_xyz(wind), *_xyz(tether_force), fold, dt, taut, t_max, ref_pull,
+               underspeed]
+        return GuidanceCommand(*guidance_step(gk, self.integral, self.polar(fold), gin))

@@ -4,9 +4,9 @@ step (:class:`MotorSwitch`: dwell time, the rescue for a lost path, the soft sta
 
 The switch's arithmetic is the pure functions :func:`motor_update` and :func:`motor_ceiling`
 (numba compiles them with the same bits as the Python call): the gate as a float64 vector
-(:meth:`MotorGate.vector`, layout ``G_*``), its plan as floats per segment
+(:meth:`MotorGate.vector`, layout :data:`GATE`), its plan as floats per segment
 (:meth:`MotorGate.plan_vector`), the switch's state in a caller-owned float64 array (layout
-``M_*``, :func:`motor_memory`)."""
+:data:`MOTOR_MEM`, :func:`motor_memory`)."""
 
 from __future__ import annotations
 
@@ -16,16 +16,16 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from .tracking import TrackingReference
 
 #: layout of :meth:`MotorGate.vector`: off_below [-], min_off_s, min_on_s, min_dwell_s,
 #: soft_start_s [s], rescue_error_m [m], soft_stop_s [s]
-(G_OFF_BELOW, G_MIN_OFF_S, G_MIN_ON_S, G_MIN_DWELL_S, G_SOFT_START_S, G_RESCUE_ERROR_M, G_SOFT_STOP_S) = range(7)
-N_GATE = 7
+GATE = slots.declare("MotorGate", ("off_below", "min_off_s", "min_on_s", "min_dwell_s", "soft_start_s",
+                                   "rescue_error_m", "soft_stop_s"))
 #: layout of the switch's state (:func:`motor_memory`): running (1.0 / 0.0), time of the last
 #: switch [s] (-inf before the first), switches so far, rescue (1.0 / 0.0)
-(M_RUNNING, M_SWITCH_T, M_SWITCHES, M_RESCUE) = range(4)
-N_MEMORY = 4
+MOTOR_MEM = slots.declare("MotorMemory", ("running", "switch_t", "switches", "rescue"))
 
 
 @dataclass(frozen=True)
@@ -111,15 +111,15 @@ class MotorGate:
         return self.plan(ref).astype(float)
 
     def vector(self) -> np.ndarray:
-        """The gate as the float64 vector of :func:`motor_update` (layout ``G_*``)."""
-        v = np.empty(N_GATE)
-        v[G_OFF_BELOW] = self.off_below
-        v[G_MIN_OFF_S] = self.min_off_s
-        v[G_MIN_ON_S] = self.min_on_s
-        v[G_MIN_DWELL_S] = self.min_dwell_s
-        v[G_SOFT_START_S] = self.soft_start_s
-        v[G_RESCUE_ERROR_M] = self.rescue_error_m
-        v[G_SOFT_STOP_S] = self.soft_stop_s
+        """The gate as the float64 vector of :func:`motor_update` (layout :data:`GATE`)."""
+        v = np.empty(slots.size(GATE))
+        v[GATE.off_below] = self.off_below
+        v[GATE.min_off_s] = self.min_off_s
+        v[GATE.min_on_s] = self.min_on_s
+        v[GATE.min_dwell_s] = self.min_dwell_s
+        v[GATE.soft_start_s] = self.soft_start_s
+        v[GATE.rescue_error_m] = self.rescue_error_m
+        v[GATE.soft_stop_s] = self.soft_stop_s
         return v
 
 
@@ -146,10 +146,10 @@ def _flip_short(flags: np.ndarray, dur: np.ndarray, value: bool, limit: float) -
 
 
 def motor_memory() -> np.ndarray:
-    """A switch's state before its first step (layout ``M_*``): running, no switch yet, no rescue."""
-    mem = np.zeros(N_MEMORY)
-    mem[M_RUNNING] = 1.0
-    mem[M_SWITCH_T] = -math.inf
+    """A switch's state before its first step (layout :data:`MOTOR_MEM`): running, no switch yet, no rescue."""
+    mem = np.zeros(slots.size(MOTOR_MEM))
+    mem[MOTOR_MEM.running] = 1.0
+    mem[MOTOR_MEM.switch_t] = -math.inf
     return mem
 
 
@@ -162,72 +162,72 @@ def motor_update(plan: np.ndarray, seg: int, t: float, track_error: float, gate:
     no faster in the air than its reference point: off its path and faster, e.g. in a dive, it
     has energy to spare, and the fixed-pitch propeller spun up at that speed draws its power for
     next to no thrust); a switch at least ``min_dwell_s`` after the last. ``gate``:
-    :meth:`MotorGate.vector`; ``mem``: the switch's state (layout ``M_*``, :func:`motor_memory`),
+    :meth:`MotorGate.vector`; ``mem``: the switch's state (layout :data:`MOTOR_MEM`, :func:`motor_memory`),
     updated in place."""
     want = plan[seg] != 0.0
     if not want:
         e = track_error
-        if e > gate[G_RESCUE_ERROR_M] and slow:
-            mem[M_RESCUE] = 1.0
-        elif not e > 0.5 * gate[G_RESCUE_ERROR_M]:  # below half of it, or no error yet (NaN)
-            mem[M_RESCUE] = 0.0
-        want = mem[M_RESCUE] != 0.0
-    if want != (mem[M_RUNNING] != 0.0) and t - mem[M_SWITCH_T] >= gate[G_MIN_DWELL_S]:
-        mem[M_RUNNING] = 1.0 if want else 0.0
-        mem[M_SWITCH_T] = t
-        mem[M_SWITCHES] += 1.0
-    return mem[M_RUNNING]
+        if e > gate[GATE.rescue_error_m] and slow:
+            mem[MOTOR_MEM.rescue] = 1.0
+        elif not e > 0.5 * gate[GATE.rescue_error_m]:  # below half of it, or no error yet (NaN)
+            mem[MOTOR_MEM.rescue] = 0.0
+        want = mem[MOTOR_MEM.rescue] != 0.0
+    if want != (mem[MOTOR_MEM.running] != 0.0) and t - mem[MOTOR_MEM.switch_t] >= gate[GATE.min_dwell_s]:
+        mem[MOTOR_MEM.running] = 1.0 if want else 0.0
+        mem[MOTOR_MEM.switch_t] = t
+        mem[MOTOR_MEM.switches] += 1.0
+    return mem[MOTOR_MEM.running]
 
 
 def motor_ceiling(t: float, gate: np.ndarray, mem: np.ndarray) -> float:
     """The throttle's ceiling at time ``t`` [s] (0 .. 1) under ``gate`` (:meth:`MotorGate.vector`)
-    for the switch's state ``mem`` (layout ``M_*``): rising from 0 to 1 over the gate's
+    for the switch's state ``mem`` (layout :data:`MOTOR_MEM`): rising from 0 to 1 over the gate's
     ``soft_start_s`` after a start (the propeller spins up from rest), else 1."""
-    if mem[M_SWITCHES] != 0.0 and t - mem[M_SWITCH_T] < gate[G_SOFT_START_S]:
-        return (t - mem[M_SWITCH_T]) / gate[G_SOFT_START_S]
+    if mem[MOTOR_MEM.switches] != 0.0 and t - mem[MOTOR_MEM.switch_t] < gate[GATE.soft_start_s]:
+        return (t - mem[MOTOR_MEM.switch_t]) / gate[GATE.soft_start_s]
     return 1.0
 
 
 def motor_spin_down(t: float, gate: np.ndarray, mem: np.ndarray, u_last: float) -> float:
     """The throttle of a stopped motor at time ``t`` [s]: falling linearly from ``u_last`` (its
     last value while running) to 0 over the gate's ``soft_stop_s`` after the stop (0 at once
-    when that is 0), for the switch's state ``mem`` (layout ``M_*``)."""
-    ts = gate[G_SOFT_STOP_S]
-    dt = t - mem[M_SWITCH_T]
-    if mem[M_SWITCHES] != 0.0 and ts > 0.0 and dt < ts:
+    when that is 0), for the switch's state ``mem`` (layout :data:`MOTOR_MEM`)."""
+    ts = gate[GATE.soft_stop_s]
+    dt = t - mem[MOTOR_MEM.switch_t]
+    if mem[MOTOR_MEM.switches] != 0.0 and ts > 0.0 and dt < ts:
         return u_last * (1.0 - dt / ts)
     return 0.0
 
 
 class MotorSwitch:
     """Whether AUTO runs the motor, step by step, under ``gate`` (:class:`MotorGate`): the state
-    in :attr:`mem` (layout ``M_*``), the steps by :func:`motor_update` and :func:`motor_ceiling`."""
+    in :attr:`mem` (layout :data:`MOTOR_MEM`), the steps by :func:`motor_update` and :func:`motor_ceiling`."""
 
     def __init__(self, gate: MotorGate) -> None:
         self.gate = gate
-        self.mem = motor_memory()  #: the switch's state (layout ``M_*``)
+        self.mem = motor_memory()  #: the switch's state (layout :data:`MOTOR_MEM`)
         # (reference, gate, gate.plan_vector(reference), gate.vector())
         self._plan: tuple[Any, MotorGate, np.ndarray, np.ndarray] | None = None
 
     @property
     def running(self) -> bool:
         """AUTO runs the motor (False: stopped where the reference's motor is off)."""
-        return bool(self.mem[M_RUNNING])
+        return bool(self.mem[MOTOR_MEM.running])
 
     @property
     def switches(self) -> int:
         """Motor stops and starts in AUTO so far."""
-        return int(self.mem[M_SWITCHES])
+        return int(self.mem[MOTOR_MEM.switches])
 
     @property
     def rescue(self) -> bool:
         """The motor runs for a position error beyond MotorGate.rescue_error_m."""
-        return bool(self.mem[M_RESCUE])
+        return bool(self.mem[MOTOR_MEM.rescue])
 
     @property
     def switch_t(self) -> float:
         """Time of the last switch [s] (-inf before the first)."""
-        return float(self.mem[M_SWITCH_T])
+        return float(self.mem[MOTOR_MEM.switch_t])
 
     def update(self, ref: TrackingReference, t_cycle: float, t: float, track_error: float, slow: bool = True) -> bool:
         """Whether the motor runs this step at cycle time ``t_cycle`` [s] of ``ref``, time ``t``

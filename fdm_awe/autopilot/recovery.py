@@ -205,9 +205,9 @@ class Recovery:
             if turn is not None:
                 self._final = turn
                 self.stage = "final"
-                f = turn[0]
-                self._note(f"recovery: turn onto the final approach from {h:.1f} m, radius {turn[2]:.0f} m, "
-                           f"track {math.degrees(math.atan2(f[1], f[0])):.0f} deg over the winch")
+                track, _, radius = turn
+                self._note(f"recovery: turn onto the final approach from {h:.1f} m, radius {radius:.0f} m, "
+                           f"track {math.degrees(math.atan2(track[1], track[0])):.0f} deg over the winch")
         if self.stage == "final" and h < p["REC_FLARE_ALT"]:
             self.stage = "flare"
             self._note(f"recovery: flare at {h:.1f} m")

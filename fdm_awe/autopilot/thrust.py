@@ -11,14 +11,14 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..sixdof.state import SixDofState
 from .params import ParamStore
 
 #: layout of the thrust loop's state array: the PI integral (throttle fraction), the last
 #: throttle and the last thrust command [N] of the running motor (where a soft stop starts
 #: from, :func:`.motor.motor_spin_down`)
-(T_INTEGRAL, T_LAST, T_THRUST) = range(3)
-N_THRUST_STATE = 3
+THR = slots.declare("ThrustState", ("integral", "last", "thrust"))
 
 
 def throttle_step(thrust_cmd: float, thrust: float, airspeed: float, dt: float, armed: bool, u_max: float,
@@ -27,12 +27,12 @@ def throttle_step(thrust_cmd: float, thrust: float, airspeed: float, dt: float, 
     ``thrust_cmd`` [N] at ``airspeed`` [m/s], step ``dt`` [s]; ``kp`` [1/N], ``ki`` [1/(N s)]
     the PI gains, ``v_zero`` [m/s] the airspeed of zero thrust at full throttle,
     ``thrust_max_static`` [N] the static thrust at full throttle. ``integ``: the state
-    (``T_INTEGRAL``; a float64 array, or run by Python any mutable sequence), updated in place:
+    (``THR.integral``; a float64 array, or run by Python any mutable sequence), updated in place:
     the integral limited to +-1, the last integration undone when the throttle saturates
     (anti-windup); disarmed: 0 and the integral reset."""
     # max/min spelled out as Python's max(a, b) / min(a, b) evaluate them (the same compiled)
     if not armed:
-        integ[T_INTEGRAL] = 0.0
+        integ[THR.integral] = 0.0
         return 0.0
     e = thrust_cmd - thrust
     v0 = airspeed / v_zero
@@ -42,13 +42,13 @@ def throttle_step(thrust_cmd: float, thrust: float, airspeed: float, dt: float, 
     tc = tc / thrust_max_static
     tc = 1.0 if 1.0 < tc else tc
     ff = v0 + (1.0 - v0) * math.sqrt(tc)
-    i = integ[T_INTEGRAL] + ki * e * dt
+    i = integ[THR.integral] + ki * e * dt
     i = -1.0 if -1.0 > i else i
     i = 1.0 if 1.0 < i else i
     u = ff + kp * e + i
     if u > u_max or u < 0.0:  # anti-windup: undo the last integration when saturated
         i -= ki * e * dt
-    integ[T_INTEGRAL] = i
+    integ[THR.integral] = i
     u = 0.0 if 0.0 > u else u
     return u_max if u_max < u else u
 
@@ -64,7 +64,7 @@ class ThrustLoop:
     def __init__(self, params: ParamStore, thrust_max_static: float, thruster: Any = None) -> None:
         self.params = params
         self.thruster = thruster
-        self.state = np.zeros(N_THRUST_STATE)  #: the loop's state (T_* layout), updated in place
+        self.state = np.zeros(slots.size(THR))  #: the loop's state (:data:`THR`), updated in place
         self._thrust_max_static = thrust_max_static
         self._v_zero_thrust = params["THR_VZERO"]
 

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import slots
 from ..groundstation import WinchCommand
 from ..sixdof.state import SixDofState
 from .guidance import norm3
@@ -32,9 +33,8 @@ from .tracking import RefPoint
 LIMIT_PARAMS = ("WINCH_TLO", "WINCH_THYST", "WINCH_TLO_KT", "WINCH_SLK_KL", "WINCH_SLACK", "WINCH_VCATCH",
                 "WINCH_THI", "WINCH_THI_KRL", "WINCH_SLACK_T", "WINCH_PACE_MAX", "REC_LEN_KL",
                 "REC_TENS_KT", "REC_PAY_MAX")
-(WL_TLO, WL_THYST, WL_TLO_KT, WL_SLK_KL, WL_SLACK, WL_VCATCH, WL_THI, WL_THI_KRL, WL_SLACK_T, WL_PACE_MAX, WL_LEN_KL,
- WL_TENS_KT, WL_PAY_MAX, WL_VIN_MAX) = range(14)
-N_LIMITS = 14
+WL = slots.declare("WinchLimits", ("tlo", "thyst", "tlo_kt", "slk_kl", "slack", "vcatch", "thi", "thi_krl", "slack_t",
+                                   "pace_max", "len_kl", "tens_kt", "pay_max", "vin_max"))
 #: the load resistance's range in generation [ohm] (the length trim's and the upper limit's)
 RL_MIN, RL_MAX = 0.2, 20.0
 
@@ -134,7 +134,7 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
     GEN_RL_KP [ohm/m], REC_TENSION [N], WINCH_KL [1/s] and WINCH_KT [m/(N s)]; the glider's
     distance from the winch ``dist`` [m] (NaN: unknown) and its rate ``dist_rate`` [m/s];
     ``low`` the lower tension limit held at the last step; ``lim`` the line limits
-    (:data:`LIMIT_PARAMS` at the ``WL_*`` offsets, then the drive's largest reel-in speed
+    (:data:`LIMIT_PARAMS` at the offsets of :data:`WL`, then the drive's largest reel-in speed
     [m/s]).
 
     Physical winch in generation: the generator's law (R_L trimmed on the length, the
@@ -167,14 +167,14 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
             l_ref = length / (1.0 + tension / line_EA)
             v += winch_kl * (l_ref - gs_length) + winch_kt * (gs_tension - tension)
         return 0.0, v, math.nan, math.nan, False
-    v_in_max = lim[WL_VIN_MAX]
+    v_in_max = lim[WL.vin_max]
     if phase == GENERATION:
-        if gs_valid and lower_limit_holds(low, gs_tension, lim[WL_TLO], lim[WL_THYST]):
+        if gs_valid and lower_limit_holds(low, gs_tension, lim[WL.tlo], lim[WL.thyst]):
             # the line would go slack: reel in behind the glider, the tension held at WINCH_TLO
-            v = take_up_speed(dist, dist_rate, gs_length, 0.0, lim[WL_SLK_KL], lim[WL_VCATCH])
-            v += lim[WL_TLO_KT] * (gs_tension - lim[WL_TLO])
+            v = take_up_speed(dist, dist_rate, gs_length, 0.0, lim[WL.slk_kl], lim[WL.vcatch])
+            v += lim[WL.tlo_kt] * (gs_tension - lim[WL.tlo])
             if dist == dist:
-                v = max(v, dist_rate - lim[WL_VCATCH])
+                v = max(v, dist_rate - lim[WL.vcatch])
             if v < 0.0:
                 return 1.0, max(v, -v_in_max), math.nan, math.nan, True
             # where it would pay out the generator does (the motor mode would brake a drum
@@ -186,29 +186,29 @@ def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, 
             rl = min(max(load_resistance + gen_rl_kp * (length - gs_length), RL_MIN), RL_MAX)
         d2 = boost_duty
         if gs_valid:
-            rl, d2 = upper_limit_load(rl, d2, gs_tension, lim[WL_THI], lim[WL_THI_KRL])
+            rl, d2 = upper_limit_load(rl, d2, gs_tension, lim[WL.thi], lim[WL.thi_krl])
         # the generator's T2 duty as the optimiser chose it (0: the passive rectifier)
         return 0.0, 0.0, rl, d2, False
     # reel in at the reference speed scaled by the path rate (at most WINCH_PACE_MAX, 0: any: a
     # glider pulled ahead runs the path ahead, and that pace pulls it further), trimmed towards
     # the reference length, easing off when the line pulls the glider harder than REC_TENSION
-    v = (min(rate, lim[WL_PACE_MAX]) if lim[WL_PACE_MAX] > 0.0 else rate) * reel_speed
+    v = (min(rate, lim[WL.pace_max]) if lim[WL.pace_max] > 0.0 else rate) * reel_speed
     if gs_valid:
-        v += lim[WL_LEN_KL] * (length - gs_length)
-        v_catch = lim[WL_VCATCH]
+        v += lim[WL.len_kl] * (length - gs_length)
+        v_catch = lim[WL.vcatch]
         if v_catch > 0.0 and not ideal and dist == dist:
             # at least the approach where more than WINCH_SLACK hangs on a line pulling at most
             # WINCH_SLACK_T (0: WINCH_TLO; a lumped line sagging in the wind pulls a newton or
             # two, reeled in at a diving glider's approach it snatches taut again and again),
             # never much faster than the approach (the paper plant's winch: the paper's cycle)
-            kept, slack = lim[WL_SLACK], gs_length - dist
-            if slack > kept and gs_tension <= (lim[WL_SLACK_T] if lim[WL_SLACK_T] > 0.0 else lim[WL_TLO]):
-                v = min(v, take_up_speed(dist, dist_rate, gs_length, kept, lim[WL_SLK_KL], v_catch))
+            kept, slack = lim[WL.slack], gs_length - dist
+            if slack > kept and gs_tension <= (lim[WL.slack_t] if lim[WL.slack_t] > 0.0 else lim[WL.tlo]):
+                v = min(v, take_up_speed(dist, dist_rate, gs_length, kept, lim[WL.slk_kl], v_catch))
             # the slack closes at most at WINCH_SLK_KL per metre plus WINCH_VCATCH (the catch's speed)
-            v = max(v, dist_rate - v_catch - lim[WL_SLK_KL] * max(slack, 0.0))
+            v = max(v, dist_rate - v_catch - lim[WL.slk_kl] * max(slack, 0.0))
         if gs_tension > rec_tension:
-            v += lim[WL_TENS_KT] * (gs_tension - rec_tension)
-    return 1.0, max(min(v, lim[WL_PAY_MAX]), -v_in_max), math.nan, math.nan, False
+            v += lim[WL.tens_kt] * (gs_tension - rec_tension)
+    return 1.0, max(min(v, lim[WL.pay_max]), -v_in_max), math.nan, math.nan, False
 
 
 def pay_out(s: SixDofState, gs: Any, load_resistance: float, slack: float, winch: str,

@@ -31,123 +31,131 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .. import slots
-from .block_log import (AL_AIL, AL_CYCLE, AL_ELE, AL_ERR, AL_FOLD, AL_LOAD, AL_MASS, AL_RUD, AL_RX, AL_RY, AL_RZ,
-                        AL_SUPPLY, AL_THR, N_ALOG, N_COMMANDS)
+from .block_log import ALOG, N_COMMANDS
 from .events import CODE
 from .flight_log import track_error
 from .glider_ledger import VALS, ledger_step
-from .kernel import GS, HANDLES, PAR, cosim_step, native_get, native_set
-from ..autopilot.auto_step import (A_G_ATT, GS_FX, GS_FY, GS_FZ, GS_LENGTH, GS_SLACK, GS_TENSION, GS_VALID, M_DT,
-                                   M_SREF, N_GSO, O_ALPHA, O_CYCLE, O_FOLD, O_ROLL, O_RX, O_RY, O_RZ, O_THROTTLE, O_W_D2,
-                                   O_W_MOTOR, O_W_REEL_SPEED, O_W_RL, auto_guide)
+from .kernel import COSIM, GS, HANDLES, cosim_step, native_get, native_set
+from .. import slots
+from ..autopilot.auto_step import GSO, MEM, OUT, PAR, auto_guide
 from ..autopilot.attitude import attitude_from_row
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
 from ..sixdof.row import ROW, si_position
 
+#: the glider ledger's values per step
+_N_VALS = slots.size(VALS)
 #: ``ha`` (int64): the flight controls' setters (aileron, elevator, rudder, throttle, fold; 0: the
 #: aircraft has none), the attitude law's getters (:data:`fdm_awe.sixdof.attitude_law.LAW_PROPERTIES`),
 #: the ledger's (:data:`fdm_awe.sim.glider_ledger.LEDGER_PROPERTIES`), the ideal thrust's (0: none)
-HA_AIL, HA_ELE, HA_RUD, HA_THR, HA_FOLD = range(5)
-HA_LAW = 5
-HA_LEDGER = HA_LAW + N_LAW_PROPERTIES
-_N_VALS = slots.size(VALS)  # the glider ledger's values per step
-HA_IDEAL = HA_LEDGER + _N_VALS
-N_HA = HA_IDEAL + 1
-#: ``q`` (float64): the flight's constants and the block's outcome
-(Q_NRAW, Q_R_DRUM, Q_D2_DEFAULT, Q_RL_DEFAULT, Q_S_END, Q_LEDGER_LOAD, Q_LEDGER_SUPPLY, Q_SLUG_FT2, Q_FT, Q_LBF,
- Q_GS_VALID, Q_WHY) = range(12)
-N_Q = 12
-#: why a block ended (``q[Q_WHY]``): its steps done (or an event), the next step is the Python
+HA = slots.declare("AutoHandles", ("aileron", "elevator", "rudder", "throttle", "fold", ("law", N_LAW_PROPERTIES),
+                                   ("ledger", _N_VALS), "ideal"))
+#: ``q`` (float64): the flight's constants (raw row length, drum radius [m], the station's default
+#: T2 duty and line resistance [ohm], the path parameter that ends the flight [s], the offsets of
+#: the station's ledger energies in its state, the units' factors) and the block's outcome (the
+#: station has stepped, why the block ended)
+Q = slots.declare("AutoBlockConstants", ("nraw", "r_drum", "d2_default", "rl_default", "s_end", "ledger_load",
+                                         "ledger_supply", "slug_ft2", "ft", "lbf", "gs_valid", "why"))
+#: the length of ``gso`` (a constant numba compiles in)
+GSO_SIZE = slots.size(GSO)
+#: why a block ended (``q[Q.why]``): its steps done (or an event), the next step is the Python
 #: autopilot's, the path parameter reached ``s_end``
 WHY_DONE, WHY_PYTHON, WHY_END = 0, 1, 2
 
 
-# over 80 lines: one flight step written out in the order of the Python loop (module doc), with
-# the block's exits between its parts
-def autopilot_steps(h, p, lim, log, s_gs, c_gs, k0, n, ha, q, scale, offset, ref_t, table, segs, gk, cu, cf, gate, par,
-                    mem, integral, thr_state, motor_mem, rrow, out, law_c, law_g, law_fold_at, law_integ, work, v_prev,
-                    alog):
-    """Up to ``n`` steps from row ``k0`` (the arguments of :func:`fdm_awe.sim.kernel.cosim_steps`,
-    then the handles ``ha``, the constants ``q``, the raw row's SI ``scale`` and ``offset``, the
-    arrays of :meth:`fdm_awe.autopilot.autopilot.Autopilot.kernel_arrays` and the glider's ledger
-    ``work`` and ``v_prev``, the bookkeeping rows ``alog``): (steps done, event code);
-    ``q[Q_WHY]`` says why the block ended."""
-    nraw = int(q[Q_NRAW])
+def keep_state(state: tuple, saved: np.ndarray, back: bool) -> None:
+    """The AUTO step's ``state`` (its arrays, :func:`fdm_awe.autopilot.auto_step.auto_guide`) into
+    ``saved`` one after the other, or (``back``) from ``saved`` back into them."""
+    at = 0
+    for a in state:
+        k = a.shape[0]
+        if back:
+            a[:] = saved[at:at + k]
+        else:
+            saved[at:at + k] = a
+        at += k
+
+
+# one flight step written out in the order of the Python loop (module doc), with the block's
+# exits between its parts
+def autopilot_steps(cosim, k0, n, ha, q, scale, offset, cycle, consts, state, results, law, ledger, alog):
+    """Up to ``n`` steps from row ``k0`` (``cosim``: the arrays of
+    :func:`fdm_awe.sim.kernel.cosim_steps` before its ``k0``; the handles ``ha``, the constants
+    ``q``, the raw row's SI ``scale`` and ``offset``; the AUTO step's ``cycle``, ``consts``,
+    ``state``, ``results`` and the attitude law's arrays ``law`` of
+    :meth:`fdm_awe.autopilot.autopilot.Autopilot.kernel_arrays`; the glider's ledger ``(work,
+    v_prev)``, the bookkeeping rows ``alog``): (steps done, event code); ``q[Q.why]`` says why."""
+    h, p, lim, log, s_gs, c_gs = cosim
+    law_c, law_g, law_fold_at, law_integ = law
+    work, v_prev = ledger
+    mem, par, out = state[0], consts[4], results[2]
+    nraw = int(q[Q.nraw])
     g0 = h.shape[0] - HANDLES.getters  # first ground-station column of a log row
     f_get, f_set = h[HANDLES.get], h[HANDLES.set]
-    gso = np.empty(N_GSO)
-    saved = np.empty(mem.shape[0] + 3 + thr_state.shape[0] + motor_mem.shape[0])
+    gso = np.empty(GSO_SIZE)
+    saved = np.empty(mem.shape[0] + state[1].shape[0] + state[2].shape[0] + state[3].shape[0])
     lvals = np.empty(_N_VALS)
     cvals = np.empty(N_LAW_PROPERTIES)
-    n_m, n_t = mem.shape[0], thr_state.shape[0]
     k = k0
     code = CODE.none
-    q[Q_WHY] = WHY_DONE
+    q[Q.why] = WHY_DONE
     while k < k0 + n:
         lr = log[k]
         row = lr[:nraw]
-        gso[GS_VALID] = q[Q_GS_VALID]
-        gso[GS_TENSION], gso[GS_LENGTH], gso[GS_SLACK] = lr[g0 + GS.tension], lr[g0 + GS.length], lr[g0 + GS.slack]
-        gso[GS_FX], gso[GS_FY], gso[GS_FZ] = lr[g0 + GS.fx], lr[g0 + GS.fy], lr[g0 + GS.fz]
+        gso[GSO.valid] = q[Q.gs_valid]
+        gso[GSO.tension], gso[GSO.length], gso[GSO.slack] = lr[g0 + GS.tension], lr[g0 + GS.length], lr[g0 + GS.slack]
+        gso[GSO.force], gso[GSO.force + 1], gso[GSO.force + 2] = lr[g0 + GS.fx], lr[g0 + GS.fy], lr[g0 + GS.fz]
         # the step's state, to be restored when the Python autopilot must fly it
-        saved[:n_m] = mem
-        saved[n_m:n_m + 3] = integral
-        saved[n_m + 3:n_m + 3 + n_t] = thr_state
-        saved[n_m + 3 + n_t:] = motor_mem
-        flags = auto_guide(row, scale, offset, gso, ref_t, table, segs, gk, cu, cf, gate, par, mem, integral,
-                           thr_state, motor_mem, rrow, out)
-        ok, motor, omega_ref, duty, d2, rl = command_values(out[O_W_MOTOR], out[O_W_REEL_SPEED], out[O_W_RL],
-                                                            out[O_W_D2], math.nan, q[Q_R_DRUM], q[Q_D2_DEFAULT],
-                                                            q[Q_RL_DEFAULT])
+        keep_state(state, saved, False)
+        flags = auto_guide(row, scale, offset, gso, cycle, consts, state, results)
+        ok, motor, omega_ref, duty, d2, rl = command_values(out[OUT.w_motor], out[OUT.w_reel_speed], out[OUT.w_rl],
+                                                            out[OUT.w_d2], math.nan, q[Q.r_drum], q[Q.d2_default],
+                                                            q[Q.rl_default])
         if flags != 0 or not ok:
             # a phase change or a rejoin's end (the autopilot notes them), a command the ground
             # station refuses (the Python path raises its error): the Python autopilot flies it
-            mem[:] = saved[:n_m]
-            integral[:] = saved[n_m:n_m + 3]
-            thr_state[:] = saved[n_m + 3:n_m + 3 + n_t]
-            motor_mem[:] = saved[n_m + 3 + n_t:]
-            q[Q_WHY] = WHY_PYTHON
+            keep_state(state, saved, True)
+            q[Q.why] = WHY_PYTHON
             break
         fold = row[ROW.fold]
         if law_stale(fold, law_fold_at[0]):  # the law's derivatives at the new fold state
             for j in range(N_LAW_PROPERTIES):
-                cvals[j] = native_get(f_get, ha[HA_LAW + j])
-            law_refresh(cvals, law_c, q[Q_SLUG_FT2], True)
+                cvals[j] = native_get(f_get, ha[HA.law + j])
+            law_refresh(cvals, law_c, q[Q.slug_ft2], True)
             law_fold_at[0] = fold
-        a, e, r = attitude_from_row(row, scale, out[O_ALPHA], out[O_ROLL], mem[M_DT], law_c, law_g, par[A_G_ATT],
-                                law_integ)
-        thr, fc = out[O_THROTTLE], out[O_FOLD]
-        native_set(f_set, ha[HA_AIL], a)
-        native_set(f_set, ha[HA_ELE], e)
-        native_set(f_set, ha[HA_RUD], r)
-        native_set(f_set, ha[HA_THR], thr)
-        if ha[HA_FOLD] != 0:
-            native_set(f_set, ha[HA_FOLD], fc)
-        p[PAR.motor], p[PAR.wref], p[PAR.duty], p[PAR.d2], p[PAR.rl] = 1.0 if motor else 0.0, omega_ref, duty, d2, rl
+        a, e, r = attitude_from_row(row, scale, out[OUT.alpha], out[OUT.roll], mem[MEM.dt], law_c, law_g,
+                                    par[PAR.g_att], law_integ)
+        thr, fc = out[OUT.throttle], out[OUT.fold]
+        native_set(f_set, ha[HA.aileron], a)
+        native_set(f_set, ha[HA.elevator], e)
+        native_set(f_set, ha[HA.rudder], r)
+        native_set(f_set, ha[HA.throttle], thr)
+        if ha[HA.fold] != 0:
+            native_set(f_set, ha[HA.fold], fc)
+        p[COSIM.motor], p[COSIM.wref], p[COSIM.duty] = 1.0 if motor else 0.0, omega_ref, duty
+        p[COSIM.d2], p[COSIM.rl] = d2, rl
         code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
         if code == CODE.hook_rejected or code == CODE.nonfinite_force:
             break  # the step was not done
         k += 1
-        q[Q_GS_VALID] = 1.0
+        q[Q.gs_valid] = 1.0
         nr = log[k]
         for j in range(_N_VALS):
-            lvals[j] = native_get(f_get, ha[HA_LEDGER + j])
-        ideal = native_get(f_get, ha[HA_IDEAL]) if ha[HA_IDEAL] != 0 else 0.0
-        ledger_step(lvals, ideal, work, v_prev, p[PAR.dt], q[Q_FT], q[Q_LBF])
+            lvals[j] = native_get(f_get, ha[HA.ledger + j])
+        ideal = native_get(f_get, ha[HA.ideal]) if ha[HA.ideal] != 0 else 0.0
+        ledger_step(lvals, ideal, work, v_prev, p[COSIM.dt], q[Q.ft], q[Q.lbf])
         al = alog[k]
-        al[AL_AIL], al[AL_ELE], al[AL_RUD], al[AL_THR], al[AL_FOLD] = a, e, r, thr, fc
-        rx, ry, rz = out[O_RX], out[O_RY], out[O_RZ]
+        al[ALOG.aileron], al[ALOG.elevator], al[ALOG.rudder], al[ALOG.throttle], al[ALOG.fold_cmd] = a, e, r, thr, fc
+        rx, ry, rz = out[OUT.rx], out[OUT.ry], out[OUT.rz]
         x, y, z = si_position(nr, scale, offset)
-        al[AL_RX], al[AL_RY], al[AL_RZ], al[AL_CYCLE] = rx, ry, rz, out[O_CYCLE]
-        al[AL_ERR] = track_error(rx, ry, rz, x, y, z)
-        al[AL_LOAD], al[AL_SUPPLY] = s_gs[int(q[Q_LEDGER_LOAD])], s_gs[int(q[Q_LEDGER_SUPPLY])]
-        al[AL_MASS] = lvals[VALS.mass]
+        al[ALOG.ref_x], al[ALOG.ref_y], al[ALOG.ref_z], al[ALOG.cycle] = rx, ry, rz, out[OUT.cycle]
+        al[ALOG.track_error] = track_error(rx, ry, rz, x, y, z)
+        al[ALOG.e_load], al[ALOG.e_supply] = s_gs[int(q[Q.ledger_load])], s_gs[int(q[Q.ledger_supply])]
+        al[ALOG.mass_slug] = lvals[VALS.mass]
         if code != CODE.none:
             break
-        if mem[M_SREF] >= q[Q_S_END]:
-            q[Q_WHY] = WHY_END
+        if mem[MEM.sref] >= q[Q.s_end]:
+            q[Q.why] = WHY_END
             break
     return k - k0, code
 
@@ -171,14 +179,15 @@ def compiled_autopilot_kernel() -> Callable | None:
     from . import block_log, events, flight_log, glider_ledger, kernel
 
     def signature(nb: Any) -> Any:
-        f8, i8 = nb.float64, nb.int64
+        f8, i8, t = nb.float64, nb.int64, nb.types
         a1, a2, i1 = f8[::1], f8[:, ::1], i8[::1]
-        return nb.types.UniTuple(i8, 2)(i1, a1, a1, a2, a1, a1, i8, i8, i1, a1, a1, a1, a1, a2, a2, a1, a1, a1, a1, a1,
-                                        a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a1, a2)
+        cosim = t.Tuple((i1, a1, a1, a2, a1, a1))
+        return t.UniTuple(i8, 2)(cosim, i8, i8, i1, a1, a1, a1, t.Tuple((a1, a2, a2)), t.UniTuple(a1, 5),
+                                 t.UniTuple(a1, 4), t.UniTuple(a1, 3), t.UniTuple(a1, 4), t.UniTuple(a1, 2), a2)
 
     helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
         attitude_from_row, row.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
-        law_stale, command_values, track_error)
+        law_stale, command_values, track_error, keep_state)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
     modules = (block_log, events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin,
                thrust, underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
@@ -202,8 +211,8 @@ class AutopilotBlocks:
         self._call, self.ap, self.ha, self.q, self.ledger, self._after = call, ap, ha, q, ledger, after
         scale, offset = ap.glider.si_factors()
         self.scale, self.offset = np.array(scale, float), np.array(offset, float)
-        #: the bookkeeping rows of the flight (:data:`fdm_awe.sim.block_log.ALOG_COLUMNS`), grown with the log
-        self.alog = np.full((1, N_ALOG), math.nan)
+        #: the bookkeeping rows of the flight (:data:`fdm_awe.sim.block_log.ALOG`), grown with the log
+        self.alog = np.full((1, slots.size(ALOG)), math.nan)
         self.steps = 0  #: steps flown in compiled blocks so far
         self._log: np.ndarray | None = None  # the loop's log of the last block
 
@@ -234,15 +243,15 @@ class AutopilotBlocks:
         hn, _ = native_jsbsim(glider.fdm, getters, setters)
         if hn is None:
             return None
-        ha = np.zeros(N_HA, np.int64)
+        ha = np.zeros(slots.size(HA), np.int64)
         ha[:len(setters)] = hn.setters
-        ha[HA_LAW:] = hn.getters
+        ha[HA.law:] = hn.getters
         r_drum, d2, rl = gs.command_defaults()
         base = gs.ledger_offset()
-        q = np.zeros(N_Q)
-        q[Q_NRAW], q[Q_R_DRUM], q[Q_D2_DEFAULT], q[Q_RL_DEFAULT], q[Q_S_END] = len(glider.raw()), r_drum, d2, rl, s_end
-        q[Q_LEDGER_LOAD], q[Q_LEDGER_SUPPLY] = base + FIELDS.index("load"), base + FIELDS.index("supply")
-        q[Q_SLUG_FT2], q[Q_FT], q[Q_LBF] = SLUG_FT2, FT, LBF
+        q = np.zeros(slots.size(Q))
+        q[Q.nraw], q[Q.r_drum], q[Q.d2_default], q[Q.rl_default], q[Q.s_end] = len(glider.raw()), r_drum, d2, rl, s_end
+        q[Q.ledger_load], q[Q.ledger_supply] = base + FIELDS.index("load"), base + FIELDS.index("supply")
+        q[Q.slug_ft2], q[Q.ft], q[Q.lbf] = SLUG_FT2, FT, LBF
         # the compiled function without numba's argument-type dispatch (its one signature)
         call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
         return cls(call, ap, ha, q, ledger, after)
@@ -255,23 +264,23 @@ class AutopilotBlocks:
         if arrays is None:
             return None
         if len(self.alog) < len(log):
-            self.alog = np.concatenate((self.alog, np.full((len(log) - len(self.alog), N_ALOG), math.nan)))
-        self.q[Q_GS_VALID] = 1.0
+            self.alog = np.concatenate((self.alog, np.full((len(log) - len(self.alog), slots.size(ALOG)), math.nan)))
+        self.q[Q.gs_valid] = 1.0
         self._log = log
-        done, code = self._call(h, p, lim, log, s_gs, c_gs, k, m, self.ha, self.q, self.scale, self.offset, *arrays,
-                                self.ledger.work_array, self.ledger.v_prev, self.alog)
+        done, code = self._call((h, p, lim, log, s_gs, c_gs), k, m, self.ha, self.q, self.scale, self.offset, *arrays,
+                                (self.ledger.work_array, self.ledger.v_prev), self.alog)
         if done:
             self.steps += done
-            self.ap.after_block(log[k + done, :int(self.q[Q_NRAW])])
-        return done, code, self.q[Q_WHY] == WHY_PYTHON
+            self.ap.after_block(log[k + done, :int(self.q[Q.nraw])])
+        return done, code, self.q[Q.why] == WHY_PYTHON
 
     def set_s_end(self, s_end: float) -> None:
         """The path parameter [s] after whose step a block ends (the flight's last cycle flown)."""
-        self.q[Q_S_END] = s_end
+        self.q[Q.s_end] = s_end
 
     def raw_rows(self, k0: int, k1: int) -> np.ndarray:
         """The glider's raw rows ``k0 + 1 .. k1`` of the last block (:mod:`fdm_awe.sixdof.row`)."""
-        return self._log[k0 + 1: k1 + 1, :int(self.q[Q_NRAW])]
+        return self._log[k0 + 1: k1 + 1, :int(self.q[Q.nraw])]
 
     def commands(self, k0: int, k1: int) -> list:
         """The five commands of rows ``k0 + 1 .. k1`` (lists)."""

@@ -10,14 +10,11 @@ mass [slug] (the ledger's kinetic energy).
 
 from __future__ import annotations
 
-#: ``alog`` columns per row
-ALOG_COLUMNS = ("aileron", "elevator", "rudder", "throttle", "fold_cmd", "ref_x", "ref_y", "ref_z", "cycle",
-                "track_error", "e_load", "e_supply", "mass_slug")
-(AL_AIL, AL_ELE, AL_RUD, AL_THR, AL_FOLD, AL_RX, AL_RY, AL_RZ, AL_CYCLE, AL_ERR, AL_LOAD, AL_SUPPLY,
- AL_MASS) = range(13)
-#: columns per row
-N_ALOG = 13
+from .. import slots
+
+#: ``alog`` columns per row: the step's commands (aileron .. fold command), the reference point,
+#: its cycle, the tracking error [m], the station's energies [J], the glider's mass [slug]
+ALOG = slots.declare("AutoLog", ("aileron", "elevator", "rudder", "throttle", "fold_cmd", "ref_x", "ref_y", "ref_z",
+                                 "cycle", "track_error", "e_load", "e_supply", "mass_slug"))
 #: the step's commands: the row's first columns (aileron .. fold command)
-N_COMMANDS = AL_FOLD + 1
-if len(ALOG_COLUMNS) != N_ALOG:  # pragma: no cover - a definition error in this module
-    raise RuntimeError("fdm_awe.sim.block_log: bookkeeping column names and offsets disagree")
+N_COMMANDS = ALOG.fold_cmd + 1

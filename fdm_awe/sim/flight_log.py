@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .block_log import AL_CYCLE, AL_ERR, AL_LOAD, AL_MASS, AL_RX, AL_RZ, AL_SUPPLY
+from .block_log import ALOG
 from .cycles import NO_CYCLE, OTHER_PHASE, PHASE_CODES, step_reference
 from .glider_ledger import GliderLedger
 
@@ -83,16 +83,16 @@ class FlightLog:
         """Book steps ``k0 + 1 .. k1`` flown in one compiled block
         (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`: the autopilot in AUTO cycling, its
         phase that of every step; the glider's ledger advanced by the block itself) from its
-        rows ``alog`` (:data:`fdm_awe.sim.block_log.ALOG_COLUMNS`)."""
+        rows ``alog`` (:data:`fdm_awe.sim.block_log.ALOG`)."""
         rows = alog[k0 + 1: k1 + 1]
         sl = slice(k0 + 1, k1 + 1)
-        self.refpos[sl] = rows[:, AL_RX:AL_RZ + 1]
-        self.err[sl] = rows[:, AL_ERR]
-        self.cycle[sl] = rows[:, AL_CYCLE].astype(np.int64)
+        self.refpos[sl] = rows[:, ALOG.ref_x:ALOG.ref_z + 1]
+        self.err[sl] = rows[:, ALOG.track_error]
+        self.cycle[sl] = rows[:, ALOG.cycle].astype(np.int64)
         self.phase[sl] = PHASE_CODES.get(self.ap.phase, OTHER_PHASE)
-        self.e_load[sl] = rows[:, AL_LOAD]
-        self.e_supply[sl] = rows[:, AL_SUPPLY]
-        self.glider_ledger.set_mass(float(alog[k1, AL_MASS]))
+        self.e_load[sl] = rows[:, ALOG.e_load]
+        self.e_supply[sl] = rows[:, ALOG.e_supply]
+        self.glider_ledger.set_mass(float(alog[k1, ALOG.mass_slug]))
         self.booked = k1
 
     def line_shape(self) -> dict[str, np.ndarray] | None:

@@ -16,7 +16,7 @@ Arguments are packed to keep a one-step call cheap:
 - ``h`` int64 (layout :data:`HANDLES`): Run, getDoubleValue, setDoubleValue, FGFDMExec*, the
   three tether-force nodes (x, y, z), then the nodes read per step (0: constant 0.0), in the
   order of the raw row (:mod:`fdm_awe.sixdof.row`);
-- ``p`` float64 parameters (layout :data:`PAR`): step, sub-steps, frame and hook constants, the
+- ``p`` float64 parameters (layout :data:`COSIM`): step, sub-steps, frame and hook constants, the
   winch command's terms, the current hook kinematics (updated) and the last line force
   (updated);
 - ``lim`` float64 thresholds of the event checks and the airborne flag (updated), as
@@ -50,7 +50,7 @@ from ..sixdof.row import hook_kinematics
 #: per lbf), the winch command's terms (motor flag, speed reference rad/s, T1 duty, T2 duty, load
 #: ohm), the current hook position m and velocity m/s NED (updated) and the last line force N
 #: (updated)
-PAR = slots.declare("CosimParams", ("dt", "nsub", "lat0", "m0", "n0cos", "ox", "oy", "oz", "ft", "lbf", "motor",
+COSIM = slots.declare("CosimParams", ("dt", "nsub", "lat0", "m0", "n0cos", "ox", "oy", "oz", "ft", "lbf", "motor",
                                     "wref", "duty", "d2", "rl", "hx", "hy", "hz", "hvx", "hvy", "hvz", "fx", "fy",
                                     "fz"))
 #: the int64 handles ``h``: the calls, the object, the tether-force nodes, then from ``getters``
@@ -85,20 +85,20 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
     """One step from row ``k`` to row ``k + 1`` of ``log`` (the arguments as :func:`cosim_steps`
     takes them): the event code of the step, or of the step that was not done (a rejected hook,
     a non-finite force: ``log[k + 1]`` is then not written)."""
-    x, y, z = p[PAR.hx], p[PAR.hy], p[PAR.hz]
-    vx, vy, vz = p[PAR.hvx], p[PAR.hvy], p[PAR.hvz]
+    x, y, z = p[COSIM.hx], p[COSIM.hy], p[COSIM.hz]
+    vx, vy, vz = p[COSIM.hvx], p[COSIM.hvy], p[COSIM.hvz]
     if not (math.isfinite(x + y + z) and math.isfinite(vx + vy + vz)):
         return CODE.hook_rejected
-    dt = p[PAR.dt]
-    nsub = int(p[PAR.nsub])
-    motor = p[PAR.motor] != 0.0
+    dt = p[COSIM.dt]
+    nsub = int(p[COSIM.nsub])
+    motor = p[COSIM.motor] != 0.0
     (fx, fy, fz, tmean, length, w, i, duty, u_link, p_el, ev, mm, d, slack, broken) = line_step(
-        int(c_gs[STATION.line]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[PAR.wref], p[PAR.duty],
-        p[PAR.d2], p[PAR.rl])
-    p[PAR.fx], p[PAR.fy], p[PAR.fz] = fx, fy, fz
+        int(c_gs[STATION.line]), s_gs, c_gs, nsub, dt, x, y, z, vx, vy, vz, motor, p[COSIM.wref], p[COSIM.duty],
+        p[COSIM.d2], p[COSIM.rl])
+    p[COSIM.fx], p[COSIM.fy], p[COSIM.fz] = fx, fy, fz
     if not math.isfinite(fx + fy + fz):
         return CODE.nonfinite_force
-    lbf = p[PAR.lbf]
+    lbf = p[COSIM.lbf]
     f_set = h[HANDLES.set]
     native_set(f_set, h[HANDLES.tx], fx / lbf)
     native_set(f_set, h[HANDLES.ty], fy / lbf)
@@ -119,9 +119,9 @@ def cosim_step(h, p, lim, log, s_gs, c_gs, k):
         fx, fy, fz, u_link, ev, mm)
     r[g + GS.p_mechanical], r[g + GS.distance] = tmean * c_gs[CONST.r] * w, d
     r[g + GS.slack], r[g + GS.broken] = 1.0 if slack else 0.0, 1.0 if broken else 0.0
-    (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, p[PAR.lat0], p[PAR.m0], p[PAR.n0cos], p[PAR.ft], p[PAR.ox],
-                                                    p[PAR.oy], p[PAR.oz])
-    p[PAR.hx], p[PAR.hy], p[PAR.hz], p[PAR.hvx], p[PAR.hvy], p[PAR.hvz] = hx, hy, hz, hvx, hvy, hvz
+    (hx, hy, hz), (hvx, hvy, hvz) = hook_kinematics(r, p[COSIM.lat0], p[COSIM.m0], p[COSIM.n0cos], p[COSIM.ft], p[COSIM.ox],
+                                                    p[COSIM.oy], p[COSIM.oz])
+    p[COSIM.hx], p[COSIM.hy], p[COSIM.hz], p[COSIM.hvx], p[COSIM.hvy], p[COSIM.hvz] = hx, hy, hz, hvx, hvy, hvz
     r[e + TAIL.hook_x], r[e + TAIL.hook_y], r[e + TAIL.hook_z] = hx, hy, hz
     r[e + TAIL.hook_vx], r[e + TAIL.hook_vy], r[e + TAIL.hook_vz] = hvx, hvy, hvz
     r[e + TAIL.fx], r[e + TAIL.fy], r[e + TAIL.fz] = fx, fy, fz
@@ -163,4 +163,4 @@ def compiled_kernel() -> Callable | None:
                           + kernel_sources(), "fdm_awe.sim.kernel")
 
 
-__all__ = ["GS", "HANDLES", "PAR", "TAIL", "compiled_kernel"]
+__all__ = ["GS", "HANDLES", "COSIM", "TAIL", "compiled_kernel"]

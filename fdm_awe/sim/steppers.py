@@ -156,7 +156,7 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
     output_from_row, make_state, sync = gs.output_from_row, g.make_state, g.sync_from_native
     # the compiled function without numba's argument-type dispatch (its one signature)
     call = getattr(next(iter(kern.overloads.values()), None), "entry_point", kern)
-    i_motor = ck.PAR.motor
+    i_motor = ck.COSIM.motor
     runner, block_steps = sim.block_runner, sim.block_steps
     last_wcmd: Any = None
     mode = ""
@@ -211,13 +211,13 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
 
 
 def kernel_params(g: Any, dt: float, s: SixDofState, nsub: int) -> np.ndarray:
-    """The compiled step's parameter vector (layout :data:`.kernel.PAR`) of glider ``g`` at its state
+    """The compiled step's parameter vector (layout :data:`.kernel.COSIM`) of glider ``g`` at its state
     ``s``: step ``dt`` [s], the station's sub-steps ``nsub``, the glider's native constants, the unit
     factors, the tether hook's position [m] and velocity [m/s] and the force on it [N]."""
     from . import kernel as ck  # loaded with the kernel (numba): only when the compiled loop runs
 
     lat0, m0, n0cos, off = g.native_constants()
-    P = ck.PAR
+    P = ck.COSIM
     p = slots.new(P)
     p[P.dt], p[P.nsub], p[P.lat0], p[P.m0], p[P.n0cos] = dt, nsub, lat0, m0, n0cos
     p[P.ox], p[P.oy], p[P.oz] = off
@@ -238,7 +238,7 @@ def _compiled_event(event: Callable[..., Event], p: np.ndarray) -> Callable[[int
             return event(code, s, gs_out, error="glider position/velocity must be finite, got "
                          f"pos={tuple(hp)!r} vel={tuple(hv)!r}")
         if code == CODE.nonfinite_force:
-            return event(code, s, gs_out, force=(float(p[ck.PAR.fx]), float(p[ck.PAR.fy]), float(p[ck.PAR.fz])))
+            return event(code, s, gs_out, force=(float(p[ck.COSIM.fx]), float(p[ck.COSIM.fy]), float(p[ck.COSIM.fz])))
         return event(code, s, gs_out)
 
     return compiled_event
