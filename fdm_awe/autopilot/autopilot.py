@@ -60,6 +60,7 @@ import numpy as np
 from ..constants import G0, RHO0
 from ..definitions.aircraft import Glider, stall_speed
 from ..groundstation import WinchCommand
+from ..groundstation.definitions import GroundStationParams, load_ground_station
 from ..sixdof.adapter import JSBSimGlider
 from ..sixdof.row import ROW
 from ..sixdof.state import SixDofState, Surfaces
@@ -85,9 +86,10 @@ class Autopilot(VehicleCommands, RecoverMode):
     """Controller for :class:`fdm_awe.sim.loop.CoSim` and :class:`VehicleInterface` for MAVLink.
 
     ``config``: ``"foldable"`` folds for recovery, ``"nominal"`` never folds.
-    ``load_resistance``: the generator's R_L [ohm] (definition default of the ground station).
-    ``thruster``/``winch``/``line_EA``: the paper plant's ideal thruster, ``"ideal"`` for its
-    kinematic winch, and the line's axial stiffness EA [N] (ground-station definition).
+    ``station``: the ground station's definition, from which the generator's R_L [ohm] (its
+    converter's load resistance) and the line's axial stiffness EA [N] (the kinematic winch's
+    length) come (None: the default definition, ``tether/ground_station.xml``).
+    ``thruster``/``winch``: the paper plant's ideal thruster, ``"ideal"`` for its kinematic winch.
     ``motor``: when AUTO stops the motor (:class:`MotorGate`; default gate if None).
     ``reel_in_max``: the drive's largest reel-in speed [m/s] (ground-station definition,
     :func:`fdm_awe.groundstation.steady.motor_max_reel_in_speed`; inf: no bound of its own).
@@ -103,12 +105,11 @@ class Autopilot(VehicleCommands, RecoverMode):
         params: ParamStore,
         reference: TrackingReference | None = None,
         config: str = "foldable",
-        load_resistance: float = 1.5,
+        station: GroundStationParams | None = None,
         rho: float = RHO0,
         g: float = G0,
         thruster: Any = None,
         winch: str = "physical",
-        line_EA: float = 22600.0,
         motor: MotorGate | None = None,
         reel_in_max: float = math.inf,
     ) -> None:
@@ -118,6 +119,35 @@ class Autopilot(VehicleCommands, RecoverMode):
             raise ValueError(f"winch {winch!r} unknown (allowed: physical, ideal)")
         if reference is not None and config == "foldable":
             reference_fold_time(reference.meta, glider.fold_time_s)
+        gsp = station if station is not None else load_ground_station()
+        self.R_L = float(gsp.converter.load_resistance)  #: the generator's load resistance [ohm]
+        #: the line's axial stiffness EA [N] (the kinematic winch's length)
+        self.line_EA = float(gsp.tether.axial_stiffness)
+        self._init_state(glider, airframes, params, reference, config, thruster, winch, g)
+        af = airframes.unfolded
+        self.guidance = Guidance(guidance_gains(params), af.mass.mass, af.aero, airframes.folded.aero, rho, g)
+        self.att = AttitudeLoops(glider, stabilizer_gains(params))
+        self._t_now = 0.0
+        self.thrust_loop = ThrustLoop(params, af.propulsion.T_max, thruster)  #: throttle for the thrust command
+        self.reel_in_max = float(reel_in_max)  #: the drive's largest reel-in speed [m/s]
+        #: whether AUTO runs the motor (:class:`MotorSwitch` under the gate ``motor``)
+        self.motor = MotorSwitch(motor if motor is not None else MotorGate())
+        #: RECOVER's path and winch (:class:`~fdm_awe.autopilot.recovery.Recovery`)
+        self.recovery = Recovery(params, winch, self.R_L, self.guidance, self._note)
+        #: called as ``on_cycle(cycle, t)`` at the AUTO step that starts a new cycle's generation
+        #: (``cycle`` its index, ``t`` [s]); a reference it returns is flown from the next step
+        #: (:meth:`switch_reference`), None keeps the one flown
+        self.on_cycle: Any = None
+        #: the latest onboard wind estimate (:class:`~.wind_estimate.WindEstimate`), None before one
+        self.wind_estimate: Any = None
+        self._rejoin_before = math.inf  # a rejoin searches the reference's points before this cycle time [s]
+        self._cycle_begun = 0  # the last cycle whose start went to on_cycle
+        for name in params.names():
+            params.on_change(name, self._on_param)
+
+    def _init_state(self, glider: JSBSimGlider, airframes: Glider, params: ParamStore,
+                    reference: TrackingReference | None, config: str, thruster: Any, winch: str, g: float) -> None:
+        """The autopilot's plain state at construction (modes, logs, the last AUTO step's views)."""
         #: paper plant: an ideal thruster (:class:`fdm_awe.sim.paper_plant.IdealThruster`) takes the
         #: thrust command instead of the propeller's throttle (held at zero)
         self.thruster = thruster
@@ -128,7 +158,6 @@ class Autopilot(VehicleCommands, RecoverMode):
         self.airframes = airframes
         self.params = params
         self.config = config
-        self.R_L = float(load_resistance)
         self.g = g
         self.reference = reference
         self.mode = "AUTO" if reference is not None else "FBWA"
@@ -159,27 +188,6 @@ class Autopilot(VehicleCommands, RecoverMode):
         self._last_guidance: GuidanceCommand | None = None
         # ref_point and last_guidance are the last AUTO step's, built from its arrays when read
         self._auto_point = self._auto_guidance = False
-        af = airframes.unfolded
-        self.guidance = Guidance(guidance_gains(params), af.mass.mass, af.aero, airframes.folded.aero, rho, g)
-        self.att = AttitudeLoops(glider, stabilizer_gains(params))
-        self._t_now = 0.0
-        self.thrust_loop = ThrustLoop(params, af.propulsion.T_max, thruster)  #: throttle for the thrust command
-        self.line_EA = line_EA  #: the line's axial stiffness EA [N] (the kinematic winch's length)
-        self.reel_in_max = float(reel_in_max)  #: the drive's largest reel-in speed [m/s]
-        #: whether AUTO runs the motor (:class:`MotorSwitch` under the gate ``motor``)
-        self.motor = MotorSwitch(motor if motor is not None else MotorGate())
-        #: RECOVER's path and winch (:class:`~fdm_awe.autopilot.recovery.Recovery`)
-        self.recovery = Recovery(params, winch, self.R_L, self.guidance, self._note)
-        #: called as ``on_cycle(cycle, t)`` at the AUTO step that starts a new cycle's generation
-        #: (``cycle`` its index, ``t`` [s]); a reference it returns is flown from the next step
-        #: (:meth:`switch_reference`), None keeps the one flown
-        self.on_cycle: Any = None
-        #: the latest onboard wind estimate (:class:`~.wind_estimate.WindEstimate`), None before one
-        self.wind_estimate: Any = None
-        self._rejoin_before = math.inf  # a rejoin searches the reference's points before this cycle time [s]
-        self._cycle_begun = 0  # the last cycle whose start went to on_cycle
-        for name in params.names():
-            params.on_change(name, self._on_param)
 
     # ------------------------------------------------------------------ parameters
     def stall_speed(self, fold: float) -> float:

@@ -66,6 +66,7 @@ import math
 import signal
 import threading
 import time
+from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
@@ -223,6 +224,40 @@ def fly(
         rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, s_end, cw)
     rig.ap.on_cycle = _cycle_boundary(rig, cw, s_end, cycles)
     res, wall, interrupted = _run(rig.sim, T_total, hook, stop, log)
+    setup_ = _Setup(meta, flight_wind, wind, config, plant, paper, dt, shape, cycles, t_end, T_total,
+                    float(tether_drag_scale), model, turb, aircraft, station, gsp)
+    return _report(rig, res, wall, interrupted, log, gl, cw, flown[0], setup_)
+
+
+@dataclass(frozen=True)
+class _Setup:
+    """What :func:`fly` set up, for its report (:func:`_report`)."""
+
+    meta: dict[str, Any]
+    flight_wind: dict[str, Any] | None
+    wind: FlightWind
+    config: str
+    plant: str
+    paper: bool
+    dt: float
+    shape: bool
+    cycles: int
+    t_end: float | None
+    T_total: float
+    tether_drag_scale: float
+    model: TetherModel
+    turb: TurbulenceSetting | None
+    aircraft: Any
+    station: Any
+    gsp: Any
+
+
+def _report(rig: Rig, res: FlightResult, wall: float, interrupted: bool, log: FlightLog, gl: GliderLedger,
+            cw: CycleWind, flown: bool, su: _Setup) -> FlightReport:
+    """The flight's report from its result ``res`` (``wall`` s, ``interrupted`` by Ctrl-C), log,
+    glider ledger, cycle winds, whether every requested cycle was ``flown``, and its setup."""
+    meta, flight_wind, wind, paper, dt, shape = su.meta, su.flight_wind, su.wind, su.paper, su.dt, su.shape
+    cycles, t_end, T_total, gsp = su.cycles, su.t_end, su.T_total, su.gsp
     k_end = res.steps
     e_thrust = thrust_energy(res, log, rig, paper, dt)
     ap = rig.ap
@@ -232,7 +267,7 @@ def fly(
     if mets:  # the last cycle's wind, from its rows so far
         cw.close(mets[-1].index, float(res.t[-1]), mets[-1].complete)
     ledger, rel = flight_ledger(gl, rig.gs, float(e_thrust[k_end]), shape)
-    status, msg = flight_status(res, ap, interrupted, flown[0] or t_end is not None, T_total, cycles, mets)
+    status, msg = flight_status(res, ap, interrupted, flown or t_end is not None, T_total, cycles, mets)
     if ap.mode == "RECOVER" and lost_path(ap.recover_cause):
         msg += failsafe_wind(res, ap, cw.profile, dt)
     m = gsp.machine  # the armature current against the machine's ratings (the paper plant's winch has none)
@@ -241,20 +276,21 @@ def fly(
     notes = sorted(list(ap.log) + rated, key=lambda e: e[0])  # the autopilot's and the logged events
     line = meta.get("line")
     return FlightReport(
-        scenario=str(meta.get("scenario", "custom")), config=config,
+        scenario=str(meta.get("scenario", "custom")), config=su.config,
         wind_mps=float((meta if flight_wind is None else flight_wind).get("wind_mps",
                                                                           math.hypot(wind.ned[0], wind.ned[1]))),
         status=status, message=msg, sim_time_s=float(res.t[-1] - res.t[0]), wall_s=wall, cycles=mets, ledger=ledger,
         ledger_residual_rel=rel, result=res, track_error=log.err[: k_end + 1], reference_pos=log.refpos[: k_end + 1],
-        autopilot_log=notes, plant=plant, tether_drag_scale=float(tether_drag_scale), tether=str(model),
+        autopilot_log=notes, plant=su.plant, tether_drag_scale=su.tether_drag_scale, tether=str(su.model),
         line="paper" if line is None else str(line), generator=None if paper else str(meta.get("generator") or "passive"),
         line_shape=log.line_shape(), peak_current_A=i_pk, time_above_rated_current_s=above,
         control_activity=control_activity(*res.controls[:, :3].T, dt), loop=_loop_facts(rig.sim, res.steps),
-        turbulence=_turbulence_facts(turb, wind, res),
+        turbulence=_turbulence_facts(su.turb, wind, res),
         wind_estimates=list(cw.records),
         recover_cause=ap.recover_cause if ap.mode == "RECOVER" else None,
         cycle_index=log.cycle[: k_end + 1].copy(),
-        aircraft={**aircraft.record(), "mass_kg": float(rig.airframes.unfolded.mass.mass)}, ground_station=station.record(),
+        aircraft={**su.aircraft.record(), "mass_kg": float(rig.airframes.unfolded.mass.mass)},
+        ground_station=su.station.record(),
     )
 
 

@@ -124,8 +124,8 @@ def build_rig(reference: Any, wind: FlightWind, gsp: GroundStationParams, config
     _start_on_reference(glider, gs, reference.sample(0.0), w0, paper)
     ps = params if params is not None else autopilot_params(aircraft.autopilot_file)
     thruster = IdealThruster.for_glider(glider, airframes.unfolded.propulsion) if paper else None
-    ap = Autopilot(glider, airframes, ps, reference, config=config, load_resistance=gsp.converter.load_resistance,
-                   thruster=thruster, winch="ideal" if paper else "physical", line_EA=gsp.tether.axial_stiffness,
+    ap = Autopilot(glider, airframes, ps, reference, config=config, station=gsp,
+                   thruster=thruster, winch="ideal" if paper else "physical",
                    reel_in_max=math.inf if paper else motor_max_reel_in_speed(0.0, gsp))
     # the line's own breaking load ends a run as "tether_break" (ground-station event); the
     # co-simulation's tension limit sits just above it so it never pre-empts that event
