@@ -219,166 +219,6 @@ def rejoin_begin(mem: Arr, rrow: Arr, t: float, px: float, py: float, pz: float,
     mem[dv], mem[dv + 1], mem[dv + 2] = vx - rrow[v], vy - rrow[v + 1], vz - rrow[v + 2]
 
 
-def protections(t: float, vx: float, vy: float, vz: float, wx: float, wy: float, wz: float, pz: float,
-                fold: float, polar: Arr, rrow: Arr, gk: Arr, par: Arr, mem: Arr) -> tuple[float, bool, bool, int, bool]:
-    """The underspeed protection (:mod:`.underspeed`) and the ground-proximity guard (:mod:`.ground`)
-    at time ``t`` [s] for the glider at height ``-pz`` [m] with velocity ``v*`` [m/s] in the wind
-    ``w*`` [m/s] (NED), fold state ``fold`` (its ``polar``, :data:`.guidance.POLAR`), against the
-    reference row ``rrow``; their states in ``mem``. Returns the airspeed [m/s], whether the
-    protection acts and the guard pulls up, the flags (:data:`UNDERSPEED`, :data:`GROUND`; 0:
-    none) and whether a rejoin segment begins because either ended."""
-    # the underspeed protection: the airspeed against the stall speed of the fold state
-    vax, vay, vaz = vx - wx, vy - wy, vz - wz
-    v_air = math.sqrt(vax * vax + vay * vay + vaz * vaz)
-    v_stall = stall_speed(par[PAR.mass], par[PAR.rho], par[PAR.g], polar[POLAR.clmax])
-    was = mem[MEM.us] != 0.0
-    protect, mem[MEM.us_t] = underspeed_update(was, mem[MEM.us_t], t, v_air, v_stall, rrow[REF.airspeed], fold,
-                                               gk[GK.us_enter], gk[GK.us_exit], gk[GK.us_hold])
-    mem[MEM.us] = 1.0 if protect else 0.0
-    # the ground-proximity guard: pull up before the ground, before the path and the protection
-    was_gp = mem[MEM.gp] != 0.0
-    pull = ground_guard(was_gp, -pz, vz, math.sqrt(vx * vx + vy * vy + vz * vz), v_air, v_stall, par[PAR.g],
-                        gk[GK.gp_alt], gk[GK.gp_acc], gk[GK.us_exit], gk[GK.us_enter])
-    mem[MEM.gp] = 1.0 if pull else 0.0
-    flags = 0
-    rejoin = False
-    if protect != was:
-        flags = UNDERSPEED
-        # protection over: back to the path over a rejoin segment from the glider's state
-        rejoin = was and mem[MEM.rj] == 0.0
-    if pull != was_gp:
-        flags |= GROUND
-        # pulled up: back to the path over a rejoin segment from the glider's state
-        rejoin = rejoin or (was_gp and not protect and mem[MEM.rj] == 0.0)
-    return v_air, protect, pull, flags, rejoin
-
-
-def path_lost(t: float, k: int, phase: int, fold: float, protect: bool, pull: bool, par: Arr, mem: Arr) -> bool:
-    """Whether the glider rejoins its lost path at time ``t`` [s] in cycle ``k``, ``phase``, fold
-    state ``fold``: the last step's position error (``mem``) above RJ_TRK_ERR, fewer than
-    RJ_TRK_MAX rejoins begun in the cycle (counted in ``mem``, this one too), neither the
-    protection (``protect``) nor the guard (``pull``) acting, and a rejoin under way at least
-    :data:`RJ_SETTLE` old (the error of its first step may be the one before it began). Not in a
-    folded recovery: the folded wing cannot fly back onto its dive, a rejoin there pushed it over
-    into the ground (foldable, 8 m/s, moderate seed 9)."""
-    if mem[MEM.rj_k] != k:
-        mem[MEM.rj_n], mem[MEM.rj_k] = 0.0, k
-    if (not protect and not pull and (phase == 0 or fold < FOLD_OPEN) and par[PAR.rj_trk_err] > 0.0
-            and mem[MEM.err] > par[PAR.rj_trk_err] and mem[MEM.rj_n] < par[PAR.rj_trk_max]
-            and (mem[MEM.rj] == 0.0 or t - mem[MEM.rj_t0] >= RJ_SETTLE)):
-        mem[MEM.rj_n] += 1.0
-        return True
-    return False
-
-
-def rejoin_rate(t: float, phase: int, px: float, py: float, pz: float, rrow: Arr, par: Arr,
-                mem: Arr) -> tuple[float, int]:
-    """The path parameter's rate [-] (:func:`path_rate`) for the glider at ``p*`` [m] at time ``t``
-    [s] in ``phase``, the rejoin segment under way (``mem``) added to the reference row ``rrow``
-    (the path's point plus a vanishing offset); returns it and :data:`REJOINED` where the
-    segment ends at this step (else 0)."""
-    if mem[MEM.rj] == 0.0:
-        return path_rate(px, py, pz, rrow, par[PAR.path_tau], 3.0), 0
-    flags = 0
-    # the rejoin segment: the path's point plus a vanishing offset, the parameter at flight time
-    done, w, w1, w2, e, e1, e2 = rejoin_weights(t, mem[MEM.rj_t0], par[PAR.rj_time])
-    if done != 0.0:
-        mem[MEM.rj] = 0.0
-        flags = REJOINED
-    else:
-        for j in range(3):
-            dp, dv = mem[MEM.rj_dp + j], mem[MEM.rj_dv + j]
-            rrow[REF.pos + j] = rrow[REF.pos + j] + (1.0 - w) * dp + e * dv
-            rrow[REF.vel + j] = rrow[REF.vel + j] - w1 * dp + e1 * dv
-            rrow[REF.acc + j] = rrow[REF.acc + j] - w2 * dp + e2 * dv
-    # the parameter at flight time, in generation held back where the glider lags the
-    # segment's point (a rejoin into a headwind would otherwise run away from the glider;
-    # held in a folded recovery's dive, the reference pushed the wing over into the ground);
-    # with the path rejoin off (RJ_TRK_ERR 0) at flight time throughout, as before it
-    hold = phase == 0 and par[PAR.rj_trk_err] > 0.0
-    return (path_rate(px, py, pz, rrow, par[PAR.path_tau], 1.0) if hold else 1.0), flags
-
-
-def line_input(phase: int, tc: float, pull: bool, protect: bool, gso: Arr, par: Arr, gin: Arr) -> bool:
-    """The line into the guidance's input ``gin`` (:data:`.guidance.GIN`) in ``phase`` at cycle time
-    ``tc`` [s]: the station's line force (``gso``; 0 before its first step), whether the line
-    counts as taut and whether the reference's pull counts (:func:`reference_pull`; neither while
-    the guard pulls up, ``pull``), and the protection's state (0 off, 1 on, 2 on with the line
-    slack; the guard's pull-up, :data:`.guidance.US_PULL_UP`, before it). Returns whether the
-    station has stepped."""
-    valid = gso[GSO.valid] != 0.0
-    # pulling up, the wing flies against the measured line force: no radial force of the reference's
-    taut = valid and gso[GSO.slack] == 0.0 and phase == 0 and not pull
-    ref_pull = reference_pull(par[PAR.ref_pull] != 0.0, phase, tc, par[PAR.catch_time]) and not pull
-    f, ln = GSO.force, GIN.line
-    if valid:
-        gin[ln], gin[ln + 1], gin[ln + 2] = gso[f], gso[f + 1], gso[f + 2]
-    else:
-        gin[ln], gin[ln + 1], gin[ln + 2] = 0.0, 0.0, 0.0
-    us = 0.0
-    if pull:
-        us = US_PULL_UP
-    elif protect:
-        us = 2.0 if valid and gso[GSO.slack] != 0.0 else 1.0
-    gin[GIN.us], gin[GIN.taut], gin[GIN.ref_pull] = us, 1.0 if taut else 0.0, 1.0 if ref_pull else 0.0
-    return valid
-
-
-def thrust_limit(motor: bool, t: float, gk: Arr, par: Arr, gate: Arr, motor_mem: Arr, thr_state: Arr) -> float:
-    """The thrust [N] the guidance may count on at time ``t`` [s]: the propeller's maximum with the
-    motor on (``motor``), none for the paper plant's ideal thruster, else (a soft stop) the
-    thrust falling with the throttle (:func:`.motor.motor_spin_down`)."""
-    if motor:
-        return gk[GK.thrust_max]
-    if par[PAR.thruster] != 0.0:
-        return 0.0
-    return motor_spin_down(t, gate, motor_mem, thr_state[THR.thrust])
-
-
-def throttle_command(motor: bool, thrust: float, t: float, dt: float, row: Any, scale: Any, gate: Arr, par: Arr,
-                     motor_mem: Arr, thr_state: Arr) -> tuple[float, float]:
-    """The throttle [-] and the ideal thruster's thrust [N] at time ``t`` [s], step ``dt`` [s], for
-    the guidance's ``thrust`` [N] with the motor on or off (``motor``), at the glider's raw row
-    ``row`` (SI factors ``scale``): the thrust loop (:func:`.thrust.throttle_step`, its state
-    ``thr_state``) under the motor's spin-up ceiling, or the soft stop's falling throttle."""
-    ideal = 0.0
-    if par[PAR.thruster] != 0.0:
-        thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
-        if motor and par[PAR.armed] != 0.0:
-            ideal = thrust
-    elif not motor:
-        # stopped: the throttle falls to 0 (a soft stop), the thrust loop's integral is held
-        thr = motor_spin_down(t, gate, motor_mem, thr_state[THR.last])
-    else:
-        # after a start the propeller spins up from rest under a rising throttle ceiling
-        armed = par[PAR.armed] != 0.0
-        ceiling = motor_ceiling(t, gate, motor_mem)
-        thr = throttle_step(thrust, row[ROW.thrust] * scale[ROW.thrust], row[ROW.vt] * scale[ROW.vt], dt, armed,
-                            ceiling, par[PAR.thr_kp], par[PAR.thr_ki], par[PAR.thr_vzero],
-                            par[PAR.thrust_max_static], thr_state)
-        thr_state[THR.last], thr_state[THR.thrust] = thr, thrust
-    return thr, ideal
-
-
-def winch_command(phase: int, rate: float, seg: int, valid: bool, px: float, py: float, pz: float, vx: float,
-                  vy: float, vz: float, rrow: Arr, segs: Arr, gso: Arr, par: Arr,
-                  mem: Arr) -> tuple[float, float, float, float]:
-    """The winch's command (:func:`.winch.cycle_winch_values`: motor, reel speed m/s, line
-    resistance ohm, T2 duty) in ``phase`` and segment ``seg`` at the path rate ``rate`` [-], for
-    the glider at ``p*`` [m] with ``v*`` [m/s] (NED; its distance from the winch and its rate) on
-    the reference row ``rrow`` with the station's output ``gso`` (``valid``: it has stepped); the
-    lower tension limit's state in ``mem``."""
-    dist = math.sqrt(px * px + py * py + pz * pz)
-    dist_rate = (px * vx + py * vy + pz * vz) / max(dist, 1e-6)
-    w_motor, w_speed, w_rl, w_d2, w_low = cycle_winch_values(
-        phase, par[PAR.ideal_winch] != 0.0, rate, rrow[REF.reel_speed], rrow[REF.length], rrow[REF.tension],
-        segs[SEG.d2, seg], valid, gso[GSO.length], gso[GSO.tension], par[PAR.rl], par[PAR.line_ea],
-        par[PAR.gen_rl_kp], par[PAR.rec_tension], par[PAR.winch_kl], par[PAR.winch_kt], dist, dist_rate,
-        mem[MEM.wlow] != 0.0, par[PAR.wlim:WLIM_END])
-    mem[MEM.wlow] = 1.0 if w_low else 0.0
-    return w_motor, w_speed, w_rl, w_d2
-
-
 def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts: tuple, state: tuple,
                results: tuple) -> int:
     """One AUTO step up to the attitude loops, at the glider's raw row ``row`` (time ``row[T]``),
@@ -405,27 +245,94 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
     # the reference point at the path parameter, and the parameter one step later
     s_par = mem[MEM.sref]
     k, tc, phase, seg, _ = cycle_evaluate(ref_t, ref_table, par[PAR.t1], par[PAR.period], s_par, rrow)
-    v_air, protect, pull, flags, rejoin = protections(t, vx, vy, vz, wx, wy, wz, pz, fold, polar, rrow, gk, par, mem)
-    if path_lost(t, k, phase, fold, protect, pull, par, mem):
-        # rejoin the path where it passes nearest the glider, not at a point the path parameter
-        # froze or ran away with
+    # the underspeed protection: the airspeed against the stall speed of the fold state
+    vax, vay, vaz = vx - wx, vy - wy, vz - wz
+    v_air = math.sqrt(vax * vax + vay * vay + vaz * vaz)
+    v_stall = stall_speed(par[PAR.mass], par[PAR.rho], par[PAR.g], polar[POLAR.clmax])
+    was = mem[MEM.us] != 0.0
+    protect, mem[MEM.us_t] = underspeed_update(was, mem[MEM.us_t], t, v_air, v_stall, rrow[REF.airspeed], fold,
+                                               gk[GK.us_enter], gk[GK.us_exit], gk[GK.us_hold])
+    mem[MEM.us] = 1.0 if protect else 0.0
+    # the ground-proximity guard: pull up before the ground, before the path and the protection
+    was_gp = mem[MEM.gp] != 0.0
+    pull = ground_guard(was_gp, -pz, vz, math.sqrt(vx * vx + vy * vy + vz * vz), v_air, v_stall, par[PAR.g],
+                        gk[GK.gp_alt], gk[GK.gp_acc], gk[GK.us_exit], gk[GK.us_enter])
+    mem[MEM.gp] = 1.0 if pull else 0.0
+    flags = 0
+    rejoin = False
+    if protect != was:
+        flags = UNDERSPEED
+        # protection over: back to the path over a rejoin segment from the glider's state
+        rejoin = was and mem[MEM.rj] == 0.0
+    if pull != was_gp:
+        flags |= GROUND
+        # pulled up: back to the path over a rejoin segment from the glider's state
+        rejoin = rejoin or (was_gp and not protect and mem[MEM.rj] == 0.0)
+    if mem[MEM.rj_k] != k:
+        mem[MEM.rj_n], mem[MEM.rj_k] = 0.0, k
+    if (not protect and not pull and (phase == 0 or fold < FOLD_OPEN) and par[PAR.rj_trk_err] > 0.0
+            and mem[MEM.err] > par[PAR.rj_trk_err] and mem[MEM.rj_n] < par[PAR.rj_trk_max]
+            and (mem[MEM.rj] == 0.0 or t - mem[MEM.rj_t0] >= RJ_SETTLE)):
+        # the path is lost (the last step's error; a rejoin under way counts after RJ_SETTLE, the
+        # error of its first step may be the one before it began): rejoin the path where it
+        # passes nearest the glider, not at a point the path parameter froze or ran away with.
+        # Not in a folded recovery: the folded wing cannot fly back onto its dive, a rejoin
+        # there pushed it over into the ground (foldable, 8 m/s, moderate seed 9)
         flags |= PATH_REJOIN
+        mem[MEM.rj_n] += 1.0
         s_par = k * par[PAR.period] + nearest_on_phase(ref_t, ref_table, par[PAR.t1], par[PAR.period], tc, px, py,
                                                        pz, vx, vy, vz)
         k, tc, phase, seg, _ = cycle_evaluate(ref_t, ref_table, par[PAR.t1], par[PAR.period], s_par, rrow)
         rejoin = True
     if rejoin:
         rejoin_begin(mem, rrow, t, px, py, pz, vx, vy, vz)
-    rate, ended = rejoin_rate(t, phase, px, py, pz, rrow, par, mem)
-    flags |= ended
+    if mem[MEM.rj] != 0.0:
+        # the rejoin segment: the path's point plus a vanishing offset, the parameter at flight time
+        done, w, w1, w2, e, e1, e2 = rejoin_weights(t, mem[MEM.rj_t0], par[PAR.rj_time])
+        if done != 0.0:
+            mem[MEM.rj] = 0.0
+            flags |= REJOINED
+        else:
+            for j in range(3):
+                dp, dv = mem[MEM.rj_dp + j], mem[MEM.rj_dv + j]
+                rrow[REF.pos + j] = rrow[REF.pos + j] + (1.0 - w) * dp + e * dv
+                rrow[REF.vel + j] = rrow[REF.vel + j] - w1 * dp + e1 * dv
+                rrow[REF.acc + j] = rrow[REF.acc + j] - w2 * dp + e2 * dv
+        # the parameter at flight time, in generation held back where the glider lags the
+        # segment's point (a rejoin into a headwind would otherwise run away from the glider;
+        # held in a folded recovery's dive, the reference pushed the wing over into the ground);
+        # with the path rejoin off (RJ_TRK_ERR 0) at flight time throughout, as before it
+        hold = phase == 0 and par[PAR.rj_trk_err] > 0.0
+        rate = path_rate(px, py, pz, rrow, par[PAR.path_tau], 1.0) if hold else 1.0
+    else:
+        rate = path_rate(px, py, pz, rrow, par[PAR.path_tau], 3.0)
     mem[MEM.sref] = s_par + rate * dt
     paced(rrow, rate, phase, gin)
-    valid = line_input(phase, tc, pull, protect, gso, par, gin)
+    valid = gso[GSO.valid] != 0.0
+    # pulling up, the wing flies against the measured line force: no radial force of the reference's
+    taut = valid and gso[GSO.slack] == 0.0 and phase == 0 and not pull
+    ref_pull = reference_pull(par[PAR.ref_pull] != 0.0, phase, tc, par[PAR.catch_time]) and not pull
+    f, ln = GSO.force, GIN.line
+    if valid:
+        gin[ln], gin[ln + 1], gin[ln + 2] = gso[f], gso[f + 1], gso[f + 2]
+    else:
+        gin[ln], gin[ln + 1], gin[ln + 2] = 0.0, 0.0, 0.0
+    us = 0.0  # the protection: 0 off, 1 on, 2 on with the line slack; the guard's pull-up before it
+    if pull:
+        us = US_PULL_UP
+    elif protect:
+        us = 2.0 if valid and gso[GSO.slack] != 0.0 else 1.0
     # the motor: stopped where the reference stopped it (no thrust for the guidance to give)
     slow = rescue_gate(phase, v_air, pz, wx, wy, rrow, gso, par, mem[MEM.rj] != 0.0, pull, protect)
     motor = motor_update(segs[SEG.run], seg, t, mem[MEM.err], gate, motor_mem, slow) != 0.0
-    gin[GIN.fold], gin[GIN.dt] = fold, dt
-    gin[GIN.t_max] = thrust_limit(motor, t, gk, par, gate, motor_mem, thr_state)
+    if motor:
+        t_max = gk[GK.thrust_max]
+    elif par[PAR.thruster] != 0.0:
+        t_max = 0.0
+    else:  # a soft stop: the thrust the guidance may count on falls with the throttle
+        t_max = motor_spin_down(t, gate, motor_mem, thr_state[THR.thrust])
+    gin[GIN.fold], gin[GIN.dt], gin[GIN.t_max], gin[GIN.us] = fold, dt, t_max, us
+    gin[GIN.taut], gin[GIN.ref_pull] = 1.0 if taut else 0.0, 1.0 if ref_pull else 0.0
     alpha, mu, thrust, roll, pitch, yaw, cl, err = guidance_step(gk, integral, polar, gin)
     mem[MEM.err] = err
     if par[PAR.fs_trk_err] > 0.0 and err > par[PAR.fs_trk_err]:
@@ -438,9 +345,32 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
     if phase != mem[MEM.phase]:
         flags |= PHASE_CHANGED
     mem[MEM.phase] = phase
-    w_motor, w_speed, w_rl, w_d2 = winch_command(phase, rate, seg, valid, px, py, pz, vx, vy, vz, rrow, segs, gso, par,
-                                                 mem)
-    thr, ideal = throttle_command(motor, thrust, t, dt, row, scale, gate, par, motor_mem, thr_state)
+    ideal_winch = par[PAR.ideal_winch] != 0.0
+    # the glider's distance from the winch and its rate
+    dist = math.sqrt(px * px + py * py + pz * pz)
+    dist_rate = (px * vx + py * vy + pz * vz) / max(dist, 1e-6)
+    w_motor, w_speed, w_rl, w_d2, w_low = cycle_winch_values(
+        phase, ideal_winch, rate, rrow[REF.reel_speed], rrow[REF.length], rrow[REF.tension], segs[SEG.d2, seg],
+        valid, gso[GSO.length], gso[GSO.tension], par[PAR.rl], par[PAR.line_ea], par[PAR.gen_rl_kp],
+        par[PAR.rec_tension], par[PAR.winch_kl], par[PAR.winch_kt], dist, dist_rate, mem[MEM.wlow] != 0.0,
+        par[PAR.wlim:WLIM_END])
+    mem[MEM.wlow] = 1.0 if w_low else 0.0
+    ideal = 0.0
+    if par[PAR.thruster] != 0.0:
+        thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
+        if motor and par[PAR.armed] != 0.0:
+            ideal = thrust
+    elif not motor:
+        # stopped: the throttle falls to 0 (a soft stop), the thrust loop's integral is held
+        thr = motor_spin_down(t, gate, motor_mem, thr_state[THR.last])
+    else:
+        # after a start the propeller spins up from rest under a rising throttle ceiling
+        armed = par[PAR.armed] != 0.0
+        ceiling = motor_ceiling(t, gate, motor_mem)
+        thr = throttle_step(thrust, row[ROW.thrust] * scale[ROW.thrust], row[ROW.vt] * scale[ROW.vt], dt, armed,
+                            ceiling, par[PAR.thr_kp], par[PAR.thr_ki], par[PAR.thr_vzero],
+                            par[PAR.thrust_max_static], thr_state)
+        thr_state[THR.last], thr_state[THR.thrust] = thr, thrust
     out[OUT.cycle], out[OUT.tc], out[OUT.phase], out[OUT.seg] = k, tc, phase, seg
     out[OUT.rx], out[OUT.ry], out[OUT.rz], out[OUT.rate] = rrow[REF.pos], rrow[REF.pos + 1], rrow[REF.pos + 2], rate
     out[OUT.alpha], out[OUT.mu], out[OUT.thrust] = alpha, mu, thrust
@@ -449,6 +379,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
     out[OUT.w_motor], out[OUT.w_reel_speed], out[OUT.w_rl], out[OUT.w_d2] = w_motor, w_speed, w_rl, w_d2
     return flags
 
+
 #: the plain functions the AUTO step calls, for a compiled caller to register
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, paced, rescue_allowed,
@@ -456,5 +387,4 @@ CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejo
           take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
           pull_out_height, ground_guard,
           nearest_on_phase, path_rate, rejoin_begin, glider_input) + GUIDANCE_CALLED + (
-              polar_at, guidance_step, reference_pull, protections, path_lost, rejoin_rate, line_input, thrust_limit,
-              throttle_command, winch_command, auto_guide)
+              polar_at, guidance_step, reference_pull, auto_guide)
