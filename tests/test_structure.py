@@ -31,7 +31,7 @@ from __future__ import annotations
 import ast
 import re
 import sys
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from functools import cache
 from pathlib import Path
 
@@ -321,12 +321,13 @@ def test_module_length() -> None:
     assert not back, f"within {MAX_MODULE_LINES} lines now (or gone): remove from LONG_MODULES: {back}"
 
 
-def _function_lengths(path: Path) -> Iterator[tuple[str, int]]:
+def _functions(path: Path, measure: Callable[[ast.AST], int]) -> Iterator[tuple[str, int]]:
+    """Every function of ``path`` by qualified name, with ``measure`` of its node."""
     def walk(node: ast.AST, prefix: str) -> Iterator[tuple[str, int]]:
         for c in ast.iter_child_nodes(node):
             if isinstance(c, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 q = prefix + c.name
-                yield q, c.end_lineno - c.lineno + 1
+                yield q, measure(c)
                 yield from walk(c, q + ".<locals>.")
             elif isinstance(c, ast.ClassDef):
                 yield from walk(c, prefix + c.name + ".")
@@ -334,6 +335,10 @@ def _function_lengths(path: Path) -> Iterator[tuple[str, int]]:
                 yield from walk(c, prefix)
 
     yield from walk(_tree(path), "")
+
+
+def _function_lengths(path: Path) -> Iterator[tuple[str, int]]:
+    return _functions(path, lambda f: f.end_lineno - f.lineno + 1)
 
 
 def test_function_length() -> None:
@@ -714,17 +719,7 @@ def test_the_offset_check_sees_what_it_must(tmp_path) -> None:
 
 
 def _signatures(path: Path) -> Iterator[tuple[str, int]]:
-    def walk(node: ast.AST, prefix: str) -> Iterator[tuple[str, int]]:
-        for c in ast.iter_child_nodes(node):
-            if isinstance(c, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                yield prefix + c.name, len(c.args.posonlyargs) + len(c.args.args)
-                yield from walk(c, prefix + c.name + ".<locals>.")
-            elif isinstance(c, ast.ClassDef):
-                yield from walk(c, prefix + c.name + ".")
-            else:
-                yield from walk(c, prefix)
-
-    yield from walk(_tree(path), "")
+    return _functions(path, lambda f: len(f.args.posonlyargs) + len(f.args.args))
 
 
 def test_signature_length() -> None:
