@@ -105,9 +105,10 @@ def reader(layout: NamedTuple, *fields: str) -> Callable[[Any], tuple]:
     return itemgetter(*at)
 
 
-def new(layout: NamedTuple, fill: float = 0.0) -> np.ndarray:
-    """A float64 array of :func:`size` ``(layout)`` slots, every one ``fill``."""
-    return np.full(size(layout), float(fill))
+def new(layout: NamedTuple, fill: float = 0.0, dtype: Any = np.float64) -> np.ndarray:
+    """An array of :func:`size` ``(layout)`` slots, every one ``fill`` (float64, or ``dtype``:
+    e.g. ``np.int64`` for a block of handles)."""
+    return np.full(size(layout), fill, dtype=dtype)
 
 
 def check(layout: NamedTuple, array: np.ndarray, what: str) -> np.ndarray:

@@ -90,3 +90,8 @@ def test_a_reader_reads_several_slots_at_once() -> None:
         slots.reader(LAYOUT, "a", "wind")
     with pytest.raises(ValueError, match="at least two"):
         slots.reader(LAYOUT, "a")
+
+
+def test_new_takes_a_dtype_for_blocks_of_handles() -> None:
+    arr = slots.new(TAIL, 0, np.int64)
+    assert arr.dtype == np.int64 and arr.shape == (slots.size(TAIL),) and not arr.any()

@@ -38,11 +38,11 @@ class AutoStep:
     :class:`~fdm_awe.autopilot.autopilot.Autopilot` it serves."""
 
     def __init__(self) -> None:
-        self.mem = np.zeros(slots.size(MEM))  #: the step's state (:data:`~.auto_step.MEM`), updated in place
+        self.mem = slots.new(MEM)  #: the step's state (:data:`~.auto_step.MEM`), updated in place
         self.mem[MEM.tlast] = self.mem[MEM.err] = math.nan
         self.mem[MEM.phase] = -1.0
-        self.out = np.zeros(slots.size(OUT))  #: the last step's results (:data:`~.auto_step.OUT`)
-        self.rrow = np.zeros(slots.size(REF))  #: the last step's reference row (:data:`~.auto_step.REF`)
+        self.out = slots.new(OUT)  #: the last step's results (:data:`~.auto_step.OUT`)
+        self.rrow = slots.new(REF)  #: the last step's reference row (:data:`~.auto_step.REF`)
         self._gso = [0.0] * slots.size(GSO)  # the station's last output (a list: the Python step's)
         # the guidance's input of the last step: a list for the Python step (faster items than an
         # array's, the same floats), an array for the compiled block
@@ -93,7 +93,7 @@ class AutoStep:
         segs = np.ascontiguousarray(np.vstack((gate.plan_vector(ref), smp.segments("boost_duty"))), float)
         g, p, tl = ap.guidance, ap.params, ap.thrust_loop
         cu, cf, ratio, S_u = polar_arguments(g.aero_u, g.aero_f)
-        par = np.zeros(slots.size(PAR))
+        par = slots.new(PAR)
         par[PAR.t1], par[PAR.period], par[PAR.foldable] = ref.T1, ref.period, 1.0 if ap.config == "foldable" else 0.0
         par[PAR.fold_time] = reference_fold_time(ref.meta, ap.glider.fold_time_s) if ap.config == "foldable" else 0.0
         par[PAR.fold_lead], par[PAR.unfold_lead], par[PAR.path_tau] = p["FOLD_LEAD"], p["UNFOLD_LEAD"], p["PATH_TAU"]

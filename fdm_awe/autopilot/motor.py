@@ -112,7 +112,7 @@ class MotorGate:
 
     def vector(self) -> np.ndarray:
         """The gate as the float64 vector of :func:`motor_update` (layout :data:`GATE`)."""
-        v = np.empty(slots.size(GATE))
+        v = slots.new(GATE)
         v[GATE.off_below] = self.off_below
         v[GATE.min_off_s] = self.min_off_s
         v[GATE.min_on_s] = self.min_on_s
@@ -147,7 +147,7 @@ def _flip_short(flags: np.ndarray, dur: np.ndarray, value: bool, limit: float) -
 
 def motor_memory() -> np.ndarray:
     """A switch's state before its first step (layout :data:`MOTOR_MEM`): running, no switch yet, no rescue."""
-    mem = np.zeros(slots.size(MOTOR_MEM))
+    mem = slots.new(MOTOR_MEM)
     mem[MOTOR_MEM.running] = 1.0
     mem[MOTOR_MEM.switch_t] = -math.inf
     return mem

@@ -9,8 +9,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-
 from .. import slots
 from ..sixdof.state import SixDofState
 from .params import ParamStore
@@ -64,7 +62,7 @@ class ThrustLoop:
     def __init__(self, params: ParamStore, thrust_max_static: float, thruster: Any = None) -> None:
         self.params = params
         self.thruster = thruster
-        self.state = np.zeros(slots.size(THR))  #: the loop's state (:data:`THR`), updated in place
+        self.state = slots.new(THR)  #: the loop's state (:data:`THR`), updated in place
         self._thrust_max_static = thrust_max_static
         self._v_zero_thrust = params["THR_VZERO"]
 

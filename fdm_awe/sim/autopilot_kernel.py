@@ -243,12 +243,12 @@ class AutopilotBlocks:
         hn, _ = native_jsbsim(glider.fdm, getters, setters)
         if hn is None:
             return None
-        ha = np.zeros(slots.size(HA), np.int64)
+        ha = slots.new(HA, 0, np.int64)
         ha[:len(setters)] = hn.setters
         ha[HA.law:] = hn.getters
         r_drum, d2, rl = gs.command_defaults()
         base = gs.ledger_offset()
-        q = np.zeros(slots.size(Q))
+        q = slots.new(Q)
         q[Q.nraw], q[Q.r_drum], q[Q.d2_default], q[Q.rl_default], q[Q.s_end] = len(glider.raw()), r_drum, d2, rl, s_end
         q[Q.ledger_load], q[Q.ledger_supply] = base + FIELDS.index("load"), base + FIELDS.index("supply")
         q[Q.slug_ft2], q[Q.ft], q[Q.lbf] = SLUG_FT2, FT, LBF
