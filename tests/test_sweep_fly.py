@@ -7,6 +7,7 @@ optimised cycle exactly."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import os
@@ -34,10 +35,17 @@ def _cli(out: Path, *extra: str, timeout: float = 300) -> subprocess.CompletedPr
                           capture_output=True, text=True, timeout=timeout)
 
 
+def _records(out: Path) -> list[Path]:
+    """The stored flight records of a sweep folder (not the hidden temporary file of a write in
+    progress, ``.<name>.<pid>@<host>.<random>.part.json``)."""
+    d = out / "flights"
+    return [p for p in d.glob("*.json") if not p.name.startswith(".")] if d.is_dir() else []
+
+
 def _flown(out: Path) -> dict:
     """Flight id -> the flown numbers (everything but the wall time and the worker)."""
     res = {}
-    for p in (out / "flights").glob("*.json"):
+    for p in _records(out):
         r = json.loads(p.read_text())
         res[r["id"]] = {k: v for k, v in r.items() if k not in ("wall_s", "worker")}
     return res
@@ -48,33 +56,44 @@ def test_fly_killed_resumes_only_missing_flights_and_one_worker_matches(tmp_path
     a = tmp_path / "a"
     proc = subprocess.Popen([sys.executable, "-m", "fdm_awe", *ARGS, "--out", str(a), "--workers", "2"], env=_env(),
                             cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    import psutil
+
+    family: list = []
     try:
         t_end = time.monotonic() + 300
         while time.monotonic() < t_end and proc.poll() is None:
-            if list((a / "flights").glob("*.json")) if (a / "flights").is_dir() else []:
+            with contextlib.suppress(psutil.Error):  # the Dask scheduler, nanny and worker processes
+                family = psutil.Process(proc.pid).children(recursive=True) or family
+            if _records(a):
                 break
             time.sleep(0.05)
     finally:
         os.killpg(proc.pid, signal.SIGKILL)  # the command and its Dask processes
+        for child in family:  # and any that left the process group
+            with contextlib.suppress(psutil.Error):
+                child.kill()
         proc.wait(timeout=30)
-    # a worker process of the killed run may still be dying: count what is stored once the
-    # folder has stood still for a second
-    kept, t_end = None, time.monotonic() + 15
-    while time.monotonic() < t_end:
-        now = {p.name: p.stat().st_mtime_ns for p in (a / "flights").glob("*.json")}
-        if now == kept:
-            break
-        kept = now
-        time.sleep(1.0)
+    # count once every process of the killed run is gone (a dying worker writes nothing more)
+    gone, alive = psutil.wait_procs(family, timeout=30)
+    assert not alive, f"processes of the killed run still alive: {alive}"
+    kept = {p.name: p.stat().st_mtime_ns for p in _records(a)}
     assert 1 <= len(kept) < 4, "the kill came after the first stored flight and before the last"
-    assert not list((a / "flights").glob("*.tmp*"))
+    # a write cut by the kill leaves at most its hidden temporary file, never a partial record
+    assert all(p.name.startswith(".") and ".part" in p.name for p in (a / "flights").iterdir() if p.name not in kept)
+
+    # the temporary file of a write the kill cut short (the killed command's own, surely dead, pid)
+    from fdm_awe.fileio import _host
+
+    cut = a / "flights" / f".f-cut.json.{proc.pid}@{_host()}.x1y2z3.part.json"
+    cut.write_text('{"id": "f-cut", "cyc')
 
     r = _cli(a, "--workers", "2")
     assert r.returncode == 0, r.stdout + r.stderr
     # the points were finished before the kill; only the missing flights are flown now
     assert "2 already done, 0 computed now" in r.stdout
     assert f"flights: 4 total, {len(kept)} already done, {4 - len(kept)} flown now" in r.stdout
-    assert {p.name: p.stat().st_mtime_ns for p in (a / "flights").glob("*.json") if p.name in kept} == kept
+    assert {p.name: p.stat().st_mtime_ns for p in _records(a) if p.name in kept} == kept
+    assert not [p for p in (a / "flights").iterdir() if p.name.startswith(".")]  # the cut write is cleared
     # a third run flies nothing
     r3 = _cli(a, "--workers", "1")
     assert r3.returncode == 0 and "flights: 4 total, 4 already done, 0 flown now" in r3.stdout

@@ -78,12 +78,13 @@ class ReferenceSet:
 
     @classmethod
     def from_folder(cls, folder: str | Path, option: str = "--references") -> "ReferenceSet":
-        """The set of every ``*.json`` reference file in ``folder`` (checked as a reference
+        """The set of every ``*.json`` reference file in ``folder`` (not hidden ones) (checked as a reference
         file each, then as a set; one-line :class:`InputError` naming ``option`` or the file)."""
         p = Path(folder)
         if not p.is_dir():
             raise InputError(f"{option} {folder}: not a folder (allowed: a folder of reference files)")
-        files = sorted(p.glob("*.json"))
+        # not hidden files: the temporary file of a write in progress is ``.<name>...part.json``
+        files = sorted(f for f in p.glob("*.json") if not f.name.startswith("."))
         if not files:
             raise InputError(f"{option} {folder}: no reference file (*.json) in it")
         return cls([scheduled(TrackingReference.from_ocp_file(f), str(f)) for f in files])

@@ -363,7 +363,8 @@ def run_checked(args: argparse.Namespace, spec, extras: dict | None = None) -> i
 
     from ..fileio import remove_stale_parts, write_json
 
-    remove_stale_parts(Path(args.out) / "points")  # point files a killed sweep left half-written
+    for sub in ("points", "flights"):  # point and flight files a killed sweep left half-written
+        remove_stale_parts(Path(args.out) / sub)
     from ..sweep.execute import run_sweep
     from ..sweep.report import write_outputs
 

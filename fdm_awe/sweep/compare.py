@@ -69,6 +69,8 @@ def load_folder(out_dir: str | Path) -> dict[tuple, dict[str, Any]]:
     store = PointStore(root)
     out: dict[tuple, dict[str, Any]] = {}
     for p in sorted(store.dir.glob("*.json")):
+        if p.name.startswith("."):  # the temporary file of a write in progress (or cut by a kill)
+            continue
         r = store.load(p.stem)
         if r is not None:
             out[physical_key(r)] = r
