@@ -34,7 +34,7 @@ from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_stati
 from fdm_awe.groundstation import lumped_state  # noqa: E402
 from fdm_awe.sixdof import JSBSimGlider  # noqa: E402
 
-MODELS = ("straight", "lumped:10", "lumped:30")
+MODELS = ("straight", "lumped:10", "lumped:30", "lumped-implicit:10", "lumped-implicit:30")
 WIND = 14.0  # m/s from the south
 ELEVATION = math.radians(60.0)
 ALPHA = 0.10436  # rad, best glide ratio of the unfolded glider
@@ -126,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"line {a.line:g} m, 1/120 s steps, best of {a.repeat} (1-min load {load:.2f}; on a shared machine the "
           "CPU-time columns are the ones to compare)")
-    print(f"{'model':>10} {'station us':>11} {'cpu us':>7} {'x straight':>10} {'cosim us':>9} {'cpu us':>7} "
+    print(f"{'model':>18} {'station us':>11} {'cpu us':>7} {'x straight':>10} {'cosim us':>9} {'cpu us':>7} "
           f"{'x straight':>10} {'RTF':>6} {'RTF cpu':>7} {'inner/step':>10} {'status':>7} {'loop':>9}")
     rows = {}
     for m in MODELS:
@@ -136,7 +136,7 @@ def main(argv: list[str] | None = None) -> int:
                    "cosim_us_per_step": us, "cosim_cpu_us_per_step": cpu_us,
                    "cosim_ratio_cpu": cpu_us / co["straight"][2], "realtime_factor": rtf,
                    "realtime_factor_cpu": rtf_cpu, "inner_steps_per_step": inner[m], "status": status, "loop": loop}
-        print(f"{m:>10} {gs_us[m][0]:11.2f} {gs_us[m][1]:7.2f} {rows[m]['station_ratio_cpu']:10.2f} {us:9.2f} "
+        print(f"{m:>18} {gs_us[m][0]:11.2f} {gs_us[m][1]:7.2f} {rows[m]['station_ratio_cpu']:10.2f} {us:9.2f} "
               f"{cpu_us:7.2f} {rows[m]['cosim_ratio_cpu']:10.2f} {rtf:6.0f} {rtf_cpu:7.0f} {inner[m]:10.0f} "
               f"{status:>7} {loop:>9}")
     ok = rows["lumped:30"]["realtime_factor_cpu"] >= 200.0

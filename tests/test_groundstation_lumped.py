@@ -23,6 +23,7 @@ from scipy.optimize import brentq, fsolve
 from fdm_awe.errors import InputError
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation import lumped as L
+from fdm_awe.groundstation import lumped_forces as LF
 from fdm_awe.groundstation import lumped_state as LS
 from fdm_awe.groundstation.linemodels import parse_tether
 from fdm_awe.groundstation.substeps import CONST, STATE, STATION
@@ -335,11 +336,11 @@ def test_nodes_see_the_wind_profile_at_their_own_height_plus_the_gust() -> None:
     c = np.array(gs._sc)
     for h in (2.0, 10.0, 55.0, 140.0):
         f = float(prof.factor(h))
-        assert L.wind_at(c, -h) == pytest.approx((-8.0 * f + 0.3, 1.0 * f - 0.2, 0.1), rel=1e-12)
+        assert LF.wind_at(c, -h) == pytest.approx((-8.0 * f + 0.3, 1.0 * f - 0.2, 0.1), rel=1e-12)
     assert float(prof.factor(10.0)) == pytest.approx(1.0) and float(prof.factor(140.0)) > 1.4
     gs.set_line_wind(None, (0.0, 0.0))  # uniform: the station's own wind
     c = np.array(gs._sc)
-    assert L.wind_at(c, -50.0) == (c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2])
+    assert LF.wind_at(c, -50.0) == (c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2])
     outs = []
     for jit in (True, False):
         st = GroundStation(load_ground_station(line="sized"), wind_ned=(-8.0, 0.0, 0.0), tether="lumped:4")

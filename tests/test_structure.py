@@ -58,7 +58,7 @@ LONG_FUNCTIONS: dict[str, tuple[int, str]] = {
     "autopilot/winch.py:cycle_winch_values": (92, "docstring 34, code 56"),
     "commands/fly.py:add_arguments": (94, "code 91: one add_argument call per option of the command"),
     "commands/sweep.py:add_arguments": (95, "code 94: one add_argument call per option of the command"),
-    "groundstation/lumped.py:line_forces": (91, "docstring 27, code 64: one fused pass over the segments (the "
+    "groundstation/lumped_forces.py:line_forces": (91, "docstring 27, code 64: one fused pass over the segments (the "
                                                  "forces and the rest-length energy in registers), 9 % faster "
                                                  "than two loops, bit-identical"),
     "groundstation/lumped.py:inner_steps": (86, "docstring 30, code 56: a step's closing half kick fused with the "

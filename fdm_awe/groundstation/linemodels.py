@@ -134,6 +134,11 @@ def _lumped_constants(n: int, tp: Any, drag_scale: float) -> list[float]:
                                        drag_scale if tp.drag_share > 0.0 else 0.0)
 
 
+def _lumped_implicit_constants(n: int, tp: Any, drag_scale: float) -> list[float]:
+    return lumped_state.line_constants(n, tp.air_density, tp.cd_perpendicular, tp.diameter,
+                                       drag_scale if tp.drag_share > 0.0 else 0.0, scheme="implicit")
+
+
 def _lumped_prepare(s: np.ndarray, n: int) -> None:
     s[lumped_state.HEAD.nseg] = n
 
@@ -163,13 +168,21 @@ LINE_MODELS: tuple[LineKind, ...] = (
              rigid_station_step, rigid.compiled_rigid, lambda: _straight_called() + (rigid.stiffness, rigid_station_step),
              lambda: (substeps, winch, rigid), constants=rigid.constants, unstretched=rigid.unstretched,
              kinematic_winch=False),
+    LineKind("lumped-implicit", 3, f"lumped-implicit:N (N {lumped_state.N_MIN} .. {lumped_state.N_MAX})",
+             "lumped-implicit:30",
+             "the lumped line integrated by linearly implicit Euler steps of one flight step (faster at large N)",
+             lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
+             + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped.SOURCES,
+             parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - slots.start(lumped_state.HEAD),
+             constants=_lumped_implicit_constants, ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
+             tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset, kinematic_winch=False),
 )
 
 
 def line_step(code, s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL):
     """The step of the line model ``code`` (:attr:`LineKind.code`; the arguments and returns of
     :func:`.substeps.station_step`): the compiled co-simulation step's one dispatch."""
-    if code == 1:
+    if code == 1 or code == 3:
         return lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
     if code == 2:
         return rigid_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)

@@ -23,8 +23,10 @@ Integration
     ``h <= cfl 2 / omega_max`` with ``cfl = 0.8`` (the damper's factor included): 20 inner
     steps per 1/120 s step at N = 30, 150 m. Two passes per inner step: the kicks and the drift
     over the nodes, the forces (with the payout energy) over the segments. Implicit axial springs
-    (docs/design.md section 10) allow one inner step per drivetrain sub-step on a taut line but
-    pump energy into a slack one at its taut-slack switches.
+    with the trapezoidal rule (docs/design.md section 10) pump energy into a slack line at its
+    taut-slack switches; ``lumped-implicit:N`` (:mod:`.lumped_implicit`) takes one linearly
+    implicit Euler step per flight step instead, after the drum's sub-steps (the drum then pulls
+    with the tensions of the step's start).
 
 Coupling with the drum
     Each drivetrain sub-step first runs the drum (:func:`.substeps.advance`, prescribed tension)
@@ -46,9 +48,10 @@ integrator's error, not a booked term. Axial line inertia moving with the drum s
 drum's inertia ``mu l r_w^2`` as for the straight line.
 
 The line's state, ledger and constants live in the ground station's arrays after the
-drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views). Every function here
-is plain Python over floats and arrays; numba compiles :func:`lumped_station_step` (its cache
-tied also to :mod:`.substeps`, :mod:`.winch`, :mod:`.lumped_state` and :mod:`fdm_awe.wind`),
+drivetrain's (:mod:`.lumped_state`: the layout, the model spec, the views); its forces are
+:mod:`.lumped_forces`'. Every function here is plain Python over floats and arrays; numba
+compiles :func:`lumped_station_step` (its cache tied also to :mod:`.substeps`, :mod:`.winch`,
+:mod:`.lumped_state`, :mod:`.lumped_forces`, :mod:`.lumped_implicit` and :mod:`fdm_awe.wind`),
 Python runs the same source when ``FDM_AWE_JIT=0``.
 """
 
@@ -58,150 +61,18 @@ import functools
 import math
 from typing import Callable
 
+import numpy as np
+
 from .. import wind
 from ..jitcache import compile_lazy
 from ..wind import shear_factor
-from . import lumped_state, substeps, winch
-from .lumped_state import HEAD, LINE, LINE_LEDGER, NODES
+from . import lumped_forces, lumped_implicit, lumped_state, substeps, winch
 from .linestep import compile_line_step
-from .substeps import CONST, LEDGER, STATE, STATION, advance, cross_flow_drag, machine_mode_code
-
-
-def wind_at(c, z: float) -> tuple[float, float, float]:
-    """Wind at the height ``-z`` m (NED ``z``), m/s NED, the one place the line reads the wind:
-    the station's uniform wind (``wind`` of :data:`.substeps.STATION`), or with a wind profile the wind at the reference
-    height scaled to this height (:func:`fdm_awe.wind.shear_factor`); plus the gust of the
-    moment (the turbulence the glider meets, taken as uniform along the line)."""
-    code = c[LINE.shear_code]
-    if code == 0.0:  # uniform: the gust is already in the station's wind (GroundStation.set_line_wind)
-        return c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2]
-    f = shear_factor(code, c[LINE.shear_param], c[LINE.shear_href], c[LINE.shear_floor], -z)
-    return c[LINE.wref_n] * f + c[LINE.gust_n], c[LINE.wref_e] * f + c[LINE.gust_e], c[LINE.gust_d]
-
-
-def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float, uz: float, rvx: float, rvy: float,
-                 rvz: float) -> tuple[float, float, float, float]:
-    """The pull of one segment along itself: tension only (stiffness ``k`` N/m, rest length
-    ``ls`` m, length ``d`` m) and, while taut, the damper ``cd`` N s/m on its stretch rate (the
-    velocity ``(rvx, rvy, rvz)`` m/s of its far end relative to its near end, along ``(ux, uy,
-    uz)``). Returns ``(force N, elastic tension N, elastic energy J, damper power W)``, zeros
-    when slack."""
-    st = d - ls
-    f = T = e = p = 0.0
-    if st > 0.0:
-        T = k * st
-        e = 0.5 * k * st * st
-        f = T
-        if cd != 0.0:
-            rate = ux * rvx + uy * rvy + uz * rvz
-            f += cd * rate
-            p = cd * rate * rate
-    return f, T, e, p
-
-
-def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
-                ls_old: float) -> tuple[float, float, float, float, float, float, float, float, float]:
-    """Forces on every node (written into the force slots) from the positions and velocities
-    in ``s`` with rest length ``ls`` m and interior node mass ``m`` kg; the hook node moves with
-    ``(vhx, vhy, vhz)`` m/s. Slot N gets the force of the last segment on the hook (elastic +
-    damper), the tensions their elastic part. Returns ``(elastic energy J, elastic energy at
-    the rest length ``ls_old`` J, payout energy at the start positions J, damper power W,
-    drag power on the interior nodes W, half-drag on the hook x, y, z N, largest tension N)``.
-    The second and third terms belong to a rest-length change from ``ls_old`` to ``ls`` m (0
-    when ``ls_old == ls``): the elastic energy of the new positions at the old rest length, and
-    the elastic energy the change takes from the segments at their old positions (their lengths
-    from the tensions still in the slots, exact for taut segments; read before they are
-    overwritten).
-
-    One pass over the segments: each node's force is summed in registers from its two segments
-    (the winch side first, in the order of the sums it replaces) and stored once."""
-    P = NODES
-    V = P + 3 * (n + 1)
-    F = V + 3 * (n + 1)
-    TT = F + 3 * (n + 1)
-    EA, g = c[CONST.EA], c[STATION.g]
-    k = EA / ls
-    cd = 2.0 * c[LINE.zeta] * math.sqrt(k * m)
-    dk = c[LINE.drag_k] * c[STATION.drag_on]
-    sheared = c[LINE.shear_code] != 0.0  # a wind profile: each segment's wind at its own height
-    wux, wuy, wuz = c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2]
-    moved = ls_old != ls
-    k_old = EA / ls_old if moved else k
-    mg = m * g
-    e_el = e_old = pay0 = p_damp = p_drag = 0.0
-    hdx = hdy = hdz = 0.0
-    tmax = 0.0
-    # node i's force so far (its weight, then its winch-side segment's pull and half drag)
-    gx, gy, gz = 0.0, 0.0, mg
-    ax, ay, az = s[P], s[P + 1], s[P + 2]
-    vax, vay, vaz = s[V], s[V + 1], s[V + 2]
-    for i in range(n):
-        b = P + 3 * i + 3
-        bx, by, bz = s[b], s[b + 1], s[b + 2]
-        if i == n - 1:
-            vbx, vby, vbz = vhx, vhy, vhz
-        else:
-            vb = V + 3 * i + 3
-            vbx, vby, vbz = s[vb], s[vb + 1], s[vb + 2]
-        dx, dy, dz = bx - ax, by - ay, bz - az
-        d = math.sqrt(dx * dx + dy * dy + dz * dz)
-        inv = 1.0 / d if d > 0.0 else 0.0
-        ux, uy, uz = dx * inv, dy * inv, dz * inv
-        f, T, e, p = segment_pull(k, cd, d, ls, ux, uy, uz, vbx - vax, vby - vay, vbz - vaz)
-        e_el += e
-        p_damp += p
-        if moved:
-            so = d - ls_old
-            if so > 0.0:
-                e_old += 0.5 * k_old * so * so
-            T0 = s[TT + i]  # the tension at the old rest length and the old positions
-            if T0 > 0.0:
-                sb = T0 / k_old + ls_old - ls
-                pay0 += 0.5 * T0 * T0 / k_old - (0.5 * k * sb * sb if sb > 0.0 else 0.0)
-        s[TT + i] = T
-        if T > tmax:
-            tmax = T
-        fx, fy, fz = f * ux, f * uy, f * uz
-        qx = qy = qz = 0.0
-        if dk != 0.0:  # drag of the segment from its mid-point air velocity normal to it, half to each end node
-            if sheared:
-                wx, wy, wz = wind_at(c, az + 0.5 * dz)
-            else:  # the uniform wind, read once (keeps the loop as fast as without a profile)
-                wx, wy, wz = wux, wuy, wuz
-            qx, qy, qz = cross_flow_drag(ux, uy, uz, 0.5 * (vax + vbx) - wx, 0.5 * (vay + vby) - wy,
-                                         0.5 * (vaz + vbz) - wz, 0.5 * dk * d)
-        fa = F + 3 * i
-        s[fa] = gx + (fx + qx)
-        s[fa + 1] = gy + (fy + qy)
-        s[fa + 2] = gz + (fz + qz)
-        if i > 0:
-            p_drag += qx * vax + qy * vay + qz * vaz
-        gx, gy, gz = 0.0 - fx, 0.0 - fy, mg - fz
-        if i < n - 1:
-            gx += qx
-            gy += qy
-            gz += qz
-            p_drag += qx * vbx + qy * vby + qz * vbz
-        else:
-            hdx, hdy, hdz = qx, qy, qz
-        ax, ay, az = bx, by, bz
-        vax, vay, vaz = vbx, vby, vbz
-    # the hook slot: the line's force on the hook only (its half mass and half drag are the glider's)
-    fh = F + 3 * n
-    s[fh], s[fh + 1], s[fh + 2] = gx, gy, gz - mg
-    return e_el, e_old, pay0, p_damp, p_drag, hdx, hdy, hdz, tmax
-
-
-def line_energies(s, n: int, m: float, g: float) -> tuple[float, float]:
-    """Kinetic and potential energy of the interior nodes, J (NED: height ``-z``)."""
-    P = NODES
-    V = P + 3 * (n + 1)
-    ek = ep = 0.0
-    for i in range(1, n):
-        v = V + 3 * i
-        ek += 0.5 * m * (s[v] * s[v] + s[v + 1] * s[v + 1] + s[v + 2] * s[v + 2])
-        ep -= m * g * s[P + 3 * i + 2]
-    return ek, ep
+from .lumped_forces import line_energies, line_forces, segment_pull, wind_at
+from .lumped_implicit import (assemble, back_substitute, forward_sweep, implicit_count, implicit_line,
+                              implicit_step, scratch_offsets, settle_implicit)
+from .lumped_state import HEAD, LINE, LINE_LEDGER, NODES
+from .substeps import CONST, LEDGER, STATE, STATION, advance, machine_mode_code
 
 
 def inner_steps(s, c, n: int, msteps: int, h: float, ls0: float, ls1: float, hx0: float, hy0: float, hz0: float,
@@ -363,10 +234,14 @@ def generalised_tension(s, c, n: int) -> float:
 
 
 def settle_line(s, c, n: int, x: float, y: float, z: float) -> None:
-    """The line's static shape to the hook at ``(x, y, z)`` m (:func:`place_line`,
-    :func:`relax_line`); its ledger starts there (the settling is not part of the flight's)."""
+    """The line's static shape to the hook at ``(x, y, z)`` m (:func:`place_line`, then
+    :func:`relax_line`, or :func:`settle_implicit` for the implicit line); its ledger starts
+    there (the settling is not part of the flight's)."""
     place_line(s, c, n, x, y, z)
-    relax_line(s, c, n, 3.0)
+    if c[LINE.scheme] == 1.0:
+        settle_implicit(s, c, n, x, y, z)
+    else:
+        relax_line(s, c, n, 3.0)
     for i in range(LINE_LEDGER.hook_work, LINE_LEDGER.stored0_kinetic):
         s[i] = 0.0
     store_energies(s, c, n, 0)
@@ -405,17 +280,16 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
     and ``c`` hold the line's block after the drivetrain's, see the module docstring)."""
     N = int(c[LINE.nseg])
     broken = s[STATE.broken] != 0.0
+    implicit = c[LINE.scheme] == 1.0  # the line steps after the drum's sub-steps (see implicit_step)
     if s[HEAD.ready] == 0.0:  # first step: the line's static shape to the hook
         settle_line(s, c, N, x, y, z)
-    elif not broken:
+    elif not broken and not implicit:  # (the implicit step moves the hook from where it stands)
         move_hook(s, c, N, x, y, z, vx, vy, vz)
     h = dt / n
     tsum = pl_sum = ps_sum = 0.0
-    ev = 0
-    sfx = sfy = sfz = stg = 0.0
-    tmax = 0.0
-    nin = 0
-    sdx = sdy = sdz = swz = 0.0
+    ev = nin = 0
+    sfx = sfy = sfz = stg = sdx = sdy = sdz = swz = tmax = 0.0
+    l_start = s[STATE.length]
     for j in range(n):
         l0 = s[STATE.length]
         tg = 0.0 if broken else generalised_tension(s, c, N)
@@ -427,7 +301,7 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
         ps_sum += ps
         if ev == 0:
             ev = e
-        if broken:
+        if broken or implicit:
             continue
         m = inner_count(c, h, min(l0, l1) / N)
         a, b = j * h, (j + 1) * h
@@ -445,6 +319,13 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
         if tm_ > tmax:
             tmax = tm_
         if tm_ > c[CONST.Tbreak]:  # the line breaks: its strain energy is lost, the glider is free
+            broken = True
+            ev = 3
+            break_line(s, c, N, vx, vy, vz)
+    if implicit and not broken:  # the line over the whole step, the drum's lengths at its ends
+        sfx, sfy, sfz, stg, sdx, sdy, sdz, swz, tmax, nin, snap = implicit_line(s, c, N, n, dt, l_start, x, y, z, vx,
+                                                                                vy, vz)
+        if snap:  # the line breaks: its strain energy is lost, the glider is free
             broken = True
             ev = 3
             break_line(s, c, N, vx, vy, vz)
@@ -467,11 +348,12 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             (pl_sum - ps_sum) / n, ev, machine_mode_code(w, i, c[CONST.K]), d, s[HEAD.tension_glider] <= 0.0, broken)
 
 
-CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, inner_count, store_energies,
-           place_line, relax_line, generalised_tension, settle_line, move_hook, break_line)
+CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, scratch_offsets, assemble,
+          forward_sweep, back_substitute, implicit_step, implicit_count, implicit_line, inner_count, store_energies,
+          place_line, settle_implicit, relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
-SOURCES = (substeps, winch, wind, lumped_state)
+SOURCES = (substeps, winch, wind, lumped_state, lumped_forces, lumped_implicit)
 
 
 @functools.lru_cache(maxsize=None)

@@ -45,12 +45,19 @@ LINE_LEDGER = slots.declare("LumpedLedger", FIELDS, start=slots.size(HEAD))
 NODES = slots.size(LINE_LEDGER)
 #: the line's constants after the station's (:data:`.substeps.STATION`): segments, drag factor,
 #: damping ratio, inner-step fraction of the stability limit; the wind field along the line
-#: (:func:`.lumped.wind_at`): profile numbers of fdm_awe.wind.shear_factor (code 0: the station's
+#: (:func:`.lumped_forces.wind_at`): profile numbers of fdm_awe.wind.shear_factor (code 0: the station's
 #: uniform wind), the wind at the profile's reference height, and the gust of the moment
 #: (turbulence, NED)
 LINE = slots.declare("LumpedConstants", ("nseg", "drag_k", "zeta", "cfl", "shear_code", "shear_param", "shear_href",
-                                         "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d"),
+                                         "shear_floor", "wref_n", "wref_e", "gust_n", "gust_e", "gust_d", "scheme",
+                                         "h_implicit"),
                      start=slots.size(STATION))
+#: the line's integrators (the constant ``scheme``): leapfrog sub-stepped below the axial
+#: stability limit (``lumped:N``), linearly implicit Euler steps of at most ``h_implicit`` s
+#: (``lumped-implicit:N``)
+SCHEMES = ("leapfrog", "implicit")
+#: longest step of the implicit integrator, s (one step per 1/120 s flight step)
+H_IMPLICIT = 1.0 / 120.0
 
 
 def state_size(n: int) -> int:
@@ -59,10 +66,12 @@ def state_size(n: int) -> int:
 
 
 def line_constants(nseg: int, rho: float, cd: float, diameter: float, scale: float, zeta: float = ZETA,
-                   cfl: float = CFL) -> list[float]:
+                   cfl: float = CFL, scheme: str = "leapfrog", h_implicit: float = H_IMPLICIT) -> list[float]:
     """The constants after the station's (:data:`LINE`): segments, ``-0.5 rho C_D_perp
-    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit."""
-    return [float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
+    d_t scale`` (kg/m^2), damping ratio, inner-step fraction of the stability limit, the wind
+    slots (set per flight), the integrator (one of :data:`SCHEMES`) and the implicit step, s."""
+    return ([float(nseg), -0.5 * rho * cd * diameter * scale, float(zeta), float(cfl)] + [0.0] * 9
+            + [float(SCHEMES.index(scheme)), float(h_implicit)])
 
 
 def nodes(s: np.ndarray, n: int) -> np.ndarray:

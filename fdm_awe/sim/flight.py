@@ -219,8 +219,8 @@ def fly(
     cw = CycleWind(rig.glider, dt, wind.profile if refs is None else refs.profile, refs, current)
     hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw, HoldWatch(rig.glider, dt, cw.profile, cw),
                       gust_on_line=turb is not None and not paper and shape)
-    if on_step is None and not paper and not shape and wind.profile.uniform:
-        # no per-step work in Python: the autopilot may fly whole blocks compiled
+    if on_step is None and not paper and not (shape and turb is not None) and wind.profile.uniform:
+        # no per-step work in Python (no gust to hand to a line): the autopilot may fly whole blocks compiled
         rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, s_end, cw)
     rig.ap.on_cycle = _cycle_boundary(rig, cw, s_end, cycles)
     res, wall, interrupted = _run(rig.sim, T_total, hook, stop, log)
@@ -394,7 +394,7 @@ def _blocks(rig: Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flow
     the autopilot's AUTO steps and their bookkeeping compiled), or None where it cannot run
     (no numba, no native JSBSim calls, ``FDM_AWE_JIT=0``, the Python loop chosen). A block's
     rows are booked (and kept for the cycle's wind estimate) as :func:`_step_hook` books a step,
-    and the flight ends as it does there."""
+    and the flight ends as it does there; with a line shape to sample, a block ends at each sample."""
     from .autopilot_kernel import AutopilotBlocks
 
     ap = rig.ap
@@ -405,6 +405,8 @@ def _blocks(rig: Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flow
         return _flight_ends(ap, s_end, flown, stop)
 
     runner = AutopilotBlocks.create(rig.sim, ap, gl, after, s_end[0])
+    if log.samples_shape:  # blocks end where the line's shape is sampled
+        rig.sim.block_steps = log.shape_every
     return runner
 
 

@@ -75,9 +75,22 @@ class FlightLog:
             self.t_ideal[k] = thruster.thrust
         self.booked = k
         if self._shape and k % self._every == 0:
-            self.shape_t.append(k * dt)
-            self.shape_nodes.append(self.gs.line_nodes())
-            self.shape_tension.append(self.gs.line_tensions())
+            self._sample_shape(k)
+
+    @property
+    def samples_shape(self) -> bool:
+        """Whether the flight samples the line's shape (a lumped line)."""
+        return bool(self._shape)
+
+    @property
+    def shape_every(self) -> int:
+        """Steps between two samples of the line's shape."""
+        return self._every
+
+    def _sample_shape(self, k: int) -> None:
+        self.shape_t.append(k * self.dt)
+        self.shape_nodes.append(self.gs.line_nodes())
+        self.shape_tension.append(self.gs.line_tensions())
 
     def book_block(self, k0: int, k1: int, alog: np.ndarray) -> None:
         """Book steps ``k0 + 1 .. k1`` flown in one compiled block
@@ -94,6 +107,8 @@ class FlightLog:
         self.e_supply[sl] = rows[:, ALOG.e_supply]
         self.glider_ledger.set_mass(float(alog[k1, ALOG.mass_slug]))
         self.booked = k1
+        if self._shape and k1 % self._every == 0:  # a block ends where the shape is sampled (or before)
+            self._sample_shape(k1)
 
     def line_shape(self) -> dict[str, np.ndarray] | None:
         """The lumped line's sampled shape (:attr:`FlightReport.line_shape`), None without one."""

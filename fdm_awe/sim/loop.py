@@ -138,7 +138,8 @@ class CoSim:
         #: event code, python_next)``, ``commands(k0, k1)`` (each row's five commands, lists) and
         #: ``after(k0, k1, state, gs_output)`` (the rows' bookkeeping; true ends the run)
         self.block_runner: Any = None
-        #: steps of one such block at most
+        #: steps of one such block at most; a block ends at a multiple of it (a flight that samples
+        #: every so many steps, e.g. the lumped line's shape, sets it to that number)
         self.block_steps = 1 << 12
 
     def _compiled_loop(self) -> tuple[Any, Any, Any] | str:

@@ -169,7 +169,8 @@ def compiled_stepper(sim: Any, s: SixDofState, n: int, block: int, kern: Any, h:
         # controller called here and a block of the kernel
         res = None
         if runner is not None and not python_next:
-            m = block_steps if n - k > block_steps else n - k
+            m = block_steps - k % block_steps  # to the next multiple of block_steps
+            m = m if n - k > m else n - k
             if k + m >= len(log):
                 log = np.concatenate((log, np.full((min(n + 1, 2 * len(log) + m) - len(log), width), math.nan)))
             res = runner.run(k, m, log, p, lim_v, s_gs, c_gs, h, gs_out is not None)
