@@ -129,14 +129,12 @@ def _lumped_parse(tail: str) -> int | None:
     return None
 
 
-def _lumped_constants(n: int, tp: Any, drag_scale: float) -> list[float]:
-    return lumped_state.line_constants(n, tp.air_density, tp.cd_perpendicular, tp.diameter,
-                                       drag_scale if tp.drag_share > 0.0 else 0.0)
-
-
-def _lumped_implicit_constants(n: int, tp: Any, drag_scale: float) -> list[float]:
-    return lumped_state.line_constants(n, tp.air_density, tp.cd_perpendicular, tp.diameter,
-                                       drag_scale if tp.drag_share > 0.0 else 0.0, scheme="implicit")
+def _lumped_constants(scheme: str) -> Callable[[int, Any, float], list[float]]:
+    """The constants of the lumped line integrated by ``scheme`` (:data:`.lumped_state.SCHEMES`)."""
+    def constants(n: int, tp: Any, drag_scale: float) -> list[float]:
+        return lumped_state.line_constants(n, tp.air_density, tp.cd_perpendicular, tp.diameter,
+                                           drag_scale if tp.drag_share > 0.0 else 0.0, scheme=scheme)
+    return constants
 
 
 def _lumped_prepare(s: np.ndarray, n: int) -> None:
@@ -151,31 +149,34 @@ def _straight_called() -> tuple:
     return substeps.CALLED + (station_step,)
 
 
+def _lumped_kind(name: str, code: int, example: str, doc: str, scheme: str) -> "LineKind":
+    """A registry entry of the lumped line (one step and state, the integrator ``scheme``)."""
+    return LineKind(name, code, f"{name}:N (N {lumped_state.N_MIN} .. {lumped_state.N_MAX})", example, doc,
+                    lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
+                    + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped.SOURCES,
+                    parse=_lumped_parse,
+                    state_size=lambda n: lumped_state.state_size(n) - slots.start(lumped_state.HEAD),
+                    constants=_lumped_constants(scheme), ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
+                    tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset,
+                    kinematic_winch=False)
+
+
 #: the registry, ``code`` = position
 LINE_MODELS: tuple[LineKind, ...] = (
     LineKind("straight", 0, "straight", "straight",
              "the straight elastic line, the glider carrying 1/4 of its drag and 1/2 of its weight",
              station_step, substeps.compiled_station, _straight_called, lambda: (substeps, winch)),
-    LineKind("lumped", 1, f"lumped:N (N {lumped_state.N_MIN} .. {lumped_state.N_MAX})", "lumped:10",
-             "N elastic segments with mass, weight and drag; the recording shows its nodes and tensions",
-             lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
-             + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped.SOURCES,
-             parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - slots.start(lumped_state.HEAD),
-             constants=_lumped_constants, ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
-             tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset, kinematic_winch=False),
+    _lumped_kind("lumped", 1, "lumped:10",
+                 "N elastic segments with mass, weight and drag; the recording shows its nodes and tensions",
+                 "leapfrog"),
     LineKind("rigid", 2, "rigid", "rigid",
              "the straight line without elasticity, its length the distance when taut (the optimiser's line)",
              rigid_station_step, rigid.compiled_rigid, lambda: _straight_called() + (rigid.stiffness, rigid_station_step),
              lambda: (substeps, winch, rigid), constants=rigid.constants, unstretched=rigid.unstretched,
              kinematic_winch=False),
-    LineKind("lumped-implicit", 3, f"lumped-implicit:N (N {lumped_state.N_MIN} .. {lumped_state.N_MAX})",
-             "lumped-implicit:30",
-             "the lumped line integrated by linearly implicit Euler steps of one flight step (faster at large N)",
-             lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
-             + (lumped_station_step,), lambda: (substeps, winch, lumped, lumped_state) + lumped.SOURCES,
-             parse=_lumped_parse, state_size=lambda n: lumped_state.state_size(n) - slots.start(lumped_state.HEAD),
-             constants=_lumped_implicit_constants, ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
-             tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset, kinematic_winch=False),
+    _lumped_kind("lumped-implicit", 3, "lumped-implicit:30",
+                 "the lumped line integrated by linearly implicit Euler steps of one flight step (faster at large N)",
+                 "implicit"),
 )
 
 

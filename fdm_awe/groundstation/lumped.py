@@ -68,7 +68,7 @@ from ..jitcache import compile_lazy
 from ..wind import shear_factor
 from . import lumped_forces, lumped_implicit, lumped_state, substeps, winch
 from .linestep import compile_line_step
-from .lumped_forces import line_energies, line_forces, segment_pull, wind_at
+from .lumped_forces import along, line_energies, line_forces, segment_end, segment_pull, wind_at
 from .lumped_implicit import (assemble, back_substitute, forward_sweep, implicit_count, implicit_line,
                               implicit_step, scratch_offsets, settle_implicit)
 from .lumped_state import HEAD, LINE, LINE_LEDGER, NODES
@@ -348,9 +348,10 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
             (pl_sum - ps_sum) / n, ev, machine_mode_code(w, i, c[CONST.K]), d, s[HEAD.tension_glider] <= 0.0, broken)
 
 
-CALLED = (shear_factor, wind_at, segment_pull, line_forces, line_energies, inner_steps, scratch_offsets, assemble,
-          forward_sweep, back_substitute, implicit_step, implicit_count, implicit_line, inner_count, store_energies,
-          place_line, settle_implicit, relax_line, generalised_tension, settle_line, move_hook, break_line)
+CALLED = (shear_factor, wind_at, segment_pull, segment_end, along, line_forces, line_energies, inner_steps,
+          scratch_offsets, assemble, forward_sweep, back_substitute, implicit_step, implicit_count, implicit_line,
+          inner_count, store_energies, place_line, settle_implicit, relax_line, generalised_tension, settle_line,
+          move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
 SOURCES = (substeps, winch, wind, lumped_state, lumped_forces, lumped_implicit)

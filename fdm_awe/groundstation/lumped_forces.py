@@ -46,6 +46,24 @@ def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float,
     return f, T, e, p
 
 
+def segment_end(s, n: int, i: int, vhx: float, vhy: float, vhz: float) -> tuple[float, float, float, float, float,
+                                                                            float]:
+    """The far end (node ``i + 1``) of segment ``i`` of ``n``: its position m and velocity m/s
+    NED from the state ``s``, the hook's velocity ``(vhx, vhy, vhz)`` for the last segment."""
+    b = NODES + 3 * i + 3
+    if i == n - 1:
+        return s[b], s[b + 1], s[b + 2], vhx, vhy, vhz
+    vb = NODES + 3 * (n + 1) + 3 * i + 3
+    return s[b], s[b + 1], s[b + 2], s[vb], s[vb + 1], s[vb + 2]
+
+
+def along(dx: float, dy: float, dz: float) -> tuple[float, float, float, float, float]:
+    """Length m of the vector ``(dx, dy, dz)``, its inverse 1/m (0 for a zero vector) and its unit vector."""
+    d = math.sqrt(dx * dx + dy * dy + dz * dz)
+    inv = 1.0 / d if d > 0.0 else 0.0
+    return d, inv, dx * inv, dy * inv, dz * inv
+
+
 def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: float,
                 ls_old: float) -> tuple[float, float, float, float, float, float, float, float, float]:
     """Forces on every node (written into the force slots) from the positions and velocities
@@ -83,17 +101,9 @@ def line_forces(s, c, n: int, ls: float, m: float, vhx: float, vhy: float, vhz: 
     ax, ay, az = s[P], s[P + 1], s[P + 2]
     vax, vay, vaz = s[V], s[V + 1], s[V + 2]
     for i in range(n):
-        b = P + 3 * i + 3
-        bx, by, bz = s[b], s[b + 1], s[b + 2]
-        if i == n - 1:
-            vbx, vby, vbz = vhx, vhy, vhz
-        else:
-            vb = V + 3 * i + 3
-            vbx, vby, vbz = s[vb], s[vb + 1], s[vb + 2]
+        bx, by, bz, vbx, vby, vbz = segment_end(s, n, i, vhx, vhy, vhz)
         dx, dy, dz = bx - ax, by - ay, bz - az
-        d = math.sqrt(dx * dx + dy * dy + dz * dz)
-        inv = 1.0 / d if d > 0.0 else 0.0
-        ux, uy, uz = dx * inv, dy * inv, dz * inv
+        d, inv, ux, uy, uz = along(dx, dy, dz)
         f, T, e, p = segment_pull(k, cd, d, ls, ux, uy, uz, vbx - vax, vby - vay, vbz - vaz)
         e_el += e
         p_damp += p

@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from .lumped_forces import line_forces, wind_at
+from .lumped_forces import along, line_forces, segment_end, wind_at
 from .lumped_state import LINE, LINE_LEDGER, NODES
 from .substeps import CONST, STATE, STATION
 
@@ -105,17 +105,9 @@ def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: fl
     ax, ay, az = s[P], s[P + 1], s[P + 2]
     vax, vay, vaz = 0.0, 0.0, 0.0
     for i in range(n):
-        b = P + 3 * i + 3
-        bx, by, bz = s[b], s[b + 1], s[b + 2]
-        if i == n - 1:
-            vbx, vby, vbz = vhx, vhy, vhz
-        else:
-            vb = V + 3 * i + 3
-            vbx, vby, vbz = s[vb], s[vb + 1], s[vb + 2]
+        bx, by, bz, vbx, vby, vbz = segment_end(s, n, i, vhx, vhy, vhz)
         dx, dy, dz = bx - ax, by - ay, bz - az
-        d = math.sqrt(dx * dx + dy * dy + dz * dz)
-        inv = 1.0 / d if d > 0.0 else 0.0
-        ux, uy, uz = dx * inv, dy * inv, dz * inv
+        d, inv, ux, uy, uz = along(dx, dy, dz)
         su = SU + 3 * i
         w[su], w[su + 1], w[su + 2] = ux, uy, uz
         alpha = beta = 0.0
