@@ -26,6 +26,16 @@ def wind_at(c, z: float) -> tuple[float, float, float]:
     return c[LINE.wref_n] * f + c[LINE.gust_n], c[LINE.wref_e] * f + c[LINE.gust_e], c[LINE.gust_d]
 
 
+def set_gust(c, wn: float, we: float, wd: float, gn: float, ge: float, gd: float) -> None:
+    """The gust of the moment ``(gn, ge, gd)`` m/s NED into the line's constants ``c`` (read by
+    :func:`wind_at`): its own slots, and with the uniform profile the station's wind ``(wn, we,
+    wd)`` plus the gust in the station's wind slots (plain Python on a list or an array, compiled
+    into the autopilot's blocks too)."""
+    c[LINE.gust_n], c[LINE.gust_e], c[LINE.gust_d] = gn, ge, gd
+    if c[LINE.shear_code] == 0.0:
+        c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2] = wn + gn, we + ge, wd + gd
+
+
 def segment_pull(k: float, cd: float, d: float, ls: float, ux: float, uy: float, uz: float, rvx: float, rvy: float,
                  rvz: float) -> tuple[float, float, float, float]:
     """The pull of one segment along itself: tension only (stiffness ``k`` N/m, rest length

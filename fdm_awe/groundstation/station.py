@@ -30,6 +30,7 @@ from .definitions import GroundStationParams, load_ground_station
 from .drivetrain import Drivetrain
 from .ledger import EnergyLedger
 from .linemodels import TetherModel, parse_tether
+from .lumped_forces import set_gust
 from .lumped_state import LINE
 from .machine import machine_mode
 from .station_output import GroundStationOutput, output_from_row, step_output
@@ -170,17 +171,16 @@ class GroundStation:
         if not self.line.has_shape:
             return
         code, param, href, floor = (0.0, 0.0, 0.0, 0.0) if profile is None else profile.numbers()
-        vals = [code, param, href, floor, *(_finite(f"wind_ref[{k}]", v) for k, v in enumerate(wind_ref)),
-                *(_finite(f"gust[{k}]", v) for k, v in enumerate(gust))]
-        if len(vals) != 9:
+        vals = [code, param, href, floor, *(_finite(f"wind_ref[{k}]", v) for k, v in enumerate(wind_ref))]
+        g = [_finite(f"gust[{k}]", v) for k, v in enumerate(gust)]
+        if len(vals) != 6 or len(g) != 3:
             raise InputError("set_line_wind: wind_ref needs 2 components (N, E), gust 3 (N, E, D)")
         i = LINE.shear_code
-        self._scl[i:i + 9] = vals
-        self._sc[i:i + 9] = vals
-        if code == 0.0:  # uniform: the station's wind plus the gust, read as it is at every node
-            w = [self.wind[k] + vals[6 + k] for k in range(3)]
-            self._scl[STATION.wind:STATION.wind + 3] = w
-            self._sc[STATION.wind:STATION.wind + 3] = w
+        self._scl[i:i + 6] = vals
+        self._sc[i:i + 6] = vals
+        # the gust (uniform: the station's wind plus the gust, read as it is at every node)
+        set_gust(self._scl, *self.wind, *g)
+        set_gust(self._sc, *self.wind, *g)
 
     @property
     def line_ledger(self) -> Any:

@@ -13,7 +13,9 @@ autopilot as its controller and a flight's bookkeeping as its ``on_step``:
    (:func:`fdm_awe.groundstation.station.command_values`);
 3. the co-simulation step (:func:`fdm_awe.sim.kernel.cosim_step`);
 4. the flight's bookkeeping of the step (:func:`fdm_awe.sim.glider_ledger.ledger_step`, the
-   reference point flown, the tracking error, the station's energies) into ``alog``.
+   reference point flown, the tracking error, the station's energies) into ``alog``;
+5. with a lumped line in turbulence (uniform wind), the gust the glider meets handed to the line
+   for the next step (:func:`hand_gust`), as a flight's step hook hands it over.
 
 Everything the autopilot must do in Python ends a block *before* the step, with the autopilot's
 state as it was (``mem`` restored): a phase change (the autopilot notes it), a winch command the
@@ -41,7 +43,8 @@ from ..autopilot.auto_step import GSO, MEM, OUT, PAR, auto_guide
 from ..autopilot.attitude import attitude_from_row
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
-from ..sixdof.row import ROW, si_position
+from ..groundstation.lumped_forces import set_gust
+from ..sixdof.row import ROW, si_gust, si_position, si_velocity, si_wind
 
 #: the glider ledger's values per step
 _N_VALS = slots.size(VALS)
@@ -52,10 +55,13 @@ HA = slots.declare("AutoHandles", ("aileron", "elevator", "rudder", "throttle", 
                                    ("ledger", _N_VALS), "ideal"))
 #: ``q`` (float64): the flight's constants (raw row length, drum radius [m], the station's default
 #: T2 duty and line resistance [ohm], the path parameter that ends the flight [s], the offsets of
-#: the station's ledger energies in its state, the units' factors) and the block's outcome (the
-#: station has stepped, why the block ended)
+#: the station's ledger energies in its state, the units' factors), the block's outcome (the
+#: station has stepped, why the block ended) and a lumped line's gust (1.0: handed to the line
+#: after every step, :meth:`AutopilotBlocks.set_line_gust`; the station's wind and the steady
+#: wind the glider meets, m/s NED)
 Q = slots.declare("AutoBlockConstants", ("nraw", "r_drum", "d2_default", "rl_default", "s_end", "ledger_load",
-                                         "ledger_supply", "slug_ft2", "ft", "lbf", "gs_valid", "why"))
+                                         "ledger_supply", "slug_ft2", "ft", "lbf", "gs_valid", "why", "gust_line",
+                                         ("station_wind", 3), ("steady", 3)))
 #: the length of ``gso`` (a constant numba compiles in)
 GSO_SIZE = slots.size(GSO)
 #: why a block ended (``q[Q.why]``): its steps done (or an event), the next step is the Python
@@ -74,6 +80,26 @@ def keep_state(state: tuple, saved: np.ndarray, back: bool) -> None:
         else:
             saved[at:at + k] = a
         at += k
+
+
+def hand_gust(q, c_gs, r, scale):
+    """With ``q[Q.gust_line]`` set: the gust the glider meets in row ``r`` (:func:`fdm_awe.sixdof.row.si_gust`
+    less the steady wind ``q[Q.steady]``) into the lumped line's constants ``c_gs``
+    (:func:`fdm_awe.groundstation.lumped_forces.set_gust` with the station's wind ``q[Q.station_wind]``),
+    as a flight's step hook hands it over (a gust that is not finite leaves them)."""
+    if q[Q.gust_line] != 0.0:
+        gn, ge, gd = si_gust(r, scale, q[Q.steady], q[Q.steady + 1], q[Q.steady + 2])
+        if math.isfinite(gn + ge + gd):
+            set_gust(c_gs, q[Q.station_wind], q[Q.station_wind + 1], q[Q.station_wind + 2], gn, ge, gd)
+
+
+def book_reference(al, out, r, scale, offset):
+    """The reference point flown, its cycle and the tracking error of row ``r`` into the
+    bookkeeping row ``al`` (the AUTO step's results ``out``)."""
+    rx, ry, rz = out[OUT.rx], out[OUT.ry], out[OUT.rz]
+    x, y, z = si_position(r, scale, offset)
+    al[ALOG.ref_x], al[ALOG.ref_y], al[ALOG.ref_z], al[ALOG.cycle] = rx, ry, rz, out[OUT.cycle]
+    al[ALOG.track_error] = track_error(rx, ry, rz, x, y, z)
 
 
 # one flight step written out in the order of the Python loop (module doc), with the block's
@@ -144,12 +170,10 @@ def autopilot_steps(cosim, k0, n, ha, q, scale, offset, cycle, consts, state, re
             lvals[j] = native_get(f_get, ha[HA.ledger + j])
         ideal = native_get(f_get, ha[HA.ideal]) if ha[HA.ideal] != 0 else 0.0
         ledger_step(lvals, ideal, work, v_prev, p[COSIM.dt], q[Q.ft], q[Q.lbf])
+        hand_gust(q, c_gs, nr, scale)  # a lumped line's gust of the next step
         al = alog[k]
         al[ALOG.aileron], al[ALOG.elevator], al[ALOG.rudder], al[ALOG.throttle], al[ALOG.fold_cmd] = a, e, r, thr, fc
-        rx, ry, rz = out[OUT.rx], out[OUT.ry], out[OUT.rz]
-        x, y, z = si_position(nr, scale, offset)
-        al[ALOG.ref_x], al[ALOG.ref_y], al[ALOG.ref_z], al[ALOG.cycle] = rx, ry, rz, out[OUT.cycle]
-        al[ALOG.track_error] = track_error(rx, ry, rz, x, y, z)
+        book_reference(al, out, nr, scale, offset)
         al[ALOG.e_load], al[ALOG.e_supply] = s_gs[int(q[Q.ledger_load])], s_gs[int(q[Q.ledger_supply])]
         al[ALOG.mass_slug] = lvals[VALS.mass]
         if code != CODE.none:
@@ -187,7 +211,8 @@ def compiled_autopilot_kernel() -> Callable | None:
 
     helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
         attitude_from_row, row.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
-        law_stale, command_values, track_error, keep_state)
+        law_stale, command_values, track_error, keep_state, si_velocity, si_wind, si_gust, set_gust, hand_gust,
+        book_reference)
     # tied to the source files of everything compiled into it (numba's cache checks only this file)
     modules = (block_log, events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin,
                thrust, underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
@@ -273,6 +298,15 @@ class AutopilotBlocks:
             self.steps += done
             self.ap.after_block(log[k + done, :int(self.q[Q.nraw])])
         return done, code, self.q[Q.why] == WHY_PYTHON
+
+    def set_line_gust(self, station_wind: Any, steady: Any) -> None:
+        """Hand a lumped line the gust the glider meets after every step, as a flight's step hook
+        does (:meth:`fdm_awe.groundstation.station.GroundStation.set_line_wind` with a uniform
+        profile): the station's wind ``station_wind`` and the steady wind ``steady`` the glider
+        meets (m/s NED)."""
+        self.q[Q.gust_line] = 1.0
+        self.q[Q.station_wind:Q.station_wind + 3] = station_wind
+        self.q[Q.steady:Q.steady + 3] = steady
 
     def set_s_end(self, s_end: float) -> None:
         """The path parameter [s] after whose step a block ends (the flight's last cycle flown)."""

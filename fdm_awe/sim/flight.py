@@ -69,8 +69,6 @@ import time
 from dataclasses import dataclass
 from typing import Any, Callable
 
-import numpy as np
-
 from ..autopilot.autopilot import Autopilot
 from ..autopilot.config import autopilot_params
 from ..autopilot.schedule import ReferenceSet, ScheduledReference
@@ -79,6 +77,7 @@ from ..definitions.catalog import resolve_aircraft
 from ..groundstation.linemodels import TetherModel, parse_tether
 from ..groundstation.tether import check_tether_drag_scale
 from ..turbulence import Turbulence, TurbulenceSetting, measure
+from ..sixdof.row import si_gust
 from ..wind import line_height
 from .activity import control_activity
 from .budget import check_length, check_step, time_cap
@@ -219,9 +218,9 @@ def fly(
     cw = CycleWind(rig.glider, dt, wind.profile if refs is None else refs.profile, refs, current)
     hook = _step_hook(rig, wind, log, stop, flown, on_step, s_end, cw, HoldWatch(rig.glider, dt, cw.profile, cw),
                       gust_on_line=turb is not None and not paper and shape)
-    if on_step is None and not paper and not (shape and turb is not None) and wind.profile.uniform:
-        # no per-step work in Python (no gust to hand to a line): the autopilot may fly whole blocks compiled
-        rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, s_end, cw)
+    if on_step is None and not paper and wind.profile.uniform:
+        # no per-step work in Python (a line's gust: the blocks hand it over): the autopilot may fly blocks compiled
+        rig.sim.block_runner = _blocks(rig, gl, log, stop, flown, s_end, cw, wind if shape and turb is not None else None)
     rig.ap.on_cycle = _cycle_boundary(rig, cw, s_end, cycles)
     res, wall, interrupted = _run(rig.sim, T_total, hook, stop, log)
     setup_ = _Setup(meta, flight_wind, wind, config, plant, paper, dt, shape, cycles, t_end, T_total,
@@ -366,7 +365,7 @@ def _step_hook(rig: Rig, wind: FlightWind, log: FlightLog, stop: _StopRequest, f
             glider.set_wind(wind_at(h))
             gs.set_wind(wind_at(line_height(h)))
         if gust_on_line:  # the lumped line: the gust the glider meets now, uniform along the line
-            gs.set_line_wind(profile, wind.ned[:2], np.subtract(np.subtract(s.vel_ned, s.vel_air_ned), wind_at(h)))
+            gs.set_line_wind(profile, wind.ned[:2], si_gust(s.raw, s.scale, *wind_at(h)))
         log.book(k, s)
         if ap.mode == "AUTO" and ap.cycling:
             cw.add(k, s.raw)
@@ -389,12 +388,14 @@ def _flight_ends(ap: Autopilot, s_end: list[float], flown: list[bool], stop: _St
 
 
 def _blocks(rig: Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flown: list[bool],
-            s_end: list[float], cw: CycleWind) -> Any:
+            s_end: list[float], cw: CycleWind, gust_wind: FlightWind | None = None) -> Any:
     """The co-simulation's block runner of a flight (:class:`fdm_awe.sim.autopilot_kernel.AutopilotBlocks`:
     the autopilot's AUTO steps and their bookkeeping compiled), or None where it cannot run
     (no numba, no native JSBSim calls, ``FDM_AWE_JIT=0``, the Python loop chosen). A block's
     rows are booked (and kept for the cycle's wind estimate) as :func:`_step_hook` books a step,
-    and the flight ends as it does there; with a line shape to sample, a block ends at each sample."""
+    and the flight ends as it does there; with a line shape to sample, a block ends at each sample.
+    ``gust_wind``: the flight's (uniform) wind when a lumped line meets turbulence: the blocks hand
+    the line the gust the glider meets after every step, as :func:`_step_hook` does."""
     from .autopilot_kernel import AutopilotBlocks
 
     ap = rig.ap
@@ -405,6 +406,8 @@ def _blocks(rig: Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flow
         return _flight_ends(ap, s_end, flown, stop)
 
     runner = AutopilotBlocks.create(rig.sim, ap, gl, after, s_end[0])
+    if runner is not None and gust_wind is not None:
+        runner.set_line_gust(rig.gs.wind, gust_wind.at(0.0))
     if log.samples_shape:  # blocks end where the line's shape is sampled
         rig.sim.block_steps = log.shape_every
     return runner

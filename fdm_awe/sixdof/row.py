@@ -62,6 +62,22 @@ def si_velocity(r, scale):
     return r[ROW.v_north] * k, r[ROW.v_east] * k, r[ROW.v_down] * k
 
 
+def si_wind(r, scale):
+    """The wind JSBSim applied at the glider in a row ``r`` (steady + turbulence), ``(wn, we, wd)``
+    [m/s, NED] (``scale`` as :func:`si_position`)."""
+    k = scale[ROW.wind_north]
+    return r[ROW.wind_north] * k, r[ROW.wind_east] * k, r[ROW.wind_down] * k
+
+
+def si_gust(r, scale, sn, se, sd):
+    """The gust the glider meets in a row ``r``: its ground velocity less its air-relative
+    velocity (ground velocity less :func:`si_wind`, as :class:`~.state.SixDofState` gives
+    ``vel_air_ned``), less the steady wind ``(sn, se, sd)`` [m/s, NED]; ``(gn, ge, gd)`` [m/s]."""
+    vn, ve, vd = si_velocity(r, scale)
+    wn, we, wd = si_wind(r, scale)
+    return (vn - (vn - wn)) - sn, (ve - (ve - we)) - se, (vd - (vd - wd)) - sd
+
+
 def hook_kinematics(r, lat0, m0, n0cos, ft, ox, oy, oz):
     """Tether attachment point from a row ``r``: ``((x, y, z), (vx, vy, vz))``, NED m and m/s,
     winch origin. ``lat0`` home latitude rad, ``m0`` meridian radius m, ``n0cos`` N0 cos(lat0) m
@@ -88,5 +104,5 @@ def hook_kinematics(r, lat0, m0, n0cos, ft, ox, oy, oz):
              vz + m20 * wx + m21 * wy + m22 * wz))
 
 
-__all__ = ["FINITE_END", "FINITE_FIRST", "FOLD_PROPERTY", "PROPERTIES", "ROW", "hook_kinematics", "si_position",
-           "si_velocity"]
+__all__ = ["FINITE_END", "FINITE_FIRST", "FOLD_PROPERTY", "PROPERTIES", "ROW", "hook_kinematics", "si_gust",
+           "si_position", "si_velocity", "si_wind"]

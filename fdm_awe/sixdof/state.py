@@ -9,7 +9,7 @@ import numpy as np
 
 from ..constants import G0
 from ..errors import InputError
-from .row import FINITE_END, FINITE_FIRST, ROW, si_position, si_velocity
+from .row import FINITE_END, FINITE_FIRST, ROW, si_position, si_velocity, si_wind
 
 
 @dataclass(frozen=True, slots=True)
@@ -229,9 +229,7 @@ class SixDofState:
     @property
     def wind_ned(self) -> np.ndarray:
         """Total wind at the glider (steady + turbulence), m/s."""
-        k = self._k[ROW.wind_north]
-        r = self._r
-        return np.array((r[ROW.wind_north] * k, r[ROW.wind_east] * k, r[ROW.wind_down] * k))
+        return np.array(si_wind(self._r, self._k))
 
     @property
     def vel_air_ned(self) -> np.ndarray:
