@@ -41,9 +41,9 @@ from .kernel import COSIM, GS, HANDLES, cosim_step, native_get, native_set
 from .. import slots
 from ..autopilot.auto_step import GSO, MEM, OUT, PAR, auto_guide
 from ..autopilot.attitude import attitude_from_row
+from ..groundstation.lumped_forces import set_gust
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
-from ..groundstation.lumped_forces import set_gust
 from ..sixdof.row import ROW, si_gust, si_position, si_velocity, si_wind
 
 #: the glider ledger's values per step

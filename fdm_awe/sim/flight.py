@@ -76,8 +76,8 @@ from ..autopilot.shaping import flyable_reference
 from ..definitions.catalog import resolve_aircraft
 from ..groundstation.linemodels import TetherModel, parse_tether
 from ..groundstation.tether import check_tether_drag_scale
-from ..turbulence import Turbulence, TurbulenceSetting, measure
 from ..sixdof.row import si_gust
+from ..turbulence import Turbulence, TurbulenceSetting, measure
 from ..wind import line_height
 from .activity import control_activity
 from .budget import check_length, check_step, time_cap
