@@ -8,6 +8,10 @@ against independent references and against the leapfrog line (``lumped:N``) it s
   glider follows the leapfrog line's (mean within 1 %, fluctuation within 3 %), the line's ledger
   closes (the implicit step's numerical damping is its residual: below 0.1 % of the hook's work),
   and the compiled step equals the Python step bit for bit;
+- a segment that goes taut or slack within a step: the step's end force is the one of the
+  segments taut at its end (backward Euler of the piecewise-linear line, solved in closed form
+  for one free node), not the one the step started with;
+- the glider takes the work the line books at the hook (the line's mean pull over each step);
 - a calm autopilot flight of one pumping cycle: the cycle's net energy within 2 % of the
   leapfrog line's; the compiled blocks fly it as the Python autopilot does, line shape included.
 
@@ -60,6 +64,57 @@ def test_static_shape_is_the_elastic_catenary() -> None:
     assert np.abs(LS.velocities(s, n)).max() < 1e-3  # at rest
 
 
+def _two_segments(gap: float, v_hook: float, zeta: float) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+    """A 2-segment line along x, no weight or drag: winch node at 0, the free node at rest at
+    1 m, the hook at ``1 + ls - gap`` m (its segment ``gap`` m short of taut, negative: taut),
+    the winch-side segment slack. Returns ``s, c``, the rest length, stiffness and damper."""
+    n, ls = 2, 5.0
+    s, c = _line(n, 2.0 * ls, zeta=zeta, gravity=False)
+    P = LS.NODES
+    s[P:P + 9] = (0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0 + ls - gap, 0.0, 0.0)
+    s[P + 9:P + 18] = 0.0
+    m = c[CONST.mu] * ls
+    L.compiled_function("line_forces")(s, c, n, ls, m, v_hook, 0.0, 0.0, ls)  # the start's forces
+    k = c[CONST.EA] / ls
+    return s, c, ls, k, 2.0 * zeta * math.sqrt(k * m)
+
+
+@pytest.mark.parametrize("zeta", [0.0, 0.5])
+def test_a_segment_caught_within_the_step_pulls_by_its_end_length(zeta: float) -> None:
+    """The hook's segment 2 mm short of taut, the hook leaving at 5 m/s: taut after 0.4 ms of
+    the 8.3 ms step. Backward Euler of the free node (mass m): ``m dv = h (k (d + h (v_h - dv)
+    - ls) + c (v_h - dv))``; the step taking the segment as slack would leave the node at rest
+    and the next force at ``k (h v_h - gap)`` (54 N on this 6.76 kN line)."""
+    h, gap, vh = 1.0 / 120.0, 0.002, 5.0
+    s, c, ls, k, cd = _two_segments(gap, vh, zeta)
+    m = c[CONST.mu] * ls
+    P = LS.NODES
+    hook = s[P + 6] + h * vh
+    w = np.empty(L.scratch_size(2))
+    L.compiled_function("implicit_step")(s, c, 2, h, ls, ls, hook, 0.0, 0.0, w)
+    d = ls - gap
+    dv = h * (k * (d - ls + h * vh) + cd * vh) / (m + h * h * k + h * cd)
+    assert dv > 0.5 * vh  # the node is pulled along, nearly at the hook's speed
+    assert s[P + 9 + 3] == pytest.approx(dv, rel=1e-9)
+    assert s[P + 3] == pytest.approx(1.0 + h * dv, rel=1e-12)
+    stretch = hook - s[P + 3] - ls  # the end force: the node's mass taken to the hook's speed
+    assert stretch == pytest.approx(-gap + h * (vh - dv), rel=1e-6)
+    assert 0.0 < k * stretch < 0.1 * k * (h * vh - gap)
+
+
+def test_a_segment_slack_by_the_steps_end_pulls_no_more() -> None:
+    """The hook's segment 1 mm taut (6.8 N), the hook coming back at 5 m/s: slack after 0.2 ms.
+    Backward Euler gives the free node no force over the step (it stays at rest); the step
+    taking the start's tension would pull it on at h T / m."""
+    h, vh = 1.0 / 120.0, -5.0
+    s, c, ls, k, cd = _two_segments(-0.001, vh, 0.0)
+    assert s[LS.NODES + 9 * 3] == 0.0 and s[LS.NODES + 9 * 3 + 1] == pytest.approx(k * 0.001)
+    P = LS.NODES
+    w = np.empty(L.scratch_size(2))
+    L.compiled_function("implicit_step")(s, c, 2, h, ls, ls, s[P + 6] + h * vh, 0.0, 0.0, w)
+    assert abs(s[P + 9 + 3]) < 1e-12 and s[P + 3] == 1.0
+
+
 def _swept(scheme: str, gravity: bool) -> np.ndarray:
     """The force on the glider after 20 s of a hook circling the winch at 25 m/s, 150 m, 30 deg."""
     n, radius, speed = 20, 150.0, 25.0
@@ -84,7 +139,7 @@ def _swept(scheme: str, gravity: bool) -> np.ndarray:
             f = np.array(steps(s, c, n, m, dt / m, ls, ls, *hook(k * dt), *hook((k + 1) * dt), 0.0)[:3]) / m
     else:
         step = L.compiled_function("implicit_step")
-        w = np.empty(16 * (n + 1))
+        w = np.empty(L.scratch_size(n))
         for k in range(2400):
             f = np.array(step(s, c, n, dt, ls, ls, *hook((k + 1) * dt), w)[:3])
     return f
@@ -127,6 +182,29 @@ def test_station_follows_the_leapfrog_line_and_its_ledger_closes() -> None:
     assert abs(led["residual"]) < 1e-3 * led["hook_work"]
     assert abs(led["coupling"]) < 0.01 * led["payout_work"]
     assert float(gs._s_all[LS.HEAD.inner]) * gs._substeps(1.0 / 120.0) == 1.0  # one implicit step per flight step
+
+
+def test_the_glider_takes_the_work_the_line_books() -> None:
+    """The force on the glider is the line's mean pull over each step (the mean of its pulls at
+    the step's start and end) besides its half drag and half weight: the work it does on the
+    glider over the hook's path is the hook work the line's ledger books, to rounding."""
+    gs = GroundStation(load_ground_station(), wind_ned=(14.0, 0.0, 0.0), tether="lumped-implicit:30")
+    gs.reset(tether_length=150.0, reel_speed=0.0, mode="motor")
+    hold = WinchCommand(mode="motor", reel_speed_ref=0.0)
+    e, dt = math.radians(60.0), 1.0 / 120.0
+    pos = np.array((150.0 * math.cos(e) * 1.003, 0.0, -150.0 * math.sin(e) * 1.003))
+    vel = np.array((0.0, 10.0, -2.0))
+    work = 0.0
+    H = LS.HEAD
+    for _ in range(240):
+        o = gs.step(dt, tuple(pos.tolist()), tuple(vel.tolist()), hold)
+        s = gs._s_all
+        pull = np.array(o.force_xyz) - np.array((s[H.drag_x], s[H.drag_y], s[H.drag_z] + s[H.weight_z]))
+        work += float(pull @ (vel * dt))
+        pos = pos + vel * dt
+    hook = gs.line_ledger.as_dict()["hook_work"]
+    assert abs(hook) > 50.0
+    assert work == pytest.approx(-hook, rel=1e-9)
 
 
 def test_compiled_and_python_station_steps_are_bit_identical() -> None:

@@ -69,8 +69,8 @@ from ..wind import shear_factor
 from . import lumped_forces, lumped_implicit, lumped_state, substeps, winch
 from .linestep import compile_line_step
 from .lumped_forces import along, line_energies, line_forces, segment_end, segment_pull, wind_at
-from .lumped_implicit import (assemble, back_substitute, forward_sweep, implicit_count, implicit_line,
-                              implicit_step, scratch_offsets, settle_implicit)
+from .lumped_implicit import (apply_step, assemble, back_substitute, forward_sweep, implicit_count, implicit_line,
+                              implicit_step, scratch_offsets, scratch_size, settle_implicit)
 from .lumped_state import HEAD, LINE, LINE_LEDGER, NODES
 from .substeps import CONST, LEDGER, STATE, STATION, advance, machine_mode_code
 
@@ -290,9 +290,11 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
     ev = nin = 0
     sfx = sfy = sfz = stg = sdx = sdy = sdz = swz = tmax = 0.0
     l_start = s[STATE.length]
+    tg = 0.0 if broken else generalised_tension(s, c, N)  # (the implicit line's holds over the step)
     for j in range(n):
         l0 = s[STATE.length]
-        tg = 0.0 if broken else generalised_tension(s, c, N)
+        if j > 0 and not implicit:
+            tg = 0.0 if broken else generalised_tension(s, c, N)
         tm, pl, ps, e = advance(s, c, 1, h, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL, tg)
         l1 = s[STATE.length]
         s[LINE_LEDGER.drum_handover] += tg * (l1 - l0)
@@ -349,9 +351,9 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
 
 
 CALLED = (shear_factor, wind_at, segment_pull, segment_end, along, line_forces, line_energies, inner_steps,
-          scratch_offsets, assemble, forward_sweep, back_substitute, implicit_step, implicit_count, implicit_line,
-          inner_count, store_energies, place_line, settle_implicit, relax_line, generalised_tension, settle_line,
-          move_hook, break_line)
+          scratch_size, scratch_offsets, assemble, forward_sweep, back_substitute, apply_step,
+          implicit_step, implicit_count, implicit_line, inner_count, store_energies, place_line, settle_implicit,
+          relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk
 #: cache follows them, :func:`fdm_awe.jitcache.follow_sources`)
 SOURCES = (substeps, winch, wind, lumped_state, lumped_forces, lumped_implicit)

@@ -29,9 +29,11 @@ def implicit_step(s, c, n: int, h: float, lsa: float, lsb: float, hx1: float, hy
                   w) -> tuple[float, float, float, float, float, float, float, float, float]:
     """One linearly implicit Euler step of ``h`` s of the interior nodes (``lumped-implicit:N``):
     rest length from ``lsa`` to ``lsb`` m, hook from where its node stands to ``(hx1, ..)`` m; ``w`` a
-    scratch array of at least ``16 (n + 1)`` floats. The force slots hold the forces at the
+    scratch array of :func:`scratch_size` floats. The force slots hold the forces at the
     start (:func:`line_forces` at the rest length ``lsa``). Books the line ledger as
-    :func:`inner_steps` does and returns its sums for this one step.
+    :func:`inner_steps` does and returns its sums for this one step; the force on the glider is
+    the line's mean pull over the step, the mean of its pull at the start and at the end (the
+    hook's work is booked by the same trapezoid, so the glider takes the work the line books).
 
     The velocity change ``dv`` of the interior nodes solves ``(m I + h B + sum G) dv - sum G dv'
     = h F + h^2 S (v' - v)`` (``'`` the segment's other node): every taut segment's stiffness
@@ -39,7 +41,11 @@ def implicit_step(s, c, n: int, h: float, lsa: float, lsb: float, hx1: float, hy
     enter as ``G = h c u u^T + h^2 S``, the drag's linearisation as the scalar ``B`` (its
     largest rate ``2 x 1/2 |c_l| |v_perp|`` of each adjacent half segment), the rest-length
     change as the tension change ``k (lsa - lsb)`` of the taut segments. The system is block
-    tridiagonal (3 x 3 blocks, symmetric positive definite): one block-Thomas sweep. Then
+    tridiagonal (3 x 3 blocks, symmetric positive definite): one block-Thomas sweep. The taut
+    set is the one at the step's end: a segment that goes taut within the step (the catch after
+    a lull) pulls by its length at the end, one that goes slack no more, as backward Euler takes
+    the piecewise-linear line; the set is found by solving again while it changes
+    (:func:`back_substitute`, at most :data:`ACTIVE_PASSES` solves, one when nothing changes). Then
     ``v += dv``, ``x += h v``. Unconditionally stable for the linear part: the axial waves (a
     few ms along the line) respond quasi-statically, the transverse modes above the step rate
     are damped, the line's low modes and its sag follow the flight."""
@@ -50,9 +56,14 @@ def implicit_step(s, c, n: int, h: float, lsa: float, lsb: float, hx1: float, hy
     # the hook node from where it stands (the last step's prediction) to (hx1, ..): a difference
     # between that prediction and the glider's real position is taken up by this step
     vhx, vhy, vhz = (hx1 - s[ph]) / h, (hy1 - s[ph + 1]) / h, (hz1 - s[ph + 2]) / h
-    assemble(s, c, n, h, lsa, lsb, vhx, vhy, vhz, w)
-    forward_sweep(n, w)
-    e_mass = back_substitute(s, n, h, ma, mb, g, w)
+    first = True
+    for _ in range(ACTIVE_PASSES):  # the taut set: the segments taut at the step's end
+        assemble(s, c, n, h, lsa, lsb, vhx, vhy, vhz, w, first)
+        forward_sweep(n, w)
+        first = False
+        if back_substitute(s, n, h, lsb, vhx, vhy, vhz, w) == 0:
+            break
+    e_mass = apply_step(s, n, h, ma, mb, g, w)
     fh = F + 3 * n
     fgx, fgy, fgz = s[fh], s[fh + 1], s[fh + 2]
     dhx, dhy, dhz = hx1 - s[ph], hy1 - s[ph + 1], hz1 - s[ph + 2]
@@ -66,37 +77,62 @@ def implicit_step(s, c, n: int, h: float, lsa: float, lsb: float, hx1: float, hy
     s[LINE_LEDGER.drag] -= h * p_drag
     s[LINE_LEDGER.damping] += h * p_damp
     TT = F + 3 * (n + 1)
-    return (fgx1 + hdx, fgy1 + hdy, fgz1 + hdz + 0.5 * mb * g, hdx, hdy, hdz, 0.5 * mb * g, s[TT + n - 1], tm)
+    # the glider takes the line's mean pull over the step (the trapezoid of the hook work above)
+    fmx, fmy, fmz = 0.5 * (fgx + fgx1), 0.5 * (fgy + fgy1), 0.5 * (fgz + fgz1)
+    return (fmx + hdx, fmy + hdy, fmz + hdz + 0.5 * mb * g, hdx, hdy, hdz, 0.5 * mb * g, s[TT + n - 1], tm)
 
 
-def scratch_offsets(n: int) -> tuple[int, int, int, int, int]:
+#: most assemblies and solves of one implicit step while its taut set changes (:func:`back_substitute`)
+ACTIVE_PASSES = 8
+
+
+def scratch_size(n: int) -> int:
+    """Floats of :func:`implicit_step`'s scratch array for ``n`` segments (:func:`scratch_offsets`)."""
+    return 18 * (n + 1)
+
+
+def scratch_offsets(n: int) -> tuple[int, int, int, int, int, int, int]:
     """Where :func:`implicit_step`'s scratch array keeps, for ``n`` segments: per segment its
     unit vector (3) and ``alpha, beta`` of ``G = alpha u u^T + beta I``; per node the right-hand
-    side (3; then ``y`` of the sweep), the diagonal's scalar ``m + h B`` and ``D^-1`` (6: xx, yy,
-    zz, xy, xz, yz). Returns the five starts; the array needs ``16 (n + 1)`` floats."""
+    side (3; then ``y`` of the sweep, then the velocity change ``dv``), the diagonal's scalar
+    ``m + h B`` and ``D^-1`` (6: xx, yy, zz, xy, xz, yz); per segment its length at the step's
+    start and whether it is in the taut set (1.0 / 0.0). Returns the seven starts; the array
+    needs :func:`scratch_size` floats."""
     SU = 0
     SG = SU + 3 * n
     R = SG + 2 * n
     BN = R + 3 * (n + 1)
     DI = BN + (n + 1)
-    return SU, SG, R, BN, DI
+    SD = DI + 6 * (n + 1)
+    AS = SD + n
+    return SU, SG, R, BN, DI, SD, AS
 
 
-def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: float, vhz: float, w) -> None:
+def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: float, vhz: float, w,
+             first: bool) -> None:
     """The system of :func:`implicit_step` into ``w`` (:func:`scratch_offsets`): the right-hand
     side ``h F + h^2 S (v' - v)`` with the rest-length change, each taut segment's ``G``, each
-    node's ``m + h B``; the hook moving with ``(vhx, vhy, vhz)`` m/s."""
+    node's ``m + h B``; the hook moving with ``(vhx, vhy, vhz)`` m/s. The taut set: with
+    ``first`` the segments longer than ``lsb`` at the start (written into ``w``), else the set
+    in ``w`` (:func:`back_substitute`). A segment of the set whose start force is not in ``F``
+    (slack at the rest length ``lsa``) enters with its whole force at the start, ``k (d - lsb) +
+    c u.(v' - v)``; one outside the set whose start force is in ``F`` has it taken out (its
+    tension from the state, its damper at the present velocities): the step's end force is
+    then the set's, as backward Euler takes it."""
     P = NODES
     V = P + 3 * (n + 1)
     F = V + 3 * (n + 1)
+    TT = F + 3 * (n + 1)
     k = c[CONST.EA] / lsb
     mb = c[CONST.mu] * lsb
     cdamp = 2.0 * c[LINE.zeta] * math.sqrt(k * mb)
+    ka = c[CONST.EA] / lsa
+    cda = 2.0 * c[LINE.zeta] * math.sqrt(ka * c[CONST.mu] * lsa)
     dk = c[LINE.drag_k] * c[STATION.drag_on]
     sheared = c[LINE.shear_code] != 0.0
     wux, wuy, wuz = c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2]
     h2 = h * h
-    SU, SG, R, BN, DI = scratch_offsets(n)
+    SU, SG, R, BN, DI, SD, AS = scratch_offsets(n)
     for j in range(n + 1):
         f = F + 3 * j
         r = R + 3 * j
@@ -110,18 +146,31 @@ def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: fl
         d, inv, ux, uy, uz = along(dx, dy, dz)
         su = SU + 3 * i
         w[su], w[su + 1], w[su + 2] = ux, uy, uz
+        w[SD + i] = d
+        if first:
+            w[AS + i] = 1.0 if d > lsb else 0.0
+        taut = w[AS + i] != 0.0
+        in_f = s[TT + i] > 0.0  # its start force is in F (taut at lsa)
         alpha = beta = 0.0
-        if d > lsb:  # taut at the new rest length
-            tg = k * (d - lsb)
-            beta = h2 * tg * inv
+        rvx, rvy, rvz = vbx - vax, vby - vay, vbz - vaz
+        ur = ux * rvx + uy * rvy + uz * rvz
+        sc = gt = 0.0
+        if taut:  # its force at the step's end: h^2 S (v_b - v_a) and the rest-length change's tension
+            tg = k * (d - lsb) if d > lsb else 0.0
+            gt = h2 * tg * inv
+            beta = gt
             alpha = h * cdamp + h2 * k - beta
-            # h^2 S (v_b - v_a) and the rest-length change's tension, on node a (+) and node b (-)
-            rvx, rvy, rvz = vbx - vax, vby - vay, vbz - vaz
-            ur = ux * rvx + uy * rvy + uz * rvz
-            sc = h2 * (k - tg * inv) * ur + h * k * (lsa - lsb)
-            gx = sc * ux + h2 * tg * inv * rvx
-            gy = sc * uy + h2 * tg * inv * rvy
-            gz = sc * uz + h2 * tg * inv * rvz
+            sc = h2 * (k - tg * inv) * ur
+            if in_f:
+                sc += h * k * (lsa - lsb)
+            else:  # caught within the step: its whole force, not in F
+                sc += h * (k * (d - lsb) + cdamp * ur)
+        elif in_f:  # slack by the step's end: its start force out of F
+            sc = -h * (s[TT + i] + cda * ur)
+        if sc != 0.0 or gt != 0.0:  # on node a (+) and node b (-)
+            gx = sc * ux + gt * rvx
+            gy = sc * uy + gt * rvy
+            gz = sc * uz + gt * rvz
             ra, rb = R + 3 * i, R + 3 * i + 3
             w[ra] += gx
             w[ra + 1] += gy
@@ -149,7 +198,7 @@ def forward_sweep(n: int, w) -> None:
     """The block-Thomas forward sweep over the interior nodes ``1 .. n-1`` of the system in
     ``w`` (:func:`assemble`): ``D_j = A_jj - G D_{j-1}^-1 G``, ``y_j = r_j + G D_{j-1}^-1
     y_{j-1}``; keeps ``D_j^-1`` (by cofactors) and ``y_j``."""
-    SU, SG, R, BN, DI = scratch_offsets(n)
+    SU, SG, R, BN, DI, SD, AS = scratch_offsets(n)
     # forward sweep over the interior nodes 1 .. n-1: D_j = A_jj - G D_{j-1}^-1 G, y_j = r_j + G D_{j-1}^-1 y_{j-1}
     for j in range(1, n):
         al0, be0 = w[SG + 2 * (j - 1)], w[SG + 2 * (j - 1) + 1]  # the segment j-1 (nodes j-1, j)
@@ -205,35 +254,64 @@ def forward_sweep(n: int, w) -> None:
         w[q + 5] = (axy * axz - axx * ayz) * idet
 
 
-def back_substitute(s, n: int, h: float, ma: float, mb: float, g: float, w) -> float:
-    """The back substitution ``dv_j = D_j^-1 (y_j + G_j dv_{j+1})`` of the system in ``w`` and
-    the interior nodes' new velocities and positions (``v += dv``, ``x += h v``); returns the
-    energy of the mass paid out with them (node mass ``ma`` -> ``mb`` kg), J."""
+def back_substitute(s, n: int, h: float, lsb: float, vhx: float, vhy: float, vhz: float, w) -> int:
+    """The back substitution ``dv_j = D_j^-1 (y_j + G_j dv_{j+1})`` of the system in ``w`` (the
+    interior nodes' velocity changes ``dv_j`` in place of ``y_j``) and, in the same pass, the
+    taut set they give: a segment is in it when its length at the step's end, to first order
+    ``d + h u.(v' + dv' - v - dv)``, exceeds the rest length ``lsb`` m (the hook moving with
+    ``(vhx, vhy, vhz)`` m/s, the winch node at rest). Rewrites the set in ``w``; returns how
+    many segments changed."""
+    V = NODES + 3 * (n + 1)
+    SU, SG, R, BN, DI, SD, AS = scratch_offsets(n)
+    changed = 0
+    nx = ny = nz = 0.0  # dv of node j+1 (0 beyond the last interior node)
+    bx, by, bz = vhx, vhy, vhz  # the new velocity of node j+1
+    for j in range(n - 1, -1, -1):
+        if j > 0:
+            r = R + 3 * j
+            yx, yy, yz = w[r], w[r + 1], w[r + 2]
+            if j < n - 1:
+                al1, be1 = w[SG + 2 * j], w[SG + 2 * j + 1]
+                s1 = SU + 3 * j
+                u1x, u1y, u1z = w[s1], w[s1 + 1], w[s1 + 2]
+                un = al1 * (u1x * nx + u1y * ny + u1z * nz)
+                yx += un * u1x + be1 * nx
+                yy += un * u1y + be1 * ny
+                yz += un * u1z + be1 * nz
+            q = DI + 6 * j
+            ixx, iyy, izz, ixy, ixz, iyz = w[q], w[q + 1], w[q + 2], w[q + 3], w[q + 4], w[q + 5]
+            nx = ixx * yx + ixy * yy + ixz * yz
+            ny = ixy * yx + iyy * yy + iyz * yz
+            nz = ixz * yx + iyz * yy + izz * yz
+            w[r], w[r + 1], w[r + 2] = nx, ny, nz
+            v = V + 3 * j
+            ax, ay, az = s[v] + nx, s[v + 1] + ny, s[v + 2] + nz
+        else:
+            ax = ay = az = 0.0
+        # the segment j (nodes j, j+1) at the step's end
+        su = SU + 3 * j
+        dn = w[SD + j] + h * (w[su] * (bx - ax) + w[su + 1] * (by - ay) + w[su + 2] * (bz - az))
+        taut = 1.0 if dn > lsb else 0.0
+        if taut != w[AS + j]:
+            w[AS + j] = taut
+            changed += 1
+        bx, by, bz = ax, ay, az
+    return changed
+
+
+def apply_step(s, n: int, h: float, ma: float, mb: float, g: float, w) -> float:
+    """The interior nodes' new velocities and positions from the solve in ``w`` (``v += dv``,
+    ``x += h v``); returns the energy of the mass paid out with them (node mass ``ma`` -> ``mb``
+    kg), J."""
     P = NODES
     V = P + 3 * (n + 1)
-    SU, SG, R, BN, DI = scratch_offsets(n)
-    # back substitution: dv_j = D_j^-1 (y_j + G_j dv_{j+1}); the velocities and positions
+    SU, SG, R, BN, DI, SD, AS = scratch_offsets(n)
     e_mass = 0.0
-    nx = ny = nz = 0.0  # dv of node j+1 (0 beyond the last interior node)
     for j in range(n - 1, 0, -1):
         r = R + 3 * j
-        yx, yy, yz = w[r], w[r + 1], w[r + 2]
-        if j < n - 1:
-            al1, be1 = w[SG + 2 * j], w[SG + 2 * j + 1]
-            s1 = SU + 3 * j
-            u1x, u1y, u1z = w[s1], w[s1 + 1], w[s1 + 2]
-            un = al1 * (u1x * nx + u1y * ny + u1z * nz)
-            yx += un * u1x + be1 * nx
-            yy += un * u1y + be1 * ny
-            yz += un * u1z + be1 * nz
-        q = DI + 6 * j
-        ixx, iyy, izz, ixy, ixz, iyz = w[q], w[q + 1], w[q + 2], w[q + 3], w[q + 4], w[q + 5]
-        nx = ixx * yx + ixy * yy + ixz * yz
-        ny = ixy * yx + iyy * yy + iyz * yz
-        nz = ixz * yx + iyz * yy + izz * yz
         v = V + 3 * j
         pp = P + 3 * j
-        vx, vy, vz = s[v] + nx, s[v + 1] + ny, s[v + 2] + nz
+        vx, vy, vz = s[v] + w[r], s[v + 1] + w[r + 1], s[v + 2] + w[r + 2]
         s[v], s[v + 1], s[v + 2] = vx, vy, vz
         pz = s[pp + 2] + h * vz
         s[pp] += h * vx
@@ -253,7 +331,7 @@ def implicit_line(s, c, N: int, n: int, dt: float, l_start: float, x: float, y: 
     glider, the glider-end tension, its half-drag and half-weight parts, then the largest
     tension N, the steps and whether the line snapped (above its breaking load: stopped there)."""
     m = implicit_count(c, dt)
-    w = np.empty(16 * (N + 1))
+    w = np.empty(scratch_size(N))
     l_end = s[STATE.length]
     wt = n / m  # each step's share of the sums over the drum's n sub-steps
     sfx = sfy = sfz = stg = sdx = sdy = sdz = swz = tmax = 0.0
@@ -289,7 +367,7 @@ def settle_implicit(s, c, n: int, x: float, y: float, z: float) -> None:
     equations (``(m / h^2 + K) dx = F``, the mass term its damping); the ledger is not kept."""
     ls = s[STATE.length] / n
     m = c[CONST.mu] * ls
-    w = np.empty(16 * (n + 1))
+    w = np.empty(scratch_size(n))
     V = NODES + 3 * (n + 1)
     for _ in range(40):
         for i in range(3 * (n + 1)):
