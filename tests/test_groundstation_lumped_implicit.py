@@ -31,6 +31,7 @@ import pytest
 from fdm_awe.groundstation import GroundStation, WinchCommand, load_ground_station
 from fdm_awe.groundstation import lumped as L
 from fdm_awe.groundstation import lumped_state as LS
+from fdm_awe.groundstation.lumped_implicit import scratch_size
 from fdm_awe.groundstation.substeps import CONST, STATE, STATION
 
 from test_groundstation_lumped import _hook_force, _irvine, _winch_force
@@ -90,7 +91,7 @@ def test_a_segment_caught_within_the_step_pulls_by_its_end_length(zeta: float) -
     m = c[CONST.mu] * ls
     P = LS.NODES
     hook = s[P + 6] + h * vh
-    w = np.empty(L.scratch_size(2))
+    w = np.empty(scratch_size(2))
     L.compiled_function("implicit_step")(s, c, 2, h, ls, ls, hook, 0.0, 0.0, w)
     d = ls - gap
     dv = h * (k * (d - ls + h * vh) + cd * vh) / (m + h * h * k + h * cd)
@@ -110,7 +111,7 @@ def test_a_segment_slack_by_the_steps_end_pulls_no_more() -> None:
     s, c, ls, k, cd = _two_segments(-0.001, vh, 0.0)
     assert s[LS.NODES + 9 * 3] == 0.0 and s[LS.NODES + 9 * 3 + 1] == pytest.approx(k * 0.001)
     P = LS.NODES
-    w = np.empty(L.scratch_size(2))
+    w = np.empty(scratch_size(2))
     L.compiled_function("implicit_step")(s, c, 2, h, ls, ls, s[P + 6] + h * vh, 0.0, 0.0, w)
     assert abs(s[P + 9 + 3]) < 1e-12 and s[P + 3] == 1.0
 
@@ -139,7 +140,7 @@ def _swept(scheme: str, gravity: bool) -> np.ndarray:
             f = np.array(steps(s, c, n, m, dt / m, ls, ls, *hook(k * dt), *hook((k + 1) * dt), 0.0)[:3]) / m
     else:
         step = L.compiled_function("implicit_step")
-        w = np.empty(L.scratch_size(n))
+        w = np.empty(scratch_size(n))
         for k in range(2400):
             f = np.array(step(s, c, n, dt, ls, ls, *hook((k + 1) * dt), w)[:3])
     return f

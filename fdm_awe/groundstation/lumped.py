@@ -70,7 +70,7 @@ from . import lumped_forces, lumped_implicit, lumped_state, substeps, winch
 from .linestep import compile_line_step
 from .lumped_forces import along, line_energies, line_forces, segment_end, segment_pull, wind_at
 from .lumped_implicit import (apply_step, assemble, back_substitute, forward_sweep, implicit_count, implicit_line,
-                              implicit_step, scratch_offsets, scratch_size, settle_implicit)
+                              implicit_step, scratch_offsets, scratch_size, segment_terms, settle_implicit)
 from .lumped_state import HEAD, LINE, LINE_LEDGER, NODES
 from .substeps import CONST, LEDGER, STATE, STATION, advance, machine_mode_code
 
@@ -351,7 +351,7 @@ def lumped_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty
 
 
 CALLED = (shear_factor, wind_at, segment_pull, segment_end, along, line_forces, line_energies, inner_steps,
-          scratch_size, scratch_offsets, assemble, forward_sweep, back_substitute, apply_step,
+          scratch_size, scratch_offsets, segment_terms, assemble, forward_sweep, back_substitute, apply_step,
           implicit_step, implicit_count, implicit_line, inner_count, store_energies, place_line, settle_implicit,
           relax_line, generalised_tension, settle_line, move_hook, break_line)
 #: the other source files whose code or constants the compiled functions hold (their on-disk

@@ -131,7 +131,6 @@ def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: fl
     dk = c[LINE.drag_k] * c[STATION.drag_on]
     sheared = c[LINE.shear_code] != 0.0
     wux, wuy, wuz = c[STATION.wind], c[STATION.wind + 1], c[STATION.wind + 2]
-    h2 = h * h
     SU, SG, R, BN, DI, SD, AS = scratch_offsets(n)
     for j in range(n + 1):
         f = F + 3 * j
@@ -150,23 +149,10 @@ def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: fl
         if first:
             w[AS + i] = 1.0 if d > lsb else 0.0
         taut = w[AS + i] != 0.0
-        in_f = s[TT + i] > 0.0  # its start force is in F (taut at lsa)
-        alpha = beta = 0.0
         rvx, rvy, rvz = vbx - vax, vby - vay, vbz - vaz
         ur = ux * rvx + uy * rvy + uz * rvz
-        sc = gt = 0.0
-        if taut:  # its force at the step's end: h^2 S (v_b - v_a) and the rest-length change's tension
-            tg = k * (d - lsb) if d > lsb else 0.0
-            gt = h2 * tg * inv
-            beta = gt
-            alpha = h * cdamp + h2 * k - beta
-            sc = h2 * (k - tg * inv) * ur
-            if in_f:
-                sc += h * k * (lsa - lsb)
-            else:  # caught within the step: its whole force, not in F
-                sc += h * (k * (d - lsb) + cdamp * ur)
-        elif in_f:  # slack by the step's end: its start force out of F
-            sc = -h * (s[TT + i] + cda * ur)
+        sc, gt, alpha = segment_terms(h, k, cdamp, cda, d, inv, lsa, lsb, ur, taut, s[TT + i])
+        beta = gt
         if sc != 0.0 or gt != 0.0:  # on node a (+) and node b (-)
             gx = sc * ux + gt * rvx
             gy = sc * uy + gt * rvy
@@ -192,6 +178,29 @@ def assemble(s, c, n: int, h: float, lsa: float, lsb: float, vhx: float, vhy: fl
             w[BN + i + 1] += bd
         ax, ay, az = bx, by, bz
         vax, vay, vaz = vbx, vby, vbz
+
+
+def segment_terms(h: float, k: float, cdamp: float, cda: float, d: float, inv: float, lsa: float, lsb: float,
+                  ur: float, taut: bool, t0: float) -> tuple[float, float, float]:
+    """One segment's terms in :func:`assemble`'s system: ``(sc, gt, alpha)``, its right-hand side
+    ``sc u + gt (v' - v)`` on its winch-side node (the opposite on the other) and ``G = alpha u
+    u^T + gt I``. Length ``d`` m (``inv`` = 1/d), stretch rate ``ur`` m/s, stiffness ``k`` N/m
+    and damper ``cdamp`` N s/m at the rest length ``lsb``, ``cda`` at ``lsa``; ``taut``: in the
+    set, ``t0``: its tension at the start (> 0: its start force is in ``F``)."""
+    h2 = h * h
+    in_f = t0 > 0.0
+    if taut:  # its force at the step's end: h^2 S (v_b - v_a) and the rest-length change's tension
+        tg = k * (d - lsb) if d > lsb else 0.0
+        gt = h2 * tg * inv
+        sc = h2 * (k - tg * inv) * ur
+        if in_f:
+            sc += h * k * (lsa - lsb)
+        else:  # caught within the step: its whole force, not in F
+            sc += h * (k * (d - lsb) + cdamp * ur)
+        return sc, gt, h * cdamp + h2 * k - gt
+    if in_f:  # slack by the step's end: its start force out of F
+        return -h * (t0 + cda * ur), 0.0, 0.0
+    return 0.0, 0.0, 0.0
 
 
 def forward_sweep(n: int, w) -> None:
