@@ -7,8 +7,9 @@ at the flight's step rate the line answers them quasi-statically. :func:`implici
 one step of the flight's length instead: the stiffness (axial and geometric), the axial damper and
 the drag enter linearised, one block-tridiagonal solve per step. The line's low modes and its
 sag follow the flight; the axial waves and the transverse modes above the step rate are damped
-(by the step, besides the line's drag). :func:`settle_implicit` finds the static shape with the
-same step used as a Newton step.
+(by the step, besides the line's drag). Its taut set is the one at the step's end (a segment
+caught or let go within the step), and the glider takes the line's mean pull over the step.
+:func:`settle_implicit` finds the static shape with the same step used as a Newton step.
 
 Plain Python over floats and arrays, compiled by numba into the line's step (:mod:`.lumped`,
 whose on-disk cache follows this file).
