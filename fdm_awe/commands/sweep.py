@@ -455,7 +455,8 @@ def _fly_and_report(args: argparse.Namespace, spec, res, records: list, extras: 
     rows = curve_rows(records, flights_by_point, fly, rep.refs)
     write_curve_csv(rows, files["curve_table"])
     title = f"{spec.scenario} scenario, bounds {spec.bounds}" + (
-        "" if fly is None else f", flown {fly.cycles} cycles, {fly.air}" + ("" if fly.air == "calm" else f" x {fly.seeds} seeds"))
+        "" if fly is None else f", flown {fly.cycles} cycles, {fly.air}" + ("" if fly.air == "calm" else f" x {fly.seeds} seeds")
+        + ("" if fly.tether == "straight" else f", line {fly.tether}"))
     curve_plot(rows, files["curve_plot"], title, "wind speed [m/s]" if spec.wind_profile == "uniform"
                else f"wind speed at {extras['curve_height']:g} m [m/s]")
     ys = None
