@@ -53,7 +53,7 @@ from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import THR, throttle_step
 from .underspeed import FOLD_OPEN, underspeed_update
 from .wind_estimate import LULL_SHARE
-from .winch import WL, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
+from .winch import RL_MAX, WL, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
 Arr = np.ndarray
@@ -78,13 +78,14 @@ GSO = slots.declare("AutoStationOutput", ("valid", "tension", "length", "slack",
 #: (RJ_TRK_ERR, 0 off), at most this many times a cycle (RJ_TRK_MAX); then the depth below its
 #: reference point [m] beyond which the motor's rescue (:func:`.motor.motor_update`) runs in
 #: generation (RESC_GEN_DEPTH, 0: any error; :func:`rescue_allowed`); then the wind the cycle was
-#: made for [m/s] (its metadata's ``wind_mps``; NaN: unknown)
+#: made for [m/s] (its metadata's ``wind_mps``; NaN: unknown); GP_EASE (1.0: the generator
+#: brakes least while the ground-proximity guard pulls up in generation)
 PAR = slots.declare("AutoParams", ("t1", "period", "foldable", "fold_time", "fold_lead", "unfold_lead", "path_tau",
                                    "mass", "rho", "g", "s_u", "s_f", "ratio", "ideal_winch", "rl", "line_ea",
                                    "gen_rl_kp", "rec_tension", "winch_kl", "winch_kt", "armed", "thr_kp", "thr_ki",
                                    "thr_vzero", "thrust_max_static", "thruster", "g_att", "rj_time", "fs_trk_err",
                                    "ref_pull", "catch_time", ("wlim", slots.size(WL)), "rj_trk_err", "rj_trk_max",
-                                   "resc_gen", "cycle_wind"))
+                                   "resc_gen", "cycle_wind", "gp_ease"))
 #: the end of the line limits in ``par`` (``par[PAR.wlim:WLIM_END]``)
 WLIM_END = PAR.wlim + slots.width(PAR, "wlim")
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
@@ -346,7 +347,6 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
         flags |= PHASE_CHANGED
     mem[MEM.phase] = phase
     ideal_winch = par[PAR.ideal_winch] != 0.0
-    # the glider's distance from the winch and its rate
     dist = math.sqrt(px * px + py * py + pz * pz)
     dist_rate = (px * vx + py * vy + pz * vz) / max(dist, 1e-6)
     w_motor, w_speed, w_rl, w_d2, w_low = cycle_winch_values(
@@ -355,6 +355,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
         par[PAR.rec_tension], par[PAR.winch_kl], par[PAR.winch_kt], dist, dist_rate, mem[MEM.wlow] != 0.0,
         par[PAR.wlim:WLIM_END])
     mem[MEM.wlow] = 1.0 if w_low else 0.0
+    w_rl = RL_MAX if pull and phase == 0 and w_motor == 0.0 and not ideal_winch and par[PAR.gp_ease] != 0.0 else w_rl
     ideal = 0.0
     if par[PAR.thruster] != 0.0:
         thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
