@@ -2,7 +2,7 @@
 the pull-out height and the guard's entry and hold, a real-wind flight that hit the ground
 without it (foldable, 8 m/s, IEC class A seed 2: the underspeed protection's dive in a lull at
 the start of the second cycle's generation), and the guard flown alike by compiled blocks and
-per step, and the generator letting the line go while the guard pulls up (GP_EASE)."""
+per step."""
 
 from __future__ import annotations
 
@@ -112,25 +112,3 @@ def test_the_guard_flies_alike_in_compiled_blocks_and_python():
     assert np.array_equal(fast.result.data, slow.result.data, equal_nan=True)
     assert fast.autopilot_log == slow.autopilot_log
 
-
-def test_the_generator_lets_go_while_the_guard_pulls_up() -> None:
-    """Nominal 10 m/s, light turbulence seed 16, on the lumped line of 30 segments: the glider
-    loses its path at the start of the second generation and dives with the line pulling at
-    its rating; the guard's pull-up at 36 m does not arrest it while the generator brakes the
-    drum (GP_EASE 0: ground contact). With GP_EASE the generator brakes least while the guard
-    pulls up, the line lets go and the glider flies its three cycles."""
-    ref = TrackingReference.from_ocp_file(DATA / "ref_physical_nominal_10mps_sized.json")
-
-    def run(ease: float):
-        def setup(ap, sim):
-            assert ap.params.try_set("GP_EASE", ease)[0]
-
-        return fly(ref, config="nominal", cycles=3, turbulence=Turbulence.parse("light:16"), tether="lumped:30",
-                   setup=setup)
-
-    old, new = run(0.0), run(1.0)
-    assert old.status == "ground_contact", old.message
-    assert any(text.startswith("ground proximity: pull up") for _, text in old.autopilot_log)
-    assert new.status == "ok" and all(c.complete for c in new.cycles), new.message
-    assert any(text.startswith("ground proximity: pull up") for _, text in new.autopilot_log)
-    assert float(np.min(-new.result.pos[:, 2])) > 5.0

@@ -17,9 +17,9 @@ import pytest
 
 from fdm_awe.autopilot.config import autopilot_params
 from fdm_awe.trajectory.schema import GENERATION, RECOVERY
-from fdm_awe.autopilot.winch import LIMIT_PARAMS, RL_MAX, cycle_winch_values, limit_vector
+from fdm_awe.autopilot.winch import LIMIT_PARAMS, RL_MAX, cycle_winch_values, guard_load, limit_vector
 from fdm_awe.groundstation import load_ground_station
-from fdm_awe.groundstation.steady import generator_steady, motor_max_reel_in_speed
+from fdm_awe.groundstation.steady import generator_at_speed, generator_steady, motor_max_reel_in_speed
 
 GS = load_ground_station()
 P = autopilot_params()
@@ -194,3 +194,21 @@ def test_limits_off_give_the_generator_and_reference_reel_in():
     r = cycle_winch_values(RECOVERY, False, 1.0, -5.0, 200.0, 0.0, 0.0, True, 200.0, 0.0, R_L, 6760.0, 0.0, 15.0,
                            0.5, 0.1, 200.0, -1.0, False, lim)
     assert r[1] == -5.0
+
+
+def test_while_the_guard_pulls_up_the_generator_lets_the_line_go() -> None:
+    """GP_EASE: while AUTO's ground-proximity guard pulls up in generation on the physical winch,
+    the generator takes its largest load resistance; in every other case the cycle's law stands.
+    And what that does, from the DC machine's steady state: at a reel-out speed of 2-6 m/s the
+    largest load holds the drum with less than half the tension of the definition's load (the
+    line lets the glider climb instead of holding it at the rating)."""
+    rl = 1.5
+    assert guard_load(rl, 0.0, GENERATION, False, True) == RL_MAX
+    assert guard_load(rl, 0.0, GENERATION, False, False) == rl  # no pull-up (or GP_EASE 0)
+    assert guard_load(rl, 0.0, RECOVERY, False, True) == rl  # recovery: the motor reels in
+    assert guard_load(rl, 1.0, GENERATION, False, True) == rl  # motor mode (the lower limit's take-up)
+    assert guard_load(rl, 0.0, GENERATION, True, True) == rl  # the kinematic winch has no load
+    p = load_ground_station(line="sized")
+    for v in (2.0, 4.0, 6.0):
+        held, eased = generator_at_speed(v, p), generator_at_speed(v, p, R_L=RL_MAX)
+        assert 0.0 < eased.tension < 0.5 * held.tension

@@ -53,7 +53,7 @@ from .rejoin import nearest_on_phase, rejoin_weights
 from .thrust import THR, throttle_step
 from .underspeed import FOLD_OPEN, underspeed_update
 from .wind_estimate import LULL_SHARE
-from .winch import RL_MAX, WL, cycle_winch_values, lower_limit_holds, take_up_speed, upper_limit_load
+from .winch import WL, cycle_winch_values, guard_load, lower_limit_holds, take_up_speed, upper_limit_load
 
 #: a float64 array (the compiled step's one array type)
 Arr = np.ndarray
@@ -355,7 +355,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
         par[PAR.rec_tension], par[PAR.winch_kl], par[PAR.winch_kt], dist, dist_rate, mem[MEM.wlow] != 0.0,
         par[PAR.wlim:WLIM_END])
     mem[MEM.wlow] = 1.0 if w_low else 0.0
-    w_rl = RL_MAX if pull and phase == 0 and w_motor == 0.0 and not ideal_winch and par[PAR.gp_ease] != 0.0 else w_rl
+    w_rl = guard_load(w_rl, w_motor, phase, ideal_winch, pull and par[PAR.gp_ease] != 0.0)
     ideal = 0.0
     if par[PAR.thruster] != 0.0:
         thr = 0.0  # the paper plant's ideal thruster takes the thrust command, the propeller idles
@@ -385,7 +385,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
 #: (``numba.extending.register_jitable``), then the step itself
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, paced, rescue_allowed,
           rescue_gate, motor_update, motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
-          take_up_speed, lower_limit_holds, upper_limit_load, cycle_winch_values, underspeed_update,
+          take_up_speed, lower_limit_holds, upper_limit_load, guard_load, cycle_winch_values, underspeed_update,
           pull_out_height, ground_guard,
           nearest_on_phase, path_rate, rejoin_begin, glider_input) + GUIDANCE_CALLED + (
               polar_at, guidance_step, reference_pull, auto_guide)

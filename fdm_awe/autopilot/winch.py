@@ -117,6 +117,17 @@ def upper_limit_load(load_resistance: float, boost_duty: float, tension: float, 
     return max(rl, load_resistance), boost_duty * (load_resistance / max(rl, load_resistance))
 
 
+def guard_load(load_resistance: float, motor_mode: float, phase: int, ideal: bool, pulling_up: bool) -> float:
+    """The generator's load resistance [ohm] while AUTO's ground-proximity guard pulls up
+    (``pulling_up``: the guard on, with GP_EASE): in generation on the physical winch (generator
+    mode, ``motor_mode`` 0.0) its largest, :data:`RL_MAX`, so that the generator brakes the drum
+    least and the line lets the glider climb; otherwise ``load_resistance`` as the cycle's law
+    gave it (:func:`cycle_winch_values`)."""
+    if pulling_up and phase == GENERATION and motor_mode == 0.0 and not ideal:
+        return RL_MAX
+    return load_resistance
+
+
 def cycle_winch_values(phase: int, ideal: bool, rate: float, reel_speed: float, length: float, tension: float,
                        boost_duty: float, gs_valid: bool, gs_length: float, gs_tension: float, load_resistance: float,
                        line_EA: float, gen_rl_kp: float, rec_tension: float, winch_kl: float,
