@@ -25,6 +25,7 @@ loaded from the cache in time prints nothing.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import importlib.util
 import os
@@ -32,20 +33,56 @@ import sys
 import threading
 import time
 from types import ModuleType
-from typing import Any, Callable, Iterable
+from typing import Any, Callable, Iterable, Iterator
 
 #: the environment variable of the switch: ``0`` runs the plain Python functions
 JIT_SWITCH = "FDM_AWE_JIT"
+#: the environment variable that says why the switch is off, set with it by :func:`python_path`
+JIT_WHY = "FDM_AWE_PYTHON_WHY"
 
 
 def jit_off() -> str | None:
-    """Why compiled code does not run (``"FDM_AWE_JIT=0"``: the Python path asked for; numba
-    not installed), or None when it may. The environment is read at every call."""
+    """Why compiled code does not run (``"FDM_AWE_JIT=0"``: the Python path asked for, or the
+    reason :func:`python_path` gave; numba not installed), or None when it may. The environment
+    is read at every call."""
     if os.environ.get(JIT_SWITCH, "1") == "0":
-        return f"{JIT_SWITCH}=0"
+        return os.environ.get(JIT_WHY) or f"{JIT_SWITCH}=0"
     if importlib.util.find_spec("numba") is None:
         return "numba is not installed"
     return None
+
+
+@contextlib.contextmanager
+def python_path(why: str) -> Iterator[None]:
+    """Within the block every compiled function runs as its plain Python source, :func:`jit_off`
+    answering ``why`` (the switch and its reason set in the environment and restored after, so
+    a model built inside the block takes the Python path; e.g. a short first flight of a fresh
+    install, :mod:`fdm_awe.sim.first_use`)."""
+    old = {k: os.environ.get(k) for k in (JIT_SWITCH, JIT_WHY)}
+    os.environ[JIT_SWITCH], os.environ[JIT_WHY] = "0", why
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def compiled_once(fn: Callable) -> Callable:
+    """``functools.lru_cache`` for a function that returns something compiled (a dispatcher, or
+    None / the plain function where compiled code does not run): the answer is kept only while
+    compiled code may run (:func:`jit_off`), so an answer given on the Python path (inside
+    :func:`python_path`) is never served after it."""
+    kept = functools.lru_cache(maxsize=None)(fn)
+
+    @functools.wraps(fn)
+    def once(*args: Any) -> Any:
+        return fn(*args) if jit_off() is not None else kept(*args)
+
+    once.cache_clear = kept.cache_clear  # type: ignore[attr-defined]
+    return once
 
 
 @functools.lru_cache(maxsize=None)
@@ -84,10 +121,39 @@ SLOW_MESSAGE = "fdm-awe: preparing {what} with numba (compiled anew after a chan
 
 
 def has_cached_copy(kern: Any) -> bool | None:
-    """Whether numba's on-disk cache holds an index for dispatcher ``kern`` (False: it certainly
-    compiles; True: it loads unless the copy is stale; None: unknown, another numba version)."""
-    path = getattr(getattr(getattr(kern, "_cache", None), "_cache_file", None), "_index_path", None)
-    return None if path is None else os.path.exists(path)
+    """Whether numba's on-disk cache holds a current copy for dispatcher ``kern`` (False: it
+    certainly compiles; True: it loads, unless the copy was made for another CPU; None: unknown,
+    another numba version). Current: the index exists and carries the source stamp of today's
+    files (:func:`follow_sources`), as numba checks it when it loads."""
+    cache_file = getattr(getattr(kern, "_cache", None), "_cache_file", None)
+    path = getattr(cache_file, "_index_path", None)
+    if path is None:
+        return None
+    if not os.path.exists(path):
+        return False
+    load_index = getattr(cache_file, "_load_index", None)
+    if load_index is None:
+        return True
+    try:
+        return bool(load_index())
+    except Exception:  # an unreadable index: numba compiles anew
+        return False
+
+
+def is_cached(fn: Callable, sources: Iterable[ModuleType]) -> bool | None:
+    """Whether ``fn`` compiled by :func:`compile_cached` with ``sources`` would load from numba's
+    on-disk cache (:func:`has_cached_copy`; None also where compiled code does not run). Nothing
+    compiles."""
+    if jit_off() is not None:
+        return None
+    try:
+        import numba
+
+        kern = numba.njit(cache=True)(fn)
+        follow_sources(kern, sources)
+        return has_cached_copy(kern)
+    except Exception:
+        return None
 
 
 def compile_with_notice(kern: Any, sig: Any, what: str, stream: Any = None) -> float:

@@ -162,7 +162,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--realtime", metavar="FACTOR", type=float, nargs="?", const=1.0,
                    help="pace against the wall clock, > 0 and <= 1000 (default 1x)")
     p.add_argument("--params", metavar="FILE", help="autopilot parameter file (PARAM_SET changes are saved there)")
+    _add_run_arguments(p)
+
+
+def _add_run_arguments(p: argparse.ArgumentParser) -> None:
+    """How the flight runs: progress, the compiled loop, a live view."""
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--compiled", choices=("auto", "yes", "no"), default="auto",
+                   help="the flight's loop: numba's compiled kernels (yes: compiled now when not cached, about 35 s "
+                        "once), the same functions as Python (no), or auto: compiled when cached, or when compiling "
+                        "pays for a long flight, else Python, said on the standard error (default auto)")
     from ..recording.stream import add_live_arguments
 
     add_live_arguments(p)  # --spawn / --connect [ADDR]: a live view in rerun
@@ -284,7 +293,11 @@ def _run_checked(args: argparse.Namespace, ref: Any, problem: Any, params: Any, 
         from ..recording.stream import open_live
 
         live = open_live(args, ref)  # --spawn / --connect: the viewer the flight streams to (None without)
-        report = fly_with_hooks(args, ref, params, plant, scale, live, link, refs, flight_wind, beacon, stay)
+        from ..sim.first_use import choose, flight_loop
+
+        loop = choose(getattr(args, "compiled", "auto"), args.tether, args.cycles * ref.period)
+        with flight_loop(loop):
+            report = fly_with_hooks(args, ref, params, plant, scale, live, link, refs, flight_wind, beacon, stay)
         link = None  # the flight's MAVLink endpoint took it and closed it (or keeps it: ``stay``)
     finally:
         if beacon is not None:

@@ -17,7 +17,11 @@ An entry (:class:`LineKind`) holds everything the rest of the package needs of a
   segment tensions (``nodes``, ``tensions``; None where the line has no shape);
 - ``unstretched``: the paid-out length that carries a tension at a distance (the start of a
   flight), and ``reset``: what a :meth:`.station.GroundStation.reset` does to the line's block;
-- ``kinematic_winch``: whether it flies with the paper plant's kinematic winch (no line there).
+- ``kinematic_winch``: whether it flies with the paper plant's kinematic winch (no line there);
+- ``python_cost``: wall seconds a flight on this line takes per simulated second when its step
+  runs as plain Python, as a function of the parameter (measured, one cycle of a stored
+  reference, ``FDM_AWE_JIT=0 fdm-awe fly --cycles 1 --tether FORM``; a flight of a fresh install
+  weighs it against compiling the kernels, :mod:`fdm_awe.sim.first_use`).
 
 :func:`parse_tether` turns ``--tether`` into a :class:`TetherModel` (entry and parameter) once,
 at the command line or the API; the flight and the ground station take that object. The one
@@ -79,6 +83,7 @@ class LineKind:
     reset: Callable[[np.ndarray], None] = _none
     unstretched: Callable[[Any, int, float, float], float] = _elastic_unstretched
     kinematic_winch: bool = True
+    python_cost: Callable[[int], float] = lambda p: 0.04
 
 
 @dataclass(frozen=True)
@@ -149,7 +154,8 @@ def _straight_called() -> tuple:
     return substeps.CALLED + (station_step,)
 
 
-def _lumped_kind(name: str, code: int, example: str, doc: str, scheme: str) -> "LineKind":
+def _lumped_kind(name: str, code: int, example: str, doc: str, scheme: str,
+                 python_cost: Callable[[int], float]) -> "LineKind":
     """A registry entry of the lumped line (one step and state, the integrator ``scheme``)."""
     return LineKind(name, code, f"{name}:N (N {lumped_state.N_MIN} .. {lumped_state.N_MAX})", example, doc,
                     lumped_station_step, lumped.compiled_lumped, lambda: _straight_called() + lumped.CALLED
@@ -158,7 +164,7 @@ def _lumped_kind(name: str, code: int, example: str, doc: str, scheme: str) -> "
                     state_size=lambda n: lumped_state.state_size(n) - slots.start(lumped_state.HEAD),
                     constants=_lumped_constants(scheme), ledger=lumped_state.LineLedger, nodes=lumped_state.nodes,
                     tensions=lumped_state.tensions, prepare=_lumped_prepare, reset=_lumped_reset,
-                    kinematic_winch=False)
+                    kinematic_winch=False, python_cost=python_cost)
 
 
 #: the registry, ``code`` = position
@@ -168,7 +174,7 @@ LINE_MODELS: tuple[LineKind, ...] = (
              station_step, substeps.compiled_station, _straight_called, lambda: (substeps, winch)),
     _lumped_kind("lumped", 1, "lumped:10",
                  "N elastic segments with mass, weight and drag; the recording shows its nodes and tensions",
-                 "leapfrog"),
+                 "leapfrog", lambda n: 0.04 + 0.027 * n),
     LineKind("rigid", 2, "rigid", "rigid",
              "the straight line without elasticity, its length the distance when taut (the optimiser's line)",
              rigid_station_step, rigid.compiled_rigid, lambda: _straight_called() + (rigid.stiffness, rigid_station_step),
@@ -176,7 +182,7 @@ LINE_MODELS: tuple[LineKind, ...] = (
              kinematic_winch=False),
     _lumped_kind("lumped-implicit", 3, "lumped-implicit:30",
                  "the lumped line integrated by linearly implicit Euler steps of one flight step (faster at large N)",
-                 "implicit"),
+                 "implicit", lambda n: 0.05 + 0.005 * n),
 )
 
 

@@ -57,14 +57,13 @@ Python runs the same source when ``FDM_AWE_JIT=0``.
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Callable
 
 import numpy as np
 
 from .. import wind
-from ..jitcache import compile_lazy
+from ..jitcache import compile_lazy, compiled_once
 from ..wind import shear_factor
 from . import lumped_forces, lumped_implicit, lumped_state, substeps, winch
 from .linestep import compile_line_step
@@ -359,7 +358,7 @@ CALLED = (shear_factor, wind_at, segment_pull, segment_end, along, line_forces, 
 SOURCES = (substeps, winch, wind, lumped_state, lumped_forces, lumped_implicit)
 
 
-@functools.lru_cache(maxsize=None)
+@compiled_once
 def compiled_lumped() -> Callable | None:
     """:func:`lumped_station_step` compiled by numba (cached on disk), or None (numba missing,
     ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead); tied also to the
@@ -367,7 +366,7 @@ def compiled_lumped() -> Callable | None:
     return compile_line_step(lumped_station_step, CALLED, SOURCES, "fdm_awe.groundstation.lumped")
 
 
-@functools.lru_cache(maxsize=None)
+@compiled_once
 def compiled_function(name: str) -> Callable:
     """The function ``name`` of this module (e.g. ``"relax_line"``, ``"inner_steps"``) compiled
     by numba for the types of its first call, or the Python function itself when numba is

@@ -33,13 +33,13 @@ elastic line.
 
 from __future__ import annotations
 
-import functools
 from typing import Any, Callable
 
 from .. import slots
 from . import substeps, winch
 from .linestep import compile_line_step
 from .substeps import CONST, LEDGER, STATE, STATION, station_step
+from ..jitcache import compiled_once
 
 #: the rigid line's axial stiffness at steps of :data:`REFERENCE_STEP`, N/m, the same at every
 #: length (see the module docstring)
@@ -81,7 +81,7 @@ def rigid_station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_
     return station_step(s, c, n, dt, x, y, z, vx, vy, vz, motor, omega_ref, duty_cmd, boost_duty, RL)
 
 
-@functools.lru_cache(maxsize=None)
+@compiled_once
 def compiled_rigid() -> Callable | None:
     """:func:`rigid_station_step` compiled by numba (cached on disk), or None (numba missing,
     ``FDM_AWE_JIT=0``, or a broken install: the Python function runs instead)."""

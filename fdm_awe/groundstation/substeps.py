@@ -22,12 +22,11 @@ them, or None when numba is missing or ``FDM_AWE_JIT=0``.
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Any, Callable
 
 from .. import slots
-from ..jitcache import compile_cached
+from ..jitcache import compile_cached, compiled_once
 from . import winch
 from .ledger import FIELDS as LEDGER_FIELDS
 from .winch import DRUM_RELATIONS, drum_step, end_stop
@@ -467,14 +466,14 @@ def _njit(f: Callable, sig: str) -> Callable | None:
     return compile_cached(f, signature, CALLED, (winch,), f"fdm_awe.groundstation.substeps ({f.__name__})")
 
 
-@functools.lru_cache(maxsize=None)
+@compiled_once
 def compiled() -> Callable | None:
     """:func:`advance` compiled by numba for one explicit signature (when the ground station is
     built, not inside its first step), or None (numba missing, or ``FDM_AWE_JIT=0``)."""
     return _njit(advance, "aaifffffffbfffff")
 
 
-@functools.lru_cache(maxsize=None)
+@compiled_once
 def compiled_station() -> Callable | None:
     """:func:`station_step` compiled by numba (cached on disk), or None (as :func:`compiled`)."""
     if compiled() is None:

@@ -27,7 +27,6 @@ give the Python loop's results bit for bit (tested).
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Any, Callable
 
@@ -45,6 +44,7 @@ from ..groundstation.lumped_forces import set_gust
 from ..groundstation.station import command_values
 from ..sixdof.attitude_law import N_LAW_PROPERTIES, law_refresh, law_stale
 from ..sixdof.row import ROW, si_gust, si_position, si_velocity, si_wind
+from ..jitcache import compiled_once, is_cached
 
 #: the glider ledger's values per step
 _N_VALS = slots.size(VALS)
@@ -184,23 +184,45 @@ def autopilot_steps(cosim, k0, n, ha, q, scale, offset, cycle, consts, state, re
     return k - k0, code
 
 
-@functools.lru_cache(maxsize=None)
-def compiled_autopilot_kernel() -> Callable | None:
-    """:func:`autopilot_steps` compiled by numba, or None (numba or the compiled co-simulation
-    step missing, ``FDM_AWE_JIT=0``)."""
-    from .kernel import compiled_kernel
-
-    if compiled_kernel() is None:
-        return None
+def _kernel_parts() -> tuple[tuple, tuple]:
+    """(the functions compiled into :func:`autopilot_steps`, the source files of everything
+    compiled into it: numba's cache checks only this file)."""
     from ..autopilot import attitude, auto_step, fold, guidance, motor, rejoin, thrust, underspeed, winch
     from ..definitions import aircraft
     from ..groundstation import linemodels, station
-    from ..jitcache import compile_cached
     from ..pointmass import aero
     from ..pointmass import fold as pm_fold
     from ..sixdof import attitude_law, native, row
     from ..trajectory import sampler
     from . import block_log, events, flight_log, glider_ledger, kernel
+
+    helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
+        attitude_from_row, row.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
+        law_stale, command_values, track_error, keep_state, si_velocity, si_wind, si_gust, set_gust, hand_gust,
+        book_reference)
+    modules = (block_log, events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin,
+               thrust, underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
+               sampler) + linemodels.kernel_sources()
+    return helpers, modules
+
+
+def kernel_cached() -> bool | None:
+    """Whether :func:`compiled_autopilot_kernel` would load the kernel from numba's on-disk
+    cache (:func:`fdm_awe.jitcache.is_cached`): nothing compiles."""
+    return is_cached(autopilot_steps, _kernel_parts()[1])
+
+
+@compiled_once
+def compiled_autopilot_kernel() -> Callable | None:
+    """:func:`autopilot_steps` compiled by numba, or None (numba or the compiled co-simulation
+    step missing, ``FDM_AWE_JIT=0``)."""
+    global native_get, native_set
+    from . import kernel
+
+    if kernel.compiled_kernel() is None:
+        return None
+    native_get, native_set = kernel.native_get, kernel.native_set  # frozen into the kernel at its compile
+    from ..jitcache import compile_cached
 
     def signature(nb: Any) -> Any:
         f8, i8, t = nb.float64, nb.int64, nb.types
@@ -209,14 +231,7 @@ def compiled_autopilot_kernel() -> Callable | None:
         return t.UniTuple(i8, 2)(cosim, i8, i8, i1, a1, a1, a1, t.Tuple((a1, a2, a2)), t.UniTuple(a1, 5),
                                  t.UniTuple(a1, 4), t.UniTuple(a1, 3), t.UniTuple(a1, 4), t.UniTuple(a1, 2), a2)
 
-    helpers = linemodels.kernel_called() + auto_step.CALLED + attitude.CALLED + (
-        attitude_from_row, row.hook_kinematics, events.step_event, kernel.cosim_step, ledger_step, law_refresh,
-        law_stale, command_values, track_error, keep_state, si_velocity, si_wind, si_gust, set_gust, hand_gust,
-        book_reference)
-    # tied to the source files of everything compiled into it (numba's cache checks only this file)
-    modules = (block_log, events, flight_log, glider_ledger, kernel, attitude, auto_step, fold, guidance, motor, rejoin,
-               thrust, underspeed, aircraft, winch, station, aero, pm_fold, attitude_law, native, row,
-               sampler) + linemodels.kernel_sources()
+    helpers, modules = _kernel_parts()
     return compile_cached(autopilot_steps, signature, helpers, modules, "fdm_awe.sim.autopilot_kernel")
 
 #: the flight controls the autopilot sets (the fold's only on the foldable aircraft)

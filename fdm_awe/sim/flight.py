@@ -76,6 +76,7 @@ from ..autopilot.shaping import flyable_reference
 from ..definitions.catalog import resolve_aircraft
 from ..groundstation.linemodels import TetherModel, parse_tether
 from ..groundstation.tether import check_tether_drag_scale
+from ..jitcache import jit_off
 from ..sixdof.row import si_gust
 from ..turbulence import Turbulence, TurbulenceSetting, measure
 from ..wind import line_height
@@ -396,6 +397,8 @@ def _blocks(rig: Rig, gl: GliderLedger, log: FlightLog, stop: _StopRequest, flow
     and the flight ends as it does there; with a line shape to sample, a block ends at each sample.
     ``gust_wind``: the flight's (uniform) wind when a lumped line meets turbulence: the blocks hand
     the line the gust the glider meets after every step, as :func:`_step_hook` does."""
+    if jit_off() is not None:  # the Python path does not import numba
+        return None
     from .autopilot_kernel import AutopilotBlocks
 
     ap = rig.ap

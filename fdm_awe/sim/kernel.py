@@ -33,7 +33,6 @@ step done (or, for a rejected hook or a non-finite force, to the step that was n
 
 from __future__ import annotations
 
-import functools
 import math
 import sys
 from typing import Any, Callable
@@ -41,7 +40,7 @@ from typing import Any, Callable
 from .. import slots
 from .events import CODE, step_event
 from ..groundstation.linemodels import kernel_called, kernel_sources, line_step
-from ..jitcache import jit_off
+from ..jitcache import compiled_once, is_cached, jit_off
 from ..groundstation.substeps import CONST, STATION
 from ..sixdof.row import hook_kinematics
 
@@ -142,25 +141,38 @@ def cosim_steps(h, p, lim, log, s_gs, c_gs, k0, n):
     return k - k0, code
 
 
-@functools.lru_cache(maxsize=None)
+def _kernel_sources() -> tuple:
+    """The source files of everything compiled into the kernel (numba's cache checks only this
+    file): an edit of the event check, the row's relations or a line model's step (the
+    registry's sources: the drivetrain, the lines, the wind profile) compiles the kernel anew."""
+    from ..sixdof import native
+
+    return (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], native) + kernel_sources()
+
+
+def kernel_cached() -> bool | None:
+    """Whether :func:`compiled_kernel` would load the kernel from numba's on-disk cache
+    (:func:`fdm_awe.jitcache.is_cached`): nothing compiles."""
+    return is_cached(cosim_steps, _kernel_sources())
+
+
+@compiled_once
 def compiled_kernel() -> Callable | None:
     """:func:`cosim_steps` compiled by numba, or None (numba or the compiled ground station
     missing, ``FDM_AWE_JIT=0``)."""
-    if native_run is None:
-        return None
+    global native_run, native_get, native_set
+    if native_run is None:  # this module was imported on the Python path: the calls now
+        native_run, native_get, native_set = _globals()
+        if native_run is None:
+            return None
     from ..jitcache import compile_cached
-    from ..sixdof import native
 
     def signature(nb: Any) -> Any:
         f8, i8 = nb.float64, nb.int64
         return nb.types.UniTuple(i8, 2)(i8[::1], f8[::1], f8[::1], f8[:, ::1], f8[::1], f8[::1], i8, i8)
 
-    # tied to the source files of the functions compiled into it (numba's cache checks only
-    # this file): an edit of the event check, the row's relations or a line model's step (the
-    # registry's sources: the drivetrain, the lines, the wind profile) compiles the kernel anew
     return compile_cached(cosim_steps, signature, kernel_called() + (hook_kinematics, step_event, cosim_step),
-                          (sys.modules[step_event.__module__], sys.modules[hook_kinematics.__module__], native)
-                          + kernel_sources(), "fdm_awe.sim.kernel")
+                          _kernel_sources(), "fdm_awe.sim.kernel")
 
 
-__all__ = ["GS", "HANDLES", "COSIM", "TAIL", "compiled_kernel"]
+__all__ = ["GS", "HANDLES", "COSIM", "TAIL", "compiled_kernel", "kernel_cached"]
