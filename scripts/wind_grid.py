@@ -8,11 +8,13 @@ Each reference (default: the stored sized-line physical cycles of both gliders a
 mean net energy per complete cycle [J], mean tracking RMS [m], peak line tension [N] and peak
 armature current [A]; per reference and air: flights that completed every cycle, parked ones,
 the largest tension and current against the ratings (50 N, 1.2 x 50 N in calm and light air;
-24.2 A peak). Prints the markdown table and writes the rows as JSON (atomically).
+24.2 A peak). Prints the markdown table and writes the rows as JSON (atomically). ``--set``
+flies every flight with autopilot parameters changed from their definition
+(``aircraft/glider_foldable/autopilot.xml``), each checked against it before any flight.
 
 Usage: python scripts/wind_grid.py [--refs FILE,FILE] [--air calm,light,moderate] [--seeds 3]
                                    [--cycles 3] [--workers 2] [--tether straight|lumped:N|rigid]
-                                   [--json FILE] [--report FILE]
+                                   [--set NAME=VALUE,...] [--json FILE] [--report FILE]
 """
 
 from __future__ import annotations
@@ -36,9 +38,11 @@ REFS = tuple(f"tests/data/ref_physical_{config}_{wind}mps_sized.json" for config
              for wind in (8, 10, 12))
 
 
-def flight(ref_path: str, air: str, seed: int, cycles: int, tether: str = "straight") -> dict[str, Any]:
+def flight(ref_path: str, air: str, seed: int, cycles: int, tether: str = "straight",
+           params: dict[str, float] | None = None) -> dict[str, Any]:
     """One flight of the reference ``ref_path`` in ``air`` (``calm`` or a turbulence form) with
-    turbulence seed ``seed``, ``cycles`` cycles, on the line model ``tether`` (``--tether``); its row."""
+    turbulence seed ``seed``, ``cycles`` cycles, on the line model ``tether`` (``--tether``), the
+    autopilot's ``params`` changed (``--set``); its row."""
     import numpy as np
 
     from fdm_awe.autopilot.tracking import TrackingReference
@@ -48,7 +52,15 @@ def flight(ref_path: str, air: str, seed: int, cycles: int, tether: str = "strai
 
     ref = TrackingReference.from_ocp_file(ref_path)
     turb = None if air == "calm" else Turbulence.parse(f"{air}:{seed}")
-    rep = fly(ref, config=ref.meta.get("config", "nominal"), cycles=cycles, turbulence=turb, tether=tether)
+
+    def setup(autopilot: Any, sim: Any) -> None:
+        for name, value in (params or {}).items():
+            ok, why = autopilot.params.try_set(name, value)
+            if not ok:
+                raise ValueError(f"--set {name}={value:g}: {why}")
+
+    rep = fly(ref, config=ref.meta.get("config", "nominal"), cycles=cycles, turbulence=turb, tether=tether,
+              setup=setup)
     done = [c for c in rep.cycles if c.complete]
     tension = rep.result.tension
     return {"reference": Path(ref_path).name, "air": air, "seed": seed if air != "calm" else None,
@@ -80,6 +92,31 @@ def table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def parse_settings(text: str) -> dict[str, float]:
+    """``--set NAME=VALUE,...`` as a dict, each checked against the autopilot's definition (a
+    one-line InputError naming ``--set``, the parameter and its allowed range)."""
+    from fdm_awe.autopilot.config import autopilot_params
+    from fdm_awe.errors import InputError
+
+    out: dict[str, float] = {}
+    if not text.strip():
+        return out
+    store = autopilot_params()
+    for item in text.split(","):
+        name, sep, value = item.strip().partition("=")
+        try:
+            v = float(value)
+        except ValueError:
+            v = math.nan
+        if not sep or not math.isfinite(v):
+            raise InputError(f"--set {item.strip()!r}: expected NAME=VALUE with a finite number")
+        ok, why = store.try_set(name.strip(), v)
+        if not ok:
+            raise InputError(f"--set {item.strip()}: {why} (aircraft/glider_foldable/autopilot.xml)")
+        out[name.strip()] = v
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     from fdm_awe.errors import InputError
 
@@ -90,6 +127,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--cycles", type=int, default=3, help="cycles per flight, 1..10 (default 3)")
     ap.add_argument("--workers", type=int, default=2, help="Dask worker processes, 1..64 (default 2)")
     ap.add_argument("--tether", default="straight", help="line model as fly's --tether (default straight; e.g. lumped:30)")
+    ap.add_argument("--set", default="", metavar="NAME=VALUE,...",
+                    help="autopilot parameters changed for every flight (comma list; default none)")
     add_outputs(ap)
     args = ap.parse_args(argv)
     try:
@@ -109,6 +148,7 @@ def main(argv: list[str] | None = None) -> int:
         from fdm_awe.groundstation.linemodels import parse_tether
 
         parse_tether(args.tether)
+        params = parse_settings(args.set)
         check_outputs(args)
     except InputError as e:
         print(f"wind_grid: error: {e}", file=sys.stderr)
@@ -116,7 +156,7 @@ def main(argv: list[str] | None = None) -> int:
     import dask
     from dask import delayed
 
-    tasks = [delayed(flight)(r, a, s, args.cycles, args.tether) for r in refs for a in air
+    tasks = [delayed(flight)(r, a, s, args.cycles, args.tether, params) for r in refs for a in air
              for s in ([1] if a == "calm" else range(1, args.seeds + 1))]
     rows = list(dask.compute(*tasks, scheduler="processes" if args.workers > 1 else "sync",
                              num_workers=args.workers))
@@ -125,7 +165,8 @@ def main(argv: list[str] | None = None) -> int:
     from fdm_awe.fileio import atomic_write_text, write_json
 
     if args.json:
-        write_json(args.json, {"cycles": args.cycles, "seeds": args.seeds, "tether": args.tether, "rows": rows})
+        write_json(args.json, {"cycles": args.cycles, "seeds": args.seeds, "tether": args.tether, "params": params,
+                               "rows": rows})
     if args.report:
         atomic_write_text(args.report, text + "\n")
     return 0

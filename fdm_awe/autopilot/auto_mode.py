@@ -110,7 +110,7 @@ class AutoStep:
         par[PAR.wlim:PAR.wlim + slots.size(WL)] = limit_vector(p, ap.reel_in_max)
         par[PAR.ref_pull], par[PAR.catch_time] = p["GUID_REFPULL"], p["GUID_CATCH_T"]
         par[PAR.rj_trk_err], par[PAR.rj_trk_max] = p["RJ_TRK_ERR"], p["RJ_TRK_MAX"]
-        par[PAR.resc_gen], par[PAR.gp_ease] = p["RESC_GEN_DEPTH"], p["GP_EASE"]
+        par[PAR.resc_gen], par[PAR.gp_ease], par[PAR.gp_line] = p["RESC_GEN_DEPTH"], p["GP_EASE"], p["GP_LINE"]
         w = ref.meta.get("wind_mps")
         par[PAR.cycle_wind] = float(w) if isinstance(w, (int, float)) and not isinstance(w, bool) else math.nan
         arrays = (np.ascontiguousarray(smp.t, float), np.ascontiguousarray(smp.table, float), segs,

@@ -46,7 +46,7 @@ from ..pointmass.fold import fold_fraction
 from ..sixdof.row import ROW, si_position, si_velocity
 from ..trajectory.sampler import cycle_evaluate, cycle_time, segment_of
 from .fold import fold_command
-from .ground import ground_guard, pull_out_height
+from .ground import ground_guard, line_against_pull_out, pull_out_height
 from .guidance import CALLED as GUIDANCE_CALLED, GIN, GK, POLAR, US_PULL_UP, guidance_step, polar_at
 from .motor import motor_ceiling, motor_spin_down, motor_update
 from .rejoin import nearest_on_phase, rejoin_weights
@@ -79,13 +79,14 @@ GSO = slots.declare("AutoStationOutput", ("valid", "tension", "length", "slack",
 #: reference point [m] beyond which the motor's rescue (:func:`.motor.motor_update`) runs in
 #: generation (RESC_GEN_DEPTH, 0: any error; :func:`rescue_allowed`); then the wind the cycle was
 #: made for [m/s] (its metadata's ``wind_mps``; NaN: unknown); GP_EASE (1.0: the generator
-#: brakes least while the ground-proximity guard pulls up in generation)
+#: brakes least while the ground-proximity guard pulls up in generation); GP_LINE (rad: in a dive
+#: steeper than it the guard's pull-out prediction books what the line's pull takes from it; 0 off)
 PAR = slots.declare("AutoParams", ("t1", "period", "foldable", "fold_time", "fold_lead", "unfold_lead", "path_tau",
                                    "mass", "rho", "g", "s_u", "s_f", "ratio", "ideal_winch", "rl", "line_ea",
                                    "gen_rl_kp", "rec_tension", "winch_kl", "winch_kt", "armed", "thr_kp", "thr_ki",
                                    "thr_vzero", "thrust_max_static", "thruster", "g_att", "rj_time", "fs_trk_err",
                                    "ref_pull", "catch_time", ("wlim", slots.size(WL)), "rj_trk_err", "rj_trk_max",
-                                   "resc_gen", "cycle_wind", "gp_ease"))
+                                   "resc_gen", "cycle_wind", "gp_ease", "gp_line"))
 #: the end of the line limits in ``par`` (``par[PAR.wlim:WLIM_END]``)
 WLIM_END = PAR.wlim + slots.width(PAR, "wlim")
 #: ``mem``: path parameter [s], time of the last step [s] (NaN before the first), position error
@@ -97,9 +98,10 @@ WLIM_END = PAR.wlim + slots.width(PAR, "wlim")
 #: while the winch's lower tension limit holds (:func:`.winch.lower_limit_holds`); then the
 #: underspeed protection (:mod:`.underspeed`): 1.0 while it acts, the last time [s] the airspeed
 #: was below its entry speed; then the path rejoins: how many began in the cycle of index
-#: ``rj_k``; then 1.0 while the ground-proximity guard pulls up (:mod:`.ground`)
+#: ``rj_k``; then 1.0 while the ground-proximity guard pulls up (:mod:`.ground`), and 1.0 while
+#: that pull-up began on the line's pull (GP_LINE: it holds until the sink is stopped)
 MEM = slots.declare("AutoMemory", ("sref", "tlast", "err", "phase", "dt", "rj", "rj_t0", ("rj_dp", 3), ("rj_dv", 3),
-                                   "wlow", "us", "us_t", "rj_n", "rj_k", "gp"))
+                                   "wlow", "us", "us_t", "rj_n", "rj_k", "gp", "gp_line"))
 #: a rejoin segment younger than this [s] is not begun again for the path error
 RJ_SETTLE = 1.0
 #: flags :func:`auto_guide` returns: the phase changed, the rejoin segment ended at this step, the
@@ -220,6 +222,31 @@ def rejoin_begin(mem: Arr, rrow: Arr, t: float, px: float, py: float, pz: float,
     mem[dv], mem[dv + 1], mem[dv + 2] = vx - rrow[v], vy - rrow[v + 1], vz - rrow[v + 2]
 
 
+def guard_update(mem: Arr, gso: Arr, par: Arr, gk: Arr, pz: float, vx: float, vy: float, vz: float, v_air: float,
+                 v_stall: float) -> bool:
+    """The ground-proximity guard after a step (:func:`.ground.ground_guard`): the glider at depth
+    ``pz`` [m, NED], velocity ``v*`` [m/s], airspeed ``v_air`` and stall speed ``v_stall`` [m/s];
+    in a dive steeper than GP_LINE (``par``) the pull-out it predicts books what the line's pull
+    (``gso``'s force) takes from it (:func:`.ground.line_against_pull_out`), and a pull-up begun
+    so holds until the sink is stopped. Updates ``mem``'s ``gp`` and ``gp_line``; returns whether
+    it pulls up."""
+    was_gp = mem[MEM.gp] != 0.0
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    line = par[PAR.gp_line] > 0.0 and gso[GSO.valid] != 0.0 and vz > speed * math.sin(par[PAR.gp_line])
+    a_line = 0.0
+    if line:
+        a_line = line_against_pull_out(gso[GSO.force], gso[GSO.force + 1], gso[GSO.force + 2], vx, vy, vz,
+                                       par[PAR.mass])
+    held = was_gp and mem[MEM.gp_line] != 0.0
+    if held:
+        line = gso[GSO.valid] != 0.0
+    pull = ground_guard(was_gp, -pz, vz, speed, v_air, v_stall, par[PAR.g],
+                        gk[GK.gp_alt], gk[GK.gp_acc], gk[GK.us_exit], gk[GK.us_enter], line, a_line)
+    mem[MEM.gp_line] = 1.0 if pull and (line or held) else 0.0
+    mem[MEM.gp] = 1.0 if pull else 0.0
+    return pull
+
+
 def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts: tuple, state: tuple,
                results: tuple) -> int:
     """One AUTO step up to the attitude loops, at the glider's raw row ``row`` (time ``row[T]``),
@@ -256,9 +283,7 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
     mem[MEM.us] = 1.0 if protect else 0.0
     # the ground-proximity guard: pull up before the ground, before the path and the protection
     was_gp = mem[MEM.gp] != 0.0
-    pull = ground_guard(was_gp, -pz, vz, math.sqrt(vx * vx + vy * vy + vz * vz), v_air, v_stall, par[PAR.g],
-                        gk[GK.gp_alt], gk[GK.gp_acc], gk[GK.us_exit], gk[GK.us_enter])
-    mem[MEM.gp] = 1.0 if pull else 0.0
+    pull = guard_update(mem, gso, par, gk, pz, vx, vy, vz, v_air, v_stall)
     flags = 0
     rejoin = False
     if protect != was:
@@ -386,6 +411,6 @@ def auto_guide(row: Any, scale: Any, offset: Any, gso: Arr, cycle: tuple, consts
 CALLED = (si_position, si_velocity, cycle_time, segment_of, cycle_evaluate, rejoin_weights, paced, rescue_allowed,
           rescue_gate, motor_update, motor_ceiling, motor_spin_down, fold_fraction, fold_command, throttle_step,
           take_up_speed, lower_limit_holds, upper_limit_load, guard_load, cycle_winch_values, underspeed_update,
-          pull_out_height, ground_guard,
+          line_against_pull_out, pull_out_height, ground_guard, guard_update,
           nearest_on_phase, path_rate, rejoin_begin, glider_input) + GUIDANCE_CALLED + (
               polar_at, guidance_step, reference_pull, auto_guide)
