@@ -146,3 +146,25 @@ def test_cold_check_keeps_the_better_and_records_both():
     assert chk["kept"] == ("cold" if cold_P > warm_P + TIE_W else "warm")
     assert chk["disagree"] == (abs(warm_P - cold_P) > COLD_CHECK_W)
     assert chk["difference_W"] == pytest.approx(abs(warm_P - cold_P), abs=1e-5)
+
+
+def test_the_report_names_the_local_optima_the_strategy_met():
+    """``optima_lines``: the kept optimum, the others best first with ties (within TIE_W) of one
+    already named left out, and the refined starts that failed; nothing when one start was refined."""
+    from fdm_awe.ocp.strategy import optima_lines
+
+    def rec(i, fam, p, status="ok"):
+        return {"index": i, "start": f"{fam}: loops T1=18.8s", "status": status, "P_avg_W": p}
+
+    record = {"winner": {"index": 0, "family": "loop +1/+1", "P_avg_W": 5.23},
+              "refined": [rec(0, "loop +1/+1", 5.23), rec(1, "loop +1/-1", None, "failed"),
+                          rec(3, "eight +1/-1", 3.04), rec(2, "eight +1/+1", 3.04 - 0.5 * TIE_W),
+                          rec(4, "loop -1/+1", 5.23 - 0.5 * TIE_W)]}
+    lines = optima_lines(record)
+    assert lines[0].endswith("kept loop +1/+1 +5.23 W; others eight +1/-1 +3.04 W"), lines
+    assert "(5 starts refined)" in lines[0]
+    assert lines[1] == "  refined starts that did not converge: loop +1/-1"
+    one = {"winner": record["winner"], "refined": record["refined"][:1]}
+    assert optima_lines(one) == [] and optima_lines(None) == []
+    same = {"winner": record["winner"], "refined": [rec(0, "loop +1/+1", 5.23), rec(4, "loop -1/+1", 5.2)]}
+    assert optima_lines(same)[0].endswith("; every other start reached it")

@@ -232,6 +232,10 @@ def print_summary(res, file=None) -> None:
         from ..trajectory.files import margins_record, margins_text
 
         print(f"  margins: {margins_text({'margins': margins_record(b)})}", file=file)
+    from ..ocp.strategy import optima_lines
+
+    for line in optima_lines(getattr(res, "strategy", None)):
+        print(line, file=file)
     if res.active_bounds:
         from ..ocp.active import format_active
         print(f"  binding bounds ({len(res.active_bounds)}, strongest first):", file=file)

@@ -139,6 +139,39 @@ def outcome_record(o: Outcome) -> dict[str, Any]:
             **({} if o.ok else {"reason": o.reason})}
 
 
+def optima_lines(record: dict[str, Any] | None, tie_W: float = TIE_W) -> list[str]:
+    """Lines of the report saying which local optima the strategy met on the target mesh (the
+    ``refined`` outcomes of a ``CycleResult.strategy`` record): the one kept, the others best
+    first (powers within ``tie_W`` [W] of one already listed are the same optimum), the starts
+    that failed there. Empty where nothing was refined or only one start was."""
+    refined = (record or {}).get("refined") or []
+    if len(refined) < 2:
+        return []
+    winner = (record or {}).get("winner") or {}
+    ok = sorted((r for r in refined if r.get("status") == "ok" and isinstance(r.get("P_avg_W"), (int, float))
+                 and math.isfinite(r["P_avg_W"])), key=lambda r: (-r["P_avg_W"], r.get("index", 0)))
+    seen: list[float] = []
+    others = []
+    for r in ok:
+        if r.get("index") == winner.get("index") or any(abs(r["P_avg_W"] - p) <= tie_W for p in seen):
+            seen.append(r["P_avg_W"])
+            continue
+        seen.append(r["P_avg_W"])
+        others.append(f"{family_of_label(r.get('start', ''))} {r['P_avg_W']:+.2f} W")
+    failed = [family_of_label(r.get("start", "")) for r in refined if r.get("status") != "ok"]
+    kept = f"{winner.get('family') or family_of_label(winner.get('start', ''))} {winner.get('P_avg_W', math.nan):+.2f} W"
+    lines = [f"  local optima of the global strategy on the target mesh ({len(refined)} starts refined): kept {kept}"
+             + (f"; others {', '.join(others)}" if others else "; every other start reached it")]
+    if failed:
+        lines.append(f"  refined starts that did not converge: {', '.join(failed)}")
+    return lines
+
+
+def family_of_label(label: str) -> str:
+    """The start's family and turn directions from an outcome's label (``"loop +1/-1: ..."``)."""
+    return label.split(":", 1)[0].strip()
+
+
 def auto_workers(n_tasks: int) -> int:
     """Worker processes for ``n_tasks`` independent solves: :data:`WORKERS_ENV` when set, else
     ``min(MAX_AUTO_WORKERS, usable cores, n_tasks)``; 1 inside a daemonic process (a pool's
