@@ -129,13 +129,15 @@ def test_a_dive_in_a_lull_is_pulled_up_before_the_ground():
     assert not any(text.startswith("ground proximity") for _, text in old.autopilot_log)
 
 
-@pytest.mark.parametrize("gp_alt, gp_line, t_end", [(100.0, 0.0, 12.0), (80.0, 0.3, 50.0)])
+@pytest.mark.parametrize("gp_alt, gp_line, t_end", [(100.0, 0.0, 12.0), (90.0, 0.3, 50.0)])
 def test_the_guard_flies_alike_in_compiled_blocks_and_python(gp_alt, gp_line, t_end):
     """A floor in the calm cycle (GP_ALT 100 m, the glider starting at 100 m) makes the guard pull
     up at once and let go in about a second: every step that begins or ends it is flown by the
     Python autopilot (the step's flag), so the compiled flight and the per-step one have the same
-    bits. So too the line's booking and its hold (GP_LINE 0.3 rad, GP_ALT 80 m): the folded dive
-    with the line's pull booked pulls up (at about 115 m) where the wing alone would not."""
+    bits. So too the line's booking and its hold (GP_LINE 0.3 rad, GP_ALT 90 m): the folded dive
+    with the line's pull booked pulls up (at about 140 m) where the wing alone would not (margins
+    measured: the line-booked flight pulls up with a floor of 80 m too, the wing alone not even
+    with one of 95 m)."""
     ref = TrackingReference.from_ocp_file(DATA / "ref_physical_foldable_8mps_sized.json")
 
     def setup(ap, sim):

@@ -232,17 +232,16 @@ def guard_update(mem: Arr, gso: Arr, par: Arr, gk: Arr, pz: float, vx: float, vy
     it pulls up."""
     was_gp = mem[MEM.gp] != 0.0
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-    line = par[PAR.gp_line] > 0.0 and gso[GSO.valid] != 0.0 and vz > speed * math.sin(par[PAR.gp_line])
+    held = was_gp and mem[MEM.gp_line] != 0.0
+    steep = par[PAR.gp_line] > 0.0 and vz > speed * math.sin(par[PAR.gp_line])
+    line = gso[GSO.valid] != 0.0 and (held or steep)
     a_line = 0.0
-    if line:
+    if line and not held:
         a_line = line_against_pull_out(gso[GSO.force], gso[GSO.force + 1], gso[GSO.force + 2], vx, vy, vz,
                                        par[PAR.mass])
-    held = was_gp and mem[MEM.gp_line] != 0.0
-    if held:
-        line = gso[GSO.valid] != 0.0
     pull = ground_guard(was_gp, -pz, vz, speed, v_air, v_stall, par[PAR.g],
                         gk[GK.gp_alt], gk[GK.gp_acc], gk[GK.us_exit], gk[GK.us_enter], line, a_line)
-    mem[MEM.gp_line] = 1.0 if pull and (line or held) else 0.0
+    mem[MEM.gp_line] = 1.0 if pull and line else 0.0
     mem[MEM.gp] = 1.0 if pull else 0.0
     return pull
 

@@ -36,7 +36,8 @@ from .block_log import ALOG, N_COMMANDS
 from .events import CODE
 from .flight_log import track_error
 from .glider_ledger import VALS, ledger_step
-from .kernel import COSIM, GS, HANDLES, cosim_step, native_get, native_set
+from . import kernel as ck  # its native JSBSim calls are read at compile time (ck.native_get)
+from .kernel import COSIM, GS, HANDLES, cosim_step
 from .. import slots
 from ..autopilot.auto_step import GSO, MEM, OUT, PAR, auto_guide
 from ..autopilot.attitude import attitude_from_row
@@ -146,18 +147,18 @@ def autopilot_steps(cosim, k0, n, ha, q, scale, offset, cycle, consts, state, re
         fold = row[ROW.fold]
         if law_stale(fold, law_fold_at[0]):  # the law's derivatives at the new fold state
             for j in range(N_LAW_PROPERTIES):
-                cvals[j] = native_get(f_get, ha[HA.law + j])
+                cvals[j] = ck.native_get(f_get, ha[HA.law + j])
             law_refresh(cvals, law_c, q[Q.slug_ft2], True)
             law_fold_at[0] = fold
         a, e, r = attitude_from_row(row, scale, out[OUT.alpha], out[OUT.roll], mem[MEM.dt], law_c, law_g,
                                     par[PAR.g_att], law_integ)
         thr, fc = out[OUT.throttle], out[OUT.fold]
-        native_set(f_set, ha[HA.aileron], a)
-        native_set(f_set, ha[HA.elevator], e)
-        native_set(f_set, ha[HA.rudder], r)
-        native_set(f_set, ha[HA.throttle], thr)
+        ck.native_set(f_set, ha[HA.aileron], a)
+        ck.native_set(f_set, ha[HA.elevator], e)
+        ck.native_set(f_set, ha[HA.rudder], r)
+        ck.native_set(f_set, ha[HA.throttle], thr)
         if ha[HA.fold] != 0:
-            native_set(f_set, ha[HA.fold], fc)
+            ck.native_set(f_set, ha[HA.fold], fc)
         p[COSIM.motor], p[COSIM.wref], p[COSIM.duty] = 1.0 if motor else 0.0, omega_ref, duty
         p[COSIM.d2], p[COSIM.rl] = d2, rl
         code = cosim_step(h, p, lim, log, s_gs, c_gs, k)
@@ -167,8 +168,8 @@ def autopilot_steps(cosim, k0, n, ha, q, scale, offset, cycle, consts, state, re
         q[Q.gs_valid] = 1.0
         nr = log[k]
         for j in range(_N_VALS):
-            lvals[j] = native_get(f_get, ha[HA.ledger + j])
-        ideal = native_get(f_get, ha[HA.ideal]) if ha[HA.ideal] != 0 else 0.0
+            lvals[j] = ck.native_get(f_get, ha[HA.ledger + j])
+        ideal = ck.native_get(f_get, ha[HA.ideal]) if ha[HA.ideal] != 0 else 0.0
         ledger_step(lvals, ideal, work, v_prev, p[COSIM.dt], q[Q.ft], q[Q.lbf])
         hand_gust(q, c_gs, nr, scale)  # a lumped line's gust of the next step
         al = alog[k]
@@ -216,12 +217,8 @@ def kernel_cached() -> bool | None:
 def compiled_autopilot_kernel() -> Callable | None:
     """:func:`autopilot_steps` compiled by numba, or None (numba or the compiled co-simulation
     step missing, ``FDM_AWE_JIT=0``)."""
-    global native_get, native_set
-    from . import kernel
-
-    if kernel.compiled_kernel() is None:
+    if ck.compiled_kernel() is None:  # also fetches the native calls the kernel reads
         return None
-    native_get, native_set = kernel.native_get, kernel.native_set  # frozen into the kernel at its compile
     from ..jitcache import compile_cached
 
     def signature(nb: Any) -> Any:

@@ -38,12 +38,13 @@ COMPILED_COST = 0.025
 
 @dataclass(frozen=True)
 class LoopChoice:
-    """The loop a flight runs: ``compiled`` (True: numba's kernels, loaded or compiled now) and
-    ``why`` (the reason, said on the standard error when the Python path is chosen, and kept in
-    the report's ``loop.reason``)."""
+    """The loop a flight runs: ``compiled`` (True: numba's kernels, loaded or compiled now),
+    ``why`` (the reason of the Python path, kept in the report's ``loop.reason``) and ``say``
+    (said on the standard error: ``auto`` chose the Python path)."""
 
     compiled: bool
     why: str = ""
+    say: bool = False
 
 
 def kernels_cached() -> bool | None:
@@ -84,7 +85,7 @@ def choose(policy: str, tether: Any, simulated_s: float, cached: bool | None = N
     if saved > COMPILE_S:
         return LoopChoice(True)
     return LoopChoice(False, f"no compiled kernels cached yet; this flight takes about {py:.0f} s as Python, "
-                             f"compiling them about {COMPILE_S:.0f} s")
+                             f"compiling them about {COMPILE_S:.0f} s", say=True)
 
 
 #: what the standard error says when a flight of a fresh install flies on the Python path
@@ -95,11 +96,11 @@ PYTHON_MESSAGE = ("fdm-awe: flying on the Python path ({why}); `fdm-awe fly --co
 @contextlib.contextmanager
 def flight_loop(choice: LoopChoice, stream: Any = None) -> Iterator[None]:
     """The block a flight runs in under ``choice``: on the Python path (said on ``stream``, None:
-    the standard error, when the choice is ``auto``'s) or as it is."""
+    the standard error, where ``choice.say``) or as it is."""
     if choice.compiled:
         yield
         return
-    if choice.why != "--compiled no" and jit_off() is None:
+    if choice.say:
         print(PYTHON_MESSAGE.format(why=choice.why), file=stream if stream is not None else sys.stderr, flush=True)
     with python_path(choice.why):
         yield
